@@ -1,0 +1,1 @@
+//! LIGGGHTS dump reading (work in progress this session).

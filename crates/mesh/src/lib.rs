@@ -1,0 +1,1 @@
+//! Mesh geometry and point location (work in progress this session).

@@ -1,0 +1,1 @@
+//! VTK writers (work in progress this session).
