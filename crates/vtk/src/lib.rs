@@ -1,1 +1,44 @@
-//! VTK writers (work in progress this session).
+//! VTK XML writers for foamgrain's outputs, the files ParaView opens.
+//!
+//! This crate owns the translation of foamgrain's data into VTK's XML formats:
+//! - particles as PolyData (`.vtp`, [`write_vtp`]): points, one `VTK_VERTEX` per particle so
+//!   they show without a Glyph filter, and any named scalar, vector or integer point arrays;
+//! - an OpenFOAM [`foam::PolyMesh`] with cell and point fields as an UnstructuredGrid (`.vtu`,
+//!   [`write_vtu`]): hexahedra, tetrahedra, wedges and pyramids become VTK's own cell types with
+//!   VTK's point order derived from the face topology; every other cell (and any cell whose
+//!   shape is not matched exactly) becomes a `VTK_POLYHEDRON` ([`VtkCells`]);
+//! - time series as ParaView collections (`.pvd`, [`write_pvd`]).
+//!
+//! Arrays are Float64 (coordinates and fields), Int64 (connectivity) or the integer type given,
+//! stored inline as base64 binary (`header_type="UInt64"`, little-endian, the header holding
+//! the byte count) or, with [`Encoding::Ascii`], as text for debugging.
+//!
+//! Polyhedra follow the VTK file-format specification
+//! (<https://docs.vtk.org/en/latest/design_documents/VTKFileFormats.html>, "UnstructuredGrid"
+//! and the polyhedron cell): the cell's `connectivity` lists its distinct points; the `faces`
+//! array holds, per polyhedron, the number of faces followed, for each face, by its number of
+//! points and their (global) point ids, faces ordered so that their right-hand normal points out
+//! of the cell; `faceoffsets` gives the end of each cell's face stream, `-1` for other cells.
+//! OpenFOAM faces point out of their owner, so they are reversed in the neighbour's stream.
+//!
+//! Invariants: the writers are pure — they read their inputs and write one file, nothing else —
+//! and never leave a half-written file: each file is written to a temporary in the same
+//! directory, synced and renamed over the target. Inconsistent input (an array whose length is
+//! not the number of points or cells, a mesh with out-of-range labels) is a typed [`VtkError`]
+//! naming the output path, never a panic.
+
+mod array;
+mod atomic;
+mod cells;
+mod error;
+mod pvd;
+mod vtp;
+mod vtu;
+mod xml;
+
+pub use array::{DataArray, Encoding, Values};
+pub use cells::{CellType, VtkCells};
+pub use error::VtkError;
+pub use pvd::write_pvd;
+pub use vtp::{write_vtp, write_vtp_with};
+pub use vtu::{write_vtu, write_vtu_cells, write_vtu_with};
