@@ -9,5 +9,25 @@
 //! Every error names the file and the line (ASCII) or byte offset (binary) where it was found.
 
 pub mod poly_mesh;
+pub mod poly_mesh_io;
 
 pub use poly_mesh::{FaceList, Label, Patch, PolyMesh, TopologyError};
+pub use poly_mesh_io::{read_poly_mesh, write_poly_mesh};
+
+pub mod binary;
+pub mod case;
+pub mod dict;
+pub mod error;
+pub mod field;
+mod lexer;
+pub mod parser;
+pub mod pattern;
+
+pub use binary::Arch;
+pub use case::{Case, TimeDir};
+pub use dict::{Dict, Entry, Item, LookupError, Value};
+pub use error::{FoamError, Location, Result};
+pub use field::{default_boundary, FieldKind, FieldValues, VolField};
+pub use parser::{parse_bytes, parse_file, FoamFile, Format, Header};
+pub mod writer;
+pub use writer::{write_atomic, write_dict_file, Writer};
