@@ -1,1 +1,31 @@
-//! Mesh geometry and point location (work in progress this session).
+//! Mesh geometry and point location on an OpenFOAM polyMesh.
+//!
+//! This crate owns the *geometry* of the mesh held by [`foam::PolyMesh`]:
+//! * [`MeshGeometry`]: face centres and area vectors, cell centres and volumes, the estimated
+//!   cell centres (pyramid apexes), the bounding box — **computed exactly as OpenFOAM v1912
+//!   computes them** (`primitiveMeshFaceCentresAndAreas.C`, `primitiveMeshCellCentresAndVols.C`),
+//!   in the same operation order, so they agree with OpenFOAM's own `writeCellVolumes` /
+//!   `writeCellCentres` output to the last bit on x86-64;
+//! * [`TetDecomposition`]: the tetrahedra (apex cEst, base triangles of each face fan) that sum
+//!   to those volumes and tile the mesh — the decomposition the voidage engine reuses for exact
+//!   sphere ∩ cell volumes;
+//! * [`Locator`]: which cell holds a point, consistent with the tet decomposition and one
+//!   documented tie rule ([`tets`] module), with an axis-aligned-grid fast path ([`AxisGrid`]),
+//!   a bin index, a tet walk seeded by a previous cell, and parallel batch queries;
+//! * [`build`]: programmatic meshes (graded Cartesian grids, single cells, affine maps).
+//!
+//! Invariant: geometry exactly as OpenFOAM computes it; no I/O (reading meshes is the `foam`
+//! crate's job). Units are SI: m, m², m³. Invalid input gives a typed [`MeshError`], never a
+//! panic, for any mesh that passes [`foam::PolyMesh::check`].
+
+pub mod build;
+mod error;
+pub mod geometry;
+pub mod locate;
+pub mod tets;
+mod v3;
+
+pub use error::MeshError;
+pub use geometry::{face_centre_and_area, Aabb, MeshGeometry};
+pub use locate::{AxisGrid, Locator, LocatorOptions};
+pub use tets::{tet_contains, tet_volume, Tet, TetDecomposition, TetId};

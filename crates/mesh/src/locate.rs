@@ -1,0 +1,614 @@
+//! Point location: which cell holds a point.
+//!
+//! The answer is defined by the tet decomposition of [`crate::tets`]: a point belongs to the cell
+//! of the tet containing it, with the tie rule documented there (a point on a shared boundary
+//! goes to the +x side, then +y, then +z; on an axis-aligned grid this is the half-open rule
+//! [xᵢ, xᵢ₊₁) × [yⱼ, yⱼ₊₁) × [z_k, z_k₊₁); points outside the mesh give `None`).
+//!
+//! Strategy:
+//! * **Axis-aligned tensor-product hex meshes** (blockMesh boxes, graded, multi-block as long as
+//!   the planes line up) are detected at construction ([`AxisGrid::detect`]) and located by a
+//!   per-axis search of the grid planes (arithmetic guess for near-uniform spacing, binary search
+//!   otherwise), then the (i, j, k) → cell map.
+//! * **General meshes**: a uniform bin grid over the bounding box gives a seed cell near the
+//!   point; a tet-to-tet walk (visibility walk over the decomposition, crossing cell faces) moves
+//!   to the tet holding the point. [`Locator::locate_from`] starts the walk at a hint cell instead
+//!   (particles move little between coupling steps). If the walk leaves the mesh through a
+//!   boundary face (non-convex domain, or outside) or does not settle, the cells whose bounding
+//!   boxes overlap the point's bin are tested one by one.
+
+use crate::error::MeshError;
+use crate::geometry::{Aabb, MeshGeometry};
+use crate::tets::{tet_sides, TetDecomposition, TetId};
+use crate::v3::{dot, sub, V3};
+use foam::{Label, PolyMesh};
+use rayon::prelude::*;
+use std::collections::VecDeque;
+
+/// Walk steps before the walk switches from greedy to randomised exit choice.
+const GREEDY_STEPS: usize = 512;
+/// Walk steps before giving up and testing candidate cells.
+const MAX_STEPS: usize = 8192;
+
+/// An axis-aligned tensor-product grid of hexahedral cells.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisGrid {
+    planes: [Vec<f64>; 3],
+    /// Cell of grid slot i + nx(j + ny k).
+    cells: Vec<Label>,
+    /// Grid slot of each cell.
+    slots: Vec<u32>,
+    /// (origin, 1/spacing) per axis when the planes are nearly uniform.
+    uniform: [Option<(f64, f64)>; 3],
+}
+
+impl AxisGrid {
+    /// Detects whether every cell of `mesh` is an axis-aligned box (six quadrilateral faces, each
+    /// in a plane of constant x, y or z; eight distinct corner points) and the cells form a
+    /// tensor-product grid (sorted distinct planes with nx·ny·nz = number of cells, every slot
+    /// filled once). Returns `None` otherwise. Coordinates are compared exactly.
+    pub fn detect(mesh: &PolyMesh) -> Option<AxisGrid> {
+        if mesh.n_cells == 0 || mesh.check().is_err() {
+            return None;
+        }
+        let cell_faces = mesh.cell_faces();
+        let boxes: Option<Vec<Aabb>> = (0..mesh.n_cells)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|c| cell_box(mesh, cell_faces.face(c)))
+            .collect();
+        let boxes = boxes?;
+        let planes: [Vec<f64>; 3] = std::array::from_fn(|a| {
+            let mut v: Vec<f64> = boxes.iter().flat_map(|b| [b.min[a], b.max[a]]).collect();
+            v.sort_unstable_by(f64::total_cmp);
+            v.dedup();
+            v
+        });
+        let n = [
+            planes[0].len() - 1,
+            planes[1].len() - 1,
+            planes[2].len() - 1,
+        ];
+        if n.iter().any(|&k| k == 0) || n[0].checked_mul(n[1])?.checked_mul(n[2])? != mesh.n_cells {
+            return None;
+        }
+        let mut cells = vec![Label::MAX; mesh.n_cells];
+        let mut slots = vec![0u32; mesh.n_cells];
+        for (c, b) in boxes.iter().enumerate() {
+            let mut ijk = [0usize; 3];
+            for a in 0..3 {
+                let i = planes[a]
+                    .binary_search_by(|v| v.total_cmp(&b.min[a]))
+                    .ok()?;
+                if planes[a].get(i + 1) != Some(&b.max[a]) {
+                    return None;
+                }
+                ijk[a] = i;
+            }
+            let slot = ijk[0] + n[0] * (ijk[1] + n[1] * ijk[2]);
+            if cells[slot] != Label::MAX {
+                return None;
+            }
+            cells[slot] = c as Label;
+            slots[c] = slot as u32;
+        }
+        let uniform = std::array::from_fn(|a| uniform_spacing(&planes[a]));
+        Some(AxisGrid {
+            planes,
+            cells,
+            slots,
+            uniform,
+        })
+    }
+
+    /// The sorted plane coordinates along `axis` (0 = x, 1 = y, 2 = z), m; `dims()[axis] + 1`
+    /// values.
+    pub fn planes(&self, axis: usize) -> &[f64] {
+        &self.planes[axis]
+    }
+
+    /// Number of cells along each axis (nx, ny, nz).
+    pub fn dims(&self) -> [usize; 3] {
+        std::array::from_fn(|a| self.planes[a].len() - 1)
+    }
+
+    /// The cell in slot (i, j, k), i.e. the box [xᵢ, xᵢ₊₁] × [yⱼ, yⱼ₊₁] × [z_k, z_k₊₁].
+    pub fn cell(&self, i: usize, j: usize, k: usize) -> Label {
+        let [nx, ny, _] = self.dims();
+        self.cells[i + nx * (j + ny * k)]
+    }
+
+    /// The cell of every slot, slot i + nx(j + ny k).
+    pub fn cells(&self) -> &[Label] {
+        &self.cells
+    }
+
+    /// The slot (i, j, k) of cell `cell`.
+    pub fn ijk(&self, cell: Label) -> [usize; 3] {
+        let [nx, ny, _] = self.dims();
+        let s = self.slots[cell as usize] as usize;
+        [s % nx, (s / nx) % ny, s / (nx * ny)]
+    }
+
+    /// The interval index i with planes[i] ≤ x < planes[i+1] along `axis`, `None` outside
+    /// [planes[0], planes[n]) or for NaN.
+    #[inline]
+    pub fn interval(&self, axis: usize, x: f64) -> Option<usize> {
+        let pl = &self.planes[axis];
+        let n = pl.len() - 1;
+        if !(x >= pl[0] && x < pl[n]) {
+            return None;
+        }
+        let mut i = match self.uniform[axis] {
+            Some((x0, inv)) => (((x - x0) * inv) as usize).min(n - 1),
+            None => pl.partition_point(|&v| v <= x) - 1,
+        };
+        while pl[i] > x {
+            i -= 1;
+        }
+        while pl[i + 1] <= x {
+            i += 1;
+        }
+        Some(i)
+    }
+
+    /// The cell holding `p` by the half-open rule, `None` outside the grid.
+    #[inline]
+    pub fn locate(&self, p: [f64; 3]) -> Option<Label> {
+        let i = self.interval(0, p[0])?;
+        let j = self.interval(1, p[1])?;
+        let k = self.interval(2, p[2])?;
+        Some(self.cell(i, j, k))
+    }
+
+    /// True when the box of cell `cell` holds `p` by the half-open rule.
+    #[inline]
+    pub fn cell_holds(&self, cell: Label, p: [f64; 3]) -> bool {
+        let ijk = self.ijk(cell);
+        (0..3).all(|a| p[a] >= self.planes[a][ijk[a]] && p[a] < self.planes[a][ijk[a] + 1])
+    }
+}
+
+/// The box of one cell if it is an axis-aligned hexahedron.
+fn cell_box(mesh: &PolyMesh, faces: &[Label]) -> Option<Aabb> {
+    if faces.len() != 6 {
+        return None;
+    }
+    let mut b = Aabb::EMPTY;
+    let mut labels = [Label::MAX; 24];
+    let mut n = 0;
+    for &f in faces {
+        let face = mesh.faces.face(f as usize);
+        if face.len() != 4 {
+            return None;
+        }
+        let p0 = mesh.points[face[0] as usize];
+        if !(0..3).any(|a| face.iter().all(|&q| mesh.points[q as usize][a] == p0[a])) {
+            return None;
+        }
+        for &q in face {
+            b.include(mesh.points[q as usize]);
+            labels[n] = q;
+            n += 1;
+        }
+    }
+    labels.sort_unstable();
+    let mut corners_seen = 0u8;
+    let mut distinct = 0;
+    for (i, &q) in labels.iter().enumerate() {
+        if i > 0 && labels[i - 1] == q {
+            continue;
+        }
+        distinct += 1;
+        let p = mesh.points[q as usize];
+        let mut corner = 0u8;
+        for a in 0..3 {
+            if p[a] == b.max[a] {
+                corner |= 1 << a;
+            } else if p[a] != b.min[a] {
+                return None;
+            }
+        }
+        if corners_seen & (1 << corner) != 0 {
+            return None;
+        }
+        corners_seen |= 1 << corner;
+    }
+    (distinct == 8 && (0..3).all(|a| b.max[a] > b.min[a])).then_some(b)
+}
+
+/// (origin, 1/spacing) if every plane is within a quarter spacing of the uniform position.
+fn uniform_spacing(pl: &[f64]) -> Option<(f64, f64)> {
+    let n = pl.len() - 1;
+    let h = (pl[n] - pl[0]) / n as f64;
+    let ok = pl
+        .iter()
+        .enumerate()
+        .all(|(i, &x)| (x - (pl[0] + h * i as f64)).abs() <= 0.25 * h);
+    (ok && h > 0.0).then(|| (pl[0], 1.0 / h))
+}
+
+/// Options for [`Locator::with_options`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LocatorOptions {
+    /// Detect axis-aligned tensor-product hex meshes and locate on them by plane search
+    /// (default true). With false every query takes the general path.
+    pub axis_aligned_fast_path: bool,
+}
+
+impl Default for LocatorOptions {
+    fn default() -> Self {
+        Self {
+            axis_aligned_fast_path: true,
+        }
+    }
+}
+
+/// Uniform bin grid over the mesh bounding box: a seed cell per bin and, per bin, the cells whose
+/// bounding boxes overlap it.
+#[derive(Clone, Debug)]
+struct Bins {
+    origin: V3,
+    inv: V3,
+    dims: [usize; 3],
+    seeds: Vec<Label>,
+    offsets: Vec<u32>,
+    cells: Vec<Label>,
+}
+
+impl Bins {
+    fn new(tets: &TetDecomposition, bounds: &Aabb) -> Bins {
+        let n_cells = tets.n_cells();
+        let ext = bounds.extent();
+        let vol: f64 = ext.iter().map(|e| e.max(1e-300)).product();
+        let mut h = (vol / n_cells as f64).cbrt();
+        let mut dims = [1usize; 3];
+        for _ in 0..64 {
+            dims = std::array::from_fn(|a| ((ext[a] / h).ceil() as usize).clamp(1, 4096));
+            if dims.iter().product::<usize>() <= 2 * n_cells + 64 {
+                break;
+            }
+            h *= 1.26;
+        }
+        let inv = std::array::from_fn(|a| {
+            if ext[a] > 0.0 {
+                dims[a] as f64 / ext[a]
+            } else {
+                0.0
+            }
+        });
+        let mut bins = Bins {
+            origin: bounds.min,
+            inv,
+            dims,
+            seeds: Vec::new(),
+            offsets: Vec::new(),
+            cells: Vec::new(),
+        };
+        let n_bins: usize = dims.iter().product();
+        // Candidate lists from cell bounding boxes (slightly enlarged against rounding).
+        let ranges: Vec<([usize; 3], [usize; 3])> = (0..n_cells as Label)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|c| {
+                let b = tets.cell_bounds(c);
+                let pad: V3 = std::array::from_fn(|a| 1e-9 * (b.max[a] - b.min[a]) + 1e-300);
+                (
+                    bins.bin_of(sub(b.min, pad)),
+                    bins.bin_of(std::array::from_fn(|a| b.max[a] + pad[a])),
+                )
+            })
+            .collect();
+        let mut counts = vec![0u32; n_bins + 1];
+        let for_each_bin = |(lo, hi): &([usize; 3], [usize; 3]), f: &mut dyn FnMut(usize)| {
+            for k in lo[2]..=hi[2] {
+                for j in lo[1]..=hi[1] {
+                    for i in lo[0]..=hi[0] {
+                        f(i + dims[0] * (j + dims[1] * k));
+                    }
+                }
+            }
+        };
+        for r in &ranges {
+            for_each_bin(r, &mut |b| counts[b + 1] += 1);
+        }
+        for b in 0..n_bins {
+            counts[b + 1] += counts[b];
+        }
+        let mut fill = counts.clone();
+        let mut cells = vec![0 as Label; counts[n_bins] as usize];
+        for (c, r) in ranges.iter().enumerate() {
+            for_each_bin(r, &mut |b| {
+                cells[fill[b] as usize] = c as Label;
+                fill[b] += 1;
+            });
+        }
+        // Seeds: a cell whose apex lies in the bin, spread to empty bins breadth-first.
+        let mut seeds = vec![Label::MAX; n_bins];
+        let mut queue = VecDeque::new();
+        for (c, apex) in tets.cell_apexes().iter().enumerate() {
+            let b = bins.index(bins.bin_of(*apex));
+            if seeds[b] == Label::MAX {
+                seeds[b] = c as Label;
+                queue.push_back(b);
+            }
+        }
+        while let Some(b) = queue.pop_front() {
+            let (i, j, k) = (
+                b % dims[0],
+                (b / dims[0]) % dims[1],
+                b / (dims[0] * dims[1]),
+            );
+            let mut visit = |i: usize, j: usize, k: usize| {
+                let nb = i + dims[0] * (j + dims[1] * k);
+                if seeds[nb] == Label::MAX {
+                    seeds[nb] = seeds[b];
+                    queue.push_back(nb);
+                }
+            };
+            if i > 0 {
+                visit(i - 1, j, k);
+            }
+            if i + 1 < dims[0] {
+                visit(i + 1, j, k);
+            }
+            if j > 0 {
+                visit(i, j - 1, k);
+            }
+            if j + 1 < dims[1] {
+                visit(i, j + 1, k);
+            }
+            if k > 0 {
+                visit(i, j, k - 1);
+            }
+            if k + 1 < dims[2] {
+                visit(i, j, k + 1);
+            }
+        }
+        bins.seeds = seeds;
+        bins.offsets = counts;
+        bins.cells = cells;
+        bins
+    }
+
+    #[inline]
+    fn bin_of(&self, p: V3) -> [usize; 3] {
+        std::array::from_fn(|a| {
+            let t = (p[a] - self.origin[a]) * self.inv[a];
+            if t >= 0.0 {
+                (t as usize).min(self.dims[a] - 1)
+            } else {
+                0
+            }
+        })
+    }
+
+    #[inline]
+    fn index(&self, b: [usize; 3]) -> usize {
+        b[0] + self.dims[0] * (b[1] + self.dims[1] * b[2])
+    }
+
+    #[inline]
+    fn seed(&self, p: V3) -> Label {
+        self.seeds[self.index(self.bin_of(p))]
+    }
+
+    #[inline]
+    fn candidates(&self, p: V3) -> &[Label] {
+        let b = self.index(self.bin_of(p));
+        &self.cells[self.offsets[b] as usize..self.offsets[b + 1] as usize]
+    }
+}
+
+/// Result of a tet walk.
+enum Walk {
+    Found(TetId),
+    /// Left the mesh through a boundary face, did not settle, or met a non-manifold edge.
+    Lost,
+}
+
+/// Locates points in the cells of a polyMesh (see the module docs for the rule and strategy).
+#[derive(Clone, Debug)]
+pub struct Locator {
+    tets: TetDecomposition,
+    grid: Option<AxisGrid>,
+    bins: Bins,
+    /// Mesh bounds, enlarged slightly: points outside are outside the mesh.
+    bounds: Aabb,
+}
+
+impl Locator {
+    /// A locator with the default options (axis-aligned fast path on). The geometry must be
+    /// that of `mesh` and every cell volume must be positive.
+    pub fn new(mesh: &PolyMesh, geom: &MeshGeometry) -> Result<Self, MeshError> {
+        Self::with_options(mesh, geom, LocatorOptions::default())
+    }
+
+    /// A locator with explicit options.
+    pub fn with_options(
+        mesh: &PolyMesh,
+        geom: &MeshGeometry,
+        options: LocatorOptions,
+    ) -> Result<Self, MeshError> {
+        geom.check_matches(mesh)?;
+        geom.check_volumes()?;
+        let tets = TetDecomposition::new(mesh, geom)?;
+        let grid = if options.axis_aligned_fast_path {
+            AxisGrid::detect(mesh)
+        } else {
+            None
+        };
+        let b = geom.bounds;
+        let pad: V3 = std::array::from_fn(|a| 1e-9 * (b.max[a] - b.min[a]) + 1e-300);
+        let bounds = Aabb {
+            min: sub(b.min, pad),
+            max: std::array::from_fn(|a| b.max[a] + pad[a]),
+        };
+        let bins = Bins::new(&tets, &bounds);
+        Ok(Self {
+            tets,
+            grid,
+            bins,
+            bounds,
+        })
+    }
+
+    /// The axis-aligned grid, when the mesh is one and the fast path is enabled.
+    pub fn axis_grid(&self) -> Option<&AxisGrid> {
+        self.grid.as_ref()
+    }
+
+    /// The tet decomposition the locator works on.
+    pub fn tets(&self) -> &TetDecomposition {
+        &self.tets
+    }
+
+    /// The cell holding `p`, `None` outside the mesh.
+    #[inline]
+    pub fn locate(&self, p: [f64; 3]) -> Option<Label> {
+        if let Some(g) = &self.grid {
+            return g.locate(p);
+        }
+        if !self.bounds.contains(p) {
+            return None;
+        }
+        self.walk_or_search(p, self.bins.seed(p))
+    }
+
+    /// The cell holding `p`, searching from cell `hint` first (e.g. the particle's cell at the
+    /// previous step). Same answer as [`Locator::locate`]; faster when `hint` is at or near the
+    /// answer. A `hint` that is not a cell index is ignored.
+    #[inline]
+    pub fn locate_from(&self, p: [f64; 3], hint: Label) -> Option<Label> {
+        if hint as usize >= self.tets.n_cells() {
+            return self.locate(p);
+        }
+        if let Some(g) = &self.grid {
+            if g.cell_holds(hint, p) {
+                return Some(hint);
+            }
+            return g.locate(p);
+        }
+        if !self.bounds.contains(p) {
+            return None;
+        }
+        self.walk_or_search(p, hint)
+    }
+
+    /// [`Locator::locate`] for every point, in parallel.
+    pub fn locate_all(&self, points: &[[f64; 3]]) -> Vec<Option<Label>> {
+        points
+            .par_iter()
+            .with_min_len(512)
+            .map(|&p| self.locate(p))
+            .collect()
+    }
+
+    /// [`Locator::locate_from`] for every point, in parallel: `cells[i]` is the hint for
+    /// `points[i]` on entry (`None`: no hint) and the answer on return.
+    pub fn locate_all_from(&self, points: &[[f64; 3]], cells: &mut [Option<Label>]) {
+        assert_eq!(points.len(), cells.len(), "one cell slot per point");
+        cells
+            .par_iter_mut()
+            .zip(points.par_iter())
+            .with_min_len(512)
+            .for_each(|(c, &p)| {
+                *c = match *c {
+                    Some(h) => self.locate_from(p, h),
+                    None => self.locate(p),
+                }
+            });
+    }
+
+    /// The cell holding `p` by the general path only (tet walk from the bin seed, then candidate
+    /// search), ignoring the axis-aligned grid.
+    pub fn locate_general(&self, p: [f64; 3]) -> Option<Label> {
+        if !self.bounds.contains(p) {
+            return None;
+        }
+        self.walk_or_search(p, self.bins.seed(p))
+    }
+
+    fn walk_or_search(&self, p: V3, start: Label) -> Option<Label> {
+        match self.walk(p, start) {
+            Walk::Found(t) => Some(t.cell),
+            Walk::Lost => {
+                self.bins.candidates(p).iter().copied().find(|&c| {
+                    self.tets.cell_bounds(c).contains(p) && self.tets.cell_contains(c, p)
+                })
+            }
+        }
+    }
+
+    /// The tet of cell `cell` to start a walk towards `p`: fan 0 of the face whose centre lies
+    /// most in the direction of `p` seen from the cell apex.
+    fn start_tet(&self, cell: Label, p: V3) -> TetId {
+        let apex = self.tets.cell_apex[cell as usize];
+        let d = sub(p, apex);
+        let mut best = (f64::NEG_INFINITY, self.tets.cell_faces(cell)[0]);
+        for &f in self.tets.cell_faces(cell) {
+            let r = sub(self.tets.face_apex[f as usize], apex);
+            let score = dot(d, r) / dot(r, r);
+            if score > best.0 {
+                best = (score, f);
+            }
+        }
+        TetId {
+            cell,
+            face: best.1,
+            fan: 0,
+        }
+    }
+
+    /// Visibility walk over the tets from a tet of cell `start` to the tet containing `p`.
+    fn walk(&self, p: V3, start: Label) -> Walk {
+        let mut t = self.start_tet(start, p);
+        let mut pts = self.tets.tet_points(t);
+        let mut known_inside: Option<usize> = None;
+        let mut rng: u64 = 0x9E37_79B9_7F4A_7C15 ^ p[0].to_bits() ^ p[1].to_bits().rotate_left(21);
+        for step in 0..MAX_STEPS {
+            let mut s = tet_sides(&pts, &p);
+            if let Some(k) = known_inside {
+                s[k] = f64::INFINITY;
+            }
+            let k = if step < GREEDY_STEPS {
+                let mut k = 0;
+                for m in 1..4 {
+                    if s[m] < s[k] {
+                        k = m;
+                    }
+                }
+                if s[k] > 0.0 {
+                    return Walk::Found(t);
+                }
+                k
+            } else {
+                let neg: Vec<usize> = (0..4).filter(|&m| s[m] < 0.0).collect();
+                if neg.is_empty() {
+                    return Walk::Found(t);
+                }
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                neg[(rng % neg.len() as u64) as usize]
+            };
+            let next = if k == 0 {
+                match self.tets.across(t.face as usize, t.cell) {
+                    Some(cell) => TetId { cell, ..t },
+                    None => return Walk::Lost,
+                }
+            } else {
+                match self.tets.inner_neighbour(t, k) {
+                    Some(n) => n,
+                    None => return Walk::Lost,
+                }
+            };
+            let new_pts = self.tets.tet_points(next);
+            known_inside =
+                (0..4).find(|&j| !(0..4).filter(|&m| m != k).any(|m| pts[m] == new_pts[j]));
+            t = next;
+            pts = new_pts;
+        }
+        Walk::Lost
+    }
+}
