@@ -302,6 +302,20 @@ impl<'a> Lexer<'a> {
 
     fn scan_word(&mut self) -> Tok {
         let start = self.pos;
+        if self.src[start..].starts_with(b"${") {
+            // `${name}`: a variable written with braces.
+            if let Some(end) = self.src[start..]
+                .iter()
+                .position(|&c| c == b'}' || c == b'\n')
+            {
+                if self.src[start + end] == b'}' {
+                    self.pos = start + end + 1;
+                    return Tok::Word(
+                        String::from_utf8_lossy(&self.src[start..self.pos]).into_owned(),
+                    );
+                }
+            }
+        }
         let mut depth = 0usize;
         while let Some(&c) = self.src.get(self.pos) {
             if ends_word(c) {

@@ -344,12 +344,12 @@ pub fn write_poly_mesh(dir: &Path, mesh: &PolyMesh, format: Format) -> Result<()
             write!(s, "\n{}\n(\n", mesh.boundary.len()).unwrap();
             for p in &mesh.boundary {
                 write!(s, "    {}\n    {{\n", p.name).unwrap();
-                write!(s, "        {:<15} {};\n", "type", p.patch_type).unwrap();
+                writeln!(s, "        {:<15} {};", "type", p.patch_type).unwrap();
                 for (k, v) in &p.extra {
-                    write!(s, "        {k:<15} {v};\n").unwrap();
+                    writeln!(s, "        {k:<15} {v};").unwrap();
                 }
-                write!(s, "        {:<15} {};\n", "nFaces", p.n_faces).unwrap();
-                write!(s, "        {:<15} {};\n", "startFace", p.start_face).unwrap();
+                writeln!(s, "        {:<15} {};", "nFaces", p.n_faces).unwrap();
+                writeln!(s, "        {:<15} {};", "startFace", p.start_face).unwrap();
                 s.push_str("    }\n");
             }
             s.push(')');

@@ -178,7 +178,7 @@ impl Writer {
                 self.out.push(b')');
             }
             Item::List(v) => {
-                write!(self.out, "\n").unwrap();
+                self.out.push(b'\n');
                 self.indent(level);
                 writeln!(self.out, "{}", v.len()).unwrap();
                 self.indent(level);
