@@ -43,62 +43,96 @@ pub struct AxisGrid {
 }
 
 impl AxisGrid {
-    /// Detects whether every cell of `mesh` is an axis-aligned box (six quadrilateral faces, each
-    /// in a plane of constant x, y or z; eight distinct corner points) and the cells form a
-    /// tensor-product grid (sorted distinct planes with nx·ny·nz = number of cells, every slot
-    /// filled once). Returns `None` otherwise. Coordinates are compared exactly.
+    /// Detects whether every cell of `mesh` is an axis-aligned box and the cells form a
+    /// tensor-product grid; `None` otherwise. See [`AxisGrid::detect_snapped`].
     pub fn detect(mesh: &PolyMesh) -> Option<AxisGrid> {
-        if mesh.n_cells == 0 || mesh.check().is_err() {
+        Self::detect_snapped(mesh).map(|(g, _)| g)
+    }
+
+    /// Detection, also returning the mesh points moved exactly onto the grid planes.
+    ///
+    /// blockMesh computes the points of graded and multi-block meshes by interpolation, so points
+    /// meant to share a plane differ by a few ulps. Along each axis the point coordinates are
+    /// therefore clustered: sorted values closer than 1e-10 × (axis extent) form one plane,
+    /// whose coordinate is the median of the cluster. The mesh is a grid when every cell has six
+    /// quadrilateral faces, each on one plane, and eight distinct points on the eight corners of
+    /// the box between consecutive planes i, i+1 along each axis; when nx·ny·nz equals the number
+    /// of cells; and when every (i, j, k) slot holds exactly one cell.
+    pub fn detect_snapped(mesh: &PolyMesh) -> Option<(AxisGrid, Vec<[f64; 3]>)> {
+        if mesh.n_cells == 0 || mesh.check().is_err() || mesh.points.is_empty() {
             return None;
         }
+        let mut planes: [Vec<f64>; 3] = Default::default();
+        let mut ranges: [Vec<(f64, f64)>; 3] = Default::default();
+        for a in 0..3 {
+            let mut v: Vec<f64> = mesh.points.iter().map(|p| p[a]).collect();
+            if v.iter().any(|x| !x.is_finite()) {
+                return None;
+            }
+            v.par_sort_unstable_by(f64::total_cmp);
+            let tol = 1e-10 * (v[v.len() - 1] - v[0]);
+            let mut start = 0;
+            for i in 1..=v.len() {
+                if i == v.len() || v[i] - v[i - 1] > tol {
+                    if v[i - 1] - v[start] > tol {
+                        return None;
+                    }
+                    ranges[a].push((v[start], v[i - 1]));
+                    planes[a].push(v[start + (i - 1 - start) / 2]);
+                    start = i;
+                }
+            }
+            if planes[a].len() < 2 {
+                return None;
+            }
+        }
+        let plane_of =
+            |a: usize, x: f64| -> u32 { (ranges[a].partition_point(|r| r.0 <= x) - 1) as u32 };
+        let ijk: Vec<[u32; 3]> = mesh
+            .points
+            .par_iter()
+            .with_min_len(4096)
+            .map(|p| std::array::from_fn(|a| plane_of(a, p[a])))
+            .collect();
         let cell_faces = mesh.cell_faces();
-        let boxes: Option<Vec<Aabb>> = (0..mesh.n_cells)
+        let lower: Option<Vec<[u32; 3]>> = (0..mesh.n_cells)
             .into_par_iter()
             .with_min_len(1024)
-            .map(|c| cell_box(mesh, cell_faces.face(c)))
+            .map(|c| cell_box(mesh, cell_faces.face(c), &ijk))
             .collect();
-        let boxes = boxes?;
-        let planes: [Vec<f64>; 3] = std::array::from_fn(|a| {
-            let mut v: Vec<f64> = boxes.iter().flat_map(|b| [b.min[a], b.max[a]]).collect();
-            v.sort_unstable_by(f64::total_cmp);
-            v.dedup();
-            v
-        });
+        let lower = lower?;
         let n = [
             planes[0].len() - 1,
             planes[1].len() - 1,
             planes[2].len() - 1,
         ];
-        if n.iter().any(|&k| k == 0) || n[0].checked_mul(n[1])?.checked_mul(n[2])? != mesh.n_cells {
+        if n[0].checked_mul(n[1])?.checked_mul(n[2])? != mesh.n_cells {
             return None;
         }
         let mut cells = vec![Label::MAX; mesh.n_cells];
         let mut slots = vec![0u32; mesh.n_cells];
-        for (c, b) in boxes.iter().enumerate() {
-            let mut ijk = [0usize; 3];
-            for a in 0..3 {
-                let i = planes[a]
-                    .binary_search_by(|v| v.total_cmp(&b.min[a]))
-                    .ok()?;
-                if planes[a].get(i + 1) != Some(&b.max[a]) {
-                    return None;
-                }
-                ijk[a] = i;
-            }
-            let slot = ijk[0] + n[0] * (ijk[1] + n[1] * ijk[2]);
+        for (c, l) in lower.iter().enumerate() {
+            let slot = l[0] as usize + n[0] * (l[1] as usize + n[1] * l[2] as usize);
             if cells[slot] != Label::MAX {
                 return None;
             }
             cells[slot] = c as Label;
             slots[c] = slot as u32;
         }
+        let snapped = ijk
+            .iter()
+            .map(|q| std::array::from_fn(|a| planes[a][q[a] as usize]))
+            .collect();
         let uniform = std::array::from_fn(|a| uniform_spacing(&planes[a]));
-        Some(AxisGrid {
-            planes,
-            cells,
-            slots,
-            uniform,
-        })
+        Some((
+            AxisGrid {
+                planes,
+                cells,
+                slots,
+                uniform,
+            },
+            snapped,
+        ))
     }
 
     /// The sorted plane coordinates along `axis` (0 = x, 1 = y, 2 = z), m; `dims()[axis] + 1`
@@ -169,12 +203,14 @@ impl AxisGrid {
     }
 }
 
-/// The box of one cell if it is an axis-aligned hexahedron.
-fn cell_box(mesh: &PolyMesh, faces: &[Label]) -> Option<Aabb> {
+/// The lower plane indices (i, j, k) of one cell if it is an axis-aligned hexahedron, given the
+/// plane indices `ijk` of every point.
+fn cell_box(mesh: &PolyMesh, faces: &[Label], ijk: &[[u32; 3]]) -> Option<[u32; 3]> {
     if faces.len() != 6 {
         return None;
     }
-    let mut b = Aabb::EMPTY;
+    let mut lo = [u32::MAX; 3];
+    let mut hi = [0u32; 3];
     let mut labels = [Label::MAX; 24];
     let mut n = 0;
     for &f in faces {
@@ -182,15 +218,21 @@ fn cell_box(mesh: &PolyMesh, faces: &[Label]) -> Option<Aabb> {
         if face.len() != 4 {
             return None;
         }
-        let p0 = mesh.points[face[0] as usize];
-        if !(0..3).any(|a| face.iter().all(|&q| mesh.points[q as usize][a] == p0[a])) {
+        let q0 = ijk[face[0] as usize];
+        if !(0..3).any(|a| face.iter().all(|&q| ijk[q as usize][a] == q0[a])) {
             return None;
         }
         for &q in face {
-            b.include(mesh.points[q as usize]);
+            for a in 0..3 {
+                lo[a] = lo[a].min(ijk[q as usize][a]);
+                hi[a] = hi[a].max(ijk[q as usize][a]);
+            }
             labels[n] = q;
             n += 1;
         }
+    }
+    if (0..3).any(|a| hi[a] != lo[a] + 1) {
+        return None;
     }
     labels.sort_unstable();
     let mut corners_seen = 0u8;
@@ -200,21 +242,13 @@ fn cell_box(mesh: &PolyMesh, faces: &[Label]) -> Option<Aabb> {
             continue;
         }
         distinct += 1;
-        let p = mesh.points[q as usize];
-        let mut corner = 0u8;
-        for a in 0..3 {
-            if p[a] == b.max[a] {
-                corner |= 1 << a;
-            } else if p[a] != b.min[a] {
-                return None;
-            }
-        }
+        let corner = (0..3).fold(0u8, |m, a| m | (((ijk[q as usize][a] - lo[a]) as u8) << a));
         if corners_seen & (1 << corner) != 0 {
             return None;
         }
         corners_seen |= 1 << corner;
     }
-    (distinct == 8 && (0..3).all(|a| b.max[a] > b.min[a])).then_some(b)
+    (distinct == 8).then_some(lo)
 }
 
 /// (origin, 1/spacing) if every plane is within a quarter spacing of the uniform position.
@@ -434,7 +468,7 @@ impl Locator {
         geom.check_volumes()?;
         let tets = TetDecomposition::new(mesh, geom)?;
         let grid = if options.axis_aligned_fast_path {
-            AxisGrid::detect(mesh)
+            tets.axis_grid().cloned()
         } else {
             None
         };

@@ -33,6 +33,7 @@
 
 use crate::error::MeshError;
 use crate::geometry::MeshGeometry;
+use crate::locate::AxisGrid;
 use crate::v3::{cross, dot, sub, V3};
 use foam::{FaceList, Label, PolyMesh};
 use rayon::prelude::*;
@@ -145,13 +146,23 @@ pub struct TetDecomposition {
     pub(crate) cell_faces: FaceList,
     pub(crate) cell_apex: Vec<V3>,
     pub(crate) face_apex: Vec<V3>,
+    pub(crate) grid: Option<AxisGrid>,
 }
 
 impl TetDecomposition {
     /// Builds the decomposition of `mesh` from its geometry (which must be that of `mesh`).
+    ///
+    /// If the mesh is an axis-aligned tensor-product grid up to blockMesh's rounding
+    /// ([`AxisGrid::detect_snapped`]), the decomposition uses the points moved exactly onto the
+    /// grid planes (a change of a few ulps), so that its tets and the grid's half-open boxes are
+    /// the same sets.
     pub fn new(mesh: &PolyMesh, geom: &MeshGeometry) -> Result<Self, MeshError> {
         mesh.check()?;
         geom.check_matches(mesh)?;
+        let (grid, points) = match AxisGrid::detect_snapped(mesh) {
+            Some((g, snapped)) => (Some(g), snapped),
+            None => (None, mesh.points.clone()),
+        };
         let mut face_apex = geom.face_centres.clone();
         face_apex
             .par_iter_mut()
@@ -159,22 +170,28 @@ impl TetDecomposition {
             .with_min_len(1024)
             .for_each(|(f, apex)| {
                 let face = mesh.faces.face(f);
-                let p0 = mesh.points[face[0] as usize];
+                let p0 = points[face[0] as usize];
                 for (a, x) in apex.iter_mut().enumerate() {
-                    if face.iter().all(|&q| mesh.points[q as usize][a] == p0[a]) {
+                    if face.iter().all(|&q| points[q as usize][a] == p0[a]) {
                         *x = p0[a];
                     }
                 }
             });
         Ok(Self {
-            points: mesh.points.clone(),
+            points,
             faces: mesh.faces.clone(),
             owner: mesh.owner.clone(),
             neighbour: mesh.neighbour.clone(),
             cell_faces: mesh.cell_faces(),
             cell_apex: geom.cell_centre_estimates.clone(),
             face_apex,
+            grid,
         })
+    }
+
+    /// The axis-aligned grid, if the mesh is one (see [`TetDecomposition::new`]).
+    pub fn axis_grid(&self) -> Option<&AxisGrid> {
+        self.grid.as_ref()
     }
 
     /// Number of cells.
@@ -187,7 +204,7 @@ impl TetDecomposition {
         self.cell_faces.face(cell as usize)
     }
 
-    /// Mesh points, m.
+    /// Mesh points (snapped onto the grid planes for an axis-aligned grid), m.
     pub fn points(&self) -> &[[f64; 3]] {
         &self.points
     }
