@@ -5,9 +5,7 @@ use foam::{read_poly_mesh, VolField};
 use std::path::{Path, PathBuf};
 
 fn fixture(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/fixtures/foam")
-        .join(rel)
+    testkit::fixture("foam").join(rel)
 }
 
 /// A copy of a fixture polyMesh with `file` replaced by `edit(original bytes)`.

@@ -116,9 +116,7 @@ proptest! {
 }
 
 fn fixture(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/fixtures/foam")
-        .join(rel)
+    testkit::fixture("foam").join(rel)
 }
 
 proptest! {

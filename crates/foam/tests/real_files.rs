@@ -9,9 +9,7 @@ use foam::{
 use std::path::PathBuf;
 
 fn fixture(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/fixtures/foam")
-        .join(rel)
+    testkit::fixture("foam").join(rel)
 }
 
 #[test]
