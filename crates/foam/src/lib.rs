@@ -28,6 +28,6 @@ pub use case::{Case, TimeDir};
 pub use dict::{Dict, Entry, Item, LookupError, Value};
 pub use error::{FoamError, Location, Result};
 pub use field::{default_boundary, FieldKind, FieldValues, VolField};
-pub use parser::{parse_bytes, parse_file, FoamFile, Format, Header};
+pub use parser::{parse_bytes, parse_file, read_header, FoamFile, Format, Header};
 pub mod writer;
 pub use writer::{write_atomic, write_dict_file, Writer};

@@ -110,6 +110,13 @@ pub fn parse_file(path: &Path) -> Result<FoamFile> {
     parse_bytes(&bytes, &path)
 }
 
+/// Reads only the `FoamFile` header of a file (cheap: the body is not parsed). `None` when
+/// the file has no header.
+pub fn read_header(path: &Path) -> Result<Option<Header>> {
+    let (path, bytes) = read_bytes(path)?;
+    Parser::new(&bytes, &path, 0).parse_header()
+}
+
 /// Parses dictionary text; `path` is used for messages and to resolve `#include`.
 pub fn parse_bytes(bytes: &[u8], path: &Path) -> Result<FoamFile> {
     let mut p = Parser::new(bytes, path, 0);
