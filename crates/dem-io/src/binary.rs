@@ -135,28 +135,6 @@ pub(crate) fn read_header<R: Read + Seek>(
             format!("negative chunk count {nchunks}"),
         )
     })?;
-    let needed = u128::from(natoms as u64) * columns.len() as u128 * 8 + u128::from(nchunks) * 4;
-    if needed > u128::from(src.remaining()) {
-        let what = if natoms > 0 {
-            "number of atoms"
-        } else {
-            "number of chunks"
-        };
-        let count = if natoms > 0 {
-            natoms as u64
-        } else {
-            nchunks.into()
-        };
-        return Err(src.byte_err(
-            offset + 8,
-            ErrorKind::AbsurdCount {
-                what,
-                count,
-                needed,
-                available: src.remaining(),
-            },
-        ));
-    }
     let bounds = BoxBounds {
         lo: [v[0], v[2], v[4]],
         hi: [v[1], v[3], v[5]],
@@ -201,7 +179,7 @@ fn chunk_len<R: Read + Seek>(
             "{n} values is not a multiple of {ncols} columns"
         )));
     }
-    if done + n > total {
+    if n > total - done {
         return Err(bad(format!(
             "{n} more values exceed the {total} of {} atoms × {ncols} columns",
             head.header.natoms
@@ -216,6 +194,21 @@ fn chunk_len<R: Read + Seek>(
         ));
     }
     Ok(n)
+}
+
+/// `natoms × ncols`, the number of values the chunks must hold.
+fn total_values<R: Read + Seek>(src: &Source<R>, head: &ChunkedHeader) -> Result<u64, DumpError> {
+    let h = &head.header;
+    h.natoms.checked_mul(h.columns.len() as u64).ok_or_else(|| {
+        src.byte_err(
+            h.offset + 8,
+            ErrorKind::BadHeader(format!(
+                "{} atoms × {} columns overflows",
+                h.natoms,
+                h.columns.len()
+            )),
+        )
+    })
 }
 
 /// Checks that all chunks together held exactly the announced number of values.
@@ -246,9 +239,13 @@ pub(crate) fn read_body<R: Read + Seek>(
     head: &ChunkedHeader,
 ) -> Result<Vec<Vec<f64>>, DumpError> {
     let ncols = head.header.columns.len();
-    let natoms = usize::try_from(head.header.natoms).expect("natoms bounded by the file size");
-    let total = head.header.natoms * ncols as u64;
-    let mut cols: Vec<Vec<f64>> = (0..ncols).map(|_| Vec::with_capacity(natoms)).collect();
+    let natoms = usize::try_from(head.header.natoms).unwrap_or(usize::MAX);
+    let total = total_values(src, head)?;
+    // Reserve no more than the rest of the file can hold: a corrupt count cannot make us
+    // allocate; the chunks then fail to add up.
+    let fits = src.remaining() / (8 * ncols as u64);
+    let reserve = natoms.min(usize::try_from(fits).unwrap_or(usize::MAX));
+    let mut cols: Vec<Vec<f64>> = (0..ncols).map(|_| Vec::with_capacity(reserve)).collect();
     let mut block = vec![0u8; BLOCK_VALUES * 8];
     let mut done = 0;
     let mut col = 0;
@@ -278,7 +275,7 @@ pub(crate) fn skip_body<R: Read + Seek>(
     src: &mut Source<R>,
     head: &ChunkedHeader,
 ) -> Result<(), DumpError> {
-    let total = head.header.natoms * head.header.columns.len() as u64;
+    let total = total_values(src, head)?;
     let mut done = 0;
     for chunk in 0..head.nchunks {
         let n = chunk_len(src, chunk, head, done, total)?;

@@ -132,18 +132,6 @@ pub enum ErrorKind {
     /// A header value that cannot be right (negative count, triclinic flag not 0/1, …).
     #[error("invalid header: {0}")]
     BadHeader(String),
-    /// A count in the header asks for more data than the rest of the file can hold.
-    #[error("{what} = {count} needs at least {needed} bytes, but only {available} remain")]
-    AbsurdCount {
-        /// The header field.
-        what: &'static str,
-        /// Its value.
-        count: u64,
-        /// Bytes the count implies at the least.
-        needed: u128,
-        /// Bytes left in the file.
-        available: u64,
-    },
     /// A binary chunk whose size does not fit the header.
     #[error("bad chunk: {0}")]
     BadChunk(String),

@@ -7,7 +7,7 @@ use dem_io::{DumpReader, ReadOptions, Snapshot};
 
 /// Directory of the LIGGGHTS decks and the dumps they produced.
 pub fn fixtures() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/liggghts")
+    testkit::fixture("liggghts")
 }
 
 /// Reads every snapshot of a file.
