@@ -4,9 +4,10 @@
 //! - particles as PolyData (`.vtp`, [`write_vtp`]): points, one `VTK_VERTEX` per particle so
 //!   they show without a Glyph filter, and any named scalar, vector or integer point arrays;
 //! - an OpenFOAM [`foam::PolyMesh`] with cell and point fields as an UnstructuredGrid (`.vtu`,
-//!   [`write_vtu`]): hexahedra, tetrahedra, wedges and pyramids become VTK's own cell types with
-//!   VTK's point order derived from the face topology; every other cell (and any cell whose
-//!   shape is not matched exactly) becomes a `VTK_POLYHEDRON` ([`VtkCells`]);
+//!   [`write_vtu`]): hexahedra, tetrahedra and pyramids become VTK's own cell types with VTK's
+//!   point order derived from the face topology; every other cell (prisms included, whose VTK
+//!   orientation convention differs between VTK versions, and any cell whose shape is not
+//!   matched exactly) becomes a `VTK_POLYHEDRON` ([`VtkCells`]);
 //! - time series as ParaView collections (`.pvd`, [`write_pvd`]).
 //!
 //! Arrays are Float64 (coordinates and fields), Int64 (connectivity) or the integer type given,

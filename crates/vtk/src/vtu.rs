@@ -20,8 +20,8 @@ pub fn write_vtu(
     write_vtu_with(path, mesh, cell_data, point_data, Encoding::Binary)
 }
 
-/// Writes `mesh` as an UnstructuredGrid: hexahedra, tetrahedra, wedges and pyramids as VTK's
-/// own cell types, every other cell as `VTK_POLYHEDRON` (see [`VtkCells::from_poly_mesh`]).
+/// Writes `mesh` as an UnstructuredGrid: hexahedra, tetrahedra and pyramids as VTK's own cell
+/// types, every other cell as `VTK_POLYHEDRON` (see [`VtkCells::from_poly_mesh`]).
 /// `cell_data` needs one tuple per cell, `point_data` one per mesh point. The file is replaced
 /// atomically.
 ///
