@@ -41,9 +41,9 @@ impl Aabb {
     /// Grows the box to hold `p`.
     #[inline]
     pub fn include(&mut self, p: [f64; 3]) {
-        for a in 0..3 {
-            self.min[a] = self.min[a].min(p[a]);
-            self.max[a] = self.max[a].max(p[a]);
+        for (a, x) in p.into_iter().enumerate() {
+            self.min[a] = self.min[a].min(x);
+            self.max[a] = self.max[a].max(x);
         }
     }
 

@@ -20,6 +20,7 @@
 
 pub mod build;
 mod error;
+mod exact;
 pub mod geometry;
 pub mod locate;
 pub mod tets;
@@ -28,4 +29,4 @@ mod v3;
 pub use error::MeshError;
 pub use geometry::{face_centre_and_area, Aabb, MeshGeometry};
 pub use locate::{AxisGrid, Locator, LocatorOptions};
-pub use tets::{tet_contains, tet_volume, Tet, TetDecomposition, TetId};
+pub use tets::{tet_volume, Tet, TetDecomposition, TetId};

@@ -597,11 +597,11 @@ impl Locator {
     /// Visibility walk over the tets from a tet of cell `start` to the tet containing `p`.
     fn walk(&self, p: V3, start: Label) -> Walk {
         let mut t = self.start_tet(start, p);
-        let mut pts = self.tets.tet_points(t);
+        let mut tet = self.tets.tet(t);
         let mut known_inside: Option<usize> = None;
         let mut rng: u64 = 0x9E37_79B9_7F4A_7C15 ^ p[0].to_bits() ^ p[1].to_bits().rotate_left(21);
         for step in 0..MAX_STEPS {
-            let mut s = tet_sides(&pts, &p);
+            let mut s = tet_sides(&tet.points, &tet.keys, &p);
             if let Some(k) = known_inside {
                 s[k] = f64::INFINITY;
             }
@@ -637,11 +637,14 @@ impl Locator {
                     None => return Walk::Lost,
                 }
             };
-            let new_pts = self.tets.tet_points(next);
-            known_inside =
-                (0..4).find(|&j| !(0..4).filter(|&m| m != k).any(|m| pts[m] == new_pts[j]));
+            let new = self.tets.tet(next);
+            known_inside = (0..4).find(|&j| {
+                !(0..4)
+                    .filter(|&m| m != k)
+                    .any(|m| tet.keys[m] == new.keys[j])
+            });
             t = next;
-            pts = new_pts;
+            tet = new;
         }
         Walk::Lost
     }

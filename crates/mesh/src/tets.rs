@@ -21,10 +21,11 @@
 //!
 //! # The containment predicate and the tie rule
 //! A point is inside a tet when it lies strictly on the inner side of all four face planes. Each
-//! side test is evaluated on the triangle's vertices sorted lexicographically (with the sign of
-//! the sorting permutation), so the two tets sharing a triangle get exactly opposite answers and
-//! no point is claimed twice or lost at a shared face. A point exactly on a face plane (a zero
-//! test) is resolved by *symbolic perturbation*: the point is treated as p + ε(1, δ, δ²) with
+//! side test is evaluated in floating point with a forward error bound and, when the bound
+//! cannot certify the sign, exactly (expansion arithmetic, Shewchuk 1997), so the signs are
+//! exact. For a valid mesh (every tet positively oriented, i.e. star-shaped cells) the tets tile
+//! space, and every point lies in at most one tet. A point exactly on a face plane (an exactly
+//! zero test) is resolved by *symbolic perturbation*: the point is treated as p + ε(1, δ, δ²) with
 //! 0 < δ ≪ ε infinitesimal. In words: **a point on a shared boundary belongs to the side in the
 //! +x direction; if the boundary is parallel to x, to the +y side; if parallel to x and y, to the
 //! +z side.** On an axis-aligned grid this is exactly the half-open rule
@@ -32,6 +33,7 @@
 //! inside, points on the upper domain boundary are outside.
 
 use crate::error::MeshError;
+use crate::exact::orient_exact;
 use crate::geometry::MeshGeometry;
 use crate::locate::AxisGrid;
 use crate::v3::{cross, dot, sub, V3};
@@ -57,9 +59,20 @@ pub struct Tet {
     pub id: TetId,
     /// Vertices (apex cEst first), m.
     pub points: [[f64; 3]; 4],
+    /// Canonical vertex keys (mesh point label; face apex n_points + face; cell apex
+    /// n_points + n_faces + cell) fixing the evaluation order of the containment test.
+    pub keys: [u64; 4],
 }
 
 impl Tet {
+    /// True when the tet contains `p`, under the tie rule of this module (module docs).
+    #[inline]
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        tet_sides(&self.points, &self.keys, &p)
+            .iter()
+            .all(|&s| s > 0.0)
+    }
+
     /// Signed volume, m³: (b−a)·((c−a)×(d−a)) / 6.
     pub fn volume(&self) -> f64 {
         tet_volume(&self.points)
@@ -72,67 +85,66 @@ pub fn tet_volume(t: &[[f64; 3]; 4]) -> f64 {
     dot(sub(t[1], t[0]), cross(sub(t[2], t[0]), sub(t[3], t[0]))) / 6.0
 }
 
-/// Strict lexicographic order of points.
-#[inline(always)]
-fn lex_less(a: &V3, b: &V3) -> bool {
-    a[0] < b[0] || (a[0] == b[0] && (a[1] < b[1] || (a[1] == b[1] && a[2] < b[2])))
-}
-
 /// Which side of the oriented triangle (a, b, c) the point p is on: positive when p lies on the
 /// side opposite to the normal (b−a)×(c−a), i.e. `det[a−p, b−p, c−p] > 0`. The value is
-/// −N·(p−a) evaluated on the lexicographically sorted vertices (times the permutation sign), so
-/// it is exactly antisymmetric under swapping vertices; a zero is resolved by the symbolic
-/// perturbation p + ε(1, δ, δ²) and returned as ±`f64::MIN_POSITIVE`. Degenerate triangles
+/// −N·(p−a) evaluated on the vertices sorted by their keys (times the permutation sign), so
+/// it is antisymmetric under swapping vertices. When the floating-point value cannot certify
+/// its sign (|value| within the rounding-error bound) the sign is computed exactly; an exact
+/// zero is resolved by the symbolic perturbation p + ε(1, δ, δ²) and returned as
+/// ±`f64::MIN_POSITIVE`. Degenerate triangles
 /// (N = 0) return +`f64::MIN_POSITIVE`. Never returns zero.
 #[inline]
-pub(crate) fn side(a: &V3, b: &V3, c: &V3, p: &V3) -> f64 {
-    let (mut a, mut b, mut c) = (a, b, c);
+pub(crate) fn side(v: [(&V3, u64); 3], p: &V3) -> f64 {
+    let [mut a, mut b, mut c] = v;
     let mut s = 1.0;
-    if lex_less(b, a) {
+    if b.1 < a.1 {
         std::mem::swap(&mut a, &mut b);
         s = -s;
     }
-    if lex_less(c, b) {
+    if c.1 < b.1 {
         std::mem::swap(&mut b, &mut c);
         s = -s;
-        if lex_less(b, a) {
+        if b.1 < a.1 {
             std::mem::swap(&mut a, &mut b);
             s = -s;
         }
     }
-    let n = cross(sub(*b, *a), sub(*c, *a));
-    let d = -dot(n, sub(*p, *a));
-    if d != 0.0 {
+    let (a, b, c) = (a.0, b.0, c.0);
+    let u = sub(*b, *a);
+    let v = sub(*c, *a);
+    let w = sub(*p, *a);
+    let n = cross(u, v);
+    let d = -dot(n, w);
+    // Forward error bound of the evaluation above (Shewchuk's orient3d bound A).
+    let permanent = w[0].abs() * ((u[1] * v[2]).abs() + (u[2] * v[1]).abs())
+        + w[1].abs() * ((u[2] * v[0]).abs() + (u[0] * v[2]).abs())
+        + w[2].abs() * ((u[0] * v[1]).abs() + (u[1] * v[0]).abs());
+    if d.abs() > 1e-15 * permanent && permanent > 1e-280 {
         return s * d;
     }
-    let g = if n[0] != 0.0 {
-        -n[0]
-    } else if n[1] != 0.0 {
-        -n[1]
-    } else if n[2] != 0.0 {
-        -n[2]
-    } else {
-        return f64::MIN_POSITIVE;
-    };
-    s * g.signum() * f64::MIN_POSITIVE
+    let (exact, n_sign) = orient_exact(a, b, c, p);
+    if exact != 0.0 {
+        return s * exact * d.abs().max(f64::MIN_POSITIVE);
+    }
+    // Exactly on the plane: the perturbation p + ε(1, δ, δ²) moves p by −N·(1, δ, δ²).
+    match n_sign.iter().find(|&&x| x != 0.0) {
+        Some(&g) => -s * g * f64::MIN_POSITIVE,
+        None => f64::MIN_POSITIVE,
+    }
 }
 
-/// The four side tests of p against the tet (v0, v1, v2, v3): entry k is positive when p is on
-/// the inner side of the face opposite vertex k (for a positively oriented tet).
+/// The four side tests of p against the tet (v0, v1, v2, v3) with vertex keys `k`: entry m is
+/// positive when p is on the inner side of the face opposite vertex m (for a positively oriented
+/// tet).
 #[inline]
-pub(crate) fn tet_sides(t: &[V3; 4], p: &V3) -> [f64; 4] {
+pub(crate) fn tet_sides(t: &[V3; 4], k: &[u64; 4], p: &V3) -> [f64; 4] {
+    let v = |i: usize| (&t[i], k[i]);
     [
-        side(&t[1], &t[2], &t[3], p),
-        side(&t[0], &t[3], &t[2], p),
-        side(&t[0], &t[1], &t[3], p),
-        side(&t[0], &t[2], &t[1], p),
+        side([v(1), v(2), v(3)], p),
+        side([v(0), v(3), v(2)], p),
+        side([v(0), v(1), v(3)], p),
+        side([v(0), v(2), v(1)], p),
     ]
-}
-
-/// True when the positively oriented tet `t` contains `p` under the tie rule of this module.
-#[inline]
-pub fn tet_contains(t: &[[f64; 3]; 4], p: [f64; 3]) -> bool {
-    tet_sides(t, &p).iter().all(|&s| s > 0.0)
 }
 
 /// The tet decomposition of a mesh: the data needed to enumerate the tets of any cell (an owned
@@ -245,46 +257,50 @@ impl TetDecomposition {
     /// The vertices of tet `id`, positively oriented for valid cells.
     #[inline]
     pub fn tet_points(&self, id: TetId) -> [[f64; 3]; 4] {
+        self.tet(id).points
+    }
+
+    /// Tet `id` with its vertices and keys.
+    #[inline]
+    pub fn tet(&self, id: TetId) -> Tet {
         let f = id.face as usize;
         let face = self.faces.face(f);
+        let np = self.points.len() as u64;
+        let cell_key = np + self.faces.len() as u64 + id.cell as u64;
         let apex = self.cell_apex[id.cell as usize];
         let p = |i: usize| self.points[face[i] as usize];
+        let k = |i: usize| face[i] as u64;
         let own = self.owner[f] == id.cell;
-        if face.len() == 3 {
+        let (points, keys) = if face.len() == 3 {
             if own {
-                [apex, p(0), p(1), p(2)]
+                ([apex, p(0), p(1), p(2)], [cell_key, k(0), k(1), k(2)])
             } else {
-                [apex, p(0), p(2), p(1)]
+                ([apex, p(0), p(2), p(1)], [cell_key, k(0), k(2), k(1)])
             }
         } else {
             let i = id.fan as usize;
             let j = if i + 1 == face.len() { 0 } else { i + 1 };
+            let fa = self.face_apex[f];
+            let fk = np + f as u64;
             if own {
-                [apex, self.face_apex[f], p(i), p(j)]
+                ([apex, fa, p(i), p(j)], [cell_key, fk, k(i), k(j)])
             } else {
-                [apex, self.face_apex[f], p(j), p(i)]
+                ([apex, fa, p(j), p(i)], [cell_key, fk, k(j), k(i)])
             }
-        }
+        };
+        Tet { id, points, keys }
     }
 
     /// Iterates over the tets of cell `cell`, face by face (ascending), fan index ascending.
     pub fn cell_tets(&self, cell: Label) -> impl Iterator<Item = Tet> + '_ {
         self.cell_faces(cell).iter().flat_map(move |&face| {
-            (0..self.face_tets(face) as Label).map(move |fan| {
-                let id = TetId { cell, face, fan };
-                Tet {
-                    id,
-                    points: self.tet_points(id),
-                }
-            })
+            (0..self.face_tets(face) as Label).map(move |fan| self.tet(TetId { cell, face, fan }))
         })
     }
 
     /// The tet of cell `cell` containing `p` (tie rule of this module), by testing all its tets.
     pub fn cell_tet_containing(&self, cell: Label, p: [f64; 3]) -> Option<TetId> {
-        self.cell_tets(cell)
-            .find(|t| tet_contains(&t.points, p))
-            .map(|t| t.id)
+        self.cell_tets(cell).find(|t| t.contains(p)).map(|t| t.id)
     }
 
     /// True when cell `cell` contains `p` (tie rule of this module).

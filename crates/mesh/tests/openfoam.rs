@@ -21,8 +21,8 @@ fn deviations(case: &str) -> (f64, f64, usize) {
     let mut bit_identical = 0;
     for i in 0..m.n_cells {
         dv = dv.max(rel(g.cell_volumes[i], v[i], 0.0));
-        for k in 0..3 {
-            dc = dc.max((g.cell_centres[i][k] - c[i][k]).abs() / size);
+        for (x, y) in g.cell_centres[i].iter().zip(&c[i]) {
+            dc = dc.max((x - y).abs() / size);
         }
         if g.cell_volumes[i] == v[i] && g.cell_centres[i] == c[i] {
             bit_identical += 1;

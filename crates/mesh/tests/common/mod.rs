@@ -129,8 +129,8 @@ pub fn closed_surface_volume_centroid(tris: &[[[f64; 3]; 3]]) -> (f64, [f64; 3])
             + a[2] * (b[0] * c[1] - b[1] * c[0]);
         let vt = det / 6.0;
         v += vt;
-        for k in 0..3 {
-            m[k] += vt * (a[k] + b[k] + c[k]) / 4.0;
+        for (k, mk) in m.iter_mut().enumerate() {
+            *mk += vt * (a[k] + b[k] + c[k]) / 4.0;
         }
     }
     (v, [m[0] / v, m[1] / v, m[2] / v])
