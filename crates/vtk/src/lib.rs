@@ -27,6 +27,27 @@
 //! directory, synced and renamed over the target. Inconsistent input (an array whose length is
 //! not the number of points or cells, a mesh with out-of-range labels) is a typed [`VtkError`]
 //! naming the output path, never a panic.
+//!
+//! ```
+//! use vtk::{write_pvd, write_vtp, DataArray};
+//! # let dir = tempfile::tempdir().unwrap();
+//! let positions = [[0.0, 0.0, 0.0], [1e-3, 0.0, 2e-3]];
+//! let radius = [5e-4, 4e-4];
+//! let velocity = [[0.0, 0.0, -0.1], [0.0, 0.0, -0.2]];
+//! let id = [1_i64, 2];
+//! let file = dir.path().join("particles_0.vtp");
+//! write_vtp(
+//!     &file,
+//!     &positions,
+//!     &[
+//!         DataArray::scalar("radius", &radius),
+//!         DataArray::vector("v", &velocity),
+//!         DataArray::int64("id", &id),
+//!     ],
+//! )?;
+//! write_pvd(dir.path().join("particles.pvd"), &[(0.0, &file)])?;
+//! # Ok::<(), vtk::VtkError>(())
+//! ```
 
 mod array;
 mod atomic;

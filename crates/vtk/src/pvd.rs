@@ -8,9 +8,11 @@ use crate::atomic::write_atomically;
 use crate::VtkError;
 
 /// Writes a `.pvd` collection listing `(time, file)` pairs, e.g. one `.vtp` per particle
-/// snapshot. Files inside the collection's directory are written relative to it (ParaView
-/// resolves relative names against the `.pvd`'s directory), so the series can be moved as a
-/// whole; other paths are written as given. Entries are written in the order given; several
+/// snapshot. ParaView resolves relative names against the `.pvd`'s directory: a file given by
+/// a path that starts with the `.pvd`'s directory (both absolute, or both relative to the
+/// same working directory) is written relative to it, so the series can be moved as a whole;
+/// any other path is written as given, i.e. a relative one must already be relative to the
+/// `.pvd`'s directory. Entries are written in the order given; several
 /// files at one time are numbered as parts `0, 1, …` of that time step. The file is replaced
 /// atomically, so rewriting it after every snapshot keeps a readable series while a run goes on.
 ///

@@ -496,6 +496,8 @@ pub fn vtu_cell_volumes(v: &VtkXml) -> Vec<f64> {
 
 /// Interpreters that can `import vtk`: `$VTK_PYTHON` if set, else `python3` and
 /// `/usr/bin/python3` (Debian's `python3-vtk9`), deduplicated by executable and VTK version.
+/// None found means the independent check is skipped, unless `FOAMGRAIN_REQUIRE_VTK` is set
+/// (CI sets it so that a missing package fails instead of silently skipping).
 /// Probed once per test binary.
 pub fn vtk_pythons() -> Vec<String> {
     static FOUND: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
@@ -527,6 +529,9 @@ fn probe_pythons() -> Vec<String> {
                 out.push(c);
             }
         }
+    }
+    if out.is_empty() && std::env::var_os("FOAMGRAIN_REQUIRE_VTK").is_some() {
+        panic!("FOAMGRAIN_REQUIRE_VTK is set but no python3 can `import vtk`");
     }
     if out.is_empty() {
         eprintln!(
