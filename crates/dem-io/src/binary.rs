@@ -17,7 +17,8 @@
 //!
 //! then per chunk an i32 `n` (values in the chunk, a multiple of `ncols`, possibly 0) followed by
 //! `n` f64 values, row-major. The chunks together hold `natoms × ncols` values. Column names are
-//! not stored: the reader is told them.
+//! not stored: the reader is told them. Only little-endian files are read; a big-endian file
+//! fails the header checks (triclinic flag, boundary codes, counts) or the chunk checks.
 
 use std::io::{self, Read, Seek, Write};
 

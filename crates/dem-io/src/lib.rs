@@ -54,6 +54,8 @@
 //! # Ok::<(), dem_io::DumpError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod binary;
 mod bounds;
 mod error;

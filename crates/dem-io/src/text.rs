@@ -313,9 +313,7 @@ pub(crate) fn skip_body<R: Read + Seek>(
     Ok(())
 }
 
-/// Appends `v` so that parsing it gives back the same `f64` bit for bit (`-0` included):
-/// integers below 10¹⁶ plainly (`286`, `-0`), anything else as the shortest round-tripping
-/// scientific form (`5e-4`, `1.3089969389957471e-6`).
+/// Appends `v` so that parsing it gives back the same `f64` bit for bit (see [`write_text`]).
 pub(crate) fn push_value(s: &mut String, v: f64) {
     let r = if v.fract() == 0.0 && v.abs() < 1e16 {
         write!(s, "{v}")
@@ -329,12 +327,14 @@ const FLUSH_AT: usize = 1 << 16;
 
 /// Writes one snapshot as a LIGGGHTS text `dump custom` snapshot.
 ///
-/// The layout is LIGGGHTS's (including the trailing space after each value), but every value is
-/// written so that it reads back exactly (see the crate docs); box bounds too, where LIGGGHTS
-/// uses `%g`. The label, if any, is written as `ITEM: LABEL` after the timestep (LIGGGHTS itself
-/// writes it only for orthogonal boxes). Append several snapshots to one writer for a
-/// multi-snapshot file. Output goes out in blocks of about 64 KiB, so `out` need not be
-/// buffered.
+/// The layout is LIGGGHTS's (including the trailing space after each value), but every value,
+/// box bounds included (LIGGGHTS uses `%g` there), reads back bit for bit: integers below 10¹⁶
+/// plainly (`286`, `-0`), anything else in the shortest scientific form that round-trips
+/// (`5e-4`, `1.3089969389957471e-6`); C's `strtod` reads both. The label, if any, is written
+/// as `ITEM: LABEL` after the timestep (LIGGGHTS itself writes it only for orthogonal boxes);
+/// it must not contain a newline, and surrounding spaces are not preserved. Append several
+/// snapshots to one writer for a multi-snapshot file. Output goes out in blocks of about
+/// 64 KiB, so `out` need not be buffered. Non-finite values are written as `NaN`/`inf`.
 pub fn write_text<W: Write>(out: &mut W, snapshot: &Snapshot) -> io::Result<()> {
     let mut s = String::with_capacity(FLUSH_AT + 4096);
     let b = &snapshot.bounds;
