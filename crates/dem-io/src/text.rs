@@ -176,12 +176,16 @@ pub(crate) fn read_header<R: Read + Seek>(
     let mut bounds = None;
     loop {
         let item = item_of(buf).ok_or_else(|| {
+            let numeric = tokens(buf).next().and_then(parse_f64).is_some();
+            let expected = match (timestep.is_some(), index > 0 && numeric) {
+                (true, _) => "an ITEM: line",
+                (false, true) => {
+                    "ITEM: TIMESTEP (the previous snapshot has more rows than its NUMBER OF ATOMS)"
+                }
+                (false, false) => "ITEM: TIMESTEP",
+            };
             src.line_err(ErrorKind::Unexpected {
-                expected: if timestep.is_none() {
-                    "ITEM: TIMESTEP".into()
-                } else {
-                    "an ITEM: line".into()
-                },
+                expected: expected.into(),
                 found: shorten(buf),
             })
         })?;

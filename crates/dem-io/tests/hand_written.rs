@@ -159,6 +159,18 @@ fn too_few_rows_before_next_snapshot() {
 }
 
 #[test]
+fn too_many_rows() {
+    let text = format!("{HEADER}1 1 0 0 0\n2 1 0 0 0\n3 1 0 0 0\n");
+    let err = text_err(&text);
+    assert_eq!(err.location, Location::Line(12));
+    assert!(
+        err.to_string()
+            .contains("more rows than its NUMBER OF ATOMS"),
+        "{err}"
+    );
+}
+
+#[test]
 fn truncated_rows_and_headers() {
     assert_text_error(&format!("{HEADER}1 1 0 0 0\n"), 10, |k| {
         matches!(k, ErrorKind::Truncated { .. })
