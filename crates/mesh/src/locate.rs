@@ -447,6 +447,8 @@ pub struct Locator {
     tets: TetDecomposition,
     grid: Option<AxisGrid>,
     bins: Bins,
+    /// Unit normal of every face, out of its owner (zero for zero-area faces).
+    face_normals: Vec<V3>,
     /// Mesh bounds, enlarged slightly: points outside are outside the mesh.
     bounds: Aabb,
 }
@@ -479,10 +481,24 @@ impl Locator {
             max: std::array::from_fn(|a| b.max[a] + pad[a]),
         };
         let bins = Bins::new(&tets, &bounds);
+        let face_normals = geom
+            .face_areas
+            .par_iter()
+            .with_min_len(4096)
+            .map(|a| {
+                let m = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+                if m > 0.0 {
+                    [a[0] / m, a[1] / m, a[2] / m]
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect();
         Ok(Self {
             tets,
             grid,
             bins,
+            face_normals,
             bounds,
         })
     }
@@ -564,6 +580,7 @@ impl Locator {
     }
 
     fn walk_or_search(&self, p: V3, start: Label) -> Option<Label> {
+        let start = self.cell_walk(p, start);
         match self.walk(p, start) {
             Walk::Found(t) => Some(t.cell),
             Walk::Lost => {
@@ -572,6 +589,29 @@ impl Locator {
                 })
             }
         }
+    }
+
+    /// A cheap cell-to-cell walk towards `p` by face planes: step across the face of which `p`
+    /// lies farthest outside, until `p` is inside all face planes of the cell, a boundary face is
+    /// met, or a step limit is reached. Only a starting point for the exact tet walk.
+    fn cell_walk(&self, p: V3, start: Label) -> Label {
+        let mut c = start;
+        for _ in 0..MAX_STEPS / 8 {
+            let mut best = (0.0, None);
+            for &f in self.tets.cell_faces(c) {
+                let f = f as usize;
+                let d = dot(sub(p, self.tets.face_apex[f]), self.face_normals[f]);
+                let d = if self.tets.owner[f] == c { d } else { -d };
+                if d > best.0 {
+                    best = (d, Some(f));
+                }
+            }
+            match best.1.and_then(|f| self.tets.across(f, c)) {
+                Some(n) => c = n,
+                None => break,
+            }
+        }
+        c
     }
 
     /// The tet of cell `cell` to start a walk towards `p`: fan 0 of the face whose centre lies
