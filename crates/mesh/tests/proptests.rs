@@ -48,8 +48,8 @@ proptest! {
             let v = det * g0.cell_volumes[c];
             prop_assert!((g1.cell_volumes[c] - v).abs() <= 1e-11 * v, "cell {}", c);
             let expected = map(g0.cell_centres[c]);
-            for k in 0..3 {
-                prop_assert!((g1.cell_centres[c][k] - expected[k]).abs() <= 1e-12 * scale);
+            for (x, y) in g1.cell_centres[c].iter().zip(expected) {
+                prop_assert!((x - y).abs() <= 1e-12 * scale);
             }
         }
         // The same map with a mirror inverts every cell.
