@@ -147,6 +147,7 @@ impl AxisGrid {
     }
 
     /// The cell in slot (i, j, k), i.e. the box [xᵢ, xᵢ₊₁] × [yⱼ, yⱼ₊₁] × [z_k, z_k₊₁].
+    /// Panics if an index is not below [`AxisGrid::dims`].
     pub fn cell(&self, i: usize, j: usize, k: usize) -> Label {
         let [nx, ny, _] = self.dims();
         self.cells[i + nx * (j + ny * k)]
