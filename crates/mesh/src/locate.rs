@@ -165,8 +165,8 @@ impl AxisGrid {
         [s % nx, (s / nx) % ny, s / (nx * ny)]
     }
 
-    /// The interval index i with planes[i] ≤ x < planes[i+1] along `axis`, `None` outside
-    /// [planes[0], planes[n]) or for NaN.
+    /// The interval index i with `planes[i] ≤ x < planes[i+1]` along `axis`, `None` outside
+    /// `[planes[0], planes[n])` or for NaN.
     #[inline]
     pub fn interval(&self, axis: usize, x: f64) -> Option<usize> {
         let pl = &self.planes[axis];
