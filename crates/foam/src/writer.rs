@@ -328,30 +328,14 @@ pub fn write_dict_file(path: &Path, header: &Header, body: &Dict) -> Result<()> 
     write_atomic(path, &bytes)
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so
-/// that readers never see a partial file.
+/// Writes `bytes` to `path` through a temporary file in the same directory and a rename
+/// (`atomic_write`), so that readers never see a partial file. Creates missing directories
+/// (a new time directory, say).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| FoamError::io(dir, e))?;
-    let name = path
-        .file_name()
-        .ok_or_else(|| FoamError::invalid(path, "not a file path"))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_data()?;
-        std::fs::rename(&tmp, path)
-    })();
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        FoamError::io(path, e)
-    })
+    atomic_write::write_atomically(path, |w| w.write_all(bytes)).map_err(|e| FoamError::io(path, e))
 }

@@ -50,7 +50,6 @@
 //! ```
 
 mod array;
-mod atomic;
 mod cells;
 mod error;
 mod pvd;

@@ -4,8 +4,8 @@ use std::io::Write as _;
 use std::path::Path;
 
 use crate::array::escape_attr;
-use crate::atomic::write_atomically;
 use crate::VtkError;
+use atomic_write::write_atomically;
 
 /// Writes a `.pvd` collection listing `(time, file)` pairs, e.g. one `.vtp` per particle
 /// snapshot. ParaView resolves relative names against the `.pvd`'s directory: a file given by
@@ -56,5 +56,9 @@ pub fn write_pvd<P: AsRef<Path>>(
             w.write_all(r.as_bytes())?;
         }
         w.write_all(b"  </Collection>\n</VTKFile>\n")
+    })
+    .map_err(|source| VtkError::Io {
+        path: path.to_path_buf(),
+        source,
     })
 }

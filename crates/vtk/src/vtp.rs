@@ -4,9 +4,9 @@ use std::io::Write as _;
 use std::path::Path;
 
 use crate::array::write_array;
-use crate::atomic::write_atomically;
 use crate::xml;
 use crate::{DataArray, Encoding, VtkError};
+use atomic_write::write_atomically;
 
 /// Writes particles as binary PolyData. See [`write_vtp_with`].
 pub fn write_vtp(
@@ -49,5 +49,9 @@ pub fn write_vtp_with(
         write_array(w, "offsets", &ends, 1, encoding)?;
         writeln!(w, "      </Verts>\n    </Piece>")?;
         xml::close(w, "PolyData")
+    })
+    .map_err(|source| VtkError::Io {
+        path: path.to_path_buf(),
+        source,
     })
 }

@@ -6,9 +6,9 @@ use std::path::Path;
 use foam::PolyMesh;
 
 use crate::array::write_array;
-use crate::atomic::write_atomically;
 use crate::xml;
 use crate::{DataArray, Encoding, VtkCells, VtkError};
+use atomic_write::write_atomically;
 
 /// Writes `mesh` with cell and point data as a binary UnstructuredGrid. See [`write_vtu_with`].
 pub fn write_vtu(
@@ -83,6 +83,10 @@ pub fn write_vtu_cells(
         }
         writeln!(w, "      </Cells>\n    </Piece>")?;
         xml::close(w, "UnstructuredGrid")
+    })
+    .map_err(|source| VtkError::Io {
+        path: path.to_path_buf(),
+        source,
     })
 }
 
