@@ -1,0 +1,200 @@
+//! Exact volume of a ball ∩ tetrahedron (and any closed polyhedron with triangular faces) by the
+//! divergence theorem, reduced to exact integrals over the planar faces.
+//!
+//! # Derivation
+//! Let B be the ball of radius R centred at c and P a polyhedron with outward-oriented planar
+//! faces F. For any point c, the indicator of P is the signed sum of the indicators of the
+//! pyramids conv(c, F) (sign + when c lies on the inner side of F's plane). Intersect each
+//! pyramid with B, which is centred at its apex: along each direction u through F the pyramid
+//! ∩ B is the segment from c of length min(R, t_F(u)), t_F the distance to F's plane, so
+//!
+//! vol(B ∩ conv(c, F)) = (|d|/3)·area(F ∩ D) + (R³/3)·Ω(F \ D),
+//!
+//! d the signed distance from c to F's plane (positive on the inner side), D the disk cut from
+//! that plane by B (radius ρ = √(R² − d²), centred at the foot point p₀ of c), and Ω the solid
+//! angle seen from c. Summing with signs,
+//!
+//! vol(B ∩ P) = Σ_F [ d/3 · area(F ∩ D) + R³/3 · Ω_d(F \ D) ],
+//!
+//! where Ω_d carries the sign of d. This is the flux form ⅓∮(x − c)·n dS of the volume of
+//! B ∩ P: each face's term ([`triangle_flux`]) is odd under reversing the face's orientation, so
+//! the terms of a face shared by two cells cancel, the decomposition of a cell into tetrahedra
+//! gives the same volume as its boundary triangles, and shares over the cells of a mesh sum to
+//! the volume of the ball inside the mesh.
+//!
+//! Each face integral is split into the signed fan of triangles (p₀, a, b) over the edges (a, b)
+//! of F. In polar coordinates about p₀ an edge is the line at distance p from p₀, points at
+//! parameter τ along it, angle φ = atan2(τ, |p|); inside the disk (|τ| ≤ τ* = √(ρ² − p²)) the
+//! fan triangle is bounded by the edge, outside by the circle. With ψ(τ) = atan2(dτ, |p|·√(d² +
+//! p² + τ²)) (the solid-angle primitive of a triangle with a vertex at p₀):
+//!
+//! * edge part τ₁..τ₂: area ½|p|(τ₂ − τ₁), no solid angle beyond the disk;
+//! * arc part τ₁..τ₂: area ½ρ²(φ₂ − φ₁), solid angle (d/R)(φ₂ − φ₁) − (ψ₂ − ψ₁)
+//!   (for |d| ≥ R there is no disk and the ratio d/R becomes sign(d));
+//!
+//! each multiplied by sign(p). All terms are elementary (square roots and `atan2`), so the volume
+//! is exact up to rounding — the same quantity as the caps, wedges and vertex terms of Strobl,
+//! Formella & Pöschel (J. Comput. Phys. 311 (2016) 158–172), organised by faces instead.
+//!
+//! Fast paths: a face inside the ball gives the pyramid volume det(a, b, c)/6; a face whose plane
+//! misses the ball gives R³/3 times its signed solid angle (Van Oosterom & Strackee, IEEE Trans.
+//! Biomed. Eng. 30 (1983) 125–126); a tetrahedron inside the ball gives its volume; one whose
+//! bounding box misses the ball gives 0.
+//!
+//! Accuracy: absolute errors of a few ulps of R³; computed on the unit ball (coordinates
+//! relative to c divided by R), so any scale works.
+
+use crate::vec3::{cross, dot, norm, sub, to_unit, V3};
+
+/// The signed solid angle of the triangle (a, b, c) seen from the origin, from the vertex
+/// lengths `l` and the triple product `det` = a·(b × c) (Van Oosterom & Strackee):
+/// Ω = 2·atan2(det, |a||b||c| + (a·b)|c| + (a·c)|b| + (b·c)|a|).
+#[inline]
+fn solid_angle(v: &[V3; 3], l: [f64; 3], det: f64) -> f64 {
+    let den = l[0] * l[1] * l[2]
+        + dot(v[0], v[1]) * l[2]
+        + dot(v[0], v[2]) * l[1]
+        + dot(v[1], v[2]) * l[0];
+    2.0 * det.atan2(den)
+}
+
+/// Flux term of one oriented triangle on the unit ball centred at the origin (module docs):
+/// its contribution to vol(unit ball ∩ P) for a polyhedron P having it as a face with the normal
+/// (v₁ − v₀) × (v₂ − v₀) pointing out of P.
+pub(crate) fn triangle_flux_unit(v: &[V3; 3]) -> f64 {
+    let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    let nn = norm(n);
+    if !(nn > 0.0) {
+        return 0.0;
+    }
+    let det = dot(v[0], cross(v[1], v[2]));
+    let l = [norm(v[0]), norm(v[1]), norm(v[2])];
+    if l[0] <= 1.0 && l[1] <= 1.0 && l[2] <= 1.0 {
+        return det / 6.0;
+    }
+    let inv = 1.0 / nn;
+    let nh = [n[0] * inv, n[1] * inv, n[2] * inv];
+    let d = dot(v[0], nh);
+    if d.abs() >= 1.0 {
+        return solid_angle(v, l, det) / 3.0;
+    }
+    let rho2 = 1.0 - d * d;
+    let mut area = 0.0;
+    let mut omega = 0.0;
+    for k in 0..3 {
+        let (a, b) = (v[k], v[(k + 1) % 3]);
+        let e = sub(b, a);
+        let le = norm(e);
+        if !(le > 0.0) {
+            continue;
+        }
+        let t = [e[0] / le, e[1] / le, e[2] / le];
+        let p = dot(a, cross(t, nh));
+        if p == 0.0 {
+            continue;
+        }
+        let ap = p.abs();
+        let (ta, tb) = (dot(a, t), dot(b, t));
+        let mut ae = 0.0;
+        let mut oe = 0.0;
+        // Arc part over [x1, x2] (x1 < x2), r1, r2 the distances from the centre to the points
+        // at x1, x2: (area, solid angle), with Δφ and Δψ each one atan2 of an angle difference.
+        let arc = |x1: f64, x2: f64, r1: f64, r2: f64| -> (f64, f64) {
+            if !(x2 > x1) {
+                return (0.0, 0.0);
+            }
+            let dphi = (ap * (x2 - x1)).atan2(ap * ap + x1 * x2);
+            let (y1, w1) = (d * x1, ap * r1);
+            let (y2, w2) = (d * x2, ap * r2);
+            let dpsi = (y2 * w1 - y1 * w2).atan2(w1 * w2 + y1 * y2);
+            (0.5 * rho2 * dphi, d * dphi - dpsi)
+        };
+        let mut add = |(a, o): (f64, f64)| {
+            ae += a;
+            oe += o;
+        };
+        let dist = |x: f64| (d * d + ap * ap + x * x).sqrt();
+        if ap * ap < rho2 {
+            let ts = (rho2 - ap * ap).sqrt();
+            let (l1, l2) = (ta.max(-ts), tb.min(ts));
+            if l2 > l1 {
+                add((0.5 * ap * (l2 - l1), 0.0));
+            }
+            if ta < -ts {
+                let x2 = tb.min(-ts);
+                let r2 = if x2 == -ts { 1.0 } else { dist(x2) };
+                add(arc(ta, x2, dist(ta), r2));
+            }
+            if tb > ts {
+                let x1 = ta.max(ts);
+                let r1 = if x1 == ts { 1.0 } else { dist(x1) };
+                add(arc(x1, tb, r1, dist(tb)));
+            }
+        } else {
+            add(arc(ta, tb, dist(ta), dist(tb)));
+        }
+        let s = if p > 0.0 { 1.0 } else { -1.0 };
+        area += s * ae;
+        omega += s * oe;
+    }
+    (d * area + omega) / 3.0
+}
+
+/// The flux term of the oriented triangle `tri` (m) for the ball (centre `centre`, radius
+/// `r` > 0), m³: its contribution to the volume of ball ∩ P for any closed polyhedron P having
+/// `tri` as a face with normal (v₁ − v₀) × (v₂ − v₀) pointing out of P (module docs). Odd under
+/// reversing the orientation.
+pub fn triangle_flux(centre: [f64; 3], r: f64, tri: &[[f64; 3]; 3]) -> f64 {
+    if !(r > 0.0) {
+        return 0.0;
+    }
+    let inv = 1.0 / r;
+    let v = tri.map(|p| to_unit(p, centre, inv));
+    triangle_flux_unit(&v) * r * r * r
+}
+
+/// The faces of the tet (a, b, c, d), outward for a positively oriented tet
+/// ((b − a)·((c − a) × (d − a)) > 0), as vertex indices.
+pub const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+/// Exact volume of the ball (centre `centre`, radius `r`) ∩ the tetrahedron `tet`, m³, signed
+/// like [`mesh::tet_volume`]: positive for a positively oriented tet
+/// ((b − a)·((c − a) × (d − a)) > 0), negative otherwise. Module docs for the method.
+pub fn sphere_tet_volume(centre: [f64; 3], r: f64, tet: &[[f64; 3]; 4]) -> f64 {
+    if !(r > 0.0) {
+        return 0.0;
+    }
+    let inv = 1.0 / r;
+    let v = tet.map(|p| to_unit(p, centre, inv));
+    let r3 = r * r * r;
+    // Bounding box misses the ball: nothing.
+    let mut near = 0.0;
+    let mut inside = true;
+    for a in 0..3 {
+        let lo = v.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min);
+        let hi = v.iter().map(|p| p[a]).fold(f64::NEG_INFINITY, f64::max);
+        near += crate::sphere_box::interval_dist2(lo, hi).0;
+    }
+    if near >= 1.0 {
+        return 0.0;
+    }
+    for p in &v {
+        inside &= dot(*p, *p) <= 1.0;
+    }
+    if inside {
+        return mesh::tet_volume(tet);
+    }
+    TET_FACES
+        .iter()
+        .map(|f| triangle_flux_unit(&[v[f[0]], v[f[1]], v[f[2]]]))
+        .sum::<f64>()
+        * r3
+}
+
+/// Exact volume of the ball (centre `centre`, radius `r`) ∩ the closed polyhedron bounded by the
+/// triangles `faces` (m), each oriented with its normal (v₁ − v₀) × (v₂ − v₀) pointing outwards,
+/// m³. The polyhedron may be non-convex; the faces must close (every edge shared by two faces
+/// with opposite directions), otherwise the result is meaningless.
+pub fn sphere_polyhedron_volume(centre: [f64; 3], r: f64, faces: &[[[f64; 3]; 3]]) -> f64 {
+    faces.iter().map(|t| triangle_flux(centre, r, t)).sum()
+}
