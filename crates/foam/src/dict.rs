@@ -345,12 +345,23 @@ impl Dict {
     }
 
     /// Looks up a possibly scoped name as OpenFOAM's `$var` does, relative to this dictionary:
-    /// `a.b` descends into sub-dictionary `a`. Returns `None` when not found here.
+    /// `a.b` descends into sub-dictionary `a`; each part matches an exact keyword first, then a
+    /// pattern keyword (the last defined first), as OpenFOAM v1912's scoped search does.
+    /// Returns `None` when not found here.
     pub fn lookup_path(&self, path: &str) -> Option<&Value> {
         let mut d = self;
         let mut parts = path.split('.').peekable();
         while let Some(p) = parts.next() {
-            let v = d.get(p)?;
+            let v = match d.get(p) {
+                Some(v) => v,
+                None => {
+                    &d.entries
+                        .iter()
+                        .rev()
+                        .find(|e| e.pattern && crate::pattern::matches_whole(&e.keyword, p))?
+                        .value
+                }
+            };
             if parts.peek().is_none() {
                 return Some(v);
             }

@@ -331,14 +331,6 @@ impl<'a> Lexer<'a> {
                     break;
                 }
                 depth -= 1;
-            } else if matches!(c, b',' | b'=' | b':')
-                && depth == 0
-                && self.pos > start
-                && !(c == b':' && self.src[start] == b'$')
-            {
-                // Separators end a word only outside parentheses (`div(phi,U)` stays whole);
-                // `$:a.b` (a variable scoped from the top) keeps its colon.
-                break;
             }
             self.pos += 1;
         }

@@ -230,9 +230,12 @@ impl<'a> Parser<'a> {
                 Tok::Punct(b'}') if open.is_some() => return Ok(()),
                 Tok::Punct(b';') => continue,
                 Tok::Word(w) if w.starts_with('#') => self.directive(&w, at, scopes)?,
-                Tok::Word(w) if w.starts_with('$') && self.lex.peek()? == &Tok::Punct(b';') => {
-                    // `$dict;` at keyword position merges that dictionary's entries here.
-                    self.lex.next_tok()?;
+                Tok::Word(w) if w.starts_with('$') => {
+                    // `$dict` (`;` optional) at keyword position merges that dictionary's
+                    // entries here.
+                    if self.lex.peek()? == &Tok::Punct(b';') {
+                        self.lex.next_tok()?;
+                    }
                     match self.lookup_var(&w, scopes, at)? {
                         Value::Dict(d) => {
                             for e in d.entries().to_vec() {
@@ -242,7 +245,7 @@ impl<'a> Parser<'a> {
                         Value::Stream(_) => {
                             return Err(self.lex.error_at(
                                 at,
-                                format!("`{w};` names a value, not a dictionary to merge"),
+                                format!("`{w}` at keyword position names a value, not a dictionary to merge"),
                             ))
                         }
                     }
@@ -380,7 +383,7 @@ impl<'a> Parser<'a> {
                 let names: Vec<String> = match t {
                     Tok::Word(n) | Tok::Str(n) => vec![n],
                     Tok::Punct(b'(') => {
-                        let items = self.parse_list_items(scopes, None, tat, b')')?;
+                        let items = self.parse_list_items(scopes, tat, b')')?;
                         items
                             .iter()
                             .filter_map(|i| i.as_word().map(str::to_string))
@@ -430,10 +433,9 @@ impl<'a> Parser<'a> {
         let expanded = expand_path_vars(name, here).map_err(|m| self.lex.error_at(at, m))?;
         let p = PathBuf::from(&expanded);
         if etc {
-            let root = std::env::var("WM_PROJECT_DIR").map_err(|_| {
-                self.lex
-                    .error_at(at, "#includeEtc needs WM_PROJECT_DIR to be set")
-            })?;
+            // Debian's OpenFOAM keeps etc/ in /usr/share/openfoam.
+            let root =
+                std::env::var("WM_PROJECT_DIR").unwrap_or_else(|_| "/usr/share/openfoam".into());
             return Ok(Path::new(&root).join("etc").join(p));
         }
         Ok(if p.is_absolute() { p } else { here.join(p) })
@@ -563,16 +565,6 @@ impl<'a> Parser<'a> {
             Tok::Str(s) => out.push(Item::Str(s)),
             Tok::Scalar(v) => out.push(Item::Scalar(v)),
             Tok::Label(n) => match self.lex.peek()? {
-                Tok::Punct(b'(') => {
-                    let count = self.count(n, at)?;
-                    let (_, lat) = self.lex.next_located()?;
-                    out.push(Item::List(self.parse_list_items(
-                        scopes,
-                        Some(count),
-                        lat,
-                        b')',
-                    )?));
-                }
                 Tok::Punct(b'{') => {
                     let count = self.count(n, at)?;
                     self.lex.next_tok()?;
@@ -589,12 +581,8 @@ impl<'a> Parser<'a> {
                 }
                 _ => out.push(Item::Label(n)),
             },
-            Tok::Punct(b'(') => {
-                out.push(Item::List(self.parse_list_items(scopes, None, at, b')')?))
-            }
-            Tok::Punct(b'[') => {
-                out.push(Item::Dims(self.parse_list_items(scopes, None, at, b']')?))
-            }
+            Tok::Punct(b'(') => out.push(Item::List(self.parse_list_items(scopes, at, b')')?)),
+            Tok::Punct(b'[') => out.push(Item::Dims(self.parse_list_items(scopes, at, b']')?)),
             Tok::Punct(b'{') => {
                 let d = self.parse_sub_dict(scopes, at)?;
                 out.push(Item::Dict(d));
@@ -628,11 +616,10 @@ impl<'a> Parser<'a> {
     fn parse_list_items(
         &mut self,
         scopes: &mut Vec<Dict>,
-        count: Option<usize>,
         open: Location,
         close: u8,
     ) -> Result<Vec<Item>> {
-        let mut items = Vec::with_capacity(count.unwrap_or(0).min(1 << 16));
+        let mut items = Vec::new();
         loop {
             let (tok, at) = self.lex.next_located()?;
             match tok {
@@ -650,14 +637,6 @@ impl<'a> Parser<'a> {
                     ))
                 }
                 t => self.parse_item(t, at, scopes, &mut items)?,
-            }
-        }
-        if let Some(n) = count {
-            if items.len() != n {
-                return Err(self.lex.error_at(
-                    open,
-                    format!("list declares {n} items but holds {}", items.len()),
-                ));
             }
         }
         Ok(items)

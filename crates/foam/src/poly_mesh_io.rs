@@ -84,6 +84,30 @@ pub fn read_label_list(dir: &Path, name: &str) -> Result<(Vec<Label>, Header)> {
     Ok((labels, h))
 }
 
+/// Reads `neighbour`. Some meshes list a neighbour for every face, with -1 for boundary faces;
+/// as OpenFOAM does, the internal faces are those before the first -1, and every later entry
+/// must be -1.
+pub fn read_neighbour(dir: &Path) -> Result<Vec<Label>> {
+    let f = MeshFile::open(dir, "neighbour")?;
+    let (mut p, _) = f.parser()?;
+    let mut labels = Vec::new();
+    p.read_typed(Elem::Label, &mut labels, &mut Vec::new())?;
+    expect_end(&mut p)?;
+    let internal = labels.iter().position(|&l| l < 0).unwrap_or(labels.len());
+    if let Some(k) = labels[internal..].iter().position(|&l| l != -1) {
+        return Err(FoamError::invalid(
+            &f.path,
+            format!(
+                "neighbour {}: label {} after the first -1 (at {internal}); only -1 may follow",
+                internal + k,
+                labels[internal + k]
+            ),
+        ));
+    }
+    labels.truncate(internal);
+    labels_u32(labels, &p, "neighbour")
+}
+
 /// Reads `faces` (`faceList` or `faceCompactList`).
 pub fn read_faces(dir: &Path) -> Result<FaceList> {
     let f = MeshFile::open(dir, "faces")?;
@@ -163,11 +187,19 @@ pub fn read_boundary(dir: &Path) -> Result<Vec<Patch>> {
     let (mut p, _) = f.parser()?;
     let mut items = Vec::new();
     let mut scopes = vec![crate::Dict::new()];
-    let (t, at) = p.lex.next_located()?;
-    p.parse_item(t, at, &mut scopes, &mut items)?;
-    expect_end(&mut p)?;
+    while p.lex.peek()? != &crate::lexer::Tok::Eof {
+        let (t, at) = p.lex.next_located()?;
+        p.parse_item(t, at, &mut scopes, &mut items)?;
+    }
     let list = match items.as_slice() {
         [Item::List(l)] => l,
+        [Item::Label(n), Item::List(l)] if *n as usize == l.len() => l,
+        [Item::Label(n), Item::List(l)] => {
+            return Err(FoamError::invalid(
+                &f.path,
+                format!("the patch list declares {n} patches but holds {}", l.len()),
+            ))
+        }
         _ => return Err(FoamError::invalid(&f.path, "expected one list of patches")),
     };
     let mut patches = Vec::with_capacity(list.len());
@@ -218,7 +250,7 @@ pub fn read_poly_mesh(dir: &Path) -> Result<PolyMesh> {
     let points = read_points(dir)?;
     let faces = read_faces(dir)?;
     let (owner, oh) = read_label_list(dir, "owner")?;
-    let (neighbour, _) = read_label_list(dir, "neighbour")?;
+    let neighbour = read_neighbour(dir)?;
     let boundary = read_boundary(dir)?;
     let counted = PolyMesh::count_cells(&owner, &neighbour);
     let n_cells = oh

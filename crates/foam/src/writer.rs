@@ -178,9 +178,8 @@ impl Writer {
                 self.out.push(b')');
             }
             Item::List(v) => {
+                // No count: an integer before a list stays a separate item when read back.
                 self.out.push(b'\n');
-                self.indent(level);
-                writeln!(self.out, "{}", v.len()).unwrap();
                 self.indent(level);
                 self.out.extend_from_slice(b"(\n");
                 for x in v {

@@ -33,7 +33,7 @@ fn leaf() -> impl Strategy<Value = Item> {
 /// Generic items, nested lists included.
 fn item() -> impl Strategy<Value = Item> {
     leaf().prop_recursive(3, 24, 12, |inner| {
-        prop::collection::vec(inner, 0..14).prop_map(|v| Item::List(unambiguous(v)))
+        prop::collection::vec(inner, 0..14).prop_map(Item::List)
     })
 }
 
@@ -50,26 +50,12 @@ fn typed() -> impl Strategy<Value = Vec<Item>> {
     ]
 }
 
-/// In the FoamFile format an integer followed by a list is a list length (`3(a b c)`), in
-/// OpenFOAM too; such a sequence cannot be written unambiguously, so the generator turns that
-/// integer into a floating-point number.
-fn unambiguous(mut v: Vec<Item>) -> Vec<Item> {
-    for i in 1..v.len() {
-        if matches!(v[i], Item::List(_)) {
-            if let Item::Label(l) = v[i - 1] {
-                v[i - 1] = Item::Scalar(l as f64 + 0.5);
-            }
-        }
-    }
-    v
-}
-
 fn stream() -> impl Strategy<Value = Vec<Item>> {
     prop::collection::vec(
         prop_oneof![3 => item().prop_map(|i| vec![i]), 1 => typed()],
         1..4,
     )
-    .prop_map(|parts| unambiguous(parts.into_iter().flatten().collect()))
+    .prop_map(|parts| parts.into_iter().flatten().collect())
 }
 
 fn dict(depth: u32) -> BoxedStrategy<Dict> {
