@@ -18,6 +18,11 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// The path without a trailing `.gz` (the reader finds the compressed file itself).
+fn without_gz(p: &Path) -> PathBuf {
+    PathBuf::from(p.to_string_lossy().trim_end_matches(".gz"))
+}
+
 /// True when the file (gunzipped if needed) starts, after comments, with `FoamFile`.
 fn is_foam_file(p: &Path) -> bool {
     let Ok((_, bytes)) = foam::parser::read_bytes(
@@ -78,8 +83,7 @@ fn main() {
         .iter()
         .filter(|f| !in_mesh(f) && !m4(f) && is_foam_file(f))
     {
-        let target = PathBuf::from(f.to_string_lossy().trim_end_matches(".gz"));
-        match foam::parse_file(&target) {
+        match foam::parse_file(&without_gz(f)) {
             Ok(_) => ok += 1,
             Err(e) => {
                 failed += 1;
