@@ -25,15 +25,7 @@ fn without_gz(p: &Path) -> PathBuf {
 
 /// True when the file (gunzipped if needed) starts, after comments, with `FoamFile`.
 fn is_foam_file(p: &Path) -> bool {
-    let Ok((_, bytes)) = foam::parser::read_bytes(
-        &p.with_extension("").with_file_name(
-            p.file_name()
-                .unwrap()
-                .to_string_lossy()
-                .trim_end_matches(".gz")
-                .to_string(),
-        ),
-    ) else {
+    let Ok((_, bytes)) = foam::parser::read_bytes(&without_gz(p)) else {
         return false;
     };
     let head = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]).into_owned();
