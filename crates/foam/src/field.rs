@@ -217,12 +217,16 @@ impl VolField {
             .expect("checked on read")
     }
 
-    /// Writes the field to `path` in `format` (atomically).
+    /// Writes the field to `path` in `format` (atomically). The header's `object` becomes the
+    /// file name and its `location` the directory name (the time, as OpenFOAM writes it).
     pub fn write(&self, path: &Path, format: Format) -> Result<()> {
         let mut h = self.header.clone();
         h.format = format;
         if let Some(name) = path.file_name() {
             h.object = name.to_string_lossy().into_owned();
+        }
+        if let Some(dir) = path.parent().and_then(Path::file_name) {
+            h.location = dir.to_string_lossy().into_owned();
         }
         write_dict_file(path, &h, &self.body)
     }

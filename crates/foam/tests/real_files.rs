@@ -96,6 +96,10 @@ fn read_modify_write_keeps_boundary_field() {
             back.internal(24).unwrap(),
             FieldValues::Vector(vals.clone())
         );
+        assert_eq!(
+            back.header.location,
+            dir.path().file_name().unwrap().to_str().unwrap()
+        );
         let mv = back.boundary().dict("movingWall").unwrap();
         assert_eq!(
             mv.stream("value").unwrap()[1].as_vector(),
