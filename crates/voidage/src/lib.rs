@@ -8,16 +8,49 @@
 //!   tetrahedron / triangulated polyhedron by the divergence theorem ([`sphere_poly`]);
 //! * [`cube_fraction`], [`khawaja_correction`], [`correct_and_renormalise`]: the circumscribing
 //!   cube and Khawaja et al.'s (2012) corrected cube ([`cube`]);
-//! * [`divided_offsets`]: CFDEM's 29 "divided" marker points ([`divided`]).
+//! * [`divided_offsets`]: CFDEM's 29 "divided" marker points ([`divided`]);
+//! * [`box_tet_volume`]: exact axis-aligned box ∩ tetrahedron by clipping ([`clip`]).
+//!
+//! # Models on a mesh
+//! [`VoidageMesh`] prepares an OpenFOAM [`foam::PolyMesh`] (geometry, [`mesh::Locator`],
+//! indexes) and deposits the volume of N particles ([`ParticleSet`]) into per-cell solid volume
+//! with a [`Method`] — `centre`, `divided`, `cube`, `corrected-cube` or `exact` — in parallel,
+//! with every particle's volume either in a cell or counted outside the mesh ([`Deposit`]);
+//! [`VoidageMesh::voidage`] turns it into ε = 1 − solid / cell volume ([`Voidage`]), optionally
+//! clipped from below with the clipped volume reported. See the [`engine`] module docs for how
+//! each method works on axis-aligned grids and on general meshes.
+//!
+//! ```
+//! use voidage::{Method, ParticleSet, VoidageMesh};
+//! let mesh = mesh::build::uniform_box([0.0; 3], [3e-3; 3], [3, 3, 3]);
+//! let vm = VoidageMesh::new(&mesh)?;
+//! let pos = [[1.5e-3, 1.5e-3, 1.0e-3]];
+//! let rad = [0.5e-3];
+//! let dep = vm.deposit(Method::Exact, &ParticleSet::new(&pos, &rad))?;
+//! assert!(dep.conservation_error() < 1e-12);
+//! let eps = vm.voidage(&dep, None)?;
+//! assert!(eps.epsilon.iter().all(|&e| e <= 1.0));
+//! # Ok::<(), voidage::VoidageError>(())
+//! ```
 
 // `!(x > 0.0)` is used on purpose: it is also true for NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod clip;
 pub mod cube;
 pub mod divided;
+pub mod engine;
+mod error;
+mod label_map;
+mod method;
 pub mod sphere_box;
 pub mod sphere_poly;
 mod vec3;
+
+pub use clip::box_tet_volume;
+pub use engine::{voidage_field, Deposit, MeshOptions, ParticleSet, Voidage, VoidageMesh};
+pub use error::{ParticleProblem, VoidageError};
+pub use method::{Method, UnknownMethod};
 
 pub use cube::{
     correct_and_renormalise, cube_axis_fraction, cube_fraction, khawaja_correction,

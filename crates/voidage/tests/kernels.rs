@@ -575,3 +575,34 @@ fn cube_axis_fraction_cases() {
     assert_eq!(cube_axis_fraction(0.0, 1.0, -0.5, 0.5), 0.5);
     assert_eq!(cube_axis_fraction(0.0, 1.0, 2.0, 1.0), 0.0);
 }
+
+#[test]
+fn box_tet_clipping_matches_box_overlaps() {
+    // The 6 tets of box A clipped by box B sum to |A ∩ B| = Π per-axis overlaps.
+    let mut rng = Rng::new(31);
+    let mut stack = vec![];
+    for _ in 0..500 {
+        let (_, _, alo, ahi) =
+            random_case(&mut rng, [0.0, 0.0], [1.0, 1.0], [-1.0, 1.0], [0.1, 1.5]);
+        let (_, _, blo, bhi) =
+            random_case(&mut rng, [0.0, 0.0], [1.0, 1.0], [-1.0, 1.0], [0.1, 1.5]);
+        let overlap: f64 = (0..3)
+            .map(|a| (ahi[a].min(bhi[a]) - alo[a].max(blo[a])).max(0.0))
+            .product();
+        let clipped: f64 = box_tets(alo, ahi)
+            .iter()
+            .map(|t| box_tet_volume(blo, bhi, t, &mut stack))
+            .sum();
+        assert!((clipped - overlap).abs() < 1e-14, "{clipped} vs {overlap}");
+    }
+    // A tet against a box through its interior, vs Monte Carlo.
+    let t = random_tet(&mut rng);
+    let (lo, hi) = ([-0.3, -0.5, -0.2], [0.6, 0.4, 0.9]);
+    let v = box_tet_volume(lo, hi, &t, &mut stack);
+    let (mc, se) = monte_carlo(&mut rng, lo, hi, 200_000, |p| in_tet(&t, p));
+    assert!((v - mc).abs() < 4.5 * se, "{v} vs {mc} ± {se}");
+    // Negative orientation gives the negative volume.
+    let mut neg = t;
+    neg.swap(0, 1);
+    assert!((box_tet_volume(lo, hi, &neg, &mut stack) + v).abs() < 1e-15);
+}

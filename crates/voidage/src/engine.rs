@@ -1,0 +1,978 @@
+//! Depositing particle volumes into the cells of a mesh, and the voidage field.
+//!
+//! # Accounting
+//! Every particle's volume V = 4πr³/3 is either deposited into cells or counted as outside the
+//! mesh: per particle, outside = V − Σ deposited shares, so Σ cells + outside = Σ V up to the
+//! rounding of the sums. The outside volume of the exact method is the part of the ball beyond
+//! the mesh boundary (plus rounding, ≈1e-16·V per particle). Voidage ε = 1 − solid/cell volume,
+//! unclipped unless `alpha_min` is given; the solid volume removed by clipping is reported.
+//!
+//! # Methods on axis-aligned grids ([`mesh::AxisGrid`])
+//! * `centre`, `divided`: the grid's half-open locate rule;
+//! * `cube`: per-axis overlaps of [c − r, c + r] with the grid intervals, multiplied;
+//! * `corrected-cube`: the same per-axis segments, extended by one virtual cell below the first
+//!   and above the last plane where the cube leaves the grid, so that the cube is tiled as if the
+//!   mesh continued; the polynomial is applied to every piece (virtual ones included),
+//!   renormalised over all, and the virtual pieces are counted as outside. Shares of the cells
+//!   inside the mesh do not depend on where the mesh ends;
+//! * `exact`: [`crate::sphere_grid_volumes`] over the particle's cell range (corner values shared
+//!   between the boxes around each grid node).
+//!
+//! # Methods on general meshes (any polyhedral cells)
+//! * `centre`, `divided`: [`mesh::Locator`] (markers are located starting from the centre's
+//!   cell);
+//! * `exact`: the face-flux form of [`crate::sphere_poly`] over the fan triangles of each cell's
+//!   faces — the boundary of the cell's tets in [`mesh::TetDecomposition`], so the shares are
+//!   those of Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`]. A ball inside the kernel of
+//!   its centre's cell (on the inner side of every fan triangle, at distance ≥ r) goes there
+//!   whole; a cell inside the ball gets its (OpenFOAM) volume;
+//! * `cube`: the exact volume of cube ∩ cell, by clipping the cell's tets with the cube
+//!   ([`crate::clip`]), divided by d³;
+//! * `corrected-cube`: the polynomial on those fractions plus one piece for the cube's part
+//!   outside the mesh (1 − Σφc), renormalised over all of them.
+//!
+//! Candidate cells for exact and cube on general meshes: a breadth-first walk over face
+//! neighbours from the centre's cell through cells whose bounding box meets the ball (cube).
+//! For a convex domain the cells meeting the ball are face-connected, so the walk finds them
+//! all; when the walk meets a boundary face whose box meets the ball (cube), or the centre lies
+//! outside the mesh, the candidates are taken instead from a bin index of cell bounding boxes,
+//! which finds every cell whose box meets the ball's box (any domain, convex or not).
+//!
+//! # Parallelism and determinism
+//! Particles are processed in fixed chunks in parallel (rayon); each chunk produces a list of
+//! (cell, volume) shares, and the lists are added into the cell array in chunk order. The
+//! result does not depend on the number of threads.
+
+use crate::clip::box_tet_volume;
+use crate::cube::{cube_axis_fraction, khawaja_correction};
+use crate::divided::{divided_offsets, DIVIDED_MARKERS};
+use crate::error::{ParticleProblem, VoidageError};
+use crate::label_map::LabelMap;
+use crate::method::Method;
+use crate::sphere_box::{ball_volume, interval_dist2, sphere_grid_volumes, GridScratch};
+use crate::sphere_poly::triangle_flux_unit;
+use crate::vec3::{cross, dot, norm, sub, to_unit};
+use foam::{FaceList, Label, PolyMesh};
+use mesh::{Aabb, AxisGrid, Locator, LocatorOptions, MeshGeometry};
+use rayon::prelude::*;
+
+/// Particles per parallel work item.
+const CHUNK: usize = 1024;
+/// Work items per batch (bounds the memory of the share lists).
+const BATCH: usize = 64;
+
+/// Particle data for a deposit: positions (m), radii (m) and optional ids (for error messages).
+#[derive(Clone, Copy, Debug)]
+pub struct ParticleSet<'a> {
+    /// Centre positions, m.
+    pub positions: &'a [[f64; 3]],
+    /// Radii, m (≥ 0; zero-radius particles deposit nothing).
+    pub radii: &'a [f64],
+    /// Particle ids (LIGGGHTS tags), same length, if known.
+    pub ids: Option<&'a [u64]>,
+}
+
+impl<'a> ParticleSet<'a> {
+    /// Positions and radii without ids.
+    pub fn new(positions: &'a [[f64; 3]], radii: &'a [f64]) -> Self {
+        ParticleSet {
+            positions,
+            radii,
+            ids: None,
+        }
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// True when there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// Checks lengths and values: the first bad particle (by index) as an error.
+    pub fn check(&self) -> Result<(), VoidageError> {
+        let n = self.positions.len();
+        let mismatch = |what, found| VoidageError::LengthMismatch {
+            what,
+            expected: n,
+            found,
+        };
+        if self.radii.len() != n {
+            return Err(mismatch("radii", self.radii.len()));
+        }
+        if let Some(ids) = self.ids {
+            if ids.len() != n {
+                return Err(mismatch("ids", ids.len()));
+            }
+        }
+        let bad = self
+            .positions
+            .par_iter()
+            .zip(self.radii.par_iter())
+            .position_first(|(p, &r)| {
+                !(p.iter().all(|x| x.is_finite()) && r.is_finite() && r >= 0.0)
+            });
+        if let Some(index) = bad {
+            let p = self.positions[index];
+            let problem = if p.iter().all(|x| x.is_finite()) {
+                ParticleProblem::BadRadius(self.radii[index])
+            } else {
+                ParticleProblem::NonFinitePosition(p)
+            };
+            return Err(VoidageError::InvalidParticle {
+                index,
+                id: self.ids.map(|ids| ids[index]),
+                problem,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The solid volume of a set of particles per cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Deposit {
+    /// The method used.
+    pub method: Method,
+    /// Solid volume per cell, m³.
+    pub solid: Vec<f64>,
+    /// Number of particles.
+    pub particles: usize,
+    /// Σ 4πr³/3 over the particles, m³.
+    pub particle_volume: f64,
+    /// Σ `solid`, m³.
+    pub deposited_volume: f64,
+    /// Volume counted outside the mesh, m³ (Σ per particle of V − deposited shares).
+    pub outside_volume: f64,
+    /// Particles with nothing deposited (centre outside the mesh, or ball beyond it).
+    pub particles_outside: usize,
+    /// Particles with part of their volume (more than 1e-12·V) outside the mesh.
+    pub particles_partly_outside: usize,
+}
+
+impl Deposit {
+    /// |particle − deposited − outside| / particle volume (0 for no volume): the accounting
+    /// residual, rounding only.
+    pub fn conservation_error(&self) -> f64 {
+        let d = self.particle_volume - self.deposited_volume - self.outside_volume;
+        if self.particle_volume > 0.0 {
+            d.abs() / self.particle_volume
+        } else {
+            d.abs()
+        }
+    }
+}
+
+/// A voidage field ε = 1 − solid / cell volume, optionally clipped from below.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Voidage {
+    /// ε per cell (dimensionless).
+    pub epsilon: Vec<f64>,
+    /// The floor applied, if any.
+    pub alpha_min: Option<f64>,
+    /// Solid volume removed by clipping, m³: Σ (alpha_min − ε)·V over clipped cells.
+    pub clipped_volume: f64,
+    /// Number of clipped cells.
+    pub clipped_cells: usize,
+    /// Smallest ε before clipping (1 for no cells).
+    pub min_epsilon: f64,
+    /// Cells with ε < 0 before clipping (more solid than cell volume).
+    pub negative_cells: usize,
+}
+
+/// Options for [`VoidageMesh::with_options`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MeshOptions {
+    /// Use the axis-aligned-grid paths when the mesh is such a grid (default true). With false
+    /// every method takes the general-mesh path.
+    pub axis_aligned_fast_path: bool,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        MeshOptions {
+            axis_aligned_fast_path: true,
+        }
+    }
+}
+
+/// Uniform bins over the mesh bounds holding the cells whose bounding boxes overlap them.
+#[derive(Clone, Debug)]
+struct CellBins {
+    origin: [f64; 3],
+    inv: [f64; 3],
+    dims: [usize; 3],
+    offsets: Vec<u32>,
+    cells: Vec<Label>,
+}
+
+impl CellBins {
+    /// Bins of about the mean cell size per axis, at most 4 per cell and 1024 per axis.
+    fn new(bounds: &Aabb, cell_bounds: &[Aabb]) -> CellBins {
+        let n = cell_bounds.len().max(1) as f64;
+        let ext = bounds.extent();
+        let mut dims = [1usize; 3];
+        let mut inv = [0.0; 3];
+        for a in 0..3 {
+            let mean = cell_bounds.iter().map(|b| b.max[a] - b.min[a]).sum::<f64>() / n;
+            if ext[a] > 0.0 && mean > 0.0 {
+                dims[a] = ((ext[a] / mean).round() as usize).clamp(1, 1024);
+            }
+        }
+        while dims.iter().product::<usize>() as f64 > 4.0 * n {
+            dims = dims.map(|d| d.div_ceil(2));
+        }
+        for a in 0..3 {
+            if ext[a] > 0.0 {
+                inv[a] = dims[a] as f64 / ext[a];
+            }
+        }
+        let mut bins = CellBins {
+            origin: bounds.min,
+            inv,
+            dims,
+            offsets: vec![],
+            cells: vec![],
+        };
+        let n_bins = dims.iter().product::<usize>();
+        let mut counts = vec![0u32; n_bins + 1];
+        for b in cell_bounds {
+            bins.for_each_bin(b.min, b.max, |i| counts[i + 1] += 1);
+        }
+        for i in 0..n_bins {
+            counts[i + 1] += counts[i];
+        }
+        let mut fill = counts.clone();
+        let mut cells = vec![0; counts[n_bins] as usize];
+        for (c, b) in cell_bounds.iter().enumerate() {
+            bins.for_each_bin(b.min, b.max, |i| {
+                cells[fill[i] as usize] = c as Label;
+                fill[i] += 1;
+            });
+        }
+        bins.offsets = counts;
+        bins.cells = cells;
+        bins
+    }
+
+    #[inline]
+    fn bin(&self, a: usize, x: f64) -> usize {
+        let t = (x - self.origin[a]) * self.inv[a];
+        if t > 0.0 {
+            (t as usize).min(self.dims[a] - 1)
+        } else {
+            0
+        }
+    }
+
+    fn for_each_bin(&self, lo: [f64; 3], hi: [f64; 3], mut f: impl FnMut(usize)) {
+        let l: [usize; 3] = std::array::from_fn(|a| self.bin(a, lo[a]));
+        let h: [usize; 3] = std::array::from_fn(|a| self.bin(a, hi[a]));
+        for k in l[2]..=h[2] {
+            for j in l[1]..=h[1] {
+                for i in l[0]..=h[0] {
+                    f(i + self.dims[0] * (j + self.dims[1] * k));
+                }
+            }
+        }
+    }
+
+    fn for_each_cell(&self, lo: [f64; 3], hi: [f64; 3], mut f: impl FnMut(Label)) {
+        self.for_each_bin(lo, hi, |b| {
+            let r = self.offsets[b] as usize..self.offsets[b + 1] as usize;
+            for &c in &self.cells[r] {
+                f(c);
+            }
+        });
+    }
+}
+
+/// A region whose overlapping cells are wanted: an axis-aligned box, optionally narrowed to a
+/// ball.
+#[derive(Clone, Copy, Debug)]
+struct Query {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    ball: Option<([f64; 3], f64)>,
+}
+
+impl Query {
+    #[inline]
+    fn hits(&self, b: &Aabb) -> bool {
+        if (0..3).any(|a| b.max[a] <= self.lo[a] || b.min[a] >= self.hi[a]) {
+            return false;
+        }
+        match self.ball {
+            None => true,
+            Some((c, r)) => {
+                let d2: f64 = (0..3)
+                    .map(|a| interval_dist2(b.min[a] - c[a], b.max[a] - c[a]).0)
+                    .sum();
+                d2 < r * r
+            }
+        }
+    }
+}
+
+/// Per-thread scratch space, reused across the particles of a work item.
+#[derive(Default)]
+struct Scratch {
+    grid: GridScratch,
+    vols: Vec<f64>,
+    planes: [Vec<f64>; 3],
+    segments: [Vec<(Option<usize>, f64)>; 3],
+    visited: LabelMap<()>,
+    queue: Vec<Label>,
+    candidates: Vec<Label>,
+    faces: LabelMap<f64>,
+    fractions: Vec<f64>,
+    clip: Vec<[[f64; 3]; 4]>,
+    markers: Vec<(Label, u32)>,
+}
+
+/// One particle being deposited: centre (m), radius (m, > 0), volume (m³), centre cell.
+#[derive(Clone, Copy, Debug)]
+struct Ball {
+    c: [f64; 3],
+    r: f64,
+    v: f64,
+    cell: Option<Label>,
+}
+
+/// What one work item produced.
+struct ChunkOut {
+    shares: Vec<(Label, f64)>,
+    outside: f64,
+    volume: f64,
+    fully_outside: usize,
+    partly_outside: usize,
+}
+
+/// A mesh prepared for voidage computations: geometry, locator, face addressing, cell bounding
+/// boxes and a bin index.
+#[derive(Clone, Debug)]
+pub struct VoidageMesh {
+    geom: MeshGeometry,
+    locator: Locator,
+    grid: Option<AxisGrid>,
+    faces: FaceList,
+    owner: Vec<Label>,
+    neighbour: Vec<Label>,
+    cell_bounds: Vec<Aabb>,
+    boundary_bounds: Vec<Aabb>,
+    bins: CellBins,
+}
+
+impl VoidageMesh {
+    /// Prepares `mesh` with the default options.
+    pub fn new(mesh: &PolyMesh) -> Result<Self, VoidageError> {
+        Self::with_options(mesh, MeshOptions::default())
+    }
+
+    /// Prepares `mesh`: checks it, computes its geometry (as OpenFOAM does) and builds the
+    /// locator and indexes.
+    pub fn with_options(mesh: &PolyMesh, options: MeshOptions) -> Result<Self, VoidageError> {
+        let geom = MeshGeometry::new(mesh)?;
+        let locator = Locator::with_options(
+            mesh,
+            &geom,
+            LocatorOptions {
+                axis_aligned_fast_path: options.axis_aligned_fast_path,
+            },
+        )?;
+        let grid = locator.axis_grid().cloned();
+        let tets = locator.tets();
+        let cell_bounds: Vec<Aabb> = (0..mesh.n_cells as Label)
+            .into_par_iter()
+            .map(|c| tets.cell_bounds(c))
+            .collect();
+        let points = tets.points();
+        let boundary_bounds = (mesh.n_internal_faces()..mesh.n_faces())
+            .map(|f| Aabb::of_points(mesh.faces.face(f).iter().map(|&p| &points[p as usize])))
+            .collect();
+        let bins = CellBins::new(&geom.bounds, &cell_bounds);
+        Ok(VoidageMesh {
+            geom,
+            grid,
+            faces: mesh.faces.clone(),
+            owner: mesh.owner.clone(),
+            neighbour: mesh.neighbour.clone(),
+            cell_bounds,
+            boundary_bounds,
+            bins,
+            locator,
+        })
+    }
+
+    /// The mesh geometry (cell volumes as OpenFOAM computes them).
+    pub fn geometry(&self) -> &MeshGeometry {
+        &self.geom
+    }
+
+    /// The locator.
+    pub fn locator(&self) -> &Locator {
+        &self.locator
+    }
+
+    /// The axis-aligned grid, when the mesh is one and the fast path is on.
+    pub fn axis_grid(&self) -> Option<&AxisGrid> {
+        self.grid.as_ref()
+    }
+
+    /// Number of cells.
+    pub fn n_cells(&self) -> usize {
+        self.geom.n_cells()
+    }
+
+    /// Cell volumes, m³.
+    pub fn cell_volumes(&self) -> &[f64] {
+        &self.geom.cell_volumes
+    }
+
+    /// Deposits the particles' volumes with `method` (module docs), locating the centres
+    /// without hints.
+    pub fn deposit(
+        &self,
+        method: Method,
+        particles: &ParticleSet<'_>,
+    ) -> Result<Deposit, VoidageError> {
+        let mut cells = vec![None; particles.len()];
+        self.deposit_with_cells(method, particles, &mut cells)
+    }
+
+    /// Deposits the particles' volumes with `method`. `cells[i]` is a hint for the cell of
+    /// particle i on entry (e.g. from the previous coupling step; `None`: no hint) and the cell
+    /// holding its centre on return (`None` outside the mesh).
+    pub fn deposit_with_cells(
+        &self,
+        method: Method,
+        particles: &ParticleSet<'_>,
+        cells: &mut [Option<Label>],
+    ) -> Result<Deposit, VoidageError> {
+        particles.check()?;
+        if cells.len() != particles.len() {
+            return Err(VoidageError::LengthMismatch {
+                what: "cells",
+                expected: particles.len(),
+                found: cells.len(),
+            });
+        }
+        self.locator
+            .locate_all_from(particles.positions, &mut cells[..]);
+        let mut solid = vec![0.0; self.n_cells()];
+        let mut dep = Deposit {
+            method,
+            solid: vec![],
+            particles: particles.len(),
+            particle_volume: 0.0,
+            deposited_volume: 0.0,
+            outside_volume: 0.0,
+            particles_outside: 0,
+            particles_partly_outside: 0,
+        };
+        let n = particles.len();
+        let chunks: Vec<std::ops::Range<usize>> = (0..n)
+            .step_by(CHUNK)
+            .map(|s| s..(s + CHUNK).min(n))
+            .collect();
+        let cells: &[Option<Label>] = cells;
+        for batch in chunks.chunks(BATCH) {
+            let outs: Vec<ChunkOut> = batch
+                .par_iter()
+                .map_init(Scratch::default, |s, range| {
+                    self.chunk(method, particles, cells, range.clone(), s)
+                })
+                .collect();
+            for o in outs {
+                for (c, v) in o.shares {
+                    solid[c as usize] += v;
+                }
+                dep.outside_volume += o.outside;
+                dep.particle_volume += o.volume;
+                dep.particles_outside += o.fully_outside;
+                dep.particles_partly_outside += o.partly_outside;
+            }
+        }
+        dep.deposited_volume = solid.iter().sum();
+        dep.solid = solid;
+        Ok(dep)
+    }
+
+    /// The voidage ε = 1 − solid / cell volume of a deposit, clipped to `alpha_min` when given
+    /// (which must lie in [0, 1)).
+    pub fn voidage(
+        &self,
+        deposit: &Deposit,
+        alpha_min: Option<f64>,
+    ) -> Result<Voidage, VoidageError> {
+        voidage_field(&deposit.solid, self.cell_volumes(), alpha_min)
+    }
+
+    fn chunk(
+        &self,
+        method: Method,
+        p: &ParticleSet<'_>,
+        cells: &[Option<Label>],
+        range: std::ops::Range<usize>,
+        s: &mut Scratch,
+    ) -> ChunkOut {
+        let mut out = ChunkOut {
+            shares: Vec::with_capacity(range.len() * 2),
+            outside: 0.0,
+            volume: 0.0,
+            fully_outside: 0,
+            partly_outside: 0,
+        };
+        for i in range {
+            let (c, r) = (p.positions[i], p.radii[i]);
+            if r == 0.0 {
+                continue;
+            }
+            let v = ball_volume(r);
+            let start = out.shares.len();
+            let ball = Ball {
+                c,
+                r,
+                v,
+                cell: cells[i],
+            };
+            let outside = self.particle(method, ball, s, &mut out.shares);
+            out.volume += v;
+            out.outside += outside;
+            if out.shares.len() == start {
+                out.fully_outside += 1;
+            } else if outside > 1e-12 * v {
+                out.partly_outside += 1;
+            }
+        }
+        out
+    }
+
+    /// Pushes the shares of one particle and returns its volume outside the mesh.
+    fn particle(
+        &self,
+        method: Method,
+        b: Ball,
+        s: &mut Scratch,
+        out: &mut Vec<(Label, f64)>,
+    ) -> f64 {
+        let corrected = method == Method::CorrectedCube;
+        match (method, &self.grid) {
+            (Method::Centre, _) => match b.cell {
+                Some(c0) => {
+                    out.push((c0, b.v));
+                    0.0
+                }
+                None => b.v,
+            },
+            (Method::Divided, _) => self.divided(b, s, out),
+            (Method::Exact, Some(g)) => grid_exact(g, b, s, out),
+            (Method::Cube | Method::CorrectedCube, Some(g)) => grid_cube(g, b, corrected, s, out),
+            (Method::Exact, None) => self.general_exact(b, s, out),
+            (Method::Cube | Method::CorrectedCube, None) => self.general_cube(b, corrected, s, out),
+        }
+    }
+
+    fn divided(&self, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
+        let Ball { c, r, v, cell } = b;
+        let Some(c0) = cell else {
+            return v;
+        };
+        s.markers.clear();
+        s.markers.push((c0, 1));
+        for off in &divided_offsets()[1..] {
+            let p = std::array::from_fn(|a| c[a] + r * off[a]);
+            let m = match &self.grid {
+                Some(g) => g.locate(p),
+                None => self.locator.locate_from(p, c0),
+            }
+            .unwrap_or(c0);
+            match s.markers.iter_mut().find(|(cell, _)| *cell == m) {
+                Some(e) => e.1 += 1,
+                None => s.markers.push((m, 1)),
+            }
+        }
+        let each = v / DIVIDED_MARKERS as f64;
+        for &(m, k) in &s.markers {
+            out.push((m, k as f64 * each));
+        }
+        0.0
+    }
+
+    /// The cells that may overlap `q` (module docs), into `s.candidates`.
+    fn candidates(&self, q: &Query, start: Option<Label>, s: &mut Scratch) {
+        s.candidates.clear();
+        s.visited.clear();
+        let n_internal = self.neighbour.len();
+        let tets = self.locator.tets();
+        let mut complete = start.is_some();
+        if let Some(c0) = start {
+            s.queue.clear();
+            s.queue.push(c0);
+            s.visited.insert(c0, ());
+            while let Some(c) = s.queue.pop() {
+                s.candidates.push(c);
+                for &f in tets.cell_faces(c) {
+                    let f = f as usize;
+                    if f < n_internal {
+                        let n = if self.owner[f] == c {
+                            self.neighbour[f]
+                        } else {
+                            self.owner[f]
+                        };
+                        if s.visited.insert(n, ()) && q.hits(&self.cell_bounds[n as usize]) {
+                            s.queue.push(n);
+                        }
+                    } else if q.hits(&self.boundary_bounds[f - n_internal]) {
+                        complete = false;
+                    }
+                }
+            }
+        }
+        if !complete {
+            s.candidates.clear();
+            s.visited.clear();
+            self.bins.for_each_cell(q.lo, q.hi, |c| {
+                if s.visited.insert(c, ()) && q.hits(&self.cell_bounds[c as usize]) {
+                    s.candidates.push(c);
+                }
+            });
+        }
+    }
+
+    /// The flux term of face `f` (owner orientation) for the unit ball: Σ over its fan
+    /// triangles, in coordinates relative to the centre divided by the radius.
+    fn face_flux_unit(&self, f: usize, c: [f64; 3], inv_r: f64) -> f64 {
+        let tets = self.locator.tets();
+        let points = tets.points();
+        let face = self.faces.face(f);
+        let q = |i: usize| to_unit(points[face[i] as usize], c, inv_r);
+        if face.len() == 3 {
+            return triangle_flux_unit(&[q(0), q(1), q(2)]);
+        }
+        let apex = to_unit(tets.face_apexes()[f], c, inv_r);
+        let n = face.len();
+        let mut sum = 0.0;
+        let first = q(0);
+        let mut prev = first;
+        for i in 0..n {
+            let next = if i + 1 == n { first } else { q(i + 1) };
+            sum += triangle_flux_unit(&[apex, prev, next]);
+            prev = next;
+        }
+        sum
+    }
+
+    /// True when the ball lies in the kernel of `cell`: on the inner side of every fan triangle
+    /// of its faces, at distance ≥ r.
+    fn ball_in_cell(&self, cell: Label, c: [f64; 3], r: f64) -> bool {
+        let tets = self.locator.tets();
+        let points = tets.points();
+        for &f in tets.cell_faces(cell) {
+            let f = f as usize;
+            let face = self.faces.face(f);
+            let sign = if self.owner[f] == cell { 1.0 } else { -1.0 };
+            let n = face.len();
+            let inside = |a: [f64; 3], b: [f64; 3], d: [f64; 3]| {
+                let nrm = cross(sub(b, a), sub(d, a));
+                sign * dot(sub(a, c), nrm) >= r * norm(nrm)
+            };
+            let p = |i: usize| points[face[i] as usize];
+            if n == 3 {
+                if !inside(p(0), p(1), p(2)) {
+                    return false;
+                }
+                continue;
+            }
+            let apex = tets.face_apexes()[f];
+            for i in 0..n {
+                if !inside(apex, p(i), p(if i + 1 == n { 0 } else { i + 1 })) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    fn general_exact(&self, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
+        let Ball { c, r, v, cell } = b;
+        if let Some(c0) = cell {
+            if self.ball_in_cell(c0, c, r) {
+                out.push((c0, v));
+                return 0.0;
+            }
+        }
+        let q = Query {
+            lo: c.map(|x| x - r),
+            hi: c.map(|x| x + r),
+            ball: Some((c, r)),
+        };
+        self.candidates(&q, cell, s);
+        let inv_r = 1.0 / r;
+        let r3 = r * r * r;
+        let tets = self.locator.tets();
+        s.faces.clear();
+        let mut sum = 0.0;
+        for &cell in &s.candidates {
+            let b = &self.cell_bounds[cell as usize];
+            let far: f64 = (0..3)
+                .map(|a| interval_dist2(b.min[a] - c[a], b.max[a] - c[a]).1)
+                .sum();
+            let cv = self.geom.cell_volumes[cell as usize];
+            let vol = if far <= r * r {
+                cv
+            } else {
+                let mut unit = 0.0;
+                for &f in tets.cell_faces(cell) {
+                    let flux = match s.faces.get(f) {
+                        Some(x) => x,
+                        None => {
+                            let x = self.face_flux_unit(f as usize, c, inv_r);
+                            s.faces.insert(f, x);
+                            x
+                        }
+                    };
+                    unit += if self.owner[f as usize] == cell {
+                        flux
+                    } else {
+                        -flux
+                    };
+                }
+                (unit * r3).clamp(0.0, cv.min(v))
+            };
+            if vol > 0.0 {
+                out.push((cell, vol));
+                sum += vol;
+            }
+        }
+        v - sum
+    }
+
+    fn general_cube(
+        &self,
+        b: Ball,
+        corrected: bool,
+        s: &mut Scratch,
+        out: &mut Vec<(Label, f64)>,
+    ) -> f64 {
+        let Ball { c, r, v, cell } = b;
+        let lo = c.map(|x| x - r);
+        let hi = c.map(|x| x + r);
+        let q = Query { lo, hi, ball: None };
+        self.candidates(&q, cell, s);
+        let cube = 8.0 * r * r * r;
+        let tets = self.locator.tets();
+        s.fractions.clear();
+        let mut total = 0.0;
+        for &cell in &s.candidates {
+            let b = &self.cell_bounds[cell as usize];
+            let cv = self.geom.cell_volumes[cell as usize];
+            let vol = if (0..3).all(|a| b.min[a] >= lo[a] && b.max[a] <= hi[a]) {
+                cv
+            } else {
+                tets.cell_tets(cell)
+                    .map(|t| box_tet_volume(lo, hi, &t.points, &mut s.clip))
+                    .sum::<f64>()
+                    .clamp(0.0, cv)
+            };
+            let phi = (vol / cube).min(1.0);
+            s.fractions.push(phi);
+            total += phi;
+        }
+        let mut sum = 0.0;
+        if corrected {
+            let outside_piece = khawaja_correction((1.0 - total).clamp(0.0, 1.0));
+            let mut wsum = outside_piece;
+            for f in &mut s.fractions {
+                *f = khawaja_correction(*f);
+                wsum += *f;
+            }
+            let scale = if wsum > 0.0 { v / wsum } else { 0.0 };
+            for (&cell, &w) in s.candidates.iter().zip(&s.fractions) {
+                if w > 0.0 {
+                    out.push((cell, w * scale));
+                    sum += w * scale;
+                }
+            }
+        } else {
+            for (&cell, &phi) in s.candidates.iter().zip(&s.fractions) {
+                if phi > 0.0 {
+                    out.push((cell, phi * v));
+                    sum += phi * v;
+                }
+            }
+        }
+        v - sum
+    }
+}
+
+/// The index range [i0, i1] of the grid cells along `axis` overlapping [lo, hi] (lo < hi), or
+/// `None` when the interval misses the grid.
+fn axis_range(g: &AxisGrid, axis: usize, lo: f64, hi: f64) -> Option<(usize, usize)> {
+    let pl = g.planes(axis);
+    let n = pl.len() - 1;
+    if hi <= pl[0] || lo >= pl[n] {
+        return None;
+    }
+    let i0 = g.interval(axis, lo).unwrap_or(0);
+    let i1 = match g.interval(axis, hi) {
+        // A cell starting exactly at hi has no overlap.
+        Some(i) if pl[i] == hi => i.saturating_sub(1).max(i0),
+        Some(i) => i,
+        None => n - 1,
+    };
+    Some((i0, i1))
+}
+
+/// Exact shares on an axis-aligned grid.
+fn grid_exact(g: &AxisGrid, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
+    let Ball { c, r, v, .. } = b;
+    let mut first = [0usize; 3];
+    let inv = 1.0 / r;
+    for a in 0..3 {
+        let Some((i0, i1)) = axis_range(g, a, c[a] - r, c[a] + r) else {
+            return v;
+        };
+        first[a] = i0;
+        s.planes[a].clear();
+        s.planes[a].extend(g.planes(a)[i0..=i1 + 1].iter().map(|&x| (x - c[a]) * inv));
+    }
+    let r3 = r * r * r;
+    sphere_grid_volumes(
+        r3,
+        [&s.planes[0], &s.planes[1], &s.planes[2]],
+        &mut s.vols,
+        &mut s.grid,
+    );
+    let n = [s.planes[0].len() - 1, s.planes[1].len() - 1];
+    let mut sum = 0.0;
+    for (idx, &vol) in s.vols.iter().enumerate() {
+        if vol > 0.0 {
+            let (i, j, k) = (idx % n[0], (idx / n[0]) % n[1], idx / (n[0] * n[1]));
+            out.push((g.cell(first[0] + i, first[1] + j, first[2] + k), vol));
+            sum += vol;
+        }
+    }
+    v - sum
+}
+
+/// Cube and corrected-cube shares on an axis-aligned grid (module docs).
+fn grid_cube(
+    g: &AxisGrid,
+    b: Ball,
+    corrected: bool,
+    s: &mut Scratch,
+    out: &mut Vec<(Label, f64)>,
+) -> f64 {
+    let Ball { c, r, v, .. } = b;
+    for (a, seg) in s.segments.iter_mut().enumerate() {
+        seg.clear();
+        let pl = g.planes(a);
+        let n = pl.len() - 1;
+        let (lo, hi) = (c[a] - r, c[a] + r);
+        // The virtual cells beyond the grid (index None).
+        let below = cube_axis_fraction(c[a], r, f64::NEG_INFINITY, pl[0]);
+        let above = cube_axis_fraction(c[a], r, pl[n], f64::INFINITY);
+        if below > 0.0 {
+            seg.push((None, below));
+        }
+        if let Some((i0, i1)) = axis_range(g, a, lo, hi) {
+            for i in i0..=i1 {
+                let f = cube_axis_fraction(c[a], r, pl[i], pl[i + 1]);
+                if f > 0.0 {
+                    seg.push((Some(i), f));
+                }
+            }
+        }
+        if above > 0.0 {
+            seg.push((None, above));
+        }
+    }
+    let [sx, sy, sz] = &s.segments;
+    let mut wsum = 0.0;
+    if corrected {
+        for &(_, fz) in sz {
+            for &(_, fy) in sy {
+                for &(_, fx) in sx {
+                    wsum += khawaja_correction(fx * fy * fz);
+                }
+            }
+        }
+    }
+    let scale = if corrected {
+        if wsum > 0.0 {
+            v / wsum
+        } else {
+            0.0
+        }
+    } else {
+        v
+    };
+    let mut sum = 0.0;
+    for &(k, fz) in sz {
+        let Some(k) = k else { continue };
+        for &(j, fy) in sy {
+            let Some(j) = j else { continue };
+            for &(i, fx) in sx {
+                let Some(i) = i else { continue };
+                let phi = fx * fy * fz;
+                let w = if corrected {
+                    khawaja_correction(phi)
+                } else {
+                    phi
+                };
+                let vol = w * scale;
+                out.push((g.cell(i, j, k), vol));
+                sum += vol;
+            }
+        }
+    }
+    v - sum
+}
+
+/// ε = 1 − solid / V per cell, clipped to `alpha_min` when given (module docs).
+pub fn voidage_field(
+    solid: &[f64],
+    cell_volumes: &[f64],
+    alpha_min: Option<f64>,
+) -> Result<Voidage, VoidageError> {
+    if let Some(a) = alpha_min {
+        if !(a.is_finite() && (0.0..1.0).contains(&a)) {
+            return Err(VoidageError::BadAlphaMin(a));
+        }
+    }
+    if solid.len() != cell_volumes.len() {
+        return Err(VoidageError::LengthMismatch {
+            what: "solid volumes",
+            expected: cell_volumes.len(),
+            found: solid.len(),
+        });
+    }
+    let mut res = Voidage {
+        epsilon: Vec::with_capacity(solid.len()),
+        alpha_min,
+        clipped_volume: 0.0,
+        clipped_cells: 0,
+        min_epsilon: 1.0,
+        negative_cells: 0,
+    };
+    for (&s, &vc) in solid.iter().zip(cell_volumes) {
+        let mut e = 1.0 - s / vc;
+        res.min_epsilon = res.min_epsilon.min(e);
+        if e < 0.0 {
+            res.negative_cells += 1;
+        }
+        if let Some(a) = alpha_min {
+            if e < a {
+                res.clipped_volume += (a - e) * vc;
+                res.clipped_cells += 1;
+                e = a;
+            }
+        }
+        res.epsilon.push(e);
+    }
+    Ok(res)
+}
