@@ -49,8 +49,10 @@ use crate::divided::{divided_offsets, DIVIDED_MARKERS};
 use crate::error::{ParticleProblem, VoidageError};
 use crate::label_map::LabelMap;
 use crate::method::Method;
-use crate::sphere_box::{ball_volume, interval_dist2, sphere_grid_volumes, GridScratch};
-use crate::sphere_poly::triangle_flux_unit;
+use crate::sphere_box::{
+    ball_volume, cut_ball_unit, interval_dist2, sphere_grid_volumes, GridScratch,
+};
+use crate::sphere_poly::{polygon_flux_unit, triangle_flux_unit, MAX_POLYGON};
 use crate::vec3::{cross, dot, norm, sub, to_unit};
 use foam::{FaceList, Label, PolyMesh};
 use mesh::{Aabb, AxisGrid, Locator, LocatorOptions, MeshGeometry};
@@ -364,6 +366,10 @@ pub struct VoidageMesh {
     cell_bounds: Vec<Aabb>,
     boundary_bounds: Vec<Aabb>,
     bins: CellBins,
+    markers: [[f64; 3]; DIVIDED_MARKERS],
+    /// Faces whose points lie in one plane (within 1e-12 of the face size): their flux is taken
+    /// over the polygon's edges instead of the fan triangles.
+    planar: Vec<bool>,
 }
 
 impl VoidageMesh {
@@ -394,6 +400,26 @@ impl VoidageMesh {
             .map(|f| Aabb::of_points(mesh.faces.face(f).iter().map(|&p| &points[p as usize])))
             .collect();
         let bins = CellBins::new(&geom.bounds, &cell_bounds);
+        let apexes = tets.face_apexes();
+        let planar = (0..mesh.n_faces())
+            .into_par_iter()
+            .map(|f| {
+                let face = mesh.faces.face(f);
+                let a = geom.face_areas[f];
+                let m = norm(a);
+                if face.len() > MAX_POLYGON || !(m > 0.0) {
+                    return false;
+                }
+                let nh = a.map(|x| x / m);
+                let (mut warp, mut size) = (0.0f64, 0.0f64);
+                for &p in face {
+                    let d = sub(points[p as usize], apexes[f]);
+                    warp = warp.max(dot(d, nh).abs());
+                    size = size.max(norm(d));
+                }
+                warp <= 1e-12 * size
+            })
+            .collect();
         Ok(VoidageMesh {
             geom,
             grid,
@@ -404,6 +430,8 @@ impl VoidageMesh {
             boundary_bounds,
             bins,
             locator,
+            markers: divided_offsets(),
+            planar,
         })
     }
 
@@ -581,9 +609,14 @@ impl VoidageMesh {
         let Some(c0) = cell else {
             return v;
         };
+        if self.grid.is_none() && self.ball_in_cell(c0, c, r) {
+            // Every marker lies in the ball, strictly inside the cell.
+            out.push((c0, v));
+            return 0.0;
+        }
         s.markers.clear();
         s.markers.push((c0, 1));
-        for off in &divided_offsets()[1..] {
+        for off in &self.markers[1..] {
             let p = std::array::from_fn(|a| c[a] + r * off[a]);
             let m = match &self.grid {
                 Some(g) => g.locate(p),
@@ -650,6 +683,14 @@ impl VoidageMesh {
         let points = tets.points();
         let face = self.faces.face(f);
         let q = |i: usize| to_unit(points[face[i] as usize], c, inv_r);
+        if self.planar[f] {
+            let mut v = [[0.0; 3]; MAX_POLYGON];
+            for (u, &p) in v.iter_mut().zip(face) {
+                *u = to_unit(points[p as usize], c, inv_r);
+            }
+            let a = self.geom.face_areas[f].map(|x| x * inv_r * inv_r);
+            return polygon_flux_unit(&v[..face.len()], a);
+        }
         if face.len() == 3 {
             return triangle_flux_unit(&[q(0), q(1), q(2)]);
         }
@@ -666,35 +707,48 @@ impl VoidageMesh {
         sum
     }
 
-    /// True when the ball lies in the kernel of `cell`: on the inner side of every fan triangle
-    /// of its faces, at distance ≥ r.
-    fn ball_in_cell(&self, cell: Label, c: [f64; 3], r: f64) -> bool {
+    /// True when a body centred at `c` lies in the kernel of `cell`: on the inner side of the
+    /// plane of every fan triangle of its faces (of the whole face for planar faces) by at
+    /// least its support `support(n)` along the plane's normal `n` (not normalised): r·|n| for
+    /// a ball, r·(|n_x| + |n_y| + |n_z|) for the cube of half-side r. The kernel lies in the
+    /// cell, so the body does too.
+    fn body_in_cell(&self, cell: Label, c: [f64; 3], support: impl Fn([f64; 3]) -> f64) -> bool {
         let tets = self.locator.tets();
         let points = tets.points();
+        let apexes = tets.face_apexes();
         for &f in tets.cell_faces(cell) {
             let f = f as usize;
             let face = self.faces.face(f);
             let sign = if self.owner[f] == cell { 1.0 } else { -1.0 };
-            let n = face.len();
-            let inside = |a: [f64; 3], b: [f64; 3], d: [f64; 3]| {
-                let nrm = cross(sub(b, a), sub(d, a));
-                sign * dot(sub(a, c), nrm) >= r * norm(nrm)
-            };
-            let p = |i: usize| points[face[i] as usize];
-            if n == 3 {
-                if !inside(p(0), p(1), p(2)) {
+            let inside = |a: [f64; 3], nrm: [f64; 3]| sign * dot(sub(a, c), nrm) >= support(nrm);
+            if self.planar[f] {
+                if !inside(apexes[f], self.geom.face_areas[f]) {
                     return false;
                 }
                 continue;
             }
-            let apex = tets.face_apexes()[f];
+            let p = |i: usize| points[face[i] as usize];
+            let tri = |a: [f64; 3], b: [f64; 3], d: [f64; 3]| cross(sub(b, a), sub(d, a));
+            let n = face.len();
+            if n == 3 {
+                if !inside(p(0), tri(p(0), p(1), p(2))) {
+                    return false;
+                }
+                continue;
+            }
             for i in 0..n {
-                if !inside(apex, p(i), p(if i + 1 == n { 0 } else { i + 1 })) {
+                let q = p(if i + 1 == n { 0 } else { i + 1 });
+                if !inside(apexes[f], tri(apexes[f], p(i), q)) {
                     return false;
                 }
             }
         }
         true
+    }
+
+    /// [`VoidageMesh::body_in_cell`] for the ball of radius `r`.
+    fn ball_in_cell(&self, cell: Label, c: [f64; 3], r: f64) -> bool {
+        self.body_in_cell(cell, c, |n| r * norm(n))
     }
 
     fn general_exact(&self, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
@@ -759,6 +813,13 @@ impl VoidageMesh {
         out: &mut Vec<(Label, f64)>,
     ) -> f64 {
         let Ball { c, r, v, cell } = b;
+        if let Some(c0) = cell {
+            let cube_support = |n: [f64; 3]| r * (n[0].abs() + n[1].abs() + n[2].abs());
+            if self.body_in_cell(c0, c, cube_support) {
+                out.push((c0, v));
+                return 0.0;
+            }
+        }
         let lo = c.map(|x| x - r);
         let hi = c.map(|x| x + r);
         let q = Query { lo, hi, ball: None };
@@ -831,16 +892,50 @@ fn axis_range(g: &AxisGrid, axis: usize, lo: f64, hi: f64) -> Option<(usize, usi
 fn grid_exact(g: &AxisGrid, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
     let Ball { c, r, v, .. } = b;
     let mut first = [0usize; 3];
-    let inv = 1.0 / r;
+    let mut last = [0usize; 3];
+    let mut whole = true;
     for a in 0..3 {
         let Some((i0, i1)) = axis_range(g, a, c[a] - r, c[a] + r) else {
             return v;
         };
+        let pl = g.planes(a);
+        whole &= i0 == i1 && pl[i0] <= c[a] - r && pl[i1 + 1] >= c[a] + r;
         first[a] = i0;
-        s.planes[a].clear();
-        s.planes[a].extend(g.planes(a)[i0..=i1 + 1].iter().map(|&x| (x - c[a]) * inv));
+        last[a] = i1;
     }
+    if whole {
+        // The ball lies in one cell.
+        out.push((g.cell(first[0], first[1], first[2]), v));
+        return 0.0;
+    }
+    let inv = 1.0 / r;
     let r3 = r * r * r;
+    // At most one plane inside the ball per axis and the ball inside the grid: the 8-piece form.
+    let inside_grid = (0..3).all(|a| {
+        let pl = g.planes(a);
+        last[a] <= first[a] + 1 && pl[first[a]] <= c[a] - r && pl[last[a] + 1] >= c[a] + r
+    });
+    if inside_grid {
+        let t: [Option<f64>; 3] = std::array::from_fn(|a| {
+            (last[a] > first[a]).then(|| (g.planes(a)[last[a]] - c[a]) * inv)
+        });
+        let pieces = cut_ball_unit(t);
+        let mut sum = 0.0;
+        for (bits, &p) in pieces.iter().enumerate() {
+            if p > 0.0 {
+                let vol = p * r3;
+                let (i, j, k) = (bits & 1, (bits >> 1) & 1, (bits >> 2) & 1);
+                out.push((g.cell(first[0] + i, first[1] + j, first[2] + k), vol));
+                sum += vol;
+            }
+        }
+        return v - sum;
+    }
+    for a in 0..3 {
+        s.planes[a].clear();
+        let pl = &g.planes(a)[first[a]..=last[a] + 1];
+        s.planes[a].extend(pl.iter().map(|&x| (x - c[a]) * inv));
+    }
     sphere_grid_volumes(
         r3,
         [&s.planes[0], &s.planes[1], &s.planes[2]],

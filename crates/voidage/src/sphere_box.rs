@@ -310,37 +310,36 @@ pub fn sphere_grid_volumes(
     if out.is_empty() {
         return;
     }
-    // Per axis: the distinct corner arguments u (≥ 0, < 1) and each box edge's combination as
-    // indices into them.
+    // Per axis: the distinct corner arguments u (≥ 0, < 1), and each box edge's combination as
+    // (index into them, coefficient) pairs.
     for (a, &pl) in planes.iter().enumerate() {
         let u = &mut scratch.u[a];
         u.clear();
-        for &t in pl {
-            let t = t.clamp(-1.0, 1.0);
-            if t < 0.0 {
-                u.push(0.0);
-            }
-            if t.abs() < 1.0 {
-                u.push(t.abs());
-            }
-        }
-        u.sort_unstable_by(f64::total_cmp);
-        u.dedup();
-        let slabs = &mut scratch.slabs[a];
-        slabs.clear();
+        let terms = &mut scratch.terms[a];
+        terms.clear();
         for w in pl.windows(2) {
-            slabs.push(Slab::new(w[0], w[1]));
+            let slab = Slab::new(w[0], w[1]);
+            let mut t = SlabTerms {
+                idx: [0; MAX_TERMS],
+                coef: slab.coef,
+                n: slab.n,
+            };
+            for k in 0..slab.n {
+                t.idx[k] = match u.iter().position(|&x| x == slab.u[k]) {
+                    Some(i) => i,
+                    None => {
+                        u.push(slab.u[k]);
+                        u.len() - 1
+                    }
+                };
+            }
+            terms.push(t);
         }
     }
     // Corner table, filled lazily (NaN = not yet computed).
     let m = [scratch.u[0].len(), scratch.u[1].len(), scratch.u[2].len()];
     scratch.g.clear();
     scratch.g.resize(m[0] * m[1] * m[2], f64::NAN);
-    let index = |a: usize, u: f64, us: &[Vec<f64>; 3]| -> usize {
-        us[a]
-            .binary_search_by(|x| x.total_cmp(&u))
-            .expect("every slab argument is a grid argument")
-    };
     for k in 0..n[2] {
         let (zl, zh) = (planes[2][k], planes[2][k + 1]);
         for j in 0..n[1] {
@@ -363,27 +362,28 @@ pub fn sphere_grid_volumes(
                     BoxCase::Straddles => {}
                 }
                 let (sx, sy, sz) = (
-                    &scratch.slabs[0][i],
-                    &scratch.slabs[1][j],
-                    &scratch.slabs[2][k],
+                    &scratch.terms[0][i],
+                    &scratch.terms[1][j],
+                    &scratch.terms[2][k],
                 );
+                let us = &scratch.u;
                 let mut v = 0.0;
                 for p in 0..sx.n {
-                    let ip = index(0, sx.u[p], &scratch.u);
+                    let ip = sx.idx[p];
                     for q in 0..sy.n {
                         let cxy = sx.coef[p] * sy.coef[q];
                         if cxy == 0.0 {
                             continue;
                         }
-                        let iq = index(1, sy.u[q], &scratch.u);
+                        let iq = sy.idx[q];
                         for s in 0..sz.n {
                             if sz.coef[s] == 0.0 {
                                 continue;
                             }
-                            let is = index(2, sz.u[s], &scratch.u);
+                            let is = sz.idx[s];
                             let g = &mut scratch.g[ip + m[0] * (iq + m[1] * is)];
                             if g.is_nan() {
-                                *g = corner_unit(sx.u[p], sy.u[q], sz.u[s]);
+                                *g = corner_unit(us[0][ip], us[1][iq], us[2][is]);
                             }
                             v += cxy * sz.coef[s] * *g;
                         }
@@ -398,10 +398,62 @@ pub fn sphere_grid_volumes(
     }
 }
 
+/// A [`Slab`] with its arguments as indices into the axis's distinct arguments.
+#[derive(Clone, Copy, Debug)]
+struct SlabTerms {
+    idx: [usize; MAX_TERMS],
+    coef: [f64; MAX_TERMS],
+    n: usize,
+}
+
+/// Volumes of the pieces of the unit ball cut by at most one plane per axis: `t[a]` is the
+/// plane along axis a (|t| < 1, unit-ball coordinates relative to the centre) or `None`.
+/// Piece `bits` (bit a set: the side above the plane along axis a; always clear for an uncut
+/// axis) gets `out[bits]`; the others are 0. The same corner-value combination as
+/// [`sphere_grid_volumes`] with at most 8 corner values, without its bookkeeping — the common
+/// case of cells a few times larger than the particle.
+pub(crate) fn cut_ball_unit(t: [Option<f64>; 3]) -> [f64; 8] {
+    // Per axis and side: up to two (argument index, coefficient) terms; argument 0 is u = 0 and
+    // argument 1 is u = |t|.
+    type Terms = ([(usize, f64); 2], usize);
+    let side_terms = |t: Option<f64>| -> [Terms; 2] {
+        match t {
+            None => [([(0, 2.0), (0, 0.0)], 1), ([(0, 0.0), (0, 0.0)], 0)],
+            Some(t) if t >= 0.0 => [([(0, 2.0), (1, -1.0)], 2), ([(1, 1.0), (0, 0.0)], 1)],
+            Some(_) => [([(1, 1.0), (0, 0.0)], 1), ([(0, 2.0), (1, -1.0)], 2)],
+        }
+    };
+    let terms = [side_terms(t[0]), side_terms(t[1]), side_terms(t[2])];
+    let u = t.map(|t| [0.0, t.map_or(0.0, f64::abs)]);
+    let mut g = [f64::NAN; 8];
+    let mut out = [0.0; 8];
+    for (bits, o) in out.iter_mut().enumerate() {
+        let side = [bits & 1, (bits >> 1) & 1, (bits >> 2) & 1];
+        if (0..3).any(|a| side[a] == 1 && t[a].is_none()) {
+            continue;
+        }
+        let [(tx, nx), (ty, ny), (tz, nz)] = [0, 1, 2].map(|a| terms[a][side[a]]);
+        let mut v = 0.0;
+        for &(i, cx) in &tx[..nx] {
+            for &(j, cy) in &ty[..ny] {
+                for &(k, cz) in &tz[..nz] {
+                    let gi = &mut g[i | (j << 1) | (k << 2)];
+                    if gi.is_nan() {
+                        *gi = corner_unit(u[0][i], u[1][j], u[2][k]);
+                    }
+                    v += cx * cy * cz * *gi;
+                }
+            }
+        }
+        *o = v.clamp(0.0, UNIT_BALL);
+    }
+    out
+}
+
 /// Reusable buffers of [`sphere_grid_volumes`].
 #[derive(Clone, Debug, Default)]
 pub struct GridScratch {
     u: [Vec<f64>; 3],
-    slabs: [Vec<Slab>; 3],
+    terms: [Vec<SlabTerms>; 3],
     g: Vec<f64>,
 }

@@ -58,6 +58,65 @@ fn solid_angle(v: &[V3; 3], l: [f64; 3], det: f64) -> f64 {
     2.0 * det.atan2(den)
 }
 
+/// The edge (a → b) terms of a face's flux on the unit ball (module docs): (area of the fan
+/// triangle (p₀, a, b) ∩ disk, solid angle of its part beyond the disk), signed; `nh` the face's
+/// unit normal, `d` the signed distance of the plane, `rho2` = 1 − d² > 0.
+#[inline]
+fn edge_terms(a: V3, b: V3, nh: V3, d: f64, rho2: f64) -> (f64, f64) {
+    let e = sub(b, a);
+    let le = norm(e);
+    if !(le > 0.0) {
+        return (0.0, 0.0);
+    }
+    let t = [e[0] / le, e[1] / le, e[2] / le];
+    let p = dot(a, cross(t, nh));
+    if p == 0.0 {
+        return (0.0, 0.0);
+    }
+    let ap = p.abs();
+    let (ta, tb) = (dot(a, t), dot(b, t));
+    let mut ae = 0.0;
+    let mut oe = 0.0;
+    // Arc part over [x1, x2] (x1 < x2), r1, r2 the distances from the centre to the points
+    // at x1, x2: (area, solid angle), with Δφ and Δψ each one atan2 of an angle difference.
+    let arc = |x1: f64, x2: f64, r1: f64, r2: f64| -> (f64, f64) {
+        if !(x2 > x1) {
+            return (0.0, 0.0);
+        }
+        let dphi = (ap * (x2 - x1)).atan2(ap * ap + x1 * x2);
+        let (y1, w1) = (d * x1, ap * r1);
+        let (y2, w2) = (d * x2, ap * r2);
+        let dpsi = (y2 * w1 - y1 * w2).atan2(w1 * w2 + y1 * y2);
+        (0.5 * rho2 * dphi, d * dphi - dpsi)
+    };
+    let mut add = |(a, o): (f64, f64)| {
+        ae += a;
+        oe += o;
+    };
+    let dist = |x: f64| (d * d + ap * ap + x * x).sqrt();
+    if ap * ap < rho2 {
+        let ts = (rho2 - ap * ap).sqrt();
+        let (l1, l2) = (ta.max(-ts), tb.min(ts));
+        if l2 > l1 {
+            add((0.5 * ap * (l2 - l1), 0.0));
+        }
+        if ta < -ts {
+            let x2 = tb.min(-ts);
+            let r2 = if x2 == -ts { 1.0 } else { dist(x2) };
+            add(arc(ta, x2, dist(ta), r2));
+        }
+        if tb > ts {
+            let x1 = ta.max(ts);
+            let r1 = if x1 == ts { 1.0 } else { dist(x1) };
+            add(arc(x1, tb, r1, dist(tb)));
+        }
+    } else {
+        add(arc(ta, tb, dist(ta), dist(tb)));
+    }
+    let s = if p > 0.0 { 1.0 } else { -1.0 };
+    (s * ae, s * oe)
+}
+
 /// Flux term of one oriented triangle on the unit ball centred at the origin (module docs):
 /// its contribution to vol(unit ball ∩ P) for a polyhedron P having it as a face with the normal
 /// (v₁ − v₀) × (v₂ − v₀) pointing out of P.
@@ -79,65 +138,56 @@ pub(crate) fn triangle_flux_unit(v: &[V3; 3]) -> f64 {
         return solid_angle(v, l, det) / 3.0;
     }
     let rho2 = 1.0 - d * d;
-    let mut area = 0.0;
-    let mut omega = 0.0;
+    let (mut area, mut omega) = (0.0, 0.0);
     for k in 0..3 {
-        let (a, b) = (v[k], v[(k + 1) % 3]);
-        let e = sub(b, a);
-        let le = norm(e);
-        if !(le > 0.0) {
-            continue;
-        }
-        let t = [e[0] / le, e[1] / le, e[2] / le];
-        let p = dot(a, cross(t, nh));
-        if p == 0.0 {
-            continue;
-        }
-        let ap = p.abs();
-        let (ta, tb) = (dot(a, t), dot(b, t));
-        let mut ae = 0.0;
-        let mut oe = 0.0;
-        // Arc part over [x1, x2] (x1 < x2), r1, r2 the distances from the centre to the points
-        // at x1, x2: (area, solid angle), with Δφ and Δψ each one atan2 of an angle difference.
-        let arc = |x1: f64, x2: f64, r1: f64, r2: f64| -> (f64, f64) {
-            if !(x2 > x1) {
-                return (0.0, 0.0);
-            }
-            let dphi = (ap * (x2 - x1)).atan2(ap * ap + x1 * x2);
-            let (y1, w1) = (d * x1, ap * r1);
-            let (y2, w2) = (d * x2, ap * r2);
-            let dpsi = (y2 * w1 - y1 * w2).atan2(w1 * w2 + y1 * y2);
-            (0.5 * rho2 * dphi, d * dphi - dpsi)
-        };
-        let mut add = |(a, o): (f64, f64)| {
-            ae += a;
-            oe += o;
-        };
-        let dist = |x: f64| (d * d + ap * ap + x * x).sqrt();
-        if ap * ap < rho2 {
-            let ts = (rho2 - ap * ap).sqrt();
-            let (l1, l2) = (ta.max(-ts), tb.min(ts));
-            if l2 > l1 {
-                add((0.5 * ap * (l2 - l1), 0.0));
-            }
-            if ta < -ts {
-                let x2 = tb.min(-ts);
-                let r2 = if x2 == -ts { 1.0 } else { dist(x2) };
-                add(arc(ta, x2, dist(ta), r2));
-            }
-            if tb > ts {
-                let x1 = ta.max(ts);
-                let r1 = if x1 == ts { 1.0 } else { dist(x1) };
-                add(arc(x1, tb, r1, dist(tb)));
-            }
-        } else {
-            add(arc(ta, tb, dist(ta), dist(tb)));
-        }
-        let s = if p > 0.0 { 1.0 } else { -1.0 };
-        area += s * ae;
-        omega += s * oe;
+        let (a, o) = edge_terms(v[k], v[(k + 1) % 3], nh, d, rho2);
+        area += a;
+        omega += o;
     }
     (d * area + omega) / 3.0
+}
+
+/// Most vertices of a planar polygon handled by [`polygon_flux_unit`].
+pub(crate) const MAX_POLYGON: usize = 64;
+
+/// Flux term of a *planar* polygon (at most [`MAX_POLYGON`] vertices `v`, unit-ball
+/// coordinates, ordered counter-clockwise about the outward normal) with area vector
+/// `area_vec` (outward, magnitude = area in unit-ball units): the same as the sum over any fan of its triangles,
+/// since the fan's inner edges cancel, with one edge term per polygon edge.
+pub(crate) fn polygon_flux_unit(v: &[V3], area_vec: V3) -> f64 {
+    let n = v.len();
+    let area = norm(area_vec);
+    if !(area > 0.0) || !(3..=MAX_POLYGON).contains(&n) {
+        return 0.0;
+    }
+    let nh = area_vec.map(|x| x / area);
+    let d = v.iter().map(|p| dot(*p, nh)).sum::<f64>() / n as f64;
+    let mut l = [0.0; MAX_POLYGON];
+    let mut inside = true;
+    for (li, p) in l.iter_mut().zip(v) {
+        *li = norm(*p);
+        inside &= *li <= 1.0;
+    }
+    if inside {
+        return d * area / 3.0;
+    }
+    if d.abs() >= 1.0 {
+        let mut omega = 0.0;
+        for i in 1..n - 1 {
+            let t = [v[0], v[i], v[i + 1]];
+            let det = dot(t[0], cross(t[1], t[2]));
+            omega += solid_angle(&t, [l[0], l[i], l[i + 1]], det);
+        }
+        return omega / 3.0;
+    }
+    let rho2 = 1.0 - d * d;
+    let (mut a_sum, mut omega) = (0.0, 0.0);
+    for k in 0..n {
+        let (a, o) = edge_terms(v[k], v[if k + 1 == n { 0 } else { k + 1 }], nh, d, rho2);
+        a_sum += a;
+        omega += o;
+    }
+    (d * a_sum + omega) / 3.0
 }
 
 /// The flux term of the oriented triangle `tri` (m) for the ball (centre `centre`, radius
