@@ -4,6 +4,7 @@
 mod args;
 mod convert;
 mod info;
+mod voidage;
 
 use clap::{Parser, Subcommand};
 
@@ -22,6 +23,8 @@ enum Command {
     /// Convert LIGGGHTS dumps and OpenFOAM cases to VTK files for ParaView.
     #[command(subcommand)]
     Convert(convert::ConvertCommand),
+    /// Void fraction of a LIGGGHTS snapshot on an OpenFOAM mesh, written as `voidfraction`.
+    Voidage(voidage::VoidageArgs),
 }
 
 fn main() {
@@ -29,6 +32,7 @@ fn main() {
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
         Command::Convert(c) => convert::run(&c),
+        Command::Voidage(a) => voidage::run(&a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
