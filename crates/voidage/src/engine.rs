@@ -68,7 +68,7 @@ const BATCH: usize = 64;
 pub struct ParticleSet<'a> {
     /// Centre positions, m.
     pub positions: &'a [[f64; 3]],
-    /// Radii, m (≥ 0; zero-radius particles deposit nothing).
+    /// Radii, m (≥ 0 with a finite volume; zero-radius particles deposit nothing).
     pub radii: &'a [f64],
     /// Particle ids (LIGGGHTS tags), same length, if known.
     pub ids: Option<&'a [u64]>,
@@ -115,7 +115,7 @@ impl<'a> ParticleSet<'a> {
             .par_iter()
             .zip(self.radii.par_iter())
             .position_first(|(p, &r)| {
-                !(p.iter().all(|x| x.is_finite()) && r.is_finite() && r >= 0.0)
+                !(p.iter().all(|x| x.is_finite()) && r >= 0.0 && ball_volume(r).is_finite())
             });
         if let Some(index) = bad {
             let p = self.positions[index];

@@ -7,7 +7,7 @@ use crate::method::UnknownMethod;
 pub enum ParticleProblem {
     /// A position coordinate is NaN or infinite.
     NonFinitePosition([f64; 3]),
-    /// The radius is negative, NaN or infinite.
+    /// The radius is negative or NaN, or so large that its volume overflows.
     BadRadius(f64),
 }
 
@@ -18,7 +18,10 @@ impl std::fmt::Display for ParticleProblem {
                 write!(f, "non-finite position ({}, {}, {})", p[0], p[1], p[2])
             }
             ParticleProblem::BadRadius(r) => {
-                write!(f, "radius {r} is not a finite non-negative length")
+                write!(
+                    f,
+                    "radius {r} is not a non-negative length with a finite volume"
+                )
             }
         }
     }

@@ -97,6 +97,20 @@ fn bad_particles_are_typed_errors() {
         Err(VoidageError::BadAlphaMin(_))
     ));
     assert!(vm.voidage(&d, Some(f64::NAN)).is_err());
+    // A radius whose volume overflows, and an infinite coordinate.
+    let e = vm.deposit(Method::Exact, &ParticleSet::new(&pos[..1], &[1e200]));
+    assert!(matches!(
+        e,
+        Err(VoidageError::InvalidParticle {
+            index: 0,
+            id: None,
+            ..
+        })
+    ));
+    let far = [[f64::INFINITY, 0.0, 0.0]];
+    assert!(vm
+        .deposit(Method::Centre, &ParticleSet::new(&far, &[0.1]))
+        .is_err());
 }
 
 /// Every method conserves volume on a grid (both paths) and a rotated copy, for particles
