@@ -199,7 +199,6 @@ fn exact_shares_match_kernels_cell_by_cell() {
     let grid = VoidageMesh::new(&m).unwrap();
     let general = VoidageMesh::with_options(&m, NO_GRID).unwrap();
     let g = grid.axis_grid().unwrap().clone();
-    let tets = general.locator().tets();
     let mut rng = Rng::new(2);
     for _ in 0..60 {
         let c = rng.point([-0.2, -0.2, -0.4], [1.5, 1.2, 1.1]);
@@ -213,10 +212,7 @@ fn exact_shares_match_kernels_cell_by_cell() {
             let hi = [g.planes(0)[i + 1], g.planes(1)[j + 1], g.planes(2)[k + 1]];
             let single = sphere_box_volume(c, r, lo, hi);
             assert!((a[cell] - single).abs() < 1e-13 * v, "grid cell {cell}");
-            let by_tets: f64 = tets
-                .cell_tets(cell as u32)
-                .map(|t| sphere_tet_volume(c, r, &t.points))
-                .sum();
+            let by_tets = tet_sum(&general, cell, c, r);
             assert!(
                 (b[cell] - by_tets).abs() < 1e-13 * v,
                 "general cell {cell} {} {} {} c={c:?} r={r}",
@@ -300,30 +296,7 @@ fn exact_on_sheared_mesh_matches_monte_carlo() {
         ([0.35, 0.3, 0.35], 0.2),
         ([1.2, 0.2, 0.1], 0.4),
     ] {
-        let (s, outside) = shares(&vm, Method::Exact, c, r);
-        let v = ball_volume(r);
-        // Uniform points in the ball by rejection from its cube.
-        let mut counts = vec![0usize; s.len() + 1];
-        let mut k = 0;
-        while k < n {
-            let p = rng.point(c.map(|x| x - r), c.map(|x| x + r));
-            if (0..3).map(|a| (p[a] - c[a]).powi(2)).sum::<f64>() < r * r {
-                let cell = vm.locator().locate(p);
-                counts[cell.map_or(s.len(), |c| c as usize)] += 1;
-                k += 1;
-            }
-        }
-        for (cell, &cnt) in counts.iter().enumerate() {
-            let exact = if cell < s.len() { s[cell] } else { outside };
-            let p = cnt as f64 / n as f64;
-            let q = p.clamp(0.5 / n as f64, 1.0 - 0.5 / n as f64);
-            let se = v * (q * (1.0 - q) / n as f64).sqrt();
-            assert!(
-                (exact - p * v).abs() <= 4.5 * se,
-                "cell {cell}: {exact} vs {}",
-                p * v
-            );
-        }
+        check_exact_against_monte_carlo(&vm, &mut rng, c, r, n);
     }
 }
 
@@ -599,17 +572,13 @@ fn warped_faces_match_tets() {
     }
     let vm = VoidageMesh::new(&m).unwrap();
     assert!(vm.axis_grid().is_none());
-    let tets = vm.locator().tets();
     for _ in 0..40 {
         let c = rng.point([0.1; 3], [0.9; 3]);
         let r = rng.uniform(0.05, 0.4);
         let v = ball_volume(r);
         let (s, out) = shares(&vm, Method::Exact, c, r);
         for (cell, &x) in s.iter().enumerate() {
-            let by_tets: f64 = tets
-                .cell_tets(cell as u32)
-                .map(|t| sphere_tet_volume(c, r, &t.points))
-                .sum();
+            let by_tets = tet_sum(&vm, cell, c, r);
             assert!(
                 (x - by_tets).abs() < 1e-13 * v,
                 "cell {cell}: {x} vs {by_tets}"

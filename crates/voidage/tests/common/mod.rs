@@ -195,3 +195,53 @@ pub fn round_to(x: f64, d: i32) -> f64 {
     let s = 10f64.powi(d);
     (x * s).round() / s
 }
+
+/// Checks the exact shares of one particle (centre `c`, radius `r`) on `vm` against `n` Monte
+/// Carlo points uniform in the ball, located in the mesh: per cell and outside, within 4.5
+/// binomial standard errors.
+pub fn check_exact_against_monte_carlo(
+    vm: &voidage::VoidageMesh,
+    rng: &mut Rng,
+    c: [f64; 3],
+    r: f64,
+    n: usize,
+) {
+    let set = voidage::ParticleSet::new(std::slice::from_ref(&c), std::slice::from_ref(&r));
+    let d = vm.deposit(voidage::Method::Exact, &set).unwrap();
+    let v = voidage::ball_volume(r);
+    let cells = vm.n_cells();
+    let mut counts = vec![0usize; cells + 1];
+    let mut k = 0;
+    while k < n {
+        let p = rng.point(c.map(|x| x - r), c.map(|x| x + r));
+        if (0..3).map(|a| (p[a] - c[a]).powi(2)).sum::<f64>() < r * r {
+            counts[vm.locator().locate(p).map_or(cells, |c| c as usize)] += 1;
+            k += 1;
+        }
+    }
+    for (cell, &cnt) in counts.iter().enumerate() {
+        let exact = if cell < cells {
+            d.solid[cell]
+        } else {
+            d.outside_volume
+        };
+        let p = cnt as f64 / n as f64;
+        let q = p.clamp(0.5 / n as f64, 1.0 - 0.5 / n as f64);
+        let se = v * (q * (1.0 - q) / n as f64).sqrt();
+        assert!(
+            (exact - p * v).abs() <= 4.5 * se,
+            "cell {cell}: {exact} vs {}",
+            p * v
+        );
+    }
+}
+
+/// Σ ball ∩ tet over the tets of `cell` in the mesh's tet decomposition: the exact share of
+/// the cell by the tet kernel alone.
+pub fn tet_sum(vm: &voidage::VoidageMesh, cell: usize, c: [f64; 3], r: f64) -> f64 {
+    vm.locator()
+        .tets()
+        .cell_tets(cell as u32)
+        .map(|t| voidage::sphere_tet_volume(c, r, &t.points))
+        .sum()
+}
