@@ -24,7 +24,7 @@ mod exact;
 pub mod geometry;
 pub mod locate;
 pub mod tets;
-mod v3;
+pub mod v3;
 
 pub use error::MeshError;
 pub use geometry::{face_centre_and_area, Aabb, MeshGeometry};
