@@ -75,37 +75,38 @@ pub fn read_points(dir: &Path) -> Result<Vec<[f64; 3]>> {
 
 /// Reads a `labelList` file (`owner`, `neighbour`); returns the labels and the header.
 pub fn read_label_list(dir: &Path, name: &str) -> Result<(Vec<Label>, Header)> {
-    let f = MeshFile::open(dir, name)?;
-    let (mut p, h) = f.parser()?;
-    let mut labels = Vec::new();
-    p.read_typed(Elem::Label, &mut labels, &mut Vec::new())?;
-    let labels = labels_u32(labels, &p, name)?;
-    expect_end(&mut p)?;
-    Ok((labels, h))
+    read_label_file(dir, name, false)
 }
 
 /// Reads `neighbour`. Some meshes list a neighbour for every face, with -1 for boundary faces;
 /// as OpenFOAM does, the internal faces are those before the first -1, and every later entry
 /// must be -1.
 pub fn read_neighbour(dir: &Path) -> Result<Vec<Label>> {
-    let f = MeshFile::open(dir, "neighbour")?;
-    let (mut p, _) = f.parser()?;
+    Ok(read_label_file(dir, "neighbour", true)?.0)
+}
+
+/// A `labelList` file as labels; with `minus_one_tail`, a tail of -1 entries is cut off.
+fn read_label_file(dir: &Path, name: &str, minus_one_tail: bool) -> Result<(Vec<Label>, Header)> {
+    let f = MeshFile::open(dir, name)?;
+    let (mut p, h) = f.parser()?;
     let mut labels = Vec::new();
     p.read_typed(Elem::Label, &mut labels, &mut Vec::new())?;
     expect_end(&mut p)?;
-    let internal = labels.iter().position(|&l| l < 0).unwrap_or(labels.len());
-    if let Some(k) = labels[internal..].iter().position(|&l| l != -1) {
-        return Err(FoamError::invalid(
-            &f.path,
-            format!(
-                "neighbour {}: label {} after the first -1 (at {internal}); only -1 may follow",
-                internal + k,
-                labels[internal + k]
-            ),
-        ));
+    if minus_one_tail {
+        let internal = labels.iter().position(|&l| l < 0).unwrap_or(labels.len());
+        if let Some(k) = labels[internal..].iter().position(|&l| l != -1) {
+            return Err(FoamError::invalid(
+                &f.path,
+                format!(
+                    "{name} {}: label {} after the first -1 (at {internal}); only -1 may follow",
+                    internal + k,
+                    labels[internal + k]
+                ),
+            ));
+        }
+        labels.truncate(internal);
     }
-    labels.truncate(internal);
-    labels_u32(labels, &p, "neighbour")
+    Ok((labels_u32(labels, &p, name)?, h))
 }
 
 /// Reads `faces` (`faceList` or `faceCompactList`).
