@@ -1,0 +1,5 @@
+//! Native volume-averaged incompressible Navier–Stokes solver (PISO) on an OpenFOAM polyMesh.
+//!
+//! Owns: finite-volume discretisation on the collocated unstructured mesh, boundary conditions,
+//! the PISO loop with Rhie–Chow fluxes and implicit interphase momentum exchange, linear solvers,
+//! reading a case's `0/`, `constant/` and `system/` and writing OpenFOAM time directories.
