@@ -3,3 +3,15 @@
 //! Owns: finite-volume discretisation on the collocated unstructured mesh, boundary conditions,
 //! the PISO loop with Rhie–Chow fluxes and implicit interphase momentum exchange, linear solvers,
 //! reading a case's `0/`, `constant/` and `system/` and writing OpenFOAM time directories.
+//!
+//! Modules:
+//! * [`geometry`]: [`FvGeometry`], interpolation weights and deltas computed once per mesh;
+//! * [`fvc`]: explicit operators (gradients, snGrad, ∇·τ, surface integrals) on a frozen field.
+
+pub mod error;
+pub mod fvc;
+pub mod geometry;
+pub mod testfields;
+
+pub use error::{FvError, Result};
+pub use geometry::{FvGeometry, FvPatch, V3};
