@@ -168,6 +168,50 @@ impl Deposit {
     }
 }
 
+/// The (cell, volume) shares of every particle, in compressed-row layout: particle i put
+/// `volumes[k]` m³ into cell `cells[k]` for k in `offsets[i]..offsets[i + 1]` (a cell may
+/// appear at most once per particle).
+/// A particle with no entries lies outside the mesh (or has radius 0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CellShares {
+    /// The method that produced the shares.
+    pub method: Method,
+    /// Start of each particle's entries; `particles + 1` values, the last is `cells.len()`.
+    pub offsets: Vec<usize>,
+    /// Cell of each entry.
+    pub cells: Vec<Label>,
+    /// Volume of each entry, m³ (> 0 except for exact zeros some methods may keep).
+    pub volumes: Vec<f64>,
+}
+
+impl CellShares {
+    /// Number of particles.
+    pub fn particles(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// The cells and volumes of particle `i`.
+    pub fn of(&self, i: usize) -> (&[Label], &[f64]) {
+        let r = self.offsets[i]..self.offsets[i + 1];
+        (&self.cells[r.clone()], &self.volumes[r])
+    }
+
+    /// Σ of the volumes of particle `i` inside the mesh, m³.
+    pub fn inside_volume(&self, i: usize) -> f64 {
+        self.of(i).1.iter().sum()
+    }
+
+    fn append(&mut self, shares: &[(Label, f64)], counts: &[u32]) {
+        let mut end = *self.offsets.last().expect("offsets start with 0");
+        for &n in counts {
+            end += n as usize;
+            self.offsets.push(end);
+        }
+        self.cells.extend(shares.iter().map(|s| s.0));
+        self.volumes.extend(shares.iter().map(|s| s.1));
+    }
+}
+
 /// A voidage field ε = 1 − solid / cell volume, optionally clipped from below.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Voidage {
@@ -347,6 +391,8 @@ struct Ball {
 /// What one work item produced.
 struct ChunkOut {
     shares: Vec<(Label, f64)>,
+    /// Number of entries of `shares` per particle of the work item, in order.
+    counts: Vec<u32>,
     outside: f64,
     volume: f64,
     fully_outside: usize,
@@ -480,6 +526,48 @@ impl VoidageMesh {
         particles: &ParticleSet<'_>,
         cells: &mut [Option<Label>],
     ) -> Result<Deposit, VoidageError> {
+        self.run(method, particles, cells, None)
+    }
+
+    /// The (cell, volume) shares each particle deposits with `method`, together with the
+    /// deposit they add up to: the same code path as [`VoidageMesh::deposit_with_cells`], so
+    /// `deposit.solid[c]` is the sum of the shares of cell c (in the same order, hence
+    /// bit-identical to a plain deposit). `cells` is a hint and the result as there.
+    pub fn shares_with_cells(
+        &self,
+        method: Method,
+        particles: &ParticleSet<'_>,
+        cells: &mut [Option<Label>],
+    ) -> Result<(CellShares, Deposit), VoidageError> {
+        let mut shares = CellShares {
+            method,
+            offsets: Vec::with_capacity(particles.len() + 1),
+            cells: Vec::new(),
+            volumes: Vec::new(),
+        };
+        shares.offsets.push(0);
+        let dep = self.run(method, particles, cells, Some(&mut shares))?;
+        Ok((shares, dep))
+    }
+
+    /// [`VoidageMesh::shares_with_cells`] without a cell hint.
+    pub fn shares(
+        &self,
+        method: Method,
+        particles: &ParticleSet<'_>,
+    ) -> Result<(CellShares, Deposit), VoidageError> {
+        let mut cells = vec![None; particles.len()];
+        self.shares_with_cells(method, particles, &mut cells)
+    }
+
+    /// Locates, deposits and reduces; keeps the per-particle shares when `keep` is given.
+    fn run(
+        &self,
+        method: Method,
+        particles: &ParticleSet<'_>,
+        cells: &mut [Option<Label>],
+        mut keep: Option<&mut CellShares>,
+    ) -> Result<Deposit, VoidageError> {
         particles.check()?;
         if cells.len() != particles.len() {
             return Err(VoidageError::LengthMismatch {
@@ -515,8 +603,11 @@ impl VoidageMesh {
                 })
                 .collect();
             for o in outs {
-                for (c, v) in o.shares {
+                for &(c, v) in &o.shares {
                     solid[c as usize] += v;
+                }
+                if let Some(k) = keep.as_deref_mut() {
+                    k.append(&o.shares, &o.counts);
                 }
                 dep.outside_volume += o.outside;
                 dep.particle_volume += o.volume;
@@ -549,6 +640,7 @@ impl VoidageMesh {
     ) -> ChunkOut {
         let mut out = ChunkOut {
             shares: Vec::with_capacity(range.len() * 2),
+            counts: Vec::with_capacity(range.len()),
             outside: 0.0,
             volume: 0.0,
             fully_outside: 0,
@@ -556,11 +648,12 @@ impl VoidageMesh {
         };
         for i in range {
             let (c, r) = (p.positions[i], p.radii[i]);
+            let start = out.shares.len();
             if r == 0.0 {
+                out.counts.push(0);
                 continue;
             }
             let v = ball_volume(r);
-            let start = out.shares.len();
             let ball = Ball {
                 c,
                 r,
@@ -568,6 +661,7 @@ impl VoidageMesh {
                 cell: cells[i],
             };
             let outside = self.particle(method, ball, s, &mut out.shares);
+            out.counts.push((out.shares.len() - start) as u32);
             out.volume += v;
             out.outside += outside;
             if out.shares.len() == start {

@@ -48,7 +48,9 @@ pub mod sphere_poly;
 mod vec3;
 
 pub use clip::box_tet_volume;
-pub use engine::{voidage_field, Deposit, MeshOptions, ParticleSet, Voidage, VoidageMesh};
+pub use engine::{
+    voidage_field, CellShares, Deposit, MeshOptions, ParticleSet, Voidage, VoidageMesh,
+};
 pub use error::{ParticleProblem, VoidageError};
 pub use method::{Method, UnknownMethod};
 
