@@ -1,0 +1,8 @@
+//! Runs coupled CFD-DEM cases laid out as CFDEM does (`CASE/CFD`, `CASE/DEM`).
+//!
+//! Owns: the pairing of a particle backend with a fluid backend, the run loop's outputs
+//! (integral quantities per coupling step as CSV, PNG plots) and the validation of a case against
+//! references computed from the case's own parameters and its measured bed.
+pub mod bed;
+pub mod plot;
+pub mod validation;
