@@ -5,4 +5,5 @@
 //! references computed from the case's own parameters and its measured bed.
 pub mod bed;
 pub mod plot;
+pub mod reference;
 pub mod validation;

@@ -1,0 +1,131 @@
+//! Reference values the cases are checked against, computed from each case's own parameters.
+
+use closures::drag::{di_felice, schiller_naumann};
+use closures::input::{sphere_volume, DragInput};
+
+/// Ergun's (1952) pressure gradient through a packed bed, Pa/m:
+/// Δp/L = 150 μ (1−ε)² U / (ε³ d²) + 1.75 ρ (1−ε) U² / (ε³ d),
+/// with U the superficial velocity (m/s), ε the bed voidage, d the (Sauter-mean) particle
+/// diameter (m), μ (Pa·s) and ρ (kg/m³) of the fluid. Ergun, Chem. Eng. Prog. 48 (1952) 89–94.
+pub fn ergun_pressure_gradient(u: f64, eps: f64, d: f64, mu: f64, rho: f64) -> f64 {
+    let e3 = eps * eps * eps;
+    150.0 * mu * (1.0 - eps) * (1.0 - eps) * u / (e3 * d * d)
+        + 1.75 * rho * (1.0 - eps) * u * u / (e3 * d)
+}
+
+/// The superficial velocity at which Ergun's Δp over a bed of height `l` reaches `dp` (Pa): the
+/// minimum fluidisation velocity when `dp` is the bed's buoyant weight per area. Solves the
+/// quadratic in U exactly. Returns 0 for `dp <= 0`.
+pub fn ergun_velocity_for(dp: f64, l: f64, eps: f64, d: f64, mu: f64, rho: f64) -> f64 {
+    if dp <= 0.0 {
+        return 0.0;
+    }
+    let e3 = eps * eps * eps;
+    let a = 1.75 * rho * (1.0 - eps) / (e3 * d);
+    let b = 150.0 * mu * (1.0 - eps) * (1.0 - eps) / (e3 * d * d);
+    let c = dp / l;
+    // a U² + b U − c = 0, positive root in the cancellation-free form.
+    2.0 * c / (b + (b * b + 4.0 * a * c).sqrt())
+}
+
+/// One sphere settling from rest in a quiescent fluid under gravity, integrated as CFDEM's
+/// settlingTestMPI reference does: the drag is Schiller–Naumann's
+/// ([`closures::drag::schiller_naumann::beta`]) and each step solves
+/// v⁺ = (v + Δt (1 − ρ/ρ_p) g) / (1 + Δt β/m), i.e. drag implicit in v with β frozen at the
+/// old velocity. Returns the speeds at t = 0, Δt, 2Δt, …, `t_end` (m/s, positive downwards).
+pub fn settling_speed_history(
+    d: f64,
+    rho_p: f64,
+    rho: f64,
+    nu: f64,
+    g: f64,
+    dt: f64,
+    t_end: f64,
+) -> Vec<(f64, f64)> {
+    let m = rho_p * sphere_volume(d);
+    let n = (t_end / dt).round() as usize;
+    let mut v = 0.0f64;
+    let mut out = Vec::with_capacity(n + 1);
+    out.push((0.0, 0.0));
+    for k in 1..=n {
+        let beta = schiller_naumann::beta(&DragInput::new(1.0, d, v.abs(), rho, nu * rho));
+        v = (v + dt * (1.0 - rho / rho_p) * g) / (1.0 + dt * beta / m);
+        out.push((k as f64 * dt, v));
+    }
+    out
+}
+
+/// Terminal settling speed of one sphere (m/s) with Di Felice's drag at ε = 1
+/// ([`closures::drag::di_felice::beta`]): the speed u where β(u)·u equals the buoyant weight
+/// (ρ_p − ρ) V_p g, found by bisection to 1e-12 relative.
+pub fn di_felice_terminal_speed(d: f64, rho_p: f64, rho: f64, nu: f64, g: f64) -> f64 {
+    let weight = (rho_p - rho) * sphere_volume(d) * g;
+    let drag = |u: f64| di_felice::beta(&DragInput::new(1.0, d, u, rho, nu * rho)) * u;
+    // Stokes' speed bounds the answer from above (the drag grows faster than Stokes').
+    let (mut lo, mut hi) = (0.0, weight / (3.0 * std::f64::consts::PI * nu * rho * d));
+    while drag(hi) < weight {
+        hi *= 2.0;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if drag(mid) < weight {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-12 * hi {
+            break;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ergun_reproduces_cfdems_numbers() {
+        // REFERENCE.md: L = 0.0156 m, ε = 0.4513, d = 1 mm, ν = 1.5e-4, ρ = 10:
+        // 23.0 Pa at 0.002 m/s and 115.1 Pa at 0.01 m/s.
+        let (l, e, d, mu, rho) = (0.0156, 0.4513, 1e-3, 1.5e-3, 10.0);
+        let dp1 = ergun_pressure_gradient(0.002, e, d, mu, rho) * l;
+        let dp2 = ergun_pressure_gradient(0.01, e, d, mu, rho) * l;
+        assert!((dp1 - 23.0).abs() < 0.05, "{dp1}");
+        assert!((dp2 - 115.1).abs() < 0.05, "{dp2}");
+    }
+
+    #[test]
+    fn fluidisation_velocity_inverts_ergun() {
+        let (l, e, d, mu, rho) = (0.0156, 0.4513, 1e-3, 1.5e-3, 10.0);
+        let u = ergun_velocity_for(167.0, l, e, d, mu, rho);
+        let dp = ergun_pressure_gradient(u, e, d, mu, rho) * l;
+        assert!((dp - 167.0).abs() < 1e-9, "{dp}");
+        // REFERENCE.md: minimum fluidisation ≈ 0.0145 m/s for ≈ 167 Pa.
+        assert!((u - 0.0145).abs() < 0.0003, "{u}");
+        assert_eq!(ergun_velocity_for(0.0, l, e, d, mu, rho), 0.0);
+    }
+
+    #[test]
+    fn settling_history_matches_cfdems_reference() {
+        // REFERENCE.md: the Schiller–Naumann ODE of settlingTestMPI gives u(0.2 s) = 0.1373 m/s.
+        let h = settling_speed_history(1e-4, 3000.0, 10.0, 1e-5, 9.81, 1e-3, 0.2);
+        assert_eq!(h.len(), 201);
+        let (t, v) = *h.last().unwrap();
+        assert!((t - 0.2).abs() < 1e-12);
+        assert!((v - 0.1373).abs() < 5e-5, "{v}");
+        // First step from rest: β is Stokes' 3πμd, so v₁ = Δt g' / (1 + Δt / τ) with
+        // τ = ρp d² / (18 μ) the Stokes relaxation time.
+        let (t1, v1) = h[1];
+        let tau = 3000.0 * 1e-8 / (18.0 * 1e-4);
+        let expect = t1 * (1.0 - 10.0 / 3000.0) * 9.81 / (1.0 + t1 / tau);
+        assert!((v1 - expect).abs() < 1e-12 * expect, "{v1} vs {expect}");
+    }
+
+    #[test]
+    fn di_felice_terminal_speed_matches_reference() {
+        // REFERENCE.md: 0.1286 m/s.
+        let u = di_felice_terminal_speed(1e-4, 3000.0, 10.0, 1e-5, 9.81);
+        assert!((u - 0.1286).abs() < 5e-5, "{u}");
+    }
+}
