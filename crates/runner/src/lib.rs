@@ -4,6 +4,7 @@
 //! (integral quantities per coupling step as CSV, PNG plots) and the validation of a case against
 //! references computed from the case's own parameters and its measured bed.
 pub mod bed;
+pub mod layout;
 pub mod plot;
 pub mod reference;
 pub mod validation;

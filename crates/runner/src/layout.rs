@@ -1,0 +1,246 @@
+//! A case in CFDEM layout: `CASE/CFD` (an OpenFOAM case with `constant/couplingProperties`),
+//! `CASE/DEM` (LIGGGHTS decks run with `DEM/` as working directory) and, for foamgrain's
+//! reference cases, `CASE/validationDict` saying which checks the run is held to.
+
+use foam::Dict;
+use std::path::{Path, PathBuf};
+
+/// Errors finding or reading a case; every message names the file or directory.
+#[derive(Debug, thiserror::Error)]
+pub enum LayoutError {
+    /// A required directory or file is missing.
+    #[error("{path}: {what} not found (a CFDEM-layout case has CFD/ and DEM/ folders)")]
+    Missing {
+        /// The missing path.
+        path: PathBuf,
+        /// What it should have been.
+        what: &'static str,
+    },
+    /// A dictionary failed to parse.
+    #[error(transparent)]
+    Foam(#[from] foam::FoamError),
+    /// A dictionary entry is missing or has the wrong type or value.
+    #[error("{path}: {msg}")]
+    Entry {
+        /// The dictionary file.
+        path: PathBuf,
+        /// What is wrong, naming the key.
+        msg: String,
+    },
+}
+
+/// The files of a CFDEM-layout case.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaseLayout {
+    /// The case root.
+    pub root: PathBuf,
+    /// `CASE/CFD`.
+    pub cfd: PathBuf,
+    /// `CASE/DEM`.
+    pub dem: PathBuf,
+    /// `DEM/in.liggghts_init` if present: the deck that prepares the particles (packing).
+    pub init_deck: Option<PathBuf>,
+    /// `DEM/in.liggghts_run`: the coupled deck.
+    pub run_deck: PathBuf,
+    /// What `CASE/validationDict` asks for (`None` if the case has no such file).
+    pub validation: Option<ValidationSpec>,
+}
+
+/// The reference a case is checked against (`type` in `validationDict`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ValidationSpec {
+    /// `type ergunPackedBed;`: Δp(u) through the bed against Ergun's equation with the bed
+    /// height and voidage measured from the particles, and the fluidisation plateau against the
+    /// bed's buoyant weight per area.
+    ErgunPackedBed {
+        /// Unit vector along the column, pointing downstream (against gravity).
+        axis: [f64; 3],
+        /// Inlet patch name.
+        inlet: String,
+        /// Outlet patch name.
+        outlet: String,
+        /// Accepted relative error of Δp below fluidisation.
+        pressure_drop_tolerance: f64,
+        /// Accepted relative error of the plateau Δp.
+        plateau_tolerance: f64,
+    },
+    /// `type settlingSphere;`: one sphere's velocity against the Schiller–Naumann ODE at the end
+    /// time and against Di Felice's terminal velocity.
+    SettlingSphere {
+        /// Accepted relative error of the velocity.
+        velocity_tolerance: f64,
+    },
+}
+
+fn entry_err(path: &Path, e: impl std::fmt::Display) -> LayoutError {
+    LayoutError::Entry {
+        path: path.to_owned(),
+        msg: e.to_string(),
+    }
+}
+
+fn tolerance(d: &Dict, path: &Path, key: &str) -> Result<f64, LayoutError> {
+    let t = d.f64(key).map_err(|e| entry_err(path, e))?;
+    if !(t.is_finite() && t > 0.0) {
+        return Err(entry_err(
+            path,
+            format!("{key} must be a positive number, got {t}"),
+        ));
+    }
+    Ok(t)
+}
+
+impl ValidationSpec {
+    /// Reads `validationDict`.
+    pub fn read(path: &Path) -> Result<ValidationSpec, LayoutError> {
+        let d = foam::parse_file(path)?.body;
+        let kind = d.word("type").map_err(|e| entry_err(path, e))?;
+        match kind {
+            "ergunPackedBed" => {
+                let axis = d.vector("axis").map_err(|e| entry_err(path, e))?;
+                let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+                if !(n.is_finite() && n > 0.0) {
+                    return Err(entry_err(path, "axis must be a non-zero vector"));
+                }
+                Ok(ValidationSpec::ErgunPackedBed {
+                    axis: [axis[0] / n, axis[1] / n, axis[2] / n],
+                    inlet: d
+                        .word("inletPatch")
+                        .map_err(|e| entry_err(path, e))?
+                        .to_owned(),
+                    outlet: d
+                        .word("outletPatch")
+                        .map_err(|e| entry_err(path, e))?
+                        .to_owned(),
+                    pressure_drop_tolerance: tolerance(&d, path, "pressureDropTolerance")?,
+                    plateau_tolerance: tolerance(&d, path, "plateauTolerance")?,
+                })
+            }
+            "settlingSphere" => Ok(ValidationSpec::SettlingSphere {
+                velocity_tolerance: tolerance(&d, path, "velocityTolerance")?,
+            }),
+            other => Err(entry_err(
+                path,
+                format!(
+                    "unknown validation type '{other}' (known: ergunPackedBed, settlingSphere)"
+                ),
+            )),
+        }
+    }
+}
+
+impl CaseLayout {
+    /// Finds the parts of the case at `root`.
+    pub fn open(root: &Path) -> Result<CaseLayout, LayoutError> {
+        let cfd = root.join("CFD");
+        let dem = root.join("DEM");
+        if !cfd.is_dir() {
+            return Err(LayoutError::Missing {
+                path: cfd,
+                what: "the CFD case directory",
+            });
+        }
+        if !dem.is_dir() {
+            return Err(LayoutError::Missing {
+                path: dem,
+                what: "the DEM directory",
+            });
+        }
+        let coupling = cfd.join("constant/couplingProperties");
+        if !coupling.is_file() {
+            return Err(LayoutError::Missing {
+                path: coupling,
+                what: "couplingProperties",
+            });
+        }
+        let run_deck = dem.join("in.liggghts_run");
+        if !run_deck.is_file() {
+            return Err(LayoutError::Missing {
+                path: run_deck,
+                what: "the coupled LIGGGHTS deck",
+            });
+        }
+        let init = dem.join("in.liggghts_init");
+        let vpath = root.join("validationDict");
+        let validation = if vpath.is_file() {
+            Some(ValidationSpec::read(&vpath)?)
+        } else {
+            None
+        };
+        Ok(CaseLayout {
+            root: root.to_owned(),
+            cfd,
+            dem,
+            init_deck: init.is_file().then_some(init),
+            run_deck,
+            validation,
+        })
+    }
+
+    /// Where the run writes its CSV, plots and `validation.json`: `CASE/postProcessing`.
+    pub fn post_processing(&self) -> PathBuf {
+        self.root.join("postProcessing")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn repo() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    }
+
+    #[test]
+    fn the_reference_cases_open() {
+        let e = CaseLayout::open(&repo().join("openfoam-cases/ergun")).unwrap();
+        assert!(e.init_deck.is_some());
+        match e.validation.unwrap() {
+            ValidationSpec::ErgunPackedBed {
+                axis,
+                inlet,
+                outlet,
+                ..
+            } => {
+                assert_eq!(axis, [0.0, 0.0, 1.0]);
+                assert_eq!((inlet.as_str(), outlet.as_str()), ("inlet", "outlet"));
+            }
+            v => panic!("{v:?}"),
+        }
+        let s = CaseLayout::open(&repo().join("openfoam-cases/settling")).unwrap();
+        assert!(s.init_deck.is_none());
+        assert!(matches!(
+            s.validation,
+            Some(ValidationSpec::SettlingSphere { .. })
+        ));
+    }
+
+    #[test]
+    fn missing_parts_are_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let err = CaseLayout::open(dir.path()).unwrap_err().to_string();
+        assert!(err.contains("CFD") && err.contains("not found"), "{err}");
+        std::fs::create_dir_all(dir.path().join("CFD/constant")).unwrap();
+        std::fs::create_dir_all(dir.path().join("DEM")).unwrap();
+        let err = CaseLayout::open(dir.path()).unwrap_err().to_string();
+        assert!(err.contains("couplingProperties"), "{err}");
+    }
+
+    #[test]
+    fn bad_validation_dicts_name_the_key() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("validationDict");
+        std::fs::write(&p, "type settlingSphere;\nvelocityTolerance -1;\n").unwrap();
+        let err = ValidationSpec::read(&p).unwrap_err().to_string();
+        assert!(
+            err.contains("velocityTolerance") && err.contains("validationDict"),
+            "{err}"
+        );
+        std::fs::write(&p, "type bubbling;\n").unwrap();
+        let err = ValidationSpec::read(&p).unwrap_err().to_string();
+        assert!(err.contains("bubbling"), "{err}");
+        std::fs::write(&p, "type ergunPackedBed;\naxis (0 0 0);\n").unwrap();
+        let err = ValidationSpec::read(&p).unwrap_err().to_string();
+        assert!(err.contains("axis"), "{err}");
+    }
+}
