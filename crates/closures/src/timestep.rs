@@ -122,14 +122,24 @@ pub fn drag_relaxation_time(mass: f64, beta: f64) -> f64 {
     mass / beta
 }
 
-/// Default fraction of the particle relaxation time one coupling interval may span.
+/// Default fraction of the particle relaxation time one coupling interval may span: the
+/// acceleration-number limit above which CFDEMcoupling's `checkCouplingInterval` warns.
 pub const DEFAULT_COUPLING_FRACTION: f64 = 0.1;
+
+/// The acceleration number of CFDEMcoupling's `checkCouplingInterval`, dimensionless: the
+/// coupling time (DEM step × `couplingInterval`, s) over the smallest particle relaxation time
+/// (s, CFDEM uses [`stokes_relaxation_time`]). Above [`DEFAULT_COUPLING_FRACTION`] (0.1) the
+/// particles change their slip noticeably between two exchanges, and CFDEM warns "you should
+/// use a smaller coupling interval".
+pub fn acceleration_number(coupling_time: f64, relaxation_time: f64) -> f64 {
+    coupling_time / relaxation_time
+}
 
 /// Number of DEM steps per coupling interval so that the interval spans at most `fraction` of
 /// the relaxation time τ: ⌊fraction·τ/dt_DEM⌋, at least 1. The particle applies the implicit
 /// drag every DEM step (ADR 0004), but the fluid sees the particles' response only at the next
-/// exchange, so the exchange must resolve τ (our rule; CFDEMcoupling's
-/// `checkCouplingInterval` warns on the same ratio). Errors name the non-positive input.
+/// exchange, so the exchange must resolve τ: the result keeps [`acceleration_number`] ≤
+/// `fraction`. Errors name the non-positive input.
 pub fn coupling_interval_steps(
     dem_dt: f64,
     relaxation_time: f64,

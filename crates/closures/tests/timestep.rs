@@ -3,8 +3,8 @@
 //! values for REFERENCE.md's Ergun case (E = 5e6 Pa, ν = 0.45, e = 0.3, d = 1 mm, ρ_p = 2000).
 
 use closures::timestep::{
-    coupling_interval_steps, drag_relaxation_time, hertz_contact_time, rayleigh_time_step,
-    stokes_relaxation_time, HertzContact,
+    acceleration_number, coupling_interval_steps, drag_relaxation_time, hertz_contact_time,
+    rayleigh_time_step, stokes_relaxation_time, HertzContact, DEFAULT_COUPLING_FRACTION,
 };
 use closures::{DragInput, DragLaw};
 use std::f64::consts::PI;
@@ -140,4 +140,9 @@ fn relaxation_times_and_coupling_interval() {
     assert_eq!(coupling_interval_steps(1e-5, tau, 0.1).unwrap(), 740);
     assert_eq!(coupling_interval_steps(1e-3, 1e-4, 0.1).unwrap(), 1);
     assert!(coupling_interval_steps(0.0, tau, 0.1).is_err());
+    // REFERENCE.md's Ergun case couples every 50 steps of 1e-5 s: 5e-4/0.0740741 = 0.00675
+    assert!(rel(acceleration_number(50.0 * 1e-5, tau), 0.00675) < 1e-3);
+    let steps = coupling_interval_steps(1e-5, tau, DEFAULT_COUPLING_FRACTION).unwrap();
+    assert!(acceleration_number(steps as f64 * 1e-5, tau) <= DEFAULT_COUPLING_FRACTION);
+    assert!(acceleration_number((steps + 1) as f64 * 1e-5, tau) > DEFAULT_COUPLING_FRACTION);
 }
