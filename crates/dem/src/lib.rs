@@ -4,3 +4,42 @@
 //! history (LIGGGHTS's parameterisation from E, ν, e, μ per type pair), cohesion and rolling
 //! friction, plane and cylinder walls, linked-cell neighbour search, insertion, per-particle
 //! coupling forces, and the subset of a LIGGGHTS input deck that drives it.
+//!
+//! # Map
+//! - [`material`]: per-type E, ν and per-pair e, μ, μᵣ, k → Y*, G*, β.
+//! - [`contact`]: `hertz`, `tangential` (history), `sjkr`, `rolling` (`cdt`, `epsd2`).
+//! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells + pair list).
+//! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
+//! - [`deck`]: the LIGGGHTS input subset; [`dump`]: `dump custom` output via `dem-io`.
+//! - [`timestep`]: Rayleigh and Hertz time criteria.
+//!
+//! # Example
+//! ```no_run
+//! let deck = dem::deck::Deck::read("DEM/in.liggghts")?;
+//! let mut sim = dem::Simulation::from_deck(&deck, std::path::Path::new("."))?;
+//! sim.run(1000)?;
+//! println!("{} particles at t = {} s", sim.particles.len(), sim.time());
+//! # Ok::<(), dem::DemError>(())
+//! ```
+//!
+//! # Invariants
+//! Results are bit-identical for any number of rayon threads (per-pair forces gathered per
+//! particle in a fixed order). Bad input gives a [`DemError`] naming the deck line, property or
+//! particle; nothing here panics on user input.
+
+pub mod contact;
+pub mod coupling;
+pub mod deck;
+pub mod dump;
+pub mod error;
+pub mod insert;
+pub mod material;
+pub mod neighbor;
+pub mod particles;
+pub mod region;
+pub mod sim;
+pub mod timestep;
+pub mod walls;
+
+pub use error::DemError;
+pub use sim::{SimBox, SimConfig, Simulation};

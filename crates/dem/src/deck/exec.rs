@@ -1,0 +1,1184 @@
+//! Executes a [`Deck`] on a [`Simulation`], command by command, as LIGGGHTS would.
+//!
+//! Supported (anything else is an error naming file, line and command):
+//! - set-up: `atom_style granular`, `atom_modify map array|hash`, `units si`, `boundary`
+//!   (`f`, `m`, `s`; periodic is refused), `newton`, `communicate`/`comm_modify`,
+//!   `processors`, `region ID block|cylinder … [units box] [side in]`, `create_box N REGION`,
+//!   `read_data FILE`, `create_atoms T single x y z [units box]`, `set group all diameter D
+//!   density ρ`, `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
+//!   (`delay every check one page contact_distance_factor`), `soft_particles yes`,
+//!   `hard_particles yes`, `timestep DT`;
+//! - contacts: `pair_style gran model hertz tangential history [cohesion sjkr]
+//!   [rolling_friction cdt|epsd2] [tangential_damping on|off] [limitForce on|off]`,
+//!   `pair_coeff * *`;
+//! - fixes (group `all`): `property/global`, `gravity G vector x y z`, `wall/gran model … primitive
+//!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2`,
+//!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
+//!   (`insert_every once`), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
+//!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled);
+//!   `unfix` of gravity, walls and pending insertions;
+//! - output: `dump ID all custom N FILE cols…`, `dump_modify ID sort id|label L|format …`,
+//!   `undump`, `write_data FILE`; `thermo`, `thermo_style`, `thermo_modify`, `compute`,
+//!   `compute_modify`, `echo`, `log`, `print` are accepted and have no effect on the physics;
+//! - `run N [upto] [pre yes|no] [post yes|no]`.
+//!
+//! Relative file names are resolved against the working directory given to
+//! [`Simulation::from_deck`] (LIGGGHTS resolves them against its current directory).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use dem_io::Boundary;
+use mesh::v3::V3;
+
+use crate::contact::{ContactModel, RollingModel};
+use crate::deck::{data_file, Command, Deck};
+use crate::dump::DumpOutput;
+use crate::error::DemError;
+use crate::insert::{Distribution, InsertPack, InsertTarget, SphereTemplate};
+use crate::material::{MaterialInput, Materials};
+use crate::particles::NewParticle;
+use crate::region::Region;
+use crate::sim::{SimBox, SimConfig, Simulation};
+use crate::timestep::{hertz_time, rayleigh_time};
+use crate::walls::{Wall, WallShape};
+
+type Res<T> = Result<T, String>;
+
+/// Set-up collected before the simulation exists (it is created at the first `run`,
+/// `write_data` or at the end of the deck).
+#[derive(Default)]
+struct Pending {
+    boundary: Option<[[Boundary; 2]; 3]>,
+    sim_box: Option<(SimBox, usize)>,
+    particles: Vec<NewParticle>,
+    skin: Option<f64>,
+    props: HashMap<String, Vec<f64>>,
+    prop_style: HashMap<String, String>,
+    pair_model: Option<ContactModel>,
+    pair_coeff: bool,
+    dt: Option<f64>,
+    gravity: Option<(String, V3)>,
+    walls: Vec<Wall>,
+    inserts: Vec<InsertPack>,
+    dumps: Vec<DumpOutput>,
+    soft: bool,
+    hard: bool,
+}
+
+struct Exec<'a> {
+    workdir: &'a Path,
+    regions: HashMap<String, Region>,
+    templates: HashMap<String, SphereTemplate>,
+    dists: HashMap<String, Distribution>,
+    pending: Pending,
+    sim: Option<Simulation>,
+    nve: bool,
+    checks: Vec<(f64, f64)>,
+    gravity_fix: Option<String>,
+}
+
+impl Simulation {
+    /// Executes every command of `deck` (including its `run`s) with relative paths resolved
+    /// against `workdir`, and returns the simulation ready for more [`Simulation::run`] calls.
+    pub fn from_deck(deck: &Deck, workdir: &Path) -> Result<Simulation, DemError> {
+        let mut ex = Exec {
+            workdir,
+            regions: HashMap::new(),
+            templates: HashMap::new(),
+            dists: HashMap::new(),
+            pending: Pending::default(),
+            sim: None,
+            nve: false,
+            checks: Vec::new(),
+            gravity_fix: None,
+        };
+        for c in &deck.commands {
+            let err = |message: String| DemError::Deck {
+                at: deck.location(c),
+                message,
+            };
+            ex.command(c).map_err(|e| match e {
+                Failure::Msg(m) => err(m),
+                Failure::Dem(d) => match d {
+                    DemError::Deck { .. } => d,
+                    other => err(other.to_string()),
+                },
+            })?;
+        }
+        match ex.sim {
+            Some(s) => Ok(s),
+            None => ex.build().map_err(|e| match e {
+                Failure::Msg(m) => DemError::Setup(format!("{}: {m}", deck.file.display())),
+                Failure::Dem(d) => d,
+            }),
+        }
+    }
+}
+
+enum Failure {
+    Msg(String),
+    Dem(DemError),
+}
+
+impl From<String> for Failure {
+    fn from(s: String) -> Self {
+        Failure::Msg(s)
+    }
+}
+
+impl From<&str> for Failure {
+    fn from(s: &str) -> Self {
+        Failure::Msg(s.to_string())
+    }
+}
+
+impl From<DemError> for Failure {
+    fn from(e: DemError) -> Self {
+        Failure::Dem(e)
+    }
+}
+
+fn num(w: &[String], k: usize, what: &str) -> Res<f64> {
+    let s = w
+        .get(k)
+        .ok_or_else(|| format!("missing {what} (argument {k})"))?;
+    s.parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("{what}: `{s}` is not a number"))
+}
+
+fn int(w: &[String], k: usize, what: &str) -> Res<u64> {
+    let v = num(w, k, what)?;
+    if v < 0.0 || v.fract() != 0.0 {
+        return Err(format!("{what}: `{}` is not a non-negative integer", w[k]));
+    }
+    Ok(v as u64)
+}
+
+fn word<'w>(w: &'w [String], k: usize, what: &str) -> Res<&'w str> {
+    w.get(k)
+        .map(String::as_str)
+        .ok_or_else(|| format!("missing {what}"))
+}
+
+fn yes_no(w: &[String], k: usize, what: &str) -> Res<bool> {
+    match word(w, k, what)? {
+        "yes" | "on" => Ok(true),
+        "no" | "off" => Ok(false),
+        o => Err(format!("{what}: `{o}` (yes/no expected)")),
+    }
+}
+
+/// Parses `model hertz tangential history [cohesion sjkr] [rolling_friction cdt|epsd2]
+/// [surface default] [tangential_damping on|off] [limitForce on|off]` from `w[k..]`; returns
+/// the model and the index after it.
+fn contact_model(w: &[String], mut k: usize) -> Res<(ContactModel, usize)> {
+    let mut m = ContactModel::default();
+    let mut normal = false;
+    let mut tangential = false;
+    while k < w.len() {
+        let arg = || word(w, k + 1, &format!("value after `{}`", w[k]));
+        match w[k].as_str() {
+            "model" => {
+                match arg()? {
+                    "hertz" => normal = true,
+                    o => return Err(format!("normal model `{o}` is not supported (hertz)")),
+                }
+                k += 2;
+            }
+            "tangential" => {
+                match arg()? {
+                    "history" => tangential = true,
+                    o => return Err(format!("tangential model `{o}` is not supported (history)")),
+                }
+                k += 2;
+            }
+            "cohesion" => {
+                match arg()? {
+                    "sjkr" => m.cohesion = true,
+                    "off" => {}
+                    o => return Err(format!("cohesion model `{o}` is not supported (sjkr)")),
+                }
+                k += 2;
+            }
+            "rolling_friction" => {
+                m.rolling = match arg()? {
+                    "cdt" => Some(RollingModel::Cdt),
+                    "epsd2" => Some(RollingModel::Epsd2),
+                    "off" => None,
+                    o => {
+                        return Err(format!(
+                            "rolling friction model `{o}` is not supported (cdt, epsd2)"
+                        ))
+                    }
+                };
+                k += 2;
+            }
+            "surface" => {
+                if arg()? != "default" {
+                    return Err(format!("surface model `{}` is not supported", w[k + 1]));
+                }
+                k += 2;
+            }
+            "tangential_damping" => {
+                m.no_tangential_damping = !yes_no(w, k + 1, "tangential_damping")?;
+                k += 2;
+            }
+            "limitForce" => {
+                m.limit_force = yes_no(w, k + 1, "limitForce")?;
+                k += 2;
+            }
+            _ => break,
+        }
+    }
+    if !normal || !tangential {
+        return Err("`model hertz tangential history` is required".into());
+    }
+    Ok((m, k))
+}
+
+fn region(w: &[String]) -> Res<(String, Region)> {
+    let id = word(w, 1, "region id")?.to_string();
+    let style = word(w, 2, "region style")?;
+    let (reg, mut k) = match style {
+        "block" => {
+            let v: Vec<f64> = (3..9)
+                .map(|k| num(w, k, "block bound"))
+                .collect::<Res<_>>()?;
+            if v[0] >= v[1] || v[2] >= v[3] || v[4] >= v[5] {
+                return Err("block bounds must satisfy lo < hi".into());
+            }
+            (
+                Region::Block {
+                    lo: [v[0], v[2], v[4]],
+                    hi: [v[1], v[3], v[5]],
+                },
+                9,
+            )
+        }
+        "cylinder" => {
+            let axis = match word(w, 3, "cylinder axis")? {
+                "x" => 0,
+                "y" => 1,
+                "z" => 2,
+                o => return Err(format!("cylinder axis `{o}` (x, y or z)")),
+            };
+            let c1 = num(w, 4, "c1")?;
+            let c2 = num(w, 5, "c2")?;
+            let radius = num(w, 6, "radius")?;
+            let lo = num(w, 7, "lo")?;
+            let hi = num(w, 8, "hi")?;
+            if radius <= 0.0 || lo >= hi {
+                return Err("cylinder needs radius > 0 and lo < hi".into());
+            }
+            (
+                Region::Cylinder {
+                    axis,
+                    centre: [c1, c2],
+                    radius,
+                    lo,
+                    hi,
+                },
+                9,
+            )
+        }
+        o => {
+            return Err(format!(
+                "region style `{o}` is not supported (block, cylinder)"
+            ))
+        }
+    };
+    while k < w.len() {
+        match (w[k].as_str(), w.get(k + 1).map(String::as_str)) {
+            ("units", Some("box")) | ("side", Some("in")) => k += 2,
+            ("units", Some(u)) => {
+                return Err(format!("region units `{u}` is not supported (units box)"))
+            }
+            (o, v) => {
+                return Err(format!(
+                    "region keyword `{o} {}` is not supported",
+                    v.unwrap_or("")
+                ))
+            }
+        }
+    }
+    Ok((id, reg))
+}
+
+impl Exec<'_> {
+    fn path(&self, p: &str) -> PathBuf {
+        self.workdir.join(p)
+    }
+
+    fn ntypes(&self) -> Res<usize> {
+        if let Some(s) = &self.sim {
+            return Ok(s.materials().ntypes());
+        }
+        self.pending
+            .sim_box
+            .as_ref()
+            .map(|b| b.1)
+            .ok_or_else(|| "needs the box first (create_box or read_data)".into())
+    }
+
+    fn before_run(&self, what: &str) -> Res<()> {
+        if self.sim.is_some() {
+            return Err(format!(
+                "{what} cannot be changed after the first run (restart the deck)"
+            ));
+        }
+        Ok(())
+    }
+
+    fn command(&mut self, c: &Command) -> Result<(), Failure> {
+        let w = &c.words;
+        match w[0].as_str() {
+            "atom_style" => {
+                if word(w, 1, "style")? != "granular" || w.len() > 2 {
+                    return Err("only `atom_style granular` is supported".into());
+                }
+            }
+            "atom_modify" => {
+                if !(w.len() == 3 && w[1] == "map" && (w[2] == "array" || w[2] == "hash")) {
+                    return Err("only `atom_modify map array|hash` is supported".into());
+                }
+            }
+            "units" => {
+                if word(w, 1, "units")? != "si" {
+                    return Err("only `units si` is supported".into());
+                }
+            }
+            "newton" | "communicate" | "comm_modify" | "processors" | "echo" | "log" | "print"
+            | "thermo" | "thermo_style" | "thermo_modify" | "compute" | "compute_modify" => {}
+            "boundary" => {
+                self.before_run("boundary")?;
+                let mut b = [[Boundary::Fixed; 2]; 3];
+                for k in 0..3 {
+                    let s = word(w, k + 1, "boundary")?.as_bytes();
+                    let (lo, hi) = match s.len() {
+                        1 => (s[0], s[0]),
+                        2 => (s[0], s[1]),
+                        _ => return Err(format!("bad boundary `{}`", w[k + 1]).into()),
+                    };
+                    for (f, ch) in [(0, lo), (1, hi)] {
+                        b[k][f] = match Boundary::from_letter(ch) {
+                            Some(Boundary::Periodic) => {
+                                return Err("periodic boundaries are not supported".into())
+                            }
+                            Some(x) => x,
+                            None => return Err(format!("bad boundary `{}`", w[k + 1]).into()),
+                        };
+                    }
+                }
+                self.pending.boundary = Some(b);
+            }
+            "region" => {
+                let (id, r) = region(w)?;
+                self.regions.insert(id, r);
+            }
+            "create_box" => {
+                self.before_run("the box")?;
+                let n = int(w, 1, "number of atom types")? as usize;
+                if n == 0 {
+                    return Err("create_box needs at least one atom type".into());
+                }
+                let r = self.region_ref(word(w, 2, "region id")?)?;
+                let (lo, hi) = r.bounds();
+                let boundary = self.boundary()?;
+                self.pending.sim_box = Some((SimBox { lo, hi, boundary }, n));
+            }
+            "read_data" => {
+                self.before_run("read_data")?;
+                if w.len() != 2 {
+                    return Err("only `read_data FILE` (no keywords) is supported".into());
+                }
+                let d = data_file::read_data(&self.path(&w[1]))?;
+                let boundary = self.boundary()?;
+                self.pending.sim_box = Some((
+                    SimBox {
+                        lo: d.lo,
+                        hi: d.hi,
+                        boundary,
+                    },
+                    d.ntypes,
+                ));
+                self.pending.particles.extend(d.particles);
+            }
+            "create_atoms" => self.create_atoms(w)?,
+            "set" => self.set(w)?,
+            "velocity" => self.velocity(w)?,
+            "neighbor" => {
+                self.before_run("neighbor")?;
+                if word(w, 2, "style")? != "bin" {
+                    return Err("only `neighbor SKIN bin` is supported".into());
+                }
+                let s = num(w, 1, "skin")?;
+                if s < 0.0 {
+                    return Err("skin must be ≥ 0".into());
+                }
+                self.pending.skin = Some(s);
+            }
+            "neigh_modify" => {
+                let mut k = 1;
+                while k < w.len() {
+                    match w[k].as_str() {
+                        "delay" | "every" | "one" | "page" | "contact_distance_factor" => k += 2,
+                        "check" => {
+                            yes_no(w, k + 1, "check")?;
+                            k += 2
+                        }
+                        o => return Err(format!("neigh_modify `{o}` is not supported").into()),
+                    }
+                }
+            }
+            "soft_particles" => self.pending.soft = yes_no(w, 1, "soft_particles")?,
+            "hard_particles" => self.pending.hard = yes_no(w, 1, "hard_particles")?,
+            "timestep" => {
+                let dt = num(w, 1, "time step")?;
+                match &mut self.sim {
+                    Some(s) => s.set_dt(dt)?,
+                    None if dt > 0.0 => self.pending.dt = Some(dt),
+                    None => return Err("time step must be > 0".into()),
+                }
+            }
+            "pair_style" => {
+                self.before_run("pair_style")?;
+                if word(w, 1, "style")? != "gran" {
+                    return Err("only `pair_style gran …` is supported".into());
+                }
+                let (m, k) = contact_model(w, 2)?;
+                if k != w.len() {
+                    return Err(format!("unexpected `{}` in pair_style", w[k]).into());
+                }
+                self.pending.pair_model = Some(m);
+            }
+            "pair_coeff" => {
+                if w.len() != 3 || w[1] != "*" || w[2] != "*" {
+                    return Err("only `pair_coeff * *` is supported".into());
+                }
+                self.pending.pair_coeff = true;
+            }
+            "fix" => self.fix(w)?,
+            "unfix" => self.unfix(word(w, 1, "fix id")?)?,
+            "dump" => self.dump(w)?,
+            "dump_modify" => self.dump_modify(w)?,
+            "undump" => {
+                let id = word(w, 1, "dump id")?;
+                let found = match &mut self.sim {
+                    Some(s) => s.remove_dump(id),
+                    None => {
+                        let n = self.pending.dumps.len();
+                        self.pending.dumps.retain(|d| d.name != id);
+                        n != self.pending.dumps.len()
+                    }
+                };
+                if !found {
+                    return Err(format!("no dump `{id}`").into());
+                }
+            }
+            "run" => self.run(w)?,
+            "write_data" => {
+                if w.len() != 2 {
+                    return Err("only `write_data FILE` is supported".into());
+                }
+                let path = self.path(&w[1]);
+                let s = self.sim_mut()?;
+                let b = *s.sim_box();
+                let bounds = b.dump_bounds(&s.particles.x);
+                data_file::write_data(
+                    &path,
+                    &s.particles,
+                    s.materials().ntypes(),
+                    bounds.lo,
+                    bounds.hi,
+                    s.step(),
+                )
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            }
+            other => {
+                return Err(format!("command `{other}` is not supported by the native DEM").into())
+            }
+        }
+        Ok(())
+    }
+
+    fn boundary(&self) -> Res<[[Boundary; 2]; 3]> {
+        self.pending
+            .boundary
+            .ok_or_else(|| "no `boundary` given (the default, periodic, is not supported)".into())
+    }
+
+    fn region_ref(&self, id: &str) -> Res<Region> {
+        self.regions
+            .get(id)
+            .copied()
+            .ok_or_else(|| format!("no region `{id}`"))
+    }
+
+    fn sim_mut(&mut self) -> Result<&mut Simulation, Failure> {
+        if self.sim.is_none() {
+            self.sim = Some(self.build()?);
+        }
+        Ok(self.sim.as_mut().expect("built above"))
+    }
+
+    fn create_atoms(&mut self, w: &[String]) -> Result<(), Failure> {
+        let t = int(w, 1, "atom type")? as u32;
+        if word(w, 2, "style")? != "single" {
+            return Err("only `create_atoms T single x y z [units box]` is supported".into());
+        }
+        let x = [num(w, 3, "x")?, num(w, 4, "y")?, num(w, 5, "z")?];
+        match (
+            w.get(6).map(String::as_str),
+            w.get(7).map(String::as_str),
+            w.len(),
+        ) {
+            (None, _, 6) | (Some("units"), Some("box"), 8) => {}
+            _ => return Err("only `units box` may follow the position".into()),
+        }
+        // LAMMPS's granular defaults: diameter 1, density 1 (change them with `set`)
+        let p = NewParticle {
+            id: 0,
+            atom_type: t,
+            x,
+            v: [0.0; 3],
+            omega: [0.0; 3],
+            radius: 0.5,
+            density: 1.0,
+        };
+        let nt = self.ntypes()?;
+        if t == 0 || t as usize > nt {
+            return Err(format!("atom type {t} outside 1..={nt}").into());
+        }
+        match &mut self.sim {
+            Some(s) => s.add_particles(&[p])?,
+            None => {
+                let next = self
+                    .pending
+                    .particles
+                    .iter()
+                    .map(|p| p.id)
+                    .max()
+                    .unwrap_or(0)
+                    + 1;
+                self.pending.particles.push(NewParticle { id: next, ..p });
+            }
+        }
+        Ok(())
+    }
+
+    fn set(&mut self, w: &[String]) -> Result<(), Failure> {
+        if word(w, 1, "set style")? != "group" || word(w, 2, "group")? != "all" {
+            return Err("only `set group all …` is supported".into());
+        }
+        let mut radius = None;
+        let mut density = None;
+        let mut k = 3;
+        while k < w.len() {
+            match w[k].as_str() {
+                "diameter" => radius = Some(0.5 * num(w, k + 1, "diameter")?),
+                "density" => density = Some(num(w, k + 1, "density")?),
+                o => return Err(format!("set keyword `{o}` is not supported").into()),
+            }
+            k += 2;
+        }
+        if radius.is_some_and(|r| r <= 0.0) || density.is_some_and(|d| d <= 0.0) {
+            return Err("diameter and density must be > 0".into());
+        }
+        match &mut self.sim {
+            Some(s) => {
+                let p = &mut s.particles;
+                for i in 0..p.len() {
+                    if let Some(r) = radius {
+                        p.radius[i] = r;
+                    }
+                    if let Some(d) = density {
+                        p.density[i] = d;
+                    }
+                    p.mass[i] =
+                        4.0 / 3.0 * std::f64::consts::PI * p.radius[i].powi(3) * p.density[i];
+                }
+                s.invalidate_forces();
+            }
+            None => {
+                for p in &mut self.pending.particles {
+                    if let Some(r) = radius {
+                        p.radius = r;
+                    }
+                    if let Some(d) = density {
+                        p.density = d;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn velocity(&mut self, w: &[String]) -> Result<(), Failure> {
+        if word(w, 1, "group")? != "all" || word(w, 2, "style")? != "set" || w.len() != 6 {
+            return Err("only `velocity all set vx vy vz` is supported".into());
+        }
+        let v = [num(w, 3, "vx")?, num(w, 4, "vy")?, num(w, 5, "vz")?];
+        match &mut self.sim {
+            Some(s) => {
+                s.particles.v.iter_mut().for_each(|x| *x = v);
+                s.invalidate_forces();
+            }
+            None => self.pending.particles.iter_mut().for_each(|p| p.v = v),
+        }
+        Ok(())
+    }
+
+    fn fix(&mut self, w: &[String]) -> Result<(), Failure> {
+        let id = word(w, 1, "fix id")?.to_string();
+        if word(w, 2, "group")? != "all" {
+            return Err("only the group `all` is supported".into());
+        }
+        let style = word(w, 3, "fix style")?;
+        match style {
+            "property/global" => {
+                self.before_run("material properties")?;
+                let name = word(w, 4, "property name")?.to_string();
+                let pstyle = word(w, 5, "property style")?.to_string();
+                let vals: Vec<f64> = match pstyle.as_str() {
+                    "peratomtype" | "scalar" | "vector" => {
+                        (6..w.len()).map(|k| num(w, k, &name)).collect::<Res<_>>()?
+                    }
+                    "peratomtypepair" => {
+                        let n = int(w, 6, "number of types")? as usize;
+                        let v: Vec<f64> =
+                            (7..w.len()).map(|k| num(w, k, &name)).collect::<Res<_>>()?;
+                        if v.len() != n * n {
+                            return Err(format!(
+                                "{name}: peratomtypepair {n} needs {} values, {} given",
+                                n * n,
+                                v.len()
+                            )
+                            .into());
+                        }
+                        v
+                    }
+                    o => return Err(format!("property style `{o}` is not supported").into()),
+                };
+                self.pending.prop_style.insert(name.clone(), pstyle);
+                self.pending.props.insert(name, vals);
+            }
+            "gravity" => {
+                let g = num(w, 4, "magnitude")?;
+                if word(w, 5, "`vector`")? != "vector" || w.len() != 9 {
+                    return Err("only `gravity G vector x y z` is supported".into());
+                }
+                let d = [num(w, 6, "x")?, num(w, 7, "y")?, num(w, 8, "z")?];
+                let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                if m == 0.0 {
+                    return Err("gravity direction is zero".into());
+                }
+                let gv = [g * d[0] / m, g * d[1] / m, g * d[2] / m];
+                self.gravity_fix = Some(id.clone());
+                match &mut self.sim {
+                    Some(s) => s.set_gravity(gv),
+                    None => self.pending.gravity = Some((id, gv)),
+                }
+            }
+            "wall/gran" => {
+                let (model, mut k) = contact_model(w, 4)?;
+                if word(w, k, "`primitive`")? != "primitive" {
+                    return Err(
+                        "only primitive walls (`primitive type T xplane|…`) are supported".into(),
+                    );
+                }
+                if word(w, k + 1, "`type`")? != "type" {
+                    return Err("`primitive` must be followed by `type T`".into());
+                }
+                let t = int(w, k + 2, "wall material type")? as u32;
+                let shape_name = word(w, k + 3, "wall style")?;
+                k += 4;
+                let shape = match shape_name {
+                    "xplane" | "yplane" | "zplane" => {
+                        let axis = (shape_name.as_bytes()[0] - b'x') as usize;
+                        let position = num(w, k, "plane position")?;
+                        k += 1;
+                        WallShape::Plane { axis, position }
+                    }
+                    "xcylinder" | "ycylinder" | "zcylinder" => {
+                        let axis = (shape_name.as_bytes()[0] - b'x') as usize;
+                        let radius = num(w, k, "cylinder radius")?;
+                        let centre = [num(w, k + 1, "centre")?, num(w, k + 2, "centre")?];
+                        if radius <= 0.0 {
+                            return Err("cylinder radius must be > 0".into());
+                        }
+                        k += 3;
+                        WallShape::Cylinder {
+                            axis,
+                            radius,
+                            centre,
+                        }
+                    }
+                    o => return Err(format!("primitive wall `{o}` is not supported").into()),
+                };
+                if k != w.len() {
+                    return Err(format!("unsupported wall keyword `{}`", w[k]).into());
+                }
+                let wall = Wall {
+                    name: id,
+                    shape,
+                    material_type: t,
+                    model,
+                };
+                match &mut self.sim {
+                    Some(s) => s.add_wall(wall)?,
+                    None => self.pending.walls.push(wall),
+                }
+            }
+            "particletemplate/sphere" => {
+                int(w, 4, "seed")?;
+                let mut t = SphereTemplate {
+                    name: id.clone(),
+                    atom_type: 0,
+                    density: 0.0,
+                    radius: 0.0,
+                };
+                let mut k = 5;
+                while k < w.len() {
+                    let constant = |k: usize, what: &str| -> Res<f64> {
+                        if word(w, k + 1, what)? != "constant" {
+                            return Err(format!(
+                                "{what}: only `constant` values are supported, not `{}`",
+                                w[k + 1]
+                            ));
+                        }
+                        num(w, k + 2, what)
+                    };
+                    match w[k].as_str() {
+                        "atom_type" => {
+                            t.atom_type = int(w, k + 1, "atom_type")? as u32;
+                            k += 2;
+                        }
+                        "density" => {
+                            t.density = constant(k, "density")?;
+                            k += 3;
+                        }
+                        "radius" => {
+                            t.radius = constant(k, "radius")?;
+                            k += 3;
+                        }
+                        o => {
+                            return Err(
+                                format!("particletemplate keyword `{o}` is not supported").into()
+                            )
+                        }
+                    }
+                }
+                let nt = self.ntypes()?;
+                if t.atom_type == 0 || t.atom_type as usize > nt {
+                    return Err(format!("atom_type {} outside 1..={nt}", t.atom_type).into());
+                }
+                if t.density <= 0.0 || t.radius <= 0.0 {
+                    return Err("density and radius must be given and > 0".into());
+                }
+                self.templates.insert(id, t);
+            }
+            "particledistribution/discrete" | "particledistribution/discrete/numberbased" => {
+                int(w, 4, "seed")?;
+                let n = int(w, 5, "number of templates")? as usize;
+                if n == 0 || w.len() != 6 + 2 * n {
+                    return Err(format!("{n} templates need {} arguments", 2 * n).into());
+                }
+                let mut parts = Vec::new();
+                for k in 0..n {
+                    let name = &w[6 + 2 * k];
+                    let t = self
+                        .templates
+                        .get(name)
+                        .ok_or_else(|| format!("no particletemplate `{name}`"))?;
+                    let wt = num(w, 7 + 2 * k, "weight")?;
+                    if wt < 0.0 {
+                        return Err("weights must be ≥ 0".into());
+                    }
+                    if parts
+                        .iter()
+                        .any(|(p, _): &(SphereTemplate, f64)| &p.name == name)
+                    {
+                        return Err(format!("template `{name}` used twice").into());
+                    }
+                    parts.push((t.clone(), wt));
+                }
+                if parts.iter().map(|p| p.1).sum::<f64>() <= 0.0 {
+                    return Err("weights sum to 0".into());
+                }
+                let mass_based = !style.ends_with("numberbased");
+                self.dists
+                    .insert(id.clone(), Distribution::new(&id, parts, mass_based));
+            }
+            "insert/pack" => {
+                let ins = self.insert_pack(&id, w)?;
+                match &mut self.sim {
+                    Some(s) => s.add_insertion(ins),
+                    None => self.pending.inserts.push(ins),
+                }
+            }
+            "nve/sphere" => {
+                if w.len() != 4 {
+                    return Err("`nve/sphere` options are not supported".into());
+                }
+                self.nve = true;
+            }
+            "check/timestep/gran" => {
+                int(w, 4, "check interval")?;
+                let fr = num(w, 5, "fraction of the Rayleigh time")?;
+                let fh = num(w, 6, "fraction of the Hertz time")?;
+                self.checks.push((fr, fh));
+            }
+            "couple/cfd" => {
+                let mut k = 4;
+                while k < w.len() {
+                    match w[k].as_str() {
+                        "couple_every" => {
+                            if int(w, k + 1, "couple_every")? == 0 {
+                                return Err("couple_every must be ≥ 1".into());
+                            }
+                            k += 2;
+                        }
+                        "mpi" => k += 1,
+                        "file" => k += 2,
+                        o => {
+                            return Err(format!("couple/cfd keyword `{o}` is not supported").into())
+                        }
+                    }
+                }
+            }
+            "couple/cfd/force" | "couple/cfd/force/implicit" => {}
+            other => {
+                return Err(
+                    format!("fix style `{other}` is not supported by the native DEM").into(),
+                )
+            }
+        }
+        Ok(())
+    }
+
+    fn insert_pack(&self, id: &str, w: &[String]) -> Res<InsertPack> {
+        let mut seed = None;
+        let mut dist = None;
+        let mut velocity = [0.0; 3];
+        let mut omega = [0.0; 3];
+        let mut region = None;
+        let mut target = None;
+        let mut all_in = false;
+        let mut overlap_check = true;
+        let mut max_attempt = 50;
+        let mut once = false;
+        let mut k = 4;
+        while k < w.len() {
+            let key = w[k].as_str();
+            match key {
+                "seed" => {
+                    seed = Some(int(w, k + 1, "seed")?);
+                    k += 2;
+                }
+                "distributiontemplate" => {
+                    let d = word(w, k + 1, "distribution id")?;
+                    dist = Some(
+                        self.dists
+                            .get(d)
+                            .cloned()
+                            .ok_or_else(|| format!("no particledistribution `{d}`"))?,
+                    );
+                    k += 2;
+                }
+                "vel" | "omega" => {
+                    if word(w, k + 1, "`constant`")? != "constant" {
+                        return Err(format!("{key}: only `constant` is supported"));
+                    }
+                    let v = [
+                        num(w, k + 2, key)?,
+                        num(w, k + 3, key)?,
+                        num(w, k + 4, key)?,
+                    ];
+                    if key == "vel" {
+                        velocity = v;
+                    } else {
+                        omega = v;
+                    }
+                    k += 5;
+                }
+                "insert_every" => {
+                    match word(w, k + 1, "insert_every")? {
+                        "once" => once = true,
+                        o => {
+                            return Err(format!(
+                                "insert_every `{o}` is not supported (only `once`)"
+                            ))
+                        }
+                    }
+                    k += 2;
+                }
+                "overlapcheck" => {
+                    overlap_check = yes_no(w, k + 1, key)?;
+                    k += 2;
+                }
+                "all_in" => {
+                    all_in = yes_no(w, k + 1, key)?;
+                    k += 2;
+                }
+                "maxattempt" => {
+                    max_attempt = int(w, k + 1, key)? as u32;
+                    k += 2;
+                }
+                "particles_in_region" => {
+                    target = Some(InsertTarget::ParticlesInRegion(int(w, k + 1, key)?));
+                    k += 2;
+                }
+                "volumefraction_region" => {
+                    target = Some(InsertTarget::VolumeFraction(num(w, k + 1, key)?));
+                    k += 2;
+                }
+                "mass_in_region" => {
+                    target = Some(InsertTarget::MassInRegion(num(w, k + 1, key)?));
+                    k += 2;
+                }
+                "region" => {
+                    region = Some(self.region_ref(word(w, k + 1, "region id")?)?);
+                    k += 2;
+                }
+                o => return Err(format!("insert/pack keyword `{o}` is not supported")),
+            }
+        }
+        if !once {
+            return Err("insert/pack needs `insert_every once`".into());
+        }
+        Ok(InsertPack {
+            name: id.to_string(),
+            seed: seed.ok_or("insert/pack needs `seed`")?,
+            distribution: dist.ok_or("insert/pack needs `distributiontemplate`")?,
+            velocity,
+            omega,
+            region: region.ok_or("insert/pack needs `region`")?,
+            target: target.ok_or(
+                "insert/pack needs particles_in_region, volumefraction_region or mass_in_region",
+            )?,
+            all_in,
+            overlap_check,
+            max_attempt,
+        })
+    }
+
+    fn unfix(&mut self, id: &str) -> Result<(), Failure> {
+        if self.gravity_fix.as_deref() == Some(id) {
+            self.gravity_fix = None;
+            match &mut self.sim {
+                Some(s) => s.set_gravity([0.0; 3]),
+                None => self.pending.gravity = None,
+            }
+            return Ok(());
+        }
+        if self.sim.is_none() {
+            let n = self.pending.walls.len() + self.pending.inserts.len();
+            self.pending.walls.retain(|x| x.name != id);
+            self.pending.inserts.retain(|x| x.name != id);
+            if n != self.pending.walls.len() + self.pending.inserts.len() {
+                return Ok(());
+            }
+        }
+        Err(format!("unfix `{id}`: only gravity, and walls or insertions before the first run, can be removed").into())
+    }
+
+    fn dump(&mut self, w: &[String]) -> Result<(), Failure> {
+        let id = word(w, 1, "dump id")?;
+        if word(w, 2, "group")? != "all" || word(w, 3, "style")? != "custom" {
+            return Err("only `dump ID all custom N FILE columns…` is supported".into());
+        }
+        let every = int(w, 4, "dump interval")?;
+        let file = self.path(word(w, 5, "file name")?);
+        let d = DumpOutput::new(id, every, file, w[6..].to_vec())?;
+        match &mut self.sim {
+            Some(s) => s.add_dump(d),
+            None => self.pending.dumps.push(d),
+        }
+        Ok(())
+    }
+
+    fn dump_modify(&mut self, w: &[String]) -> Result<(), Failure> {
+        let id = word(w, 1, "dump id")?;
+        let d = match &mut self.sim {
+            Some(s) => s.dump_mut(id),
+            None => self.pending.dumps.iter_mut().find(|d| d.name == id),
+        }
+        .ok_or_else(|| format!("no dump `{id}`"))?;
+        let mut k = 2;
+        while k < w.len() {
+            match w[k].as_str() {
+                "sort" => {
+                    match word(w, k + 1, "sort")? {
+                        "id" => d.sort_by_id = true,
+                        "off" => d.sort_by_id = false,
+                        o => return Err(format!("dump_modify sort `{o}` (id or off)").into()),
+                    }
+                    k += 2;
+                }
+                // values are always written at full precision; a label is not written
+                "format" => k = w.len(),
+                "label" => k += 2,
+                o => return Err(format!("dump_modify `{o}` is not supported").into()),
+            }
+        }
+        Ok(())
+    }
+
+    fn run(&mut self, w: &[String]) -> Result<(), Failure> {
+        let n = int(w, 1, "number of steps")?;
+        let mut upto = false;
+        let mut k = 2;
+        while k < w.len() {
+            match w[k].as_str() {
+                "upto" => {
+                    upto = true;
+                    k += 1;
+                }
+                "pre" | "post" => {
+                    yes_no(w, k + 1, &w[k])?;
+                    k += 2;
+                }
+                o => return Err(format!("run keyword `{o}` is not supported").into()),
+            }
+        }
+        let checks = self.checks.clone();
+        let s = self.sim_mut()?;
+        let steps = if upto {
+            n.checked_sub(s.step())
+                .ok_or_else(|| format!("run {n} upto: already at step {}", s.step()))?
+        } else {
+            n
+        };
+        s.run(0)?;
+        for (fr, fh) in checks {
+            check_timestep(s, fr, fh);
+        }
+        s.run(steps)?;
+        Ok(())
+    }
+
+    /// Creates the simulation from the collected set-up.
+    fn build(&mut self) -> Result<Simulation, Failure> {
+        let p = &mut self.pending;
+        let (sim_box, ntypes) = p
+            .sim_box
+            .ok_or("no box defined (create_box or read_data)")?;
+        let model = p.pair_model.ok_or("no `pair_style gran …`")?;
+        if !p.pair_coeff {
+            return Err("no `pair_coeff * *`".into());
+        }
+        if !self.nve {
+            return Err("no time integration: `fix ID all nve/sphere` is required".into());
+        }
+        let prop = |name: &str, style: &str, needed: bool| -> Res<Vec<f64>> {
+            match (p.props.get(name), p.prop_style.get(name)) {
+                (Some(v), Some(s)) if s == style => {
+                    let want = if style == "peratomtype" {
+                        ntypes
+                    } else {
+                        ntypes * ntypes
+                    };
+                    if v.len() != want {
+                        return Err(format!(
+                            "property {name} has {} values, {want} needed for {ntypes} atom types",
+                            v.len()
+                        ));
+                    }
+                    Ok(v.clone())
+                }
+                (Some(_), Some(s)) => Err(format!("property {name} must be {style}, not {s}")),
+                _ if needed => Err(format!("missing `fix … property/global {name} {style} …`")),
+                _ => Ok(Vec::new()),
+            }
+        };
+        let rolling = model.rolling.is_some() || p.walls.iter().any(|w| w.model.rolling.is_some());
+        let cohesion = model.cohesion || p.walls.iter().any(|w| w.model.cohesion);
+        let input = MaterialInput {
+            youngs_modulus: prop("youngsModulus", "peratomtype", true)?,
+            poissons_ratio: prop("poissonsRatio", "peratomtype", true)?,
+            restitution: prop("coefficientRestitution", "peratomtypepair", true)?,
+            friction: prop("coefficientFriction", "peratomtypepair", true)?,
+            rolling_friction: prop("coefficientRollingFriction", "peratomtypepair", rolling)?,
+            cohesion_energy_density: prop("cohesionEnergyDensity", "peratomtypepair", cohesion)?,
+        };
+        for (t, &e) in input.youngs_modulus.iter().enumerate() {
+            if e < 5e6 && !p.soft {
+                return Err(format!(
+                    "youngsModulus {e} of type {} < 5e6 (LIGGGHTS's SI limit; `soft_particles yes` overrides)",
+                    t + 1
+                )
+                .into());
+            }
+            if e > 1e9 && !p.hard {
+                return Err(format!(
+                    "youngsModulus {e} of type {} > 1e9 (LIGGGHTS's SI limit; `hard_particles yes` overrides)",
+                    t + 1
+                )
+                .into());
+            }
+        }
+        let materials = Materials::new(&input)?;
+        let mut sim = Simulation::new(SimConfig {
+            materials,
+            pair_model: model,
+            // LAMMPS's defaults for units si
+            dt: p.dt.unwrap_or(1e-8),
+            gravity: p.gravity.as_ref().map(|g| g.1).unwrap_or([0.0; 3]),
+            skin: p.skin.unwrap_or(0.001),
+            sim_box,
+        })?;
+        for wall in p.walls.drain(..) {
+            sim.add_wall(wall)?;
+        }
+        sim.add_particles(&p.particles)?;
+        for ins in p.inserts.drain(..) {
+            sim.add_insertion(ins);
+        }
+        for d in p.dumps.drain(..) {
+            sim.add_dump(d);
+        }
+        Ok(sim)
+    }
+}
+
+/// `fix check/timestep/gran`: warns when dt exceeds the given fractions of the smallest
+/// Rayleigh time and of the Hertz time (LIGGGHTS's estimate: m* = m, R* = R/2, Y* of the type
+/// with itself, v = twice the fastest particle).
+fn check_timestep(s: &mut Simulation, frac_r: f64, frac_h: f64) {
+    let p = &s.particles;
+    let m = s.materials();
+    let mut tr = f64::INFINITY;
+    let mut th = f64::INFINITY;
+    let vmax = p.v.iter().map(|v| mesh::v3::mag(*v)).fold(0.0, f64::max);
+    for i in 0..p.len() {
+        let t = p.atom_type[i] as usize;
+        tr = tr.min(rayleigh_time(
+            p.radius[i],
+            p.density[i],
+            m.youngs_modulus[t - 1],
+            m.poissons_ratio[t - 1],
+        ));
+        if vmax > 0.0 {
+            let y = m.pair(p.atom_type[i], p.atom_type[i]).y_eff;
+            th = th.min(hertz_time(p.mass[i], 0.5 * p.radius[i], y, 2.0 * vmax));
+        }
+    }
+    let dt = s.dt();
+    if dt > frac_r * tr {
+        let w = format!(
+            "check/timestep/gran: dt = {dt} s is {:.1} % of the Rayleigh time {tr} s",
+            100.0 * dt / tr
+        );
+        s.warn(w);
+    }
+    if dt > frac_h * th {
+        let w = format!(
+            "check/timestep/gran: dt = {dt} s is {:.1} % of the Hertz time {th} s",
+            100.0 * dt / th
+        );
+        s.warn(w);
+    }
+}

@@ -1,0 +1,77 @@
+//! The crate's error type: every failure names what it is about (deck file and line, property,
+//! particle, dump file).
+
+use std::path::PathBuf;
+
+/// Where in a deck a command was read.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DeckLocation {
+    /// The deck file.
+    pub file: PathBuf,
+    /// 1-based line of the command's first line.
+    pub line: usize,
+    /// The command word (`fix`, `region`, …) and, for fixes, the style (`fix wall/gran`).
+    pub command: String,
+}
+
+impl std::fmt::Display for DeckLocation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}:{}: `{}`",
+            self.file.display(),
+            self.line,
+            self.command
+        )
+    }
+}
+
+/// Every failure of building or running a simulation.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DemError {
+    /// A deck command is unknown, unsupported or malformed.
+    #[error("{at}: {message}")]
+    Deck {
+        /// Where.
+        at: DeckLocation,
+        /// What is wrong.
+        message: String,
+    },
+    /// The deck file cannot be read.
+    #[error("cannot read deck {file}: {source}")]
+    DeckIo {
+        /// The file.
+        file: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// Material properties are missing or out of range.
+    #[error("material properties: {0}")]
+    Material(String),
+    /// A particle's data is invalid (non-positive radius or density, unknown type, NaN).
+    #[error("particle {id}: {message}")]
+    Particle {
+        /// The particle id.
+        id: u64,
+        /// What is wrong.
+        message: String,
+    },
+    /// The simulation set-up is inconsistent (no time step, no contact model, …).
+    #[error("{0}")]
+    Setup(String),
+    /// Coupling data of the wrong length or non-finite.
+    #[error("coupling data: {0}")]
+    Coupling(String),
+    /// Reading a dump failed.
+    #[error(transparent)]
+    Dump(#[from] dem_io::DumpError),
+    /// Writing a dump failed.
+    #[error("cannot write dump {file}: {source}")]
+    DumpWrite {
+        /// The file.
+        file: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+}

@@ -1,0 +1,534 @@
+//! The simulation: particle state, contact model, walls, neighbour list, coupling forces, and
+//! the velocity-Verlet step of `fix nve/sphere`.
+//!
+//! One step (LIGGGHTS's order): half kick v += (dt/2) F/m, ω += (dt/2) T/I (I = 0.4mR²);
+//! drift x += dt·v; particles outside a fixed (`f`) box face are removed; the neighbour list is
+//! rebuilt if needed; forces are evaluated (gravity mg, coupling, pair and wall contacts, the
+//! contact history advanced); second half kick; due dumps are written. With constant force this
+//! integrates exactly (x = x₀ + v₀t + ½at²).
+//!
+//! Forces are computed per pair (in parallel) into a per-pair buffer and then gathered per
+//! particle in a fixed order, so results are bit-identical for any number of threads.
+
+use dem_io::{Boundary, BoxBounds};
+use mesh::v3::{self, V3};
+use rayon::prelude::*;
+
+use crate::contact::{contact_force, ContactInput, ContactModel, ContactOutput, History};
+use crate::coupling::Coupling;
+use crate::dump::DumpOutput;
+use crate::error::DemError;
+use crate::insert::InsertPack;
+use crate::material::Materials;
+use crate::neighbor::PairList;
+use crate::particles::{NewParticle, Particles, INERTIA_FACTOR};
+use crate::walls::Wall;
+
+/// The simulation box of `create_box` with its `boundary` settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimBox {
+    /// Lower corner (m).
+    pub lo: V3,
+    /// Upper corner (m).
+    pub hi: V3,
+    /// Boundary per axis and face (`p` is not supported).
+    pub boundary: [[Boundary; 2]; 3],
+}
+
+impl SimBox {
+    /// A box with fixed (`f f f`) boundaries.
+    pub fn fixed(lo: V3, hi: V3) -> SimBox {
+        SimBox {
+            lo,
+            hi,
+            boundary: [[Boundary::Fixed; 2]; 3],
+        }
+    }
+
+    /// Whether a particle at `x` leaves through a fixed face.
+    fn loses(&self, x: V3) -> bool {
+        (0..3).any(|k| {
+            (self.boundary[k][0] == Boundary::Fixed && x[k] < self.lo[k])
+                || (self.boundary[k][1] == Boundary::Fixed && x[k] > self.hi[k])
+        })
+    }
+
+    /// Bounds as a dump states them: shrink-wrapped faces (`s`, `m`) follow the particles
+    /// (`m` never inside its initial value).
+    pub fn dump_bounds(&self, x: &[V3]) -> BoxBounds {
+        let mut lo = self.lo;
+        let mut hi = self.hi;
+        for k in 0..3 {
+            let (mn, mx) = x
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                    (a.min(p[k]), b.max(p[k]))
+                });
+            if x.is_empty() {
+                continue;
+            }
+            match self.boundary[k][0] {
+                Boundary::Shrink => lo[k] = mn,
+                Boundary::ShrinkMin => lo[k] = lo[k].min(mn),
+                _ => {}
+            }
+            match self.boundary[k][1] {
+                Boundary::Shrink => hi[k] = mx,
+                Boundary::ShrinkMin => hi[k] = hi[k].max(mx),
+                _ => {}
+            }
+        }
+        BoxBounds {
+            lo,
+            hi,
+            tilt: None,
+            boundary: self.boundary,
+        }
+    }
+}
+
+/// Everything fixed at construction.
+#[derive(Debug, Clone)]
+pub struct SimConfig {
+    /// Materials per type.
+    pub materials: Materials,
+    /// The particle–particle contact model (`pair_style gran …`).
+    pub pair_model: ContactModel,
+    /// Time step (s).
+    pub dt: f64,
+    /// Gravitational acceleration (m/s²).
+    pub gravity: V3,
+    /// Neighbour skin (m).
+    pub skin: f64,
+    /// Simulation box.
+    pub sim_box: SimBox,
+}
+
+/// A running DEM simulation.
+#[derive(Debug)]
+pub struct Simulation {
+    /// The particles.
+    pub particles: Particles,
+    materials: Materials,
+    pair_model: ContactModel,
+    walls: Vec<Wall>,
+    wall_hist: Vec<History>,
+    dt: f64,
+    gravity: V3,
+    step: u64,
+    sim_box: SimBox,
+    pairs: PairList,
+    pair_out: Vec<ContactOutput>,
+    coupling: Coupling,
+    forces_valid: bool,
+    pending_inserts: Vec<InsertPack>,
+    dumps: Vec<DumpOutput>,
+    lost: u64,
+    warnings: Vec<String>,
+}
+
+impl Simulation {
+    /// An empty simulation. Errors: dt ≤ 0, negative skin, non-finite gravity.
+    pub fn new(cfg: SimConfig) -> Result<Simulation, DemError> {
+        if !(cfg.dt > 0.0 && cfg.dt.is_finite()) {
+            return Err(DemError::Setup(format!("time step {} must be > 0", cfg.dt)));
+        }
+        if !(cfg.skin >= 0.0 && cfg.skin.is_finite()) {
+            return Err(DemError::Setup(format!(
+                "neighbour skin {} must be ≥ 0",
+                cfg.skin
+            )));
+        }
+        if !cfg.gravity.iter().all(|g| g.is_finite()) {
+            return Err(DemError::Setup(format!(
+                "gravity {:?} is not finite",
+                cfg.gravity
+            )));
+        }
+        Ok(Simulation {
+            particles: Particles::default(),
+            materials: cfg.materials,
+            pair_model: cfg.pair_model,
+            walls: Vec::new(),
+            wall_hist: Vec::new(),
+            dt: cfg.dt,
+            gravity: cfg.gravity,
+            step: 0,
+            sim_box: cfg.sim_box,
+            pairs: PairList::new(cfg.skin),
+            pair_out: Vec::new(),
+            coupling: Coupling::default(),
+            forces_valid: false,
+            pending_inserts: Vec::new(),
+            dumps: Vec::new(),
+            lost: 0,
+            warnings: Vec::new(),
+        })
+    }
+
+    /// Current step number.
+    pub fn step(&self) -> u64 {
+        self.step
+    }
+
+    /// Simulated time since step 0 (s), step × dt.
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.dt
+    }
+
+    /// Time step (s).
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// Changes the time step (`timestep` between runs).
+    pub fn set_dt(&mut self, dt: f64) -> Result<(), DemError> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(DemError::Setup(format!("time step {dt} must be > 0")));
+        }
+        self.dt = dt;
+        Ok(())
+    }
+
+    /// Changes gravity (m/s²).
+    pub fn set_gravity(&mut self, g: V3) {
+        self.gravity = g;
+        self.forces_valid = false;
+    }
+
+    /// The materials.
+    pub fn materials(&self) -> &Materials {
+        &self.materials
+    }
+
+    /// The box.
+    pub fn sim_box(&self) -> &SimBox {
+        &self.sim_box
+    }
+
+    /// Walls.
+    pub fn walls(&self) -> &[Wall] {
+        &self.walls
+    }
+
+    /// Particles removed so far because they left the box through a fixed face.
+    pub fn lost(&self) -> u64 {
+        self.lost
+    }
+
+    /// Warnings collected (incomplete insertions, time-step checks).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    pub(crate) fn warn(&mut self, w: String) {
+        self.warnings.push(w);
+    }
+
+    /// Adds a wall; its material type must exist.
+    pub fn add_wall(&mut self, wall: Wall) -> Result<(), DemError> {
+        if wall.material_type == 0 || wall.material_type as usize > self.materials.ntypes() {
+            return Err(DemError::Setup(format!(
+                "wall {}: material type {} outside 1..={}",
+                wall.name,
+                wall.material_type,
+                self.materials.ntypes()
+            )));
+        }
+        let nw = self.walls.len();
+        let mut h = Vec::with_capacity(self.particles.len() * (nw + 1));
+        for i in 0..self.particles.len() {
+            h.extend_from_slice(&self.wall_hist[i * nw..(i + 1) * nw]);
+            h.push(History::default());
+        }
+        self.wall_hist = h;
+        self.walls.push(wall);
+        self.forces_valid = false;
+        Ok(())
+    }
+
+    /// Adds particles (ids 0 are assigned the next free ids; duplicate ids are refused).
+    pub fn add_particles(&mut self, new: &[NewParticle]) -> Result<(), DemError> {
+        let mut ids: std::collections::HashSet<u64> = self.particles.id.iter().copied().collect();
+        let before = self.particles.len();
+        for p in new {
+            if p.id != 0 && !ids.insert(p.id) {
+                return Err(DemError::Particle {
+                    id: p.id,
+                    message: "id already in use".into(),
+                });
+            }
+            if let Err(e) = self.particles.push(*p, self.materials.ntypes()) {
+                self.particles.retain(
+                    &(0..self.particles.len())
+                        .map(|i| i < before)
+                        .collect::<Vec<_>>(),
+                );
+                return Err(e);
+            }
+            ids.insert(*self.particles.id.last().expect("just pushed"));
+        }
+        let added = self.particles.len() - before;
+        self.wall_hist
+            .resize(self.particles.len() * self.walls.len(), History::default());
+        self.coupling.grow(added);
+        self.pairs.invalidate();
+        self.forces_valid = false;
+        Ok(())
+    }
+
+    /// Queues an insertion performed at the start of the next run.
+    pub fn add_insertion(&mut self, ins: InsertPack) {
+        self.pending_inserts.push(ins);
+    }
+
+    /// Adds a periodic dump.
+    pub fn add_dump(&mut self, d: DumpOutput) {
+        self.dumps.push(d);
+    }
+
+    /// The dump with id `name`.
+    pub fn dump_mut(&mut self, name: &str) -> Option<&mut DumpOutput> {
+        self.dumps.iter_mut().find(|d| d.name == name)
+    }
+
+    /// Removes the dump with id `name` (`undump`); returns whether it existed.
+    pub fn remove_dump(&mut self, name: &str) -> bool {
+        let n = self.dumps.len();
+        self.dumps.retain(|d| d.name != name);
+        n != self.dumps.len()
+    }
+
+    /// Sets the coupling forces, in particle index order (see [`Coupling::set`]).
+    pub fn set_coupling(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), DemError> {
+        self.coupling.set(
+            f_ext,
+            beta,
+            u_f,
+            &self.particles.id,
+            &self.particles.mass,
+            self.dt,
+        )
+    }
+
+    /// Removes the coupling forces.
+    pub fn clear_coupling(&mut self) {
+        self.coupling = Coupling::default();
+    }
+
+    /// Marks the stored forces stale (after editing positions or velocities directly).
+    pub fn invalidate_forces(&mut self) {
+        self.forces_valid = false;
+        self.pairs.invalidate();
+    }
+
+    /// Runs `n` steps (performing queued insertions and the set-up force evaluation first).
+    pub fn run(&mut self, n: u64) -> Result<(), DemError> {
+        self.setup()?;
+        for _ in 0..n {
+            self.advance()?;
+        }
+        Ok(())
+    }
+
+    /// Insertions, a force evaluation if forces are stale, due dumps.
+    fn setup(&mut self) -> Result<(), DemError> {
+        for ins in std::mem::take(&mut self.pending_inserts) {
+            let got = ins.insert(&self.particles);
+            if got.particles.len() < got.wanted {
+                self.warn(format!(
+                    "insert/pack {}: inserted {} of {} particles (no free place found)",
+                    ins.name,
+                    got.particles.len(),
+                    got.wanted
+                ));
+            }
+            self.add_particles(&got.particles)?;
+        }
+        if !self.forces_valid {
+            self.pairs.ensure(&self.particles.x, &self.particles.radius);
+            self.compute_forces(false);
+        }
+        self.write_dumps()
+    }
+
+    fn write_dumps(&mut self) -> Result<(), DemError> {
+        if self.dumps.is_empty() {
+            return Ok(());
+        }
+        let bounds = self.sim_box.dump_bounds(&self.particles.x);
+        for d in &mut self.dumps {
+            d.maybe_write(self.step, &self.particles, bounds)?;
+        }
+        Ok(())
+    }
+
+    /// One velocity-Verlet step.
+    fn advance(&mut self) -> Result<(), DemError> {
+        let dt = self.dt;
+        let half = 0.5 * dt;
+        {
+            let p = &mut self.particles;
+            let (m, r, f, t) = (&p.mass, &p.radius, &p.f, &p.torque);
+            p.x.par_iter_mut()
+                .zip(p.v.par_iter_mut())
+                .zip(p.omega.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, ((x, v), w))| {
+                    let a = half / m[i];
+                    let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
+                    for k in 0..3 {
+                        v[k] += a * f[i][k];
+                        x[k] += dt * v[k];
+                        w[k] += ai * t[i][k];
+                    }
+                });
+        }
+        self.step += 1;
+        self.remove_lost();
+        self.pairs.ensure(&self.particles.x, &self.particles.radius);
+        self.compute_forces(true);
+        {
+            let p = &mut self.particles;
+            let (m, r, f, t) = (&p.mass, &p.radius, &p.f, &p.torque);
+            p.v.par_iter_mut()
+                .zip(p.omega.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, (v, w))| {
+                    let a = half / m[i];
+                    let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
+                    for k in 0..3 {
+                        v[k] += a * f[i][k];
+                        w[k] += ai * t[i][k];
+                    }
+                });
+        }
+        self.write_dumps()
+    }
+
+    fn remove_lost(&mut self) {
+        let b = self.sim_box;
+        let keep: Vec<bool> = self.particles.x.par_iter().map(|&x| !b.loses(x)).collect();
+        if keep.iter().all(|&k| k) {
+            return;
+        }
+        let nw = self.walls.len();
+        let mut it = (0..self.particles.len()).flat_map(|i| std::iter::repeat_n(keep[i], nw));
+        self.wall_hist.retain(|_| it.next().unwrap_or(true));
+        let map = self.particles.retain(&keep);
+        self.lost += keep.iter().filter(|&&k| !k).count() as u64;
+        self.pairs.remap(&map);
+        self.coupling.remap(&map);
+    }
+
+    /// Evaluates all forces and torques into `particles.f`, `particles.torque`.
+    fn compute_forces(&mut self, update_history: bool) {
+        let dt = self.dt;
+        let model = self.pair_model;
+        let mats = &self.materials;
+        let p = &self.particles;
+        let (x, v, w, r, m, ty) = (&p.x, &p.v, &p.omega, &p.radius, &p.mass, &p.atom_type);
+        let pairs = &mut self.pairs;
+        self.pair_out.clear();
+        self.pair_out.resize(pairs.len(), ContactOutput::default());
+        let (pi, pj) = (&pairs.i, &pairs.j);
+        self.pair_out
+            .par_iter_mut()
+            .zip(pairs.hist.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(k, (out, h))| {
+                let (i, j) = (pi[k] as usize, pj[k] as usize);
+                let d = v3::sub(x[i], x[j]);
+                let rsq = v3::dot(d, d);
+                let radsum = r[i] + r[j];
+                if rsq >= radsum * radsum {
+                    *h = History::default();
+                    *out = ContactOutput::default();
+                    return;
+                }
+                let dist = rsq.sqrt();
+                let inp = ContactInput {
+                    n: v3::scale(1.0 / dist, d),
+                    r: dist,
+                    deltan: radsum - dist,
+                    radi: r[i],
+                    radj: r[j],
+                    reff: r[i] * r[j] / radsum,
+                    meff: m[i] * m[j] / (m[i] + m[j]),
+                    vrel: v3::sub(v[i], v[j]),
+                    omega_i: w[i],
+                    omega_j: w[j],
+                    is_wall: false,
+                };
+                *out = contact_force(&model, mats.pair(ty[i], ty[j]), &inp, h, dt, update_history);
+            });
+        let pairs = &self.pairs;
+        let out = &self.pair_out;
+        let walls = &self.walls;
+        let nw = walls.len();
+        let coupling = &self.coupling;
+        let g = self.gravity;
+        let p = &mut self.particles;
+        let (x, v, w, r, m, ty) = (&p.x, &p.v, &p.omega, &p.radius, &p.mass, &p.atom_type);
+        let wall_hist = &mut self.wall_hist;
+        let gather = |i: usize, f: &mut V3, t: &mut V3, wh: &mut [History]| {
+            let mut ff = v3::add(v3::scale(m[i], g), coupling.force(i, v[i]));
+            let mut tt = [0.0; 3];
+            for o in &out[pairs.first[i] as usize..pairs.first[i + 1] as usize] {
+                ff = v3::add(ff, o.force);
+                tt = v3::add(tt, o.torque_i);
+            }
+            let (s, e) = (
+                pairs.by_j_first[i] as usize,
+                pairs.by_j_first[i + 1] as usize,
+            );
+            for &k in &pairs.by_j[s..e] {
+                let o = &out[k as usize];
+                ff = v3::sub(ff, o.force);
+                tt = v3::add(tt, o.torque_j);
+            }
+            for (wall, h) in walls.iter().zip(wh.iter_mut()) {
+                let contact = wall.shape.distance(x[i]).filter(|&(dist, _)| dist < r[i]);
+                let Some((dist, n)) = contact else {
+                    *h = History::default();
+                    continue;
+                };
+                let inp = ContactInput {
+                    n,
+                    r: dist,
+                    deltan: r[i] - dist,
+                    radi: r[i],
+                    radj: 0.0,
+                    reff: r[i],
+                    meff: m[i],
+                    vrel: v[i],
+                    omega_i: w[i],
+                    omega_j: [0.0; 3],
+                    is_wall: true,
+                };
+                let c = mats.pair(ty[i], wall.material_type);
+                let o = contact_force(&wall.model, c, &inp, h, dt, update_history);
+                ff = v3::add(ff, o.force);
+                tt = v3::add(tt, o.torque_i);
+            }
+            *f = ff;
+            *t = tt;
+        };
+        if nw == 0 {
+            p.f.par_iter_mut()
+                .zip(p.torque.par_iter_mut())
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(i, (f, t))| gather(i, f, t, &mut []));
+        } else {
+            p.f.par_iter_mut()
+                .zip(p.torque.par_iter_mut())
+                .zip(wall_hist.par_chunks_mut(nw))
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(i, ((f, t), wh))| gather(i, f, t, wh));
+        }
+        self.forces_valid = true;
+    }
+}
