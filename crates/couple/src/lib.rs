@@ -1,7 +1,43 @@
 //! The coupler between a particle side (DEM) and a fluid side (CFD).
 //!
-//! Owns: the typed coupling configuration read from CFDEM-style `constant/couplingProperties`,
-//! interpolation of fluid fields to particles, the per-particle forces (via `closures`) and the
-//! momentum exchange fields (Ksl, Us, f) distributed with the voidage kernel's cell shares, the
-//! `ParticleSide` / `FluidSide` traits, the coupling step and schedule, and the one-way `dump
-//! replay` particle side.
+//! Start with [`Coupler`] ([`step`] module docs give the order of one coupling step) on a
+//! [`ParticleSide`] and a [`FluidSide`] ([`sides`]); the configuration comes from a CFDEM-style
+//! `constant/couplingProperties` ([`CouplingConfig`]).
+//!
+//! Modules, one concept each:
+//! * [`config`]: `couplingProperties` → typed configuration (CFDEM names mapped onto ours);
+//! * [`interpolate`]: fluid cell fields at particles (cell value or share-weighted);
+//! * [`forces`]: per-particle fluid forces (closures' laws, model A/B/Bfull) and their split
+//!   between the DEM (F_ext, β, u_f) and the fluid;
+//! * [`exchange`]: Ksl, Us, f per cell with the voidage kernel's shares (ADR 0004);
+//! * [`blend`]: linear time blending of ε and Us over a coupling interval;
+//! * [`sides`]: the two traits and the data they exchange; [`memory`]: in-memory test doubles;
+//! * [`replay`]: a particle side replaying LIGGGHTS dumps (one-way coupling);
+//! * [`frozen`]: a fluid side holding U and p read from a case time directory;
+//! * [`timestep`]: DEM/CFD time-step and coupling-interval advice.
+//!
+//! Invariant: what the particles receive equals what the fluid loses — Σ_c V_c Ksl_c (U_c −
+//! Us_c) = Σ_p β_p (u_f − v_p) with the smooth interpolation and Σ_c V_c f_c = −Σ_p F_p, to
+//! round-off — and anything outside the mesh is counted, never dropped silently. SI units,
+//! kinematic pressure (ADR 0004).
+
+pub mod blend;
+pub mod config;
+pub mod error;
+pub mod exchange;
+pub mod forces;
+pub mod frozen;
+pub mod interpolate;
+pub mod memory;
+pub mod replay;
+pub mod sides;
+pub mod step;
+pub mod timestep;
+
+pub use config::CouplingConfig;
+pub use error::{CoupleError, SideError};
+pub use exchange::{exchange, Exchange, Outside};
+pub use forces::{ParticleCoupling, Physics};
+pub use interpolate::{Interpolation, Placement};
+pub use sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
+pub use step::{Coupler, CouplerSettings, CouplingStep};

@@ -1,0 +1,96 @@
+//! The two sides of a coupling, as traits, and the data they hand over.
+//!
+//! * [`ParticleSide`]: a DEM (LIGGGHTS, the native DEM, a dump replay, a test double) that
+//!   advances N steps, shows its particles ([`ParticleState`]) and takes per-particle forces:
+//!   an explicit force `F_ext` (N) and an implicit pair (β in kg/s, u_f in m/s) to be applied as
+//!   `F = F_ext + β (u_f − v)` every DEM step until the next exchange (ADR 0004).
+//! * [`FluidSide`]: a CFD solver (OpenFOAM, the native `fv`, a frozen field, a test double)
+//!   that takes the exchange fields ([`ExchangeFields`]: ε old/new, Ksl, Us, f) for the next
+//!   coupling interval, advances, and shows U, p, ∇p, ∇·τ per cell ([`FluidState`]).
+//!
+//! Both return [`SideError`]s, which the coupler wraps with the side's name.
+
+use crate::error::SideError;
+use crate::exchange::Exchange;
+use foam::PolyMesh;
+use mesh::v3::V3;
+
+/// The particles as a DEM side shows them (structure of arrays, SI units).
+#[derive(Clone, Copy, Debug)]
+pub struct ParticleState<'a> {
+    /// Particle ids (LIGGGHTS tags).
+    pub ids: &'a [u64],
+    /// Centres, m.
+    pub position: &'a [V3],
+    /// Velocities, m/s.
+    pub velocity: &'a [V3],
+    /// Radii, m.
+    pub radius: &'a [f64],
+    /// Densities, kg/m³.
+    pub density: &'a [f64],
+}
+
+impl ParticleState<'_> {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    /// True without particles.
+    pub fn is_empty(&self) -> bool {
+        self.ids.is_empty()
+    }
+}
+
+/// The fluid per cell as a fluid side shows it (SI units, kinematic pressure).
+#[derive(Clone, Copy, Debug)]
+pub struct FluidState<'a> {
+    /// Interstitial velocity U, m/s.
+    pub u: &'a [V3],
+    /// Kinematic pressure p/ρ, m²/s².
+    pub p: &'a [f64],
+    /// ∇(p/ρ), m/s².
+    pub grad_p: &'a [V3],
+    /// ∇·(τ/ρ), m/s².
+    pub div_tau: &'a [V3],
+}
+
+/// What the fluid receives for the next coupling interval.
+#[derive(Clone, Copy, Debug)]
+pub struct ExchangeFields<'a> {
+    /// ε at the start of the interval.
+    pub voidage_old: &'a [f64],
+    /// ε at its end (blend linearly in between, [`crate::blend`]).
+    pub voidage_new: &'a [f64],
+    /// Ksl, Us and f.
+    pub exchange: &'a Exchange,
+    /// Length of the coupling interval, s.
+    pub interval: f64,
+}
+
+/// A DEM side.
+pub trait ParticleSide {
+    /// Advances `steps` DEM steps (with the forces last given).
+    fn advance(&mut self, steps: u64) -> Result<(), SideError>;
+    /// The DEM time step, s.
+    fn time_step(&self) -> f64;
+    /// The current simulated time, s.
+    fn time(&self) -> f64;
+    /// The particles now.
+    fn state(&self) -> ParticleState<'_>;
+    /// Per-particle forces until the next exchange, in the order of [`ParticleSide::state`]:
+    /// explicit `f_ext` (N), implicit `beta` (kg/s) and `u_f` (m/s).
+    fn set_forces(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), SideError>;
+}
+
+/// A CFD side.
+pub trait FluidSide {
+    /// The mesh (read once by the coupler to build its voidage mesh).
+    fn mesh(&self) -> &PolyMesh;
+    /// Takes the exchange fields for the next coupling interval.
+    fn set_exchange(&mut self, fields: &ExchangeFields<'_>) -> Result<(), SideError>;
+    /// Advances the fluid by `dt` seconds (one coupling interval).
+    fn advance(&mut self, dt: f64) -> Result<(), SideError>;
+    /// The fluid now.
+    fn state(&self) -> FluidState<'_>;
+}
