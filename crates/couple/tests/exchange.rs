@@ -19,7 +19,12 @@ fn place(vm: &VoidageMesh, m: Method, pos: &[[f64; 3]], rad: &[f64]) -> Placemen
 fn two_cells_by_hand() {
     // Cells [0,1]³ and [1,2]×[0,1]², 1 m³ each; centre method.
     let vm = VoidageMesh::new(&uniform_box([0.0; 3], [2.0, 1.0, 1.0], [2, 1, 1])).unwrap();
-    let pos = [[0.3, 0.5, 0.5], [0.7, 0.5, 0.5], [1.5, 0.5, 0.5], [5.0, 0.5, 0.5]];
+    let pos = [
+        [0.3, 0.5, 0.5],
+        [0.7, 0.5, 0.5],
+        [1.5, 0.5, 0.5],
+        [5.0, 0.5, 0.5],
+    ];
     let rad = [0.1; 4];
     let p = place(&vm, Method::Centre, &pos, &rad);
     let beta = [2.0, 6.0, 3.0, 7.0];
@@ -77,7 +82,9 @@ fn cloud(n: usize) -> (Vec<[f64; 3]>, Vec<f64>, Vec<[f64; 3]>) {
     let pos = (0..n)
         .map(|k| alpha.map(|a| -0.05 + 1.1 * (0.5 + k as f64 * a).fract()))
         .collect();
-    let rad = (0..n).map(|k| 0.02 + 0.03 * ((k * 7919) % 101) as f64 / 100.0).collect();
+    let rad = (0..n)
+        .map(|k| 0.02 + 0.03 * ((k * 7919) % 101) as f64 / 100.0)
+        .collect();
     let vel = (0..n)
         .map(|k| {
             let s = k as f64;
@@ -114,7 +121,10 @@ fn cell_sums_equal_particle_sums_for_every_method() {
             let inside: Vec<usize> = (0..pos.len()).filter(|&i| p.inside(i)).collect();
             assert!(inside.len() < pos.len() && ex.outside.particles == pos.len() - inside.len());
             let sum_beta: f64 = inside.iter().map(|&i| beta[i]).sum();
-            assert!((ex.total_ksl(&vols) - sum_beta).abs() < 1e-12 * sum_beta, "{m}");
+            assert!(
+                (ex.total_ksl(&vols) - sum_beta).abs() < 1e-12 * sum_beta,
+                "{m}"
+            );
             let ksl_us = ex.total_ksl_us(&vols);
             let total_f = ex.total_f(&vols);
             // Momentum the fluid loses through the implicit term, with u_f smooth.
@@ -138,8 +148,14 @@ fn cell_sums_equal_particle_sums_for_every_method() {
                 }
             }
             for a in 0..3 {
-                assert!((ksl_us[a] - bv[a]).abs() < 1e-12 * sum_beta, "{m}: Σ Ksl Us");
-                assert!((total_f[a] + fp[a]).abs() < 1e-12 * inside.len() as f64, "{m}: Σ f");
+                assert!(
+                    (ksl_us[a] - bv[a]).abs() < 1e-12 * sum_beta,
+                    "{m}: Σ Ksl Us"
+                );
+                assert!(
+                    (total_f[a] + fp[a]).abs() < 1e-12 * inside.len() as f64,
+                    "{m}: Σ f"
+                );
             }
             for a in 0..3 {
                 assert!(
