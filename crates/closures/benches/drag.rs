@@ -44,7 +44,7 @@ const LAWS: [&str; 8] = [
     "SchillerNaumannDrag",
 ];
 
-#[divan::bench(args = LAWS)]
+#[divan::bench(args = LAWS, sample_count = 20)]
 fn beta(bencher: divan::Bencher, name: &str) {
     assert!(DRAG_LAW_NAMES.iter().any(|(n, _)| *n == name));
     let law = DragLaw::from_name(name).unwrap();

@@ -18,8 +18,10 @@ pub fn normalised_drag(eps: f64, re: f64) -> f64 {
     if re <= 0.0 {
         return stokes;
     }
-    let num = 1.0 / eps + 3.0 * eps * phi + 8.4 * re.powf(-0.343);
-    let den = 1.0 + 10f64.powf(3.0 * phi) * re.powf(-0.5 * (1.0 + 4.0 * phi));
+    // one logarithm for both powers of Re; 10^(3φ) Re^(−(1+4φ)/2) as a single exponential
+    let ln_re = re.ln();
+    let num = 1.0 / eps + 3.0 * eps * phi + 8.4 * (-0.343 * ln_re).exp();
+    let den = 1.0 + (3.0 * phi * std::f64::consts::LN_10 - 0.5 * (1.0 + 4.0 * phi) * ln_re).exp();
     stokes + 0.413 * re / (24.0 * eps * eps) * num / den
 }
 
