@@ -70,6 +70,19 @@ fn gidaspow_is_ergun_below_the_switch_and_wen_yu_above() {
     }
 }
 
+#[test]
+fn gidaspow_jump_at_the_switch() {
+    // Ergun over Wen–Yu at ε = 0.8: Stokes 150·0.2/0.8 / (18·0.8^−2.65); Newton regime
+    // 1.75 / (0.75·0.44·0.8^−1.65).
+    let ratio = |re: f64| ergun::beta(&at(0.8, re)) / wen_yu::beta(&at(0.8, re));
+    assert!(rel(ratio(1e-10), 37.5 / (18.0 * 0.8f64.powf(-2.65))) < 1e-6);
+    assert!((ratio(1e-10) - 1.154).abs() < 1e-3);
+    assert!((ratio(100.0) - 1.73).abs() < 0.01, "{}", ratio(100.0));
+    // at Re = 1e7 Ergun's viscous term is 1e-6 of its inertial one
+    assert!(rel(ratio(1e7), 1.75 / (0.33 * 0.8f64.powf(-1.65))) < 1e-5);
+    assert!((ratio(1e7) - 3.67).abs() < 0.01);
+}
+
 /// Gidaspow's exchange coefficients per unit volume (Gidaspow 1994, eq. 5.46–5.47), written
 /// from the book's form, turned into β per particle as K V_p/(1−ε).
 #[test]
