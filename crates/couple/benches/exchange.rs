@@ -1,1 +1,156 @@
-fn main() {}
+//! Throughput of the coupling core in particles/s: 10⁶ particles (radius 0.004, centres spread
+//! uniformly by Roberts' R3 sequence) on a 50×50×40 = 10⁵-cell axis-aligned grid of the unit
+//! cube (h/d ≈ 2.5–3), Koch–Hill drag with gradP, viscous and Archimedes forces, model A,
+//! smooth interpolation.
+//! * `forces_exchange`: per-particle forces + Ksl/Us/f from given shares (what the coupler does
+//!   per step besides the voidage);
+//! * `coupling_step`: the whole [`Coupler::exchange`]: locate, shares and voidage, forces,
+//!   exchange.
+//!
+//! Run: `cargo bench -p couple` (uses every core rayon sees; the target is ≥ 5·10⁶/s on 2).
+
+use closures::model::ModelType;
+use closures::{DragClosure, DragLaw};
+use couple::config::{DragSettings, Forces};
+use couple::exchange::exchange_with;
+use couple::forces::particle_couplings;
+use couple::{
+    Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics, Placement,
+};
+use divan::counter::ItemsCount;
+use std::sync::OnceLock;
+use voidage::{Method, ParticleSet, VoidageMesh};
+
+const N: usize = 1_000_000;
+
+fn main() {
+    divan::main();
+}
+
+struct Data {
+    mesh: foam::PolyMesh,
+    ids: Vec<u64>,
+    pos: Vec<[f64; 3]>,
+    vel: Vec<[f64; 3]>,
+    rad: Vec<f64>,
+    den: Vec<f64>,
+    u: Vec<[f64; 3]>,
+    p: Vec<f64>,
+    gp: Vec<[f64; 3]>,
+    dt: Vec<[f64; 3]>,
+}
+
+fn data() -> &'static Data {
+    static D: OnceLock<Data> = OnceLock::new();
+    D.get_or_init(|| {
+        let mesh = mesh::build::uniform_box([0.0; 3], [1.0; 3], [50, 50, 40]);
+        let phi = 1.324_717_957_244_746_f64;
+        let alpha = [1.0 / phi, 1.0 / (phi * phi), 1.0 / (phi * phi * phi)];
+        let pos: Vec<[f64; 3]> = (0..N)
+            .map(|k| alpha.map(|a| 0.004 + 0.992 * (0.5 + k as f64 * a).fract()))
+            .collect();
+        let vel = pos
+            .iter()
+            .map(|x| [0.01 * x[1], 0.0, -0.02 * x[0]])
+            .collect();
+        let n = mesh.n_cells;
+        Data {
+            ids: (1..=N as u64).collect(),
+            rad: vec![0.004; N],
+            den: vec![2500.0; N],
+            vel,
+            pos,
+            u: vec![[0.0, 0.0, 0.1]; n],
+            p: vec![0.0; n],
+            gp: vec![[0.0, 0.0, -0.5]; n],
+            dt: vec![[0.01, 0.0, 0.0]; n],
+            mesh,
+        }
+    })
+}
+
+fn physics() -> Physics {
+    Physics {
+        rho: 1.2,
+        nu: 1.5e-5,
+        gravity: [0.0, 0.0, -9.81],
+        model: ModelType::A,
+        forces: Forces {
+            drag: Some(DragSettings {
+                closure: DragClosure::from(DragLaw::KochHill),
+                interpolation: Interpolation::Smooth,
+                implicit_dem: true,
+                explicit_fluid: false,
+                dem_only: false,
+            }),
+            grad_p: Some(Interpolation::Smooth),
+            viscous: Some(Interpolation::Smooth),
+            archimedes: true,
+        },
+        implicit_couple: true,
+    }
+}
+
+fn particles(d: &Data) -> ParticleState<'_> {
+    ParticleState {
+        ids: &d.ids,
+        position: &d.pos,
+        velocity: &d.vel,
+        radius: &d.rad,
+        density: &d.den,
+    }
+}
+
+fn fluid(d: &Data) -> FluidState<'_> {
+    FluidState {
+        u: &d.u,
+        p: &d.p,
+        grad_p: &d.gp,
+        div_tau: &d.dt,
+    }
+}
+
+fn method(name: &str) -> Method {
+    name.parse().unwrap()
+}
+
+#[divan::bench(args = ["centre", "exact"], sample_count = 5, sample_size = 1)]
+fn forces_exchange(bencher: divan::Bencher, name: &str) {
+    let d = data();
+    let vm = VoidageMesh::new(&d.mesh).unwrap();
+    let mut centre = vec![None; N];
+    let (shares, dep) = vm
+        .shares_with_cells(method(name), &ParticleSet::new(&d.pos, &d.rad), &mut centre)
+        .unwrap();
+    let eps = vm.voidage(&dep, None).unwrap().epsilon;
+    let placement = Placement { centre, shares };
+    let ph = physics();
+    let vols = vm.cell_volumes().to_vec();
+    bencher.counter(ItemsCount::new(N)).bench(|| {
+        let f = particle_couplings(&ph, &placement, &fluid(d), &eps, &particles(d));
+        exchange_with(&placement, &vols, |i| {
+            let c = &f.particles[i];
+            (c.beta_fluid, d.vel[i], c.f_fluid)
+        })
+    });
+}
+
+#[divan::bench(args = ["centre", "exact"], sample_count = 3, sample_size = 1)]
+fn coupling_step(bencher: divan::Bencher, name: &str) {
+    let d = data();
+    let settings = CouplerSettings {
+        method: method(name),
+        alpha_min: None,
+        coupling_interval: 1,
+        physics: physics(),
+    };
+    let mut coupler = Coupler::new(&d.mesh, settings).unwrap();
+    bencher.counter(ItemsCount::new(N)).bench_local(|| {
+        coupler
+            .exchange(&particles(d), &fluid(d))
+            .unwrap()
+            .exchange
+            .ksl
+            .len()
+    });
+}

@@ -515,7 +515,7 @@ fn read_momentum(r: &Reader<'_>, top: &Dict) -> Result<MomentumCoupling, CoupleE
                 if props.contains("KslLimit") {
                     let key = format!("{dict}/KslLimit");
                     let limit = r.number(&props, "KslLimit", &key)?;
-                    if !(limit > 0.0) {
+                    if limit.is_nan() || limit <= 0.0 {
                         return Err(r.err(&key, format!("{limit} is not > 0")));
                     }
                     m.ksl_limit = Some(limit);

@@ -21,6 +21,9 @@
 //! round-off — and anything outside the mesh is counted, never dropped silently. SI units,
 //! kinematic pressure (ADR 0004).
 
+// Loops over the three vector components index several arrays at once on purpose.
+#![allow(clippy::needless_range_loop)]
+
 pub mod blend;
 pub mod config;
 pub mod error;

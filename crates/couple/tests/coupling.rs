@@ -6,6 +6,8 @@
 //! * a free sphere settling under the coupler with in-memory sides reaches the terminal
 //!   velocity solved independently from the force balance.
 
+#![allow(clippy::needless_range_loop)]
+
 use closures::model::ModelType;
 use closures::{DragClosure, DragLaw};
 use couple::config::{DragSettings, Forces};

@@ -1,6 +1,8 @@
 //! Interpolation, exchange fields and blending against hand-computed values, and momentum
 //! conservation (Σ over cells = Σ over particles to round-off) for every voidage method.
 
+#![allow(clippy::needless_range_loop)]
+
 use couple::blend::{blend_scalar, blend_vector, fraction};
 use couple::exchange::exchange;
 use couple::{Interpolation, Placement};
