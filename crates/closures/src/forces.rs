@@ -39,7 +39,7 @@ pub const SPHERE_VIRTUAL_MASS_COEFFICIENT: f64 = 0.5;
 /// Virtual (added) mass force C_vm ρ V_p (Du_f/Dt − dv_p/dt), N: `fluid_accel` the material
 /// derivative of the fluid velocity at the particle, `particle_accel` the particle's
 /// acceleration (m/s²), C_vm = 0.5 for a sphere ([`SPHERE_VIRTUAL_MASS_COEFFICIENT`];
-/// Crowe, Sommerfeld & Tsuji 1998, eq. 4.94). Explicit in the particle acceleration, it is
+/// Crowe, Sommerfeld & Tsuji 1998, Multiphase Flows with Droplets and Particles). Explicit in the particle acceleration, it is
 /// stable only for ρ_p ≳ C_vm ρ; for light particles integrate it implicitly.
 #[inline]
 pub fn virtual_mass(c_vm: f64, volume: f64, rho: f64, fluid_accel: V3, particle_accel: V3) -> V3 {
@@ -48,8 +48,8 @@ pub fn virtual_mass(c_vm: f64, volume: f64, rho: f64, fluid_accel: V3, particle_
 
 /// Saffman (1965) shear lift on a sphere, N:
 /// F = 1.615 d² √(ρ μ/|ω|) ((u_f − v_p) × ω), ω = ∇ × u_f the fluid vorticity (1/s),
-/// d (m), ρ (kg/m³), μ (Pa·s) (Saffman 1965/1968 erratum: 6.46 a² √(ρμ/|ω|) with a = d/2;
-/// Crowe et al. 1998 eq. 4.124). Valid for Re_p ≪ Re_ω^½ ≪ 1; zero without vorticity.
+/// d (m), ρ (kg/m³), μ (Pa·s) (Saffman 1965, J. Fluid Mech. 22, and its 1968 erratum:
+/// 6.46 μ a² |u| √(|ω|/ν) with a = d/2). Valid for Re_p ≪ Re_ω^½ ≪ 1; zero without vorticity.
 #[inline]
 pub fn saffman_lift(d: f64, rho: f64, mu: f64, slip: V3, vorticity: V3) -> V3 {
     let w = v3::mag(vorticity);
@@ -65,7 +65,7 @@ pub fn saffman_lift(d: f64, rho: f64, mu: f64, slip: V3, vorticity: V3) -> V3 {
 /// Mei's (1992) correction C_L/C_L,Saffman of the Saffman lift to finite Reynolds numbers,
 /// dimensionless, with Re_p = ρ d |u_f − v_p|/μ and Re_ω = ρ |ω| d²/μ, b = Re_ω/(2 Re_p):
 /// (1 − 0.3314 b^½) e^(−Re_p/10) + 0.3314 b^½ for Re_p ≤ 40, 0.0524 (b Re_p)^½ above
-/// (Mei 1992, Int. J. Multiphase Flow 18, eq. 11; as in CFDEMcoupling's `MeiLift`). Tends to
+/// (Mei 1992, Int. J. Multiphase Flow 18, 145–147). Tends to
 /// 1 as Re_p → 0; the two branches differ by (1 − 0.3314 b^½) e^−4 at Re_p = 40.
 #[inline]
 pub fn mei_factor(re_p: f64, re_omega: f64) -> f64 {

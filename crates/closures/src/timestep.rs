@@ -21,7 +21,7 @@ pub const HERTZ_DURATION_CONSTANT: f64 = 2.868_265;
 
 /// Duration of an elastic Hertz contact, s: t_H = 2.868 (m*²/(R* E*² v))^(1/5) for effective
 /// mass m* (kg), radius R* (m) and modulus E* (Pa) and normal impact speed v (m/s)
-/// (Johnson 1985, §11.4; seed `002` eq. 11, where the exponent printed "2" is 1/5). A DEM step
+/// (Johnson 1985, Contact Mechanics; seed `002` eq. 11, where the exponent printed "2" is 1/5). A DEM step
 /// of t_H/20 or less resolves the contact.
 pub fn hertz_contact_time(m_eff: f64, r_eff: f64, y_eff: f64, speed: f64) -> f64 {
     HERTZ_DURATION_CONSTANT * (m_eff * m_eff / (r_eff * y_eff * y_eff * speed)).powf(0.2)

@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 /// The Stokes-flow resistance F₀(φ) of a random array of solid fraction φ = 1 − ε,
 /// dimensionless: (1 + 3√(φ/2) + (135/64) φ ln φ + 16.14 φ)/(1 + 0.681 φ − 8.48 φ² + 8.16 φ³)
 /// for φ < 0.4, 10 φ/ε³ (Carman–Kozeny) above (Koch & Hill 2001, Annu. Rev. Fluid Mech. 33,
-/// eq. 3.3; Hill, Koch & Ladd 2001). F₀ → 1 as φ → 0 (Stokes). Note: CFDEMcoupling writes
+/// 619–647; Hill, Koch & Ladd 2001; van Buijtenen et al. 2011). F₀ → 1 as φ → 0 (Stokes). Note: CFDEMcoupling writes
 /// `135/64` in C++ integer arithmetic, which evaluates to 2, not 2.109; we use 135/64.
 #[inline]
 pub fn f0(phi: f64) -> f64 {
@@ -23,7 +23,7 @@ pub fn f0(phi: f64) -> f64 {
 }
 
 /// The inertial coefficient F₃(φ) = 0.0673 + 0.212 φ + 0.0232/ε⁵, dimensionless (Koch & Hill
-/// 2001, eq. 3.5).
+/// 2001; van Buijtenen et al. 2011).
 #[inline]
 pub fn f3(phi: f64) -> f64 {
     let eps = 1.0 - phi;

@@ -9,7 +9,7 @@ use crate::input::DragInput;
 /// Re ≥ 1000, Re = ρ d |u_f − v_p|/μ (no ε: an isolated sphere; CFDEMcoupling's
 /// `SchillerNaumannDrag`). That is F = ½ C_d ρ (π d²/4) |u|u. Limits: Re → 0 gives Stokes'
 /// 3πμd exactly; the curve is within about 5 % of the standard drag curve up to Re = 1000
-/// (Clift, Grace & Weber 1978, Table 5.2), with a jump of the 0.44 branch at Re = 1000.
+/// (Clift, Grace & Weber 1978), with a 0.4 % jump to the 0.44 branch at Re = 1000.
 #[inline]
 pub fn beta(x: &DragInput) -> f64 {
     let re = x.reynolds_single();
