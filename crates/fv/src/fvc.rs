@@ -288,22 +288,19 @@ pub fn sn_grad_vector(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -
     out
 }
 
-/// Divergence of the kinematic viscous stress at cells (m/s²):
-/// `∇·(ν_eff (∇U + ∇Uᵀ))` by the Gauss theorem,
-/// `(1/V) Σ_f ν_f [ |S_f| snGrad(U)_f + (∇U)_f · S_f ]` where `(∇U)_f·S_f` is the vector
-/// `Σ_i S_i ∂_j U_i` (the transpose part) with the face gradient linearly interpolated
-/// (boundary faces: [`boundary_grad`]), and snGrad from [`sn_grad_vector`].
-/// `nu` (m²/s) gives ν_eff per cell and per boundary face (e.g. ε ν for the volume-averaged
-/// stress ∇·(ετ) of seed 002 eq. 3), interpolated linearly to faces.
-/// Second-order accurate on smooth meshes; exact for quadratic U on uniform orthogonal grids
-/// in cells away from the boundary.
-pub fn div_viscous_stress(g: &FvGeometry, nu: Field<'_, f64>, u: Field<'_, V3>) -> Vec<V3> {
-    u.check(g);
-    let grad_u = grad(g, u);
-    let grad_b = boundary_grad(g, u, &grad_u);
-    let sn = sn_grad_vector(g, u, &grad_u);
-    let nu_f = interpolate(g, nu);
-    let flux: Vec<V3> = (0..g.n_faces())
+/// The face flux of the transposed stress part, `ν_f (G_f · S_f)` with the vector
+/// `(G_f·S_f)_j = Σ_i S_i G_f,ji` (G = ∇U, face values linearly interpolated, boundary faces from
+/// [`boundary_grad`]); with `dev2` the flux of `ν dev2(∇Uᵀ) = ν (∇Uᵀ − ⅔ tr(∇U) I)` as in
+/// OpenFOAM's laminar `divDevReff`. One vector per face (m⁴/s² for ν in m²/s).
+pub fn transpose_stress_flux(
+    g: &FvGeometry,
+    nu_f: &[f64],
+    u: Field<'_, V3>,
+    grad_u: &[Tensor],
+    dev2: bool,
+) -> Vec<V3> {
+    let grad_b = boundary_grad(g, u, grad_u);
+    (0..g.n_faces())
         .into_par_iter()
         .map(|f| {
             let gf = if f < g.n_internal {
@@ -320,10 +317,33 @@ pub fn div_viscous_stress(g: &FvGeometry, nu: Field<'_, f64>, u: Field<'_, V3>) 
                 grad_b[f - g.n_internal]
             };
             let s = g.sf[f];
-            let transpose: V3 = std::array::from_fn(|j| (0..3).map(|i| s[i] * gf[j][i]).sum());
-            scale(nu_f[f], add(scale(g.mag_sf[f], sn[f]), transpose))
+            let mut v: V3 = std::array::from_fn(|j| (0..3).map(|i| s[i] * gf[j][i]).sum());
+            if dev2 {
+                let tr = gf[0][0] + gf[1][1] + gf[2][2];
+                v = sub(v, scale(2.0 / 3.0 * tr, s));
+            }
+            scale(nu_f[f], v)
         })
-        .collect();
+        .collect()
+}
+
+/// Divergence of the kinematic viscous stress at cells (m/s²):
+/// `∇·(ν_eff (∇U + ∇Uᵀ))` by the Gauss theorem,
+/// `(1/V) Σ_f ν_f [ |S_f| snGrad(U)_f + (∇U)_f · S_f ]` ([`transpose_stress_flux`] for the
+/// second part, [`sn_grad_vector`] for the first).
+/// `nu` (m²/s) gives ν_eff per cell and per boundary face (e.g. ε ν for the volume-averaged
+/// stress ∇·(ετ) of seed 002 eq. 3), interpolated linearly to faces.
+/// Second-order accurate on smooth meshes; exact for quadratic U on uniform orthogonal grids
+/// in cells away from the boundary.
+pub fn div_viscous_stress(g: &FvGeometry, nu: Field<'_, f64>, u: Field<'_, V3>) -> Vec<V3> {
+    u.check(g);
+    let grad_u = grad(g, u);
+    let sn = sn_grad_vector(g, u, &grad_u);
+    let nu_f = interpolate(g, nu);
+    let mut flux = transpose_stress_flux(g, &nu_f, u, &grad_u, false);
+    flux.par_iter_mut().enumerate().for_each(|(f, v)| {
+        *v = add(*v, scale(nu_f[f] * g.mag_sf[f], sn[f]));
+    });
     surface_integrate(g, &flux)
 }
 

@@ -8,10 +8,17 @@
 //! * [`geometry`]: [`FvGeometry`], interpolation weights and deltas computed once per mesh;
 //! * [`fvc`]: explicit operators (gradients, snGrad, ∇·τ, surface integrals) on a frozen field.
 
+pub mod bc;
 pub mod error;
+pub mod fields;
+pub mod fluid;
 pub mod fvc;
 pub mod geometry;
+pub mod ldu;
+pub mod linsolve;
+pub mod settings;
 pub mod testfields;
 
 pub use error::{FvError, Result};
+pub use fluid::{Fluid, Model, StepReport};
 pub use geometry::{FvGeometry, FvPatch, V3};

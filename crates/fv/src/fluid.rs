@@ -1,0 +1,740 @@
+//! The volume-averaged incompressible PISO solver (seed 001 eq. 1–2, seed 002 eq. 3–4,
+//! ADR 0004), kinematic pressure p (m²/s²), interstitial velocity U (m/s), voidage ε:
+//!
+//! * momentum, model A: ∂(εU)/∂t + ∇·(φU) − ∇·(εν∇U) = −ε∇p − (Ksl/ρ)(U − Us) + f/ρ
+//!   (model B: −∇p instead of −ε∇p), Ksl implicit, f explicit;
+//! * continuity: ∂ε/∂t + ∇·φ = 0 with the face flux φ = (εU)_f·S (the ∂ε/∂t term switchable).
+//!
+//! One step (Issa's PISO as OpenFOAM's icoFoam/pisoFoam and CFDEM's cfdemSolverPiso arrange
+//! it): assemble the momentum matrix with the old-time pressure gradient, optionally solve it
+//! (predictor), then `nCorrectors` times: A = mean diagonal, HbyA = H/A, face flux
+//! φ* = ε_f (HbyA)_f·S + ddtCorr (the Rhie–Chow-type coupling term of OpenFOAM's `ddtCorr`),
+//! solve ∇·(γ∇p) = ∇·φ* + ∂ε/∂t with γ_f = ε_f (ε/A)_f (model A) or ε_f (1/A)_f (model B)
+//! (compact Laplacian stencil: the flux φ = φ* − γ_f|S| snGrad p is the Rhie–Chow flux), with
+//! `nNonOrthogonalCorrectors` explicit non-orthogonal corrections, and correct
+//! U = HbyA − (ε/A)∇p (model B: (1/A)∇p).
+
+// Face and cell loops index several arrays at once, as the equations do.
+#![allow(clippy::needless_range_loop)]
+
+use crate::bc::{self, PressureBc, VelocityBc};
+use crate::error::{FvError, Result};
+use crate::fvc::{self, Field};
+use crate::geometry::{FvGeometry, V3};
+use crate::ldu::Ldu;
+use crate::linsolve::{self, SolveStats};
+use crate::settings::{Convection, Settings, SnGrad, TimeScheme};
+use foam::{Case, FieldValues, VolField};
+use mesh::v3::{dot, mag, scale, sub};
+use rayon::prelude::*;
+use std::path::Path;
+
+/// How the pressure gradient enters the momentum equation (seed 002 eq. 3–4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// −ε∇p (pressure shared by fluid and particles).
+    A,
+    /// −∇p (pressure in the fluid phase only).
+    B,
+}
+
+/// What one time step did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepReport {
+    /// The time reached (s).
+    pub time: f64,
+    /// Momentum solves, one per component (empty without predictor).
+    pub momentum: Vec<SolveStats>,
+    /// Pressure solves, in order.
+    pub pressure: Vec<SolveStats>,
+    /// Σ|∇·φ + ∂ε/∂t| V-weighted continuity error after the last corrector (m³/s), relative to
+    /// Σ|φ| over the faces.
+    pub continuity: f64,
+}
+
+/// The native fluid solver on one case.
+pub struct Fluid {
+    /// The case settings.
+    pub settings: Settings,
+    /// Pressure-gradient form.
+    pub model: Model,
+    /// Include ∂ε/∂t in the pressure equation.
+    pub ddt_voidage: bool,
+    case: Case,
+    g: FvGeometry,
+    u_bc: Vec<VelocityBc>,
+    p_bc: Vec<PressureBc>,
+    u_file: VolField,
+    p_file: VolField,
+    time: f64,
+    time_index: usize,
+    u: Vec<V3>,
+    u_b: Vec<V3>,
+    p: Vec<f64>,
+    p_b: Vec<f64>,
+    phi: Vec<f64>,
+    grad_p: Vec<V3>,
+    eps: Vec<f64>,
+    eps_old: Vec<f64>,
+    ksl: Vec<f64>,
+    us: Vec<V3>,
+    force: Vec<V3>,
+    /// Laplacian delta coefficient per face for the chosen snGrad scheme.
+    lap_dc: Vec<f64>,
+}
+
+impl Fluid {
+    /// Reads a case: mesh, `system/` and `constant/` settings, U and p of the start time
+    /// (model A, ∂ε/∂t on, ε = 1, no exchange terms until set).
+    pub fn from_case(dir: impl AsRef<Path>) -> Result<Fluid> {
+        let case = Case::open(dir.as_ref())?;
+        let settings = Settings::read(&case)?;
+        let mesh = case.read_mesh()?;
+        let g = FvGeometry::new(&mesh)?;
+        let start = start_dir(&case, settings.start_time)?;
+        let fields = crate::fields::read_fields(&start, &mesh, &g)?;
+        let (pref_cell, _) = settings.p_ref;
+        if pref_cell >= g.n_cells {
+            return Err(FvError::setting(
+                case.root().join("system/fvSolution"),
+                "PISO.pRefCell",
+                format!("cell {pref_cell} does not exist ({} cells)", g.n_cells),
+            ));
+        }
+        Self::build(case, settings, g, fields)
+    }
+
+    fn build(
+        case: Case,
+        settings: Settings,
+        g: FvGeometry,
+        fields: crate::fields::CaseFields,
+    ) -> Result<Fluid> {
+        let n = g.n_cells;
+        let nb = g.n_boundary();
+        let lap_dc = match settings.sn_grad {
+            SnGrad::Orthogonal => (0..g.n_faces())
+                .map(|f| {
+                    if f < g.n_internal {
+                        1.0 / mag(g.delta[f])
+                    } else {
+                        g.delta_coeff[f]
+                    }
+                })
+                .collect(),
+            _ => g.delta_coeff.clone(),
+        };
+        let mut fl = Fluid {
+            model: Model::A,
+            ddt_voidage: true,
+            time: settings.start_time,
+            time_index: 0,
+            settings,
+            case,
+            u_b: vec![[0.0; 3]; nb],
+            p_b: vec![0.0; nb],
+            phi: vec![0.0; g.n_faces()],
+            grad_p: vec![[0.0; 3]; n],
+            eps: vec![1.0; n],
+            eps_old: vec![1.0; n],
+            ksl: vec![0.0; n],
+            us: vec![[0.0; 3]; n],
+            force: vec![[0.0; 3]; n],
+            lap_dc,
+            g,
+            u_bc: fields.u_bc,
+            p_bc: fields.p_bc,
+            u_file: fields.u_file,
+            p_file: fields.p_file,
+            u: fields.u,
+            p: fields.p,
+        };
+        fl.update_u_boundary(fl.time);
+        fl.phi = fl.flux_of_u();
+        fl.update_u_boundary(fl.time);
+        let gamma_b = vec![0.0; nb];
+        fl.update_p_boundary(fl.time, &gamma_b, &fl.phi.clone());
+        fl.grad_p = fvc::grad_scalar(&fl.g, &fl.p, &fl.p_b);
+        Ok(fl)
+    }
+
+    /// The finite-volume geometry.
+    pub fn geometry(&self) -> &FvGeometry {
+        &self.g
+    }
+
+    /// Current time (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Number of steps taken.
+    pub fn time_index(&self) -> usize {
+        self.time_index
+    }
+
+    /// Cell velocities (m/s).
+    pub fn u(&self) -> &[V3] {
+        &self.u
+    }
+
+    /// Boundary-face velocities (m/s).
+    pub fn u_boundary(&self) -> &[V3] {
+        &self.u_b
+    }
+
+    /// Cell kinematic pressures (m²/s²).
+    pub fn p(&self) -> &[f64] {
+        &self.p
+    }
+
+    /// Boundary-face kinematic pressures (m²/s²).
+    pub fn p_boundary(&self) -> &[f64] {
+        &self.p_b
+    }
+
+    /// Face fluxes φ = (εU)_f·S (m³/s), one per face (0 on `empty` faces).
+    pub fn phi(&self) -> &[f64] {
+        &self.phi
+    }
+
+    /// ∇p at cells (m/s², Gauss linear, the gradient used in the last velocity correction).
+    pub fn grad_p(&self) -> &[V3] {
+        &self.grad_p
+    }
+
+    /// ∇·τ at cells (m/s²): ∇·(ν(∇U + ∇Uᵀ)) of the current velocity ([`fvc::div_viscous_stress`]).
+    pub fn div_tau(&self) -> Vec<V3> {
+        let nu_c = vec![self.settings.nu; self.g.n_cells];
+        let nu_b = vec![self.settings.nu; self.g.n_boundary()];
+        fvc::div_viscous_stress(
+            &self.g,
+            Field::new(&nu_c, &nu_b),
+            Field::new(&self.u, &self.u_b),
+        )
+    }
+
+    fn check_cells<T>(&self, what: &str, v: &[T]) -> Result<()> {
+        FvError::check_len(what, v.len(), self.g.n_cells)
+    }
+
+    /// Sets the voidage ε of the coming step (`current`) and of the previous one (`previous`,
+    /// for ∂(εU)/∂t and ∂ε/∂t). Each value must be in (0, 1].
+    pub fn set_voidage(&mut self, current: &[f64], previous: &[f64]) -> Result<()> {
+        self.check_cells("voidage", current)?;
+        self.check_cells("previous voidage", previous)?;
+        for (what, v) in [("voidage", current), ("previous voidage", previous)] {
+            if let Some(c) = v.iter().position(|&e| !(e > 0.0 && e <= 1.0)) {
+                return Err(FvError::Value {
+                    what: format!("{what} at cell {c}"),
+                    msg: format!("{} is not in (0, 1]", v[c]),
+                });
+            }
+        }
+        self.eps.copy_from_slice(current);
+        self.eps_old.copy_from_slice(previous);
+        Ok(())
+    }
+
+    /// Sets the implicit exchange: Ksl (kg/(m³·s), ≥ 0) and Us (m/s) per cell (ADR 0004).
+    pub fn set_exchange(&mut self, ksl: &[f64], us: &[V3]) -> Result<()> {
+        self.check_cells("Ksl", ksl)?;
+        self.check_cells("Us", us)?;
+        if let Some(c) = ksl.iter().position(|&k| !(k >= 0.0 && k.is_finite())) {
+            return Err(FvError::Value {
+                what: format!("Ksl at cell {c}"),
+                msg: format!("{} is not a finite non-negative number", ksl[c]),
+            });
+        }
+        if let Some(c) = us.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+            return Err(FvError::Value {
+                what: format!("Us at cell {c}"),
+                msg: "not finite".into(),
+            });
+        }
+        self.ksl.copy_from_slice(ksl);
+        self.us.copy_from_slice(us);
+        Ok(())
+    }
+
+    /// Sets the explicit force density f (N/m³) the particles exert on the fluid (ADR 0004).
+    pub fn set_force(&mut self, f: &[V3]) -> Result<()> {
+        self.check_cells("f", f)?;
+        if let Some(c) = f.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+            return Err(FvError::Value {
+                what: format!("f at cell {c}"),
+                msg: "not finite".into(),
+            });
+        }
+        self.force.copy_from_slice(f);
+        Ok(())
+    }
+
+    /// ε at every face: linear interpolation inside, the owner's value on boundary faces.
+    fn eps_faces(&self, eps: &[f64]) -> Vec<f64> {
+        let b: Vec<f64> = self.g.owner[self.g.n_internal..]
+            .iter()
+            .map(|&o| eps[o as usize])
+            .collect();
+        fvc::interpolate(&self.g, Field::new(eps, &b))
+    }
+
+    /// φ = ε_f U_f·S with U_f linearly interpolated (boundary: U_b).
+    fn flux_of_u(&self) -> Vec<f64> {
+        let ef = self.eps_faces(&self.eps);
+        let uf = fvc::interpolate(&self.g, Field::new(&self.u, &self.u_b));
+        self.flux(&ef, &uf)
+    }
+
+    fn flux(&self, ef: &[f64], uf: &[V3]) -> Vec<f64> {
+        (0..self.g.n_faces())
+            .into_par_iter()
+            .map(|f| {
+                if f >= self.g.n_internal && self.g.boundary_empty[f - self.g.n_internal] {
+                    0.0
+                } else {
+                    ef[f] * dot(uf[f], self.g.sf[f])
+                }
+            })
+            .collect()
+    }
+
+    fn update_u_boundary(&mut self, t: f64) {
+        let mut ub = std::mem::take(&mut self.u_b);
+        bc::eval_velocity(&self.g, &self.u_bc, t, &self.u, &self.phi, &mut ub);
+        self.u_b = ub;
+    }
+
+    /// Boundary pressure values at time `t`; `gamma_b` the pressure-Laplacian coefficient and
+    /// `phi_star` the unconstrained predicted flux on boundary faces, for fixedFluxPressure.
+    fn update_p_boundary(&mut self, t: f64, gamma_b: &[f64], phi_star: &[f64]) {
+        let mut pb = std::mem::take(&mut self.p_b);
+        bc::eval_pressure(
+            &self.g, &self.p_bc, t, &self.p, &self.u_b, &self.phi, &mut pb,
+        );
+        let g = &self.g;
+        for (patch, bc) in g.patches.iter().zip(&self.p_bc) {
+            if *bc != PressureBc::FixedFluxPressure {
+                continue;
+            }
+            for f in patch.faces.clone() {
+                let b = f - g.n_internal;
+                let den = gamma_b[b] * g.mag_sf[f] * self.lap_dc[f];
+                if den > 0.0 {
+                    pb[b] += (phi_star[f] - self.phi[f]) / den;
+                }
+            }
+        }
+        self.p_b = pb;
+    }
+
+    /// Advances by `dt` seconds (one PISO step).
+    pub fn advance(&mut self, dt: f64) -> Result<StepReport> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(FvError::Value {
+                what: "time step".into(),
+                msg: format!("{dt} is not a positive number"),
+            });
+        }
+        let t_new = self.time + dt;
+        let g = &self.g;
+        let (n, nb) = (g.n_cells, g.n_boundary());
+        let u_old = self.u.clone();
+        let phi_old = self.phi.clone();
+        let nu = self.settings.nu;
+        let rho = self.settings.rho;
+        self.update_u_boundary(t_new);
+        let ef = self.eps_faces(&self.eps);
+        let ef_old = self.eps_faces(&self.eps_old);
+
+        // --- momentum matrix: convection + diffusion (θ-weighted), time derivative, Ksl.
+        let theta = match self.settings.time_scheme {
+            TimeScheme::Euler => 1.0,
+            TimeScheme::CrankNicolson(psi) => 1.0 - 0.5 * psi,
+        };
+        let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
+        let (cd, cd_diag, cd_b) = self.conv_diff(&ef, &grad_u);
+        let g = &self.g;
+        let mut m = cd.clone();
+        m.upper.iter_mut().for_each(|x| *x *= theta);
+        m.lower.iter_mut().for_each(|x| *x *= theta);
+        let mut diag: Vec<V3> = vec![[0.0; 3]; n];
+        let mut b: Vec<V3> = vec![[0.0; 3]; n];
+        let stress = if self.settings.full_stress {
+            let nu_f: Vec<f64> = ef.iter().map(|e| e * nu).collect();
+            let fl =
+                fvc::transpose_stress_flux(g, &nu_f, Field::new(&self.u, &self.u_b), &grad_u, true);
+            fvc::surface_integrate(g, &fl)
+        } else {
+            vec![[0.0; 3]; n]
+        };
+        for k in 0..3 {
+            let uk: Vec<f64> = u_old.iter().map(|v| v[k]).collect();
+            for c in 0..n {
+                let v = g.v[c];
+                let ddt = self.eps[c] * v / dt;
+                let ksl = self.ksl[c] / rho * v;
+                let mut rhs = cd_b[c][k]
+                    + self.eps_old[c] * v / dt * u_old[c][k]
+                    + ksl * self.us[c][k]
+                    + v * self.force[c][k] / rho
+                    + v * stress[c][k];
+                if theta < 1.0 {
+                    let r_old = cd_diag[c][k] * uk[c] + cd.off_row(g, c, &uk);
+                    rhs -= (1.0 - theta) * r_old;
+                }
+                diag[c][k] = theta * cd_diag[c][k] + ddt + ksl;
+                b[c][k] = rhs;
+            }
+        }
+
+        // --- momentum predictor with the old pressure gradient.
+        let mut report = StepReport {
+            time: t_new,
+            momentum: Vec::new(),
+            pressure: Vec::new(),
+            continuity: 0.0,
+        };
+        let kappa_p = |c: usize| match self.model {
+            Model::A => self.eps[c],
+            Model::B => 1.0,
+        };
+        if self.settings.momentum_predictor {
+            for k in 0..3 {
+                m.diag = diag.iter().map(|d| d[k]).collect();
+                let rhs: Vec<f64> = (0..n)
+                    .map(|c| b[c][k] - g.v[c] * kappa_p(c) * self.grad_p[c][k])
+                    .collect();
+                let mut x: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
+                let s =
+                    linsolve::bicgstab(&m, g, &rhs, &mut x, &self.settings.u_solver.controls, "U")?;
+                report.momentum.push(s);
+                for c in 0..n {
+                    self.u[c][k] = x[c];
+                }
+            }
+            let mut ub = std::mem::take(&mut self.u_b);
+            bc::eval_velocity(&self.g, &self.u_bc, t_new, &self.u, &self.phi, &mut ub);
+            self.u_b = ub;
+        }
+
+        // --- PISO correctors.
+        let g = &self.g;
+        let fixed_flux = bc::flux_fixed(g, &self.u_bc, &self.phi);
+        let fixes_p = self.p_bc.iter().any(PressureBc::fixes_value);
+        let uf_old = fvc::interpolate(g, Field::new(&u_old, &self.u_b));
+        let a_mean: Vec<f64> = (0..n)
+            .map(|c| (diag[c][0] + diag[c][1] + diag[c][2]) / 3.0 / g.v[c])
+            .collect();
+        let r_au: Vec<f64> = a_mean.iter().map(|a| 1.0 / a).collect();
+        let kappa: Vec<f64> = (0..n).map(|c| kappa_p(c) * r_au[c]).collect();
+        let kappa_b: Vec<f64> = g.owner[g.n_internal..]
+            .iter()
+            .map(|&o| kappa[o as usize])
+            .collect();
+        let kappa_f = fvc::interpolate(g, Field::new(&kappa, &kappa_b));
+        let gamma: Vec<f64> = (0..g.n_faces()).map(|f| ef[f] * kappa_f[f]).collect();
+        let gamma_b: Vec<f64> = gamma[g.n_internal..].to_vec();
+        let erau: Vec<f64> = (0..n).map(|c| self.eps[c] * r_au[c]).collect();
+        let erau_b: Vec<f64> = g.owner[g.n_internal..]
+            .iter()
+            .map(|&o| erau[o as usize])
+            .collect();
+        let erau_f = fvc::interpolate(g, Field::new(&erau, &erau_b));
+        // ddtCorr (OpenFOAM v1912 `ddtCorr` with ddtPhiCoeff −1), internal faces only.
+        let ddt_corr: Vec<f64> = (0..g.n_internal)
+            .map(|f| {
+                let old = ef_old[f] * dot(uf_old[f], g.sf[f]);
+                let diff = phi_old[f] - old;
+                let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
+                erau_f[f] * coeff * diff / dt
+            })
+            .collect();
+        let n_corr = self.settings.n_correctors;
+        for corr in 0..n_corr {
+            let g = &self.g;
+            let mut hbya: Vec<V3> = vec![[0.0; 3]; n];
+            for k in 0..3 {
+                let uk: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
+                hbya.par_iter_mut().enumerate().for_each(|(c, h)| {
+                    let hv =
+                        b[c][k] - m.off_row(g, c, &uk) - (diag[c][k] - a_mean[c] * g.v[c]) * uk[c];
+                    h[k] = hv / g.v[c] * r_au[c];
+                });
+            }
+            let hb: Vec<V3> = (g.n_internal..g.n_faces())
+                .map(|f| hbya[g.owner[f] as usize])
+                .collect();
+            let hf = fvc::interpolate(g, Field::new(&hbya, &hb));
+            let mut phi_star = self.flux(&ef, &hf);
+            for f in 0..g.n_internal {
+                phi_star[f] += ddt_corr[f];
+            }
+            let phi_unconstrained = phi_star.clone();
+            for f in g.n_internal..g.n_faces() {
+                let bi = f - g.n_internal;
+                if fixed_flux[bi] {
+                    phi_star[f] = ef[f] * dot(self.u_b[bi], g.sf[f]);
+                }
+            }
+            self.phi.clone_from(&phi_star);
+            self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained);
+            let g = &self.g;
+            // Pressure matrix (symmetric positive definite with a fixed-value patch or ref cell).
+            let mut pm = Ldu::zeros(g);
+            let mut src = vec![0.0; n];
+            for f in 0..g.n_internal {
+                let c = gamma[f] * g.mag_sf[f] * self.lap_dc[f];
+                pm.upper[f] = -c;
+                pm.lower[f] = -c;
+                pm.diag[g.owner[f] as usize] += c;
+                pm.diag[g.neighbour[f] as usize] += c;
+            }
+            let p_fixed: Vec<bool> = {
+                let mut v = vec![false; nb];
+                for (patch, bc) in g.patches.iter().zip(&self.p_bc) {
+                    if bc.fixes_value() {
+                        for bi in patch.boundary_range(g.n_internal) {
+                            v[bi] = true;
+                        }
+                    }
+                }
+                v
+            };
+            for f in g.n_internal..g.n_faces() {
+                let bi = f - g.n_internal;
+                if p_fixed[bi] {
+                    let c = gamma[f] * g.mag_sf[f] * self.lap_dc[f];
+                    let o = g.owner[f] as usize;
+                    pm.diag[o] += c;
+                    src[o] += c * self.p_b[bi];
+                }
+            }
+            let div_star = fvc::surface_integrate(g, &phi_star);
+            for c in 0..n {
+                src[c] -= div_star[c] * g.v[c];
+                if self.ddt_voidage {
+                    src[c] -= g.v[c] * (self.eps[c] - self.eps_old[c]) / dt;
+                }
+            }
+            if !fixes_p {
+                let (rc, rv) = self.settings.p_ref;
+                let d = pm.diag[rc];
+                src[rc] += d * rv;
+                pm.diag[rc] += d;
+            }
+            let last_corr = corr + 1 == n_corr;
+            let corrected = self.settings.sn_grad == SnGrad::Corrected;
+            let mut p = std::mem::take(&mut self.p);
+            let mut nonorth_flux = vec![0.0; g.n_internal];
+            for nonorth in 0..=self.settings.n_non_orth {
+                let mut rhs = src.clone();
+                if corrected {
+                    let gp = fvc::grad_scalar(g, &p, &self.p_b);
+                    for f in 0..g.n_internal {
+                        let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                        let w = g.weight[f];
+                        let gf: V3 =
+                            std::array::from_fn(|i| w * (gp[o][i] - gp[nb_][i]) + gp[nb_][i]);
+                        nonorth_flux[f] = gamma[f] * g.mag_sf[f] * dot(g.corr_vec[f], gf);
+                    }
+                    for f in 0..g.n_internal {
+                        rhs[g.owner[f] as usize] += nonorth_flux[f];
+                        rhs[g.neighbour[f] as usize] -= nonorth_flux[f];
+                    }
+                }
+                let last = last_corr && nonorth == self.settings.n_non_orth;
+                let ctl = if last {
+                    &self.settings.p_final
+                } else {
+                    &self.settings.p_solver
+                };
+                let s =
+                    linsolve::pcg(&pm, g, &rhs, &mut p, ctl.preconditioner, &ctl.controls, "p")?;
+                report.pressure.push(s);
+            }
+            // Rhie–Chow face flux from the pressure solution.
+            for f in 0..g.n_internal {
+                let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                self.phi[f] = phi_star[f]
+                    - (gamma[f] * g.mag_sf[f] * self.lap_dc[f] * (p[nb_] - p[o]) + nonorth_flux[f]);
+            }
+            for f in g.n_internal..g.n_faces() {
+                let bi = f - g.n_internal;
+                if p_fixed[bi] {
+                    let o = g.owner[f] as usize;
+                    self.phi[f] = phi_star[f]
+                        - gamma[f] * g.mag_sf[f] * self.lap_dc[f] * (self.p_b[bi] - p[o]);
+                }
+            }
+            self.p = p;
+            self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained);
+            self.grad_p = fvc::grad_scalar(&self.g, &self.p, &self.p_b);
+            for c in 0..n {
+                let k = kappa[c];
+                self.u[c] = sub(hbya[c], scale(k, self.grad_p[c]));
+            }
+            self.update_u_boundary(t_new);
+        }
+        let g = &self.g;
+        let div = fvc::surface_integrate(g, &self.phi);
+        let mut err = 0.0;
+        for c in 0..n {
+            let mut r = div[c] * g.v[c];
+            if self.ddt_voidage {
+                r += g.v[c] * (self.eps[c] - self.eps_old[c]) / dt;
+            }
+            err += r.abs();
+        }
+        let scale_phi: f64 = self.phi.iter().map(|x| x.abs()).sum::<f64>() + 1e-300;
+        report.continuity = err / scale_phi;
+        if !self.u.iter().all(|v| v.iter().all(|x| x.is_finite())) {
+            return Err(FvError::Diverged(format!(
+                "velocity is not finite at t = {t_new}"
+            )));
+        }
+        self.time = t_new;
+        self.time_index += 1;
+        Ok(report)
+    }
+
+    /// Convection (flux φ, current) and diffusion (εν) of the momentum equation: off-diagonal
+    /// matrix, per-component diagonal and source (including boundary contributions and the
+    /// explicit non-orthogonal correction).
+    fn conv_diff(&self, ef: &[f64], grad_u: &[crate::fvc::Tensor]) -> (Ldu, Vec<V3>, Vec<V3>) {
+        let g = &self.g;
+        let nu = self.settings.nu;
+        let mut m = Ldu::zeros(g);
+        let mut diag = vec![[0.0; 3]; g.n_cells];
+        let mut b = vec![[0.0; 3]; g.n_cells];
+        let corrected = self.settings.sn_grad == SnGrad::Corrected;
+        for f in 0..g.n_internal {
+            let (o, nn) = (g.owner[f] as usize, g.neighbour[f] as usize);
+            let phi = self.phi[f];
+            let w = match self.settings.convection {
+                Convection::Linear => g.weight[f],
+                Convection::Upwind => {
+                    if phi >= 0.0 {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                }
+            };
+            let gam = nu * ef[f] * g.mag_sf[f] * self.lap_dc[f];
+            m.upper[f] = phi * (1.0 - w) - gam;
+            m.lower[f] = -phi * w - gam;
+            let d_o = phi * w + gam;
+            let d_n = -phi * (1.0 - w) + gam;
+            for k in 0..3 {
+                diag[o][k] += d_o;
+                diag[nn][k] += d_n;
+            }
+            if corrected {
+                let wf = g.weight[f];
+                let kv = g.corr_vec[f];
+                let c = nu * ef[f] * g.mag_sf[f];
+                for j in 0..3 {
+                    let mut s = 0.0;
+                    for i in 0..3 {
+                        s += kv[i] * (wf * (grad_u[o][i][j] - grad_u[nn][i][j]) + grad_u[nn][i][j]);
+                    }
+                    b[o][j] += c * s;
+                    b[nn][j] -= c * s;
+                }
+            }
+        }
+        let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
+        for f in g.n_internal..g.n_faces() {
+            let bi = f - g.n_internal;
+            if g.boundary_empty[bi] {
+                continue;
+            }
+            let o = g.owner[f] as usize;
+            let phi = self.phi[f];
+            let gam = nu * ef[f] * g.mag_sf[f] * self.lap_dc[f];
+            for k in 0..3 {
+                let vb = self.u_b[bi][k] - vi[bi][k] * self.u[o][k];
+                diag[o][k] += phi * vi[bi][k] + gam * (1.0 - vi[bi][k]);
+                b[o][k] += -phi * vb + gam * vb;
+            }
+        }
+        (m, diag, b)
+    }
+
+    /// Writes `U` and `p` (and `phi` as a surfaceScalarField) into the time directory `name`
+    /// of the case, keeping the start files' boundaryField entries.
+    pub fn write(&self, name: &str) -> Result<()> {
+        let dir = self.case.time_path(name);
+        std::fs::create_dir_all(&dir).map_err(|e| FvError::Value {
+            what: dir.display().to_string(),
+            msg: e.to_string(),
+        })?;
+        let fmt = self.settings.write_format;
+        let mut u = self.u_file.clone();
+        u.set_internal(FieldValues::Vector(self.u.clone()))
+            .map_err(|m| FvError::Value {
+                what: "U".into(),
+                msg: m,
+            })?;
+        u.write(&dir.join("U"), fmt)?;
+        let mut p = self.p_file.clone();
+        p.set_internal(FieldValues::Scalar(self.p.clone()))
+            .map_err(|m| FvError::Value {
+                what: "p".into(),
+                msg: m,
+            })?;
+        p.write(&dir.join("p"), fmt)?;
+        Ok(())
+    }
+
+    /// The directory name OpenFOAM would give the current time (`%g`-like, shortest form).
+    pub fn time_name(&self) -> String {
+        let t = (self.time * 1e12).round() / 1e12;
+        format!("{t}")
+    }
+
+    /// Runs the case as its controlDict says (start to end time, writing time directories);
+    /// returns the number of steps.
+    pub fn run(&mut self) -> Result<usize> {
+        let dt = self.settings.delta_t;
+        let n_steps = ((self.settings.end_time - self.time) / dt - 1e-9)
+            .ceil()
+            .max(0.0) as usize;
+        let mut next_write = self.time;
+        for step in 1..=n_steps {
+            self.advance(dt)?;
+            let write = match self.settings.write {
+                crate::settings::WriteControl::TimeStep(n) => step % n == 0,
+                crate::settings::WriteControl::RunTime(t) => {
+                    if self.time >= next_write + t - 1e-9 * dt {
+                        next_write += t;
+                        true
+                    } else {
+                        false
+                    }
+                }
+            };
+            if write || step == n_steps {
+                self.write(&self.time_name())?;
+            }
+        }
+        Ok(n_steps)
+    }
+}
+
+/// The time directory to start from.
+fn start_dir(case: &Case, start: f64) -> Result<std::path::PathBuf> {
+    let times = case.times()?;
+    times
+        .iter()
+        .find(|t| (t.value - start).abs() <= 1e-12 * start.abs().max(1.0))
+        .map(|t| t.path.clone())
+        .ok_or_else(|| {
+            FvError::setting(
+                case.root().join("system/controlDict"),
+                "startTime",
+                format!("there is no time directory for {start}"),
+            )
+        })
+}

@@ -1,0 +1,444 @@
+//! The case settings the solver honours, read from `system/controlDict`, `system/fvSchemes`,
+//! `system/fvSolution`, `constant/transportProperties` and (if present)
+//! `constant/turbulenceProperties`. Every unsupported choice is refused with an error naming the
+//! file and key; keys the solver has no use for (writePrecision, runTimeModifiable, …) are
+//! ignored.
+
+use crate::error::{FvError, Result};
+use crate::linsolve::{Preconditioner, SolverControls};
+use foam::{Case, Dict, Item};
+use std::path::{Path, PathBuf};
+
+/// Time scheme of the momentum equation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TimeScheme {
+    /// Implicit Euler (first order).
+    Euler,
+    /// θ-scheme with θ = 1 − ψ/2 on convection and diffusion (ψ = 1: Crank–Nicolson, second
+    /// order; ψ = 0: Euler). OpenFOAM's `CrankNicolson ψ` keyword selects it; the off-centring
+    /// matches OpenFOAM's meaning of ψ, not its ddt0-field implementation.
+    CrankNicolson(f64),
+}
+
+/// Interpolation of U to faces in the convection term `div(phi,U)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Convection {
+    /// `Gauss linear` (central, second order).
+    Linear,
+    /// `Gauss upwind` (first order, bounded).
+    Upwind,
+}
+
+/// Surface-normal gradient scheme (laplacian and snGrad).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SnGrad {
+    /// `corrected`: non-orthogonal delta coefficient plus explicit correction.
+    Corrected,
+    /// `uncorrected`: non-orthogonal delta coefficient, no correction.
+    Uncorrected,
+    /// `orthogonal`: 1/|d|, no correction.
+    Orthogonal,
+}
+
+/// Linear-solver choice for one field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearSolver {
+    /// The preconditioner for PCG (pressure); ignored for the momentum BiCGStab.
+    pub preconditioner: Preconditioner,
+    /// Tolerances.
+    pub controls: SolverControls,
+}
+
+/// When time directories are written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WriteControl {
+    /// Every N time steps.
+    TimeStep(usize),
+    /// Every T seconds of simulated time.
+    RunTime(f64),
+}
+
+/// Everything the solver reads from the case's dictionaries.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Kinematic viscosity ν (m²/s), `transportProperties` `nu`.
+    pub nu: f64,
+    /// Fluid density ρ (kg/m³), `transportProperties` `rho` (1 if absent; only the exchange
+    /// terms Ksl/ρ and f/ρ use it).
+    pub rho: f64,
+    /// Start time (s).
+    pub start_time: f64,
+    /// End time (s).
+    pub end_time: f64,
+    /// Time step (s).
+    pub delta_t: f64,
+    /// Write control.
+    pub write: WriteControl,
+    /// Write ASCII or binary.
+    pub write_format: foam::Format,
+    /// Momentum time scheme.
+    pub time_scheme: TimeScheme,
+    /// Convection scheme.
+    pub convection: Convection,
+    /// Laplacian / snGrad scheme.
+    pub sn_grad: SnGrad,
+    /// PISO correctors.
+    pub n_correctors: usize,
+    /// Non-orthogonal correctors.
+    pub n_non_orth: usize,
+    /// Solve the momentum predictor.
+    pub momentum_predictor: bool,
+    /// Reference cell and value for a pressure equation without a fixed-value patch.
+    pub p_ref: (usize, f64),
+    /// Pressure solver (all but the last corrector).
+    pub p_solver: LinearSolver,
+    /// Pressure solver of the last corrector (`pFinal`, else `p`).
+    pub p_final: LinearSolver,
+    /// Momentum solver.
+    pub u_solver: LinearSolver,
+    /// Include the explicit stress part −∇·(ν_eff dev2(∇Uᵀ)) (pisoFoam's laminar model,
+    /// selected by `constant/turbulenceProperties` `simulationType laminar`); icoFoam has only
+    /// the Laplacian.
+    pub full_stress: bool,
+}
+
+fn err(file: &Path, key: &str, msg: impl Into<String>) -> FvError {
+    FvError::setting(file, key, msg)
+}
+
+fn f64_of(d: &Dict, file: &Path, key: &str) -> Result<f64> {
+    d.f64(key).map_err(|e| err(file, key, e.0))
+}
+
+/// Reads a number that may carry an old-style dimension set (`nu [0 2 -1 0 0 0 0] 0.01;`).
+fn dimensioned(d: &Dict, file: &Path, key: &str) -> Result<Option<f64>> {
+    let Ok(s) = d.stream(key) else {
+        return Ok(None);
+    };
+    let v = s.iter().rev().find_map(Item::as_f64);
+    match v {
+        Some(v) if v.is_finite() => Ok(Some(v)),
+        _ => Err(err(file, key, "expected a number")),
+    }
+}
+
+fn scheme_words<'a>(d: &'a Dict, file: &Path, sub: &str, key: &str) -> Result<Vec<&'a str>> {
+    let s = d.dict(sub).map_err(|e| err(file, sub, e.0))?;
+    let stream = s
+        .stream(key)
+        .or_else(|_| s.stream("default"))
+        .map_err(|_| err(file, &format!("{sub}.{key}"), "missing (and no `default`)"))?;
+    stream
+        .iter()
+        .map(|i| {
+            i.as_word()
+                .ok_or_else(|| err(file, &format!("{sub}.{key}"), "expected scheme words"))
+        })
+        .collect::<Result<Vec<_>>>()
+        .or_else(|e| {
+            // `CrankNicolson 0.9` has a number.
+            if stream.len() == 2 && stream[0].as_word() == Some("CrankNicolson") {
+                Ok(vec!["CrankNicolson"])
+            } else {
+                Err(e)
+            }
+        })
+}
+
+fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
+    let key = |k: &str| format!("solvers.{name}.{k}");
+    let s = match d.lookup_path(&format!("solvers.{name}")) {
+        Some(foam::Value::Dict(s)) => s,
+        _ => return Err(err(file, &format!("solvers.{name}"), "missing")),
+    };
+    let solver = s
+        .word("solver")
+        .map_err(|e| err(file, &key("solver"), e.0))?;
+    let preconditioner = match solver {
+        "PCG" | "PBiCG" | "PBiCGStab" => {
+            let pre = s
+                .word("preconditioner")
+                .or_else(|_| {
+                    s.dict("preconditioner")
+                        .and_then(|p| p.word("preconditioner"))
+                })
+                .unwrap_or("diagonal");
+            match pre {
+                "DIC" | "DILU" => Preconditioner::Dic,
+                "diagonal" | "none" => Preconditioner::Diagonal,
+                other => {
+                    return Err(err(
+                        file,
+                        &key("preconditioner"),
+                        format!("`{other}` is not supported (DIC, DILU, diagonal, none)"),
+                    ))
+                }
+            }
+        }
+        // Smoothers and GAMG are replaced by our Krylov solvers with the same tolerances.
+        "smoothSolver" | "GAMG" => Preconditioner::Dic,
+        other => {
+            return Err(err(
+                file,
+                &key("solver"),
+                format!("`{other}` is not supported (PCG, PBiCG, PBiCGStab, smoothSolver, GAMG)"),
+            ))
+        }
+    };
+    let num = |k: &str, default: f64| s.f64_or(k, default).map_err(|e| err(file, &key(k), e.0));
+    Ok(LinearSolver {
+        preconditioner,
+        controls: SolverControls {
+            tolerance: num("tolerance", 1e-6)?,
+            rel_tol: num("relTol", 0.0)?,
+            max_iter: num("maxIter", 1000.0)? as usize,
+            min_iter: num("minIter", 0.0)? as usize,
+        },
+    })
+}
+
+impl Settings {
+    /// Reads the settings of `case`.
+    pub fn read(case: &Case) -> Result<Settings> {
+        let root = case.root();
+        let path = |rel: &str| -> PathBuf { root.join(rel) };
+        let cd_file = path("system/controlDict");
+        let cd = case.control_dict()?;
+        let tp_file = path("constant/transportProperties");
+        let tp = case.read_dict("constant/transportProperties")?;
+        if let Ok(m) = tp.word("transportModel") {
+            if m != "Newtonian" {
+                return Err(err(
+                    &tp_file,
+                    "transportModel",
+                    format!("`{m}` is not supported (Newtonian)"),
+                ));
+            }
+        }
+        let nu = dimensioned(&tp, &tp_file, "nu")?.ok_or_else(|| err(&tp_file, "nu", "missing"))?;
+        if nu <= 0.0 {
+            return Err(err(&tp_file, "nu", "must be positive"));
+        }
+        let rho = dimensioned(&tp, &tp_file, "rho")?.unwrap_or(1.0);
+        let start_time = match cd.word("startFrom").unwrap_or("startTime") {
+            "startTime" => f64_of(&cd, &cd_file, "startTime")?,
+            "firstTime" => case.times()?.first().map_or(0.0, |t| t.value),
+            "latestTime" => case.latest_time()?.map_or(0.0, |t| t.value),
+            other => {
+                return Err(err(
+                    &cd_file,
+                    "startFrom",
+                    format!("`{other}` is not supported"),
+                ))
+            }
+        };
+        if cd.word("stopAt").unwrap_or("endTime") != "endTime" {
+            return Err(err(&cd_file, "stopAt", "only `endTime` is supported"));
+        }
+        let end_time = f64_of(&cd, &cd_file, "endTime")?;
+        let delta_t = f64_of(&cd, &cd_file, "deltaT")?;
+        if delta_t.is_nan() || delta_t <= 0.0 {
+            return Err(err(&cd_file, "deltaT", "must be positive"));
+        }
+        if cd.switch("adjustTimeStep").unwrap_or(false) {
+            return Err(err(
+                &cd_file,
+                "adjustTimeStep",
+                "adjustable time steps are not supported",
+            ));
+        }
+        let interval = f64_of(&cd, &cd_file, "writeInterval")?;
+        let write = match cd.word("writeControl").unwrap_or("timeStep") {
+            "timeStep" => WriteControl::TimeStep(interval.max(1.0) as usize),
+            "runTime" | "adjustableRunTime" => WriteControl::RunTime(interval),
+            other => {
+                return Err(err(
+                    &cd_file,
+                    "writeControl",
+                    format!("`{other}` is not supported"),
+                ))
+            }
+        };
+        let write_format = match cd.word("writeFormat").unwrap_or("ascii") {
+            "ascii" => foam::Format::Ascii,
+            "binary" => foam::Format::Binary,
+            other => {
+                return Err(err(
+                    &cd_file,
+                    "writeFormat",
+                    format!("`{other}` is not supported"),
+                ))
+            }
+        };
+
+        let sch_file = path("system/fvSchemes");
+        let sch = case.read_dict("system/fvSchemes")?;
+        let ddt = sch
+            .dict("ddtSchemes")
+            .map_err(|e| err(&sch_file, "ddtSchemes", e.0))?;
+        let ddt_s = ddt
+            .stream("ddt(U)")
+            .or_else(|_| ddt.stream("default"))
+            .map_err(|e| err(&sch_file, "ddtSchemes.default", e.0))?;
+        let time_scheme = match ddt_s {
+            [w] if w.as_word() == Some("Euler") => TimeScheme::Euler,
+            [w, psi] if w.as_word() == Some("CrankNicolson") => match psi.as_f64() {
+                Some(p) if (0.0..=1.0).contains(&p) => TimeScheme::CrankNicolson(p),
+                _ => {
+                    return Err(err(
+                        &sch_file,
+                        "ddtSchemes.default",
+                        "CrankNicolson needs ψ in [0, 1]",
+                    ))
+                }
+            },
+            _ => {
+                return Err(err(
+                    &sch_file,
+                    "ddtSchemes.default",
+                    "supported: `Euler`, `CrankNicolson ψ`",
+                ))
+            }
+        };
+        let conv = scheme_words(&sch, &sch_file, "divSchemes", "div(phi,U)")?;
+        let convection = match conv.as_slice() {
+            ["Gauss", "linear"] => Convection::Linear,
+            ["Gauss", "upwind"] => Convection::Upwind,
+            other => {
+                return Err(err(
+                    &sch_file,
+                    "divSchemes.div(phi,U)",
+                    format!(
+                        "`{}` is not supported (Gauss linear, Gauss upwind)",
+                        other.join(" ")
+                    ),
+                ))
+            }
+        };
+        let lap = scheme_words(&sch, &sch_file, "laplacianSchemes", "laplacian(nu,U)")?;
+        let sn_grad = match lap.as_slice() {
+            ["Gauss", "linear", "corrected"] => SnGrad::Corrected,
+            ["Gauss", "linear", "uncorrected"] => SnGrad::Uncorrected,
+            ["Gauss", "linear", "orthogonal"] => SnGrad::Orthogonal,
+            other => {
+                return Err(err(
+                    &sch_file,
+                    "laplacianSchemes.default",
+                    format!(
+                        "`{}` is not supported (Gauss linear corrected|uncorrected|orthogonal)",
+                        other.join(" ")
+                    ),
+                ))
+            }
+        };
+        let grad = scheme_words(&sch, &sch_file, "gradSchemes", "grad(p)")?;
+        if grad != ["Gauss", "linear"] {
+            return Err(err(
+                &sch_file,
+                "gradSchemes.default",
+                "only `Gauss linear` is supported",
+            ));
+        }
+        if let Ok(i) = scheme_words(&sch, &sch_file, "interpolationSchemes", "default") {
+            if i != ["linear"] {
+                return Err(err(
+                    &sch_file,
+                    "interpolationSchemes.default",
+                    "only `linear` is supported",
+                ));
+            }
+        }
+
+        let sol_file = path("system/fvSolution");
+        let sol = case.read_dict("system/fvSolution")?;
+        let algo = match (sol.dict("PISO"), sol.dict("PIMPLE")) {
+            (Ok(d), _) => d,
+            (_, Ok(d)) => {
+                if d.f64_or("nOuterCorrectors", 1.0).unwrap_or(1.0) != 1.0 {
+                    return Err(err(
+                        &sol_file,
+                        "PIMPLE.nOuterCorrectors",
+                        "only 1 (PISO) is supported",
+                    ));
+                }
+                d
+            }
+            _ => return Err(err(&sol_file, "PISO", "missing (or PIMPLE)")),
+        };
+        let count = |k: &str, default: f64| -> Result<usize> {
+            let v = algo
+                .f64_or(k, default)
+                .map_err(|e| err(&sol_file, &format!("PISO.{k}"), e.0))?;
+            if v < 0.0 || v.fract() != 0.0 {
+                return Err(err(
+                    &sol_file,
+                    &format!("PISO.{k}"),
+                    "must be a non-negative integer",
+                ));
+            }
+            Ok(v as usize)
+        };
+        let n_correctors = count("nCorrectors", 1.0)?.max(1);
+        let n_non_orth = count("nNonOrthogonalCorrectors", 0.0)?;
+        let momentum_predictor = algo.switch("momentumPredictor").unwrap_or(true);
+        let p_ref = (
+            count("pRefCell", 0.0)?,
+            algo.f64_or("pRefValue", 0.0).unwrap_or(0.0),
+        );
+        let p_solver = linear_solver(&sol, &sol_file, "p")?;
+        let p_final = linear_solver(&sol, &sol_file, "pFinal").unwrap_or(p_solver);
+        let u_solver = linear_solver(&sol, &sol_file, "U")?;
+
+        let full_stress = match case.read_dict("constant/turbulenceProperties") {
+            Ok(d) => {
+                let f = path("constant/turbulenceProperties");
+                match d.word("simulationType") {
+                    Ok("laminar") => {
+                        if let Ok(m) = d
+                            .dict("laminar")
+                            .and_then(|l| l.word("laminarModel").or_else(|_| l.word("model")))
+                        {
+                            if m != "Stokes" {
+                                return Err(err(
+                                    &f,
+                                    "laminar.laminarModel",
+                                    format!("`{m}` is not supported (Stokes)"),
+                                ));
+                            }
+                        }
+                        true
+                    }
+                    Ok(other) => {
+                        return Err(err(
+                            &f,
+                            "simulationType",
+                            format!("`{other}` is not supported (laminar)"),
+                        ))
+                    }
+                    Err(e) => return Err(err(&f, "simulationType", e.0)),
+                }
+            }
+            Err(_) => false,
+        };
+        Ok(Settings {
+            nu,
+            rho,
+            start_time,
+            end_time,
+            delta_t,
+            write,
+            write_format,
+            time_scheme,
+            convection,
+            sn_grad,
+            n_correctors,
+            n_non_orth,
+            momentum_predictor,
+            p_ref,
+            p_solver,
+            p_final,
+            u_solver,
+            full_stress,
+        })
+    }
+}

@@ -1,0 +1,40 @@
+//! Lid-driven cavity (Re 10 and 100, 20×20 cells, icoFoam tutorial settings) against Debian's
+//! icoFoam v1912 on the same mesh: the committed fixture `tests/fixtures/fv/cavity-reN/0.5`
+//! (fast tier), and a fresh icoFoam run (full tier, Re 10 only).
+
+use foam::{FieldValues, VolField};
+use std::path::Path;
+
+fn read_u(path: &Path, n: usize) -> Vec<[f64; 3]> {
+    match VolField::read(path).unwrap().internal(n).unwrap() {
+        FieldValues::Vector(v) => v,
+        FieldValues::Scalar(_) => panic!("vector field expected"),
+    }
+}
+
+/// Runs our solver on a copy of `case` and returns max |U − U_icoFoam| / U_lid at t = 0.5.
+fn max_du(case: &Path, reference: &Path) -> f64 {
+    let dir = tempfile::tempdir().unwrap();
+    testkit::copy_dir(case, dir.path());
+    let _ = std::fs::remove_dir_all(dir.path().join("0.5"));
+    let mut fluid = fv::Fluid::from_case(dir.path()).unwrap();
+    let steps = fluid.run().unwrap();
+    assert_eq!(steps, 100);
+    let n = fluid.geometry().n_cells;
+    let ours = read_u(&dir.path().join("0.5/U"), n);
+    let theirs = read_u(&reference.join("0.5/U"), n);
+    ours.iter()
+        .zip(&theirs)
+        .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn cavity_matches_icofoam_fixture() {
+    for (re, tol) in [(10, 1e-5), (100, 2e-4)] {
+        let case = testkit::fixture(&format!("fv/cavity-re{re}"));
+        let e = max_du(&case, &case);
+        eprintln!("cavity Re {re}: max |ΔU|/U_lid = {e:.3e}");
+        assert!(e < tol, "Re {re}: max |ΔU|/U_lid = {e}");
+    }
+}
