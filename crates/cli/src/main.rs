@@ -3,7 +3,9 @@
 
 mod args;
 mod convert;
+mod couple;
 mod info;
+mod timestep;
 mod voidage;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +27,11 @@ enum Command {
     Convert(convert::ConvertCommand),
     /// Void fraction of a LIGGGHTS snapshot on an OpenFOAM mesh, written as `voidfraction`.
     Voidage(voidage::VoidageArgs),
+    /// One-way coupling of LIGGGHTS dumps with a frozen fluid: writes voidfraction, Ksl, Us, f
+    /// and the particle forces per dump time.
+    Couple(couple::CoupleArgs),
+    /// DEM, CFD and coupling time-step advice (Rayleigh, Hertz, relaxation time, CFL).
+    Timestep(timestep::TimestepArgs),
 }
 
 fn main() {
@@ -33,6 +40,8 @@ fn main() {
         Command::Info(a) => info::run(&a),
         Command::Convert(c) => convert::run(&c),
         Command::Voidage(a) => voidage::run(&a),
+        Command::Couple(a) => couple::run(&a),
+        Command::Timestep(a) => timestep::run(&a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
