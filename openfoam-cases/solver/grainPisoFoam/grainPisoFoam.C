@@ -1,0 +1,78 @@
+/*---------------------------------------------------------------------------*\
+  grainPisoFoam (foamgrain) — transient incompressible volume-averaged (VANS) PISO solver
+  for CFD-DEM coupling, built against Debian's OpenFOAM v1912 (openfoam-cases/solver/build.sh).
+
+  Equations (foamgrain ADR 0004; Zhou et al. 2010 as in seed 002 eq. 3–4), kinematic
+  pressure p [m²/s²], interstitial velocity U [m/s], voidfraction ε, face flux φ = (εU)_f·S:
+
+    ∂(εU)/∂t + ∇·(φU) − ∇·(εν∇U) − ∇·(εν dev2((∇U)ᵀ))
+        = −k∇p − (Ksl/ρ)(U − Us) + f/ρ,           k = ε (model A) or 1 (models B, Bfull)
+    ∂ε/∂t + ∇·φ = 0                                (the ∂ε/∂t term switchable)
+
+  Ksl is implicit (−fvm::Sp(Ksl/ρ, U) + (Ksl/ρ)Us), f explicit. With ε ≡ 1, Ksl ≡ 0, f ≡ 0
+  the equations and their discretisation are those of pisoFoam with a laminar (Stokes) model.
+
+  PISO step: momentum matrix with the viscous stress written as pisoFoam's laminar model does,
+  optional predictor with the old pressure, then per corrector
+    HbyA = H/A,  φ* = ε_f ((HbyA)_f·S + (1/A)_f ddtCorr(U, φ/ε_f))
+    ∇·(ε_f (k/A)_f ∇p) = ∇·φ* + ∂ε/∂t,   φ = φ* − ε_f (k/A)_f |S| snGrad p,   U = HbyA − (k/A)∇p.
+
+  Fields: U, p as pisoFoam; voidfraction, Ksl, Us, f read from the start time (couplingFields.H)
+  and updated each step by the selected couplingSource (couplingSource.H).
+\*---------------------------------------------------------------------------*/
+
+#include "fvCFD.H"
+#include "pisoControl.H"
+#include "vansSettings.H"
+#include "couplingFields.H"
+#include "couplingSource.H"
+
+int main(int argc, char *argv[])
+{
+    argList::addNote
+    (
+        "Transient incompressible volume-averaged (CFD-DEM) PISO solver of foamgrain:"
+        " model A/B, implicit Ksl, explicit f, optional ddt(voidfraction)."
+    );
+
+    #include "setRootCase.H"
+    #include "createTime.H"
+    #include "createMesh.H"
+
+    pisoControl piso(mesh);
+
+    #include "createFields.H"
+
+    Info<< "\nStarting time loop\n" << endl;
+
+    while (runTime.loop())
+    {
+        Info<< "Time = " << runTime.timeName() << nl << endl;
+
+        source->receive(coupling);
+        coupling.checkVoidfraction();
+
+        const surfaceScalarField voidfractionf(fvc::interpolate(voidfraction));
+
+        #include "interstitialCourantNo.H"
+
+        {
+            #include "UEqn.H"
+
+            while (piso.correct())
+            {
+                #include "pEqn.H"
+            }
+        }
+
+        source->send(U, p);
+
+        runTime.write();
+
+        runTime.printExecutionTime(Info);
+    }
+
+    Info<< "End\n" << endl;
+
+    return 0;
+}
