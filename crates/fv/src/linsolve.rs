@@ -253,7 +253,11 @@ pub fn bicgstab(
             .zip(&dinv)
             .for_each(|((y, p), d)| *y = p * d);
         a.mul(g, &y, &mut v);
-        alpha = rho / dot(&rhat, &v);
+        let rv = dot(&rhat, &v);
+        if rv == 0.0 || !rv.is_finite() {
+            break;
+        }
+        alpha = rho / rv;
         s.par_iter_mut()
             .zip(&r)
             .zip(&v)
