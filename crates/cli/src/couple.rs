@@ -6,13 +6,10 @@
 
 use anyhow::{bail, Context};
 use clap::Args;
-use couple::config::{read_gravity, read_transport};
 use couple::frozen::FrozenFluid;
 use couple::replay::{expand_glob, DumpReplay};
 use couple::timestep::DeckSettings;
-use couple::{
-    Coupler, CouplerSettings, CouplingConfig, CouplingStep, FluidSide, ParticleSide, Physics,
-};
+use couple::{Coupler, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
 use dem_io::{Boundary, BoxBounds, ReadOptions, Snapshot};
 use foam::{default_boundary, Case, FieldValues, Format, VolField};
 use serde::Serialize;
@@ -80,8 +77,6 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
     for w in &config.warnings {
         eprintln!("warning: {w}");
     }
-    let (rho, nu) = read_transport(case.root())?;
-    let gravity = read_gravity(case.root())?.unwrap_or([0.0; 3]);
     let dem_dt = match a.dem_dt {
         Some(dt) => dt,
         None => deck_time_step(case.root())?,
@@ -94,21 +89,12 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
         .collect();
     let options = ReadOptions::default().with_binary_columns(&cols);
     let mut replay = DumpReplay::open(files, options, dem_dt, a.density)?;
-    let fluid = FrozenFluid::read(case.root(), &a.time, nu)
+    let mut settings = config.coupler_settings(case.root())?;
+    if let Some(m) = a.method {
+        settings.method = m;
+    }
+    let fluid = FrozenFluid::read(case.root(), &a.time, settings.physics.nu)
         .with_context(|| format!("frozen fluid of time {}", a.time))?;
-    let settings = CouplerSettings {
-        method: a.method.unwrap_or(config.voidage.method),
-        alpha_min: config.voidage.alpha_min,
-        coupling_interval: config.coupling_interval,
-        physics: Physics {
-            rho,
-            nu,
-            gravity,
-            model: config.model,
-            forces: config.forces,
-            implicit_couple: config.momentum.implicit,
-        },
-    };
     let mut coupler = Coupler::new(fluid.mesh(), settings)?;
     loop {
         let step = coupler.exchange(&replay.state(), &fluid.state())?;

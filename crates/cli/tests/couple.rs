@@ -41,6 +41,12 @@ fn make_case(dir: &Path, u: [f64; 3]) -> foam::PolyMesh {
          nu 1e-5;\nrho 10;\n",
     )
     .unwrap();
+    std::fs::write(
+        dir.join("constant/g"),
+        "FoamFile { version 2.0; format ascii; class uniformDimensionedVectorField; object g; }\n\
+         dimensions [0 1 -2 0 0 0 0];\nvalue (0 0 -9.81);\n",
+    )
+    .unwrap();
     std::fs::create_dir_all(dir.join("0")).unwrap();
     let n = mesh.n_cells;
     let b = default_boundary(&mesh.boundary, "zeroGradient", None);
@@ -146,6 +152,19 @@ fn couple_replays_settle_dump() {
             let cm = r["cell_momentum"][a].as_f64().unwrap();
             assert!((pm - cm).abs() <= 1e-12 * sum_beta * 0.1);
         }
+        // The total fluid force on the particles: drag β (U − v) in the uniform flow plus
+        // Archimedes' ρ V g upwards (model B, no other force).
+        let buoyancy = 10.0 * 9.81 * solid;
+        let drag_z: f64 = beta
+            .iter()
+            .zip(&p.velocity)
+            .map(|(b, v)| b * (u[2] - v[2]))
+            .sum();
+        let total_z = r["total_fluid_force"][2].as_f64().unwrap();
+        assert!(
+            (total_z - drag_z - buoyancy).abs() < 1e-9 * (drag_z.abs() + buoyancy),
+            "{total_z} vs drag {drag_z} + buoyancy {buoyancy}"
+        );
     }
 }
 
@@ -214,4 +233,24 @@ fn timestep_of_the_ergun_case() {
         out.contains("warning: DEM step 1e-5 s resolves the Hertz contact time"),
         "{out}"
     );
+}
+
+#[test]
+fn archimedes_without_gravity_is_an_error_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    make_case(dir.path(), [0.0; 3]);
+    std::fs::remove_file(dir.path().join("constant/g")).unwrap();
+    std::fs::copy(fixture("liggghts/settle.txt"), dir.path().join("dump1.txt")).unwrap();
+    let o = foamgrain(&[
+        "couple",
+        "--case",
+        dir.path().to_str().unwrap(),
+        "--dumps",
+        dir.path().join("dump*.txt").to_str().unwrap(),
+        "--dem-dt",
+        "1e-5",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "succeeded without gravity");
+    assert!(e.contains("constant/g") && e.contains("Archimedes"), "{e}");
 }

@@ -609,3 +609,36 @@ pub fn read_gravity(case: &Path) -> Result<Option<[f64; 3]>, CoupleError> {
         .map(Some)
         .map_err(|e| r.err("value", e.to_string()))
 }
+
+impl CouplingConfig {
+    /// The coupler's settings for this configuration in the OpenFOAM case `case`: ρ and ν from
+    /// `constant/transportProperties`, g from `constant/g` (required when `Archimedes` is on;
+    /// zero otherwise when the file is absent).
+    pub fn coupler_settings(&self, case: &Path) -> Result<crate::CouplerSettings, CoupleError> {
+        let (rho, nu) = read_transport(case)?;
+        let gravity = match read_gravity(case)? {
+            Some(g) => g,
+            None if self.forces.archimedes => {
+                return Err(CoupleError::Config {
+                    file: case.join("constant").join("g"),
+                    key: "Archimedes".into(),
+                    message: "the Archimedes force needs gravity: constant/g is missing".into(),
+                })
+            }
+            None => [0.0; 3],
+        };
+        Ok(crate::CouplerSettings {
+            method: self.voidage.method,
+            alpha_min: self.voidage.alpha_min,
+            coupling_interval: self.coupling_interval,
+            physics: crate::Physics {
+                rho,
+                nu,
+                gravity,
+                model: self.model,
+                forces: self.forces,
+                implicit_couple: self.momentum.implicit,
+            },
+        })
+    }
+}
