@@ -5,17 +5,19 @@
 //! (`particles_in_region N` minus the particles whose centres already lie in the region;
 //! `volumefraction_region φ`: (φV − V_present)/V̄; `mass_in_region M`: (M − M_present)/m̄,
 //! V̄, m̄ the expected particle volume and mass); it is split over the templates by their
-//! number fractions (largest-remainder rounding), and the particles are placed largest first,
-//! each at up to `maxattempt` uniformly random positions (centre in the region, or the whole
-//! sphere with `all_in yes`), rejected while it overlaps an existing or already placed sphere
-//! (`overlapcheck yes`). Particles that find no place are reported, as LIGGGHTS warns.
+//! number fractions (largest-remainder rounding), and the particles are placed largest first
+//! at uniformly random positions (centre in the region, or in the region shrunk by the radius
+//! with `all_in yes`), a position being rejected while the sphere overlaps an existing or
+//! already placed one (`overlapcheck yes`). As in LIGGGHTS the tries share one budget of
+//! `maxattempt` × (number wanted); particles left when it is spent are reported (LIGGGHTS
+//! warns).
 //! The random stream is ChaCha8 seeded with the fix's seed, not LIGGGHTS's Park–Miller
 //! generator, so packs are statistically, not particle-by-particle, equal to LIGGGHTS's.
 
 use std::collections::HashMap;
 
 use mesh::v3::V3;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 
 use crate::particles::{NewParticle, Particles};
 use crate::region::Region;
@@ -187,24 +189,23 @@ impl InsertPack {
         for i in 0..existing.len() {
             grid.add(existing.x[i], existing.radius[i]);
         }
-        let (lo, hi) = self.region.bounds();
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.seed);
         let mut out = Vec::with_capacity(wanted);
-        for &k in &order {
+        // one budget of tries for the whole insertion, as LIGGGHTS (maxattempt per particle)
+        let mut tries_left = u64::from(self.max_attempt.max(1)) * wanted as u64;
+        'templates: for &k in &order {
             let t = &parts[k].0;
+            let shrink = if self.all_in { t.radius } else { 0.0 };
             for _ in 0..counts[k] {
-                for _ in 0..self.max_attempt.max(1) {
-                    let p = [
-                        lo[0] + (hi[0] - lo[0]) * rng.gen::<f64>(),
-                        lo[1] + (hi[1] - lo[1]) * rng.gen::<f64>(),
-                        lo[2] + (hi[2] - lo[2]) * rng.gen::<f64>(),
-                    ];
-                    let inside = if self.all_in {
-                        self.region.contains_sphere(p, t.radius)
-                    } else {
-                        self.region.contains(p)
+                loop {
+                    if tries_left == 0 {
+                        break 'templates;
+                    }
+                    tries_left -= 1;
+                    let Some(p) = self.region.random_point(&mut rng, shrink) else {
+                        break 'templates;
                     };
-                    if !inside || (self.overlap_check && grid.overlaps(p, t.radius)) {
+                    if self.overlap_check && grid.overlaps(p, t.radius) {
                         continue;
                     }
                     grid.add(p, t.radius);

@@ -23,8 +23,8 @@
 //! ```
 //!
 //! # Invariants
-//! Results are bit-identical for any number of rayon threads (per-pair forces gathered per
-//! particle in a fixed order). Bad input gives a [`DemError`] naming the deck line, property or
+//! Results are bit-identical from run to run for a given number of rayon threads (per-thread
+//! force buffers summed in a fixed order). Bad input gives a [`DemError`] naming the deck line, property or
 //! particle; nothing here panics on user input.
 
 pub mod contact;

@@ -2,9 +2,7 @@
 //! (`neighbor SKIN bin`, `neigh_modify delay 0`).
 //!
 //! The list holds every pair i < j with |xᵢ − xⱼ| < Rᵢ + Rⱼ + skin at build time, grouped by i
-//! (CSR) with j ascending, plus the transposed index (pairs by j), so that forces can be
-//! computed per pair and then gathered per particle in a fixed order: results do not depend on
-//! the number of threads. It is rebuilt when a particle has moved more than skin/2 since the
+//! (CSR) with j ascending. It is rebuilt when a particle has moved more than skin/2 since the
 //! last build (then no contact can have been missed). Binning is a counting sort into cubic
 //! cells of side ≥ 2R_max + skin, so a build is O(N) for a bounded number of particles per
 //! cell; the history of pairs present before and after a rebuild is carried over by a merge of
@@ -33,10 +31,6 @@ pub struct PairList {
     pub j: Vec<u32>,
     /// History of each pair.
     pub hist: Vec<History>,
-    /// CSR offsets of the pairs by j (length N + 1).
-    pub by_j_first: Vec<u32>,
-    /// Pair indices grouped by j, ascending.
-    pub by_j: Vec<u32>,
     valid: bool,
 }
 
@@ -175,26 +169,10 @@ impl PairList {
             pj.extend(js);
             ph.extend(hs);
         }
-        // transpose: pairs grouped by j
-        let mut by_j_first = vec![0u32; n + 1];
-        for &j in &pj {
-            by_j_first[j as usize + 1] += 1;
-        }
-        for k in 0..n {
-            by_j_first[k + 1] += by_j_first[k];
-        }
-        let mut fill = by_j_first.clone();
-        let mut by_j = vec![0u32; pj.len()];
-        for (p, &j) in pj.iter().enumerate() {
-            by_j[fill[j as usize] as usize] = p as u32;
-            fill[j as usize] += 1;
-        }
         self.first = first;
         self.i = pi;
         self.j = pj;
         self.hist = ph;
-        self.by_j_first = by_j_first;
-        self.by_j = by_j;
         self.x_build = x.to_vec();
         self.valid = true;
     }
@@ -326,12 +304,6 @@ mod tests {
         }
         let got: Vec<(u32, u32)> = list.i.iter().copied().zip(list.j.iter().copied()).collect();
         assert_eq!(got, brute);
-        // transposed index lists each pair once under its j
-        for jj in 0..n {
-            for &p in &list.by_j[list.by_j_first[jj] as usize..list.by_j_first[jj + 1] as usize] {
-                assert_eq!(list.j[p as usize] as usize, jj);
-            }
-        }
         // history survives a rebuild, keyed by the pair
         for (p, h) in list.hist.iter_mut().enumerate() {
             h.shear = [p as f64, list.i[p] as f64, list.j[p] as f64];

@@ -2,6 +2,7 @@
 //! radius lo hi` (`units box`), used by `create_box` and `fix insert/pack`.
 
 use mesh::v3::V3;
+use rand::Rng;
 
 /// A region.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,6 +72,27 @@ impl Region {
             Region::Cylinder { radius, lo, hi, .. } => {
                 std::f64::consts::PI * radius * radius * (hi - lo)
             }
+        }
+    }
+
+    /// A uniformly random point of the region shrunk by `shrink` (m) on every side, or `None`
+    /// if nothing is left.
+    pub fn random_point(&self, rng: &mut impl Rng, shrink: f64) -> Option<V3> {
+        let (lo, hi) = self.bounds();
+        let (l, h) = (lo.map(|v| v + shrink), hi.map(|v| v - shrink));
+        if (0..3).any(|k| l[k] > h[k]) {
+            return None;
+        }
+        let mut draw = || [0, 1, 2].map(|k| l[k] + (h[k] - l[k]) * rng.gen::<f64>());
+        match *self {
+            Region::Block { .. } => Some(draw()),
+            // rejection in the bounding box: accepts π/4 of the draws
+            Region::Cylinder { .. } => loop {
+                let p = draw();
+                if self.contains_sphere(p, shrink) {
+                    return Some(p);
+                }
+            },
         }
     }
 

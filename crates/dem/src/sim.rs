@@ -7,14 +7,16 @@
 //! contact history advanced); second half kick; due dumps are written. With constant force this
 //! integrates exactly (x = x₀ + v₀t + ½at²).
 //!
-//! Forces are computed per pair (in parallel) into a per-pair buffer and then gathered per
-//! particle in a fixed order, so results are bit-identical for any number of threads.
+//! The pair loop runs on one contiguous block of particles (rows of the half pair list) per
+//! rayon thread, each accumulating into its own force buffer; the buffers are summed in thread
+//! order, so results are bit-identical from run to run for a given number of threads (and
+//! differ between thread counts only by round-off, which granular dynamics amplify).
 
 use dem_io::{Boundary, BoxBounds};
 use mesh::v3::{self, V3};
 use rayon::prelude::*;
 
-use crate::contact::{contact_force, ContactInput, ContactModel, ContactOutput, History};
+use crate::contact::{contact_force, ContactInput, ContactModel, History};
 use crate::coupling::Coupling;
 use crate::dump::DumpOutput;
 use crate::error::DemError;
@@ -118,7 +120,8 @@ pub struct Simulation {
     step: u64,
     sim_box: SimBox,
     pairs: PairList,
-    pair_out: Vec<ContactOutput>,
+    /// Per-thread force and torque accumulators of the pair loop.
+    acc: Vec<Vec<[V3; 2]>>,
     coupling: Coupling,
     forces_valid: bool,
     pending_inserts: Vec<InsertPack>,
@@ -156,7 +159,7 @@ impl Simulation {
             step: 0,
             sim_box: cfg.sim_box,
             pairs: PairList::new(cfg.skin),
-            pair_out: Vec::new(),
+            acc: Vec::new(),
             coupling: Coupling::default(),
             forces_valid: false,
             pending_inserts: Vec::new(),
@@ -408,10 +411,10 @@ impl Simulation {
 
     fn remove_lost(&mut self) {
         let b = self.sim_box;
-        let keep: Vec<bool> = self.particles.x.par_iter().map(|&x| !b.loses(x)).collect();
-        if keep.iter().all(|&k| k) {
+        if !self.particles.x.par_iter().any(|&x| b.loses(x)) {
             return;
         }
+        let keep: Vec<bool> = self.particles.x.iter().map(|&x| !b.loses(x)).collect();
         let nw = self.walls.len();
         let mut it = (0..self.particles.len()).flat_map(|i| std::iter::repeat_n(keep[i], nw));
         self.wall_hist.retain(|_| it.next().unwrap_or(true));
@@ -427,44 +430,77 @@ impl Simulation {
         let model = self.pair_model;
         let mats = &self.materials;
         let p = &self.particles;
+        let n = p.len();
         let (x, v, w, r, m, ty) = (&p.x, &p.v, &p.omega, &p.radius, &p.mass, &p.atom_type);
         let pairs = &mut self.pairs;
-        self.pair_out.clear();
-        self.pair_out.resize(pairs.len(), ContactOutput::default());
-        let (pi, pj) = (&pairs.i, &pairs.j);
-        self.pair_out
+        // rows (particles i) split into one chunk per thread with about equal numbers of pairs
+        let nt = rayon::current_num_threads().clamp(1, n.max(1));
+        let total = pairs.len();
+        let mut rows = vec![0usize; nt + 1];
+        for c in 1..nt {
+            let target = total * c / nt;
+            rows[c] = pairs.first[..n]
+                .partition_point(|&f| (f as usize) < target)
+                .max(rows[c - 1]);
+        }
+        rows[nt] = n;
+        let mut hist_chunks = Vec::with_capacity(nt);
+        let mut rest: &mut [History] = &mut pairs.hist;
+        for c in 0..nt {
+            let len = (pairs.first[rows[c + 1]] - pairs.first[rows[c]]) as usize;
+            let (head, tail) = rest.split_at_mut(len);
+            hist_chunks.push(head);
+            rest = tail;
+        }
+        self.acc.resize_with(nt, Vec::new);
+        let (first, pj) = (&pairs.first, &pairs.j);
+        self.acc
             .par_iter_mut()
-            .zip(pairs.hist.par_iter_mut())
+            .zip(hist_chunks)
             .enumerate()
-            .with_min_len(256)
-            .for_each(|(k, (out, h))| {
-                let (i, j) = (pi[k] as usize, pj[k] as usize);
-                let d = v3::sub(x[i], x[j]);
-                let rsq = v3::dot(d, d);
-                let radsum = r[i] + r[j];
-                if rsq >= radsum * radsum {
-                    *h = History::default();
-                    *out = ContactOutput::default();
-                    return;
+            .for_each(|(c, (acc, hist))| {
+                acc.clear();
+                acc.resize(n, [[0.0; 3]; 2]);
+                let base = first[rows[c]] as usize;
+                for i in rows[c]..rows[c + 1] {
+                    let (mut fi, mut ti) = (acc[i][0], acc[i][1]);
+                    for k in first[i] as usize..first[i + 1] as usize {
+                        let j = pj[k] as usize;
+                        let h = &mut hist[k - base];
+                        let d = v3::sub(x[i], x[j]);
+                        let rsq = v3::dot(d, d);
+                        let radsum = r[i] + r[j];
+                        if rsq >= radsum * radsum {
+                            if *h != History::default() {
+                                *h = History::default();
+                            }
+                            continue;
+                        }
+                        let dist = rsq.sqrt();
+                        let inp = ContactInput {
+                            n: v3::scale(1.0 / dist, d),
+                            r: dist,
+                            deltan: radsum - dist,
+                            radi: r[i],
+                            radj: r[j],
+                            reff: r[i] * r[j] / radsum,
+                            meff: m[i] * m[j] / (m[i] + m[j]),
+                            vrel: v3::sub(v[i], v[j]),
+                            omega_i: w[i],
+                            omega_j: w[j],
+                            is_wall: false,
+                        };
+                        let c = mats.pair(ty[i], ty[j]);
+                        let o = contact_force(&model, c, &inp, h, dt, update_history);
+                        fi = v3::add(fi, o.force);
+                        ti = v3::add(ti, o.torque_i);
+                        acc[j][0] = v3::sub(acc[j][0], o.force);
+                        acc[j][1] = v3::add(acc[j][1], o.torque_j);
+                    }
+                    acc[i] = [fi, ti];
                 }
-                let dist = rsq.sqrt();
-                let inp = ContactInput {
-                    n: v3::scale(1.0 / dist, d),
-                    r: dist,
-                    deltan: radsum - dist,
-                    radi: r[i],
-                    radj: r[j],
-                    reff: r[i] * r[j] / radsum,
-                    meff: m[i] * m[j] / (m[i] + m[j]),
-                    vrel: v3::sub(v[i], v[j]),
-                    omega_i: w[i],
-                    omega_j: w[j],
-                    is_wall: false,
-                };
-                *out = contact_force(&model, mats.pair(ty[i], ty[j]), &inp, h, dt, update_history);
             });
-        let pairs = &self.pairs;
-        let out = &self.pair_out;
+        let acc = &self.acc;
         let walls = &self.walls;
         let nw = walls.len();
         let coupling = &self.coupling;
@@ -475,18 +511,9 @@ impl Simulation {
         let gather = |i: usize, f: &mut V3, t: &mut V3, wh: &mut [History]| {
             let mut ff = v3::add(v3::scale(m[i], g), coupling.force(i, v[i]));
             let mut tt = [0.0; 3];
-            for o in &out[pairs.first[i] as usize..pairs.first[i + 1] as usize] {
-                ff = v3::add(ff, o.force);
-                tt = v3::add(tt, o.torque_i);
-            }
-            let (s, e) = (
-                pairs.by_j_first[i] as usize,
-                pairs.by_j_first[i + 1] as usize,
-            );
-            for &k in &pairs.by_j[s..e] {
-                let o = &out[k as usize];
-                ff = v3::sub(ff, o.force);
-                tt = v3::add(tt, o.torque_j);
+            for a in acc {
+                ff = v3::add(ff, a[i][0]);
+                tt = v3::add(tt, a[i][1]);
             }
             for (wall, h) in walls.iter().zip(wh.iter_mut()) {
                 let contact = wall.shape.distance(x[i]).filter(|&(dist, _)| dist < r[i]);
