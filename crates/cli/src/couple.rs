@@ -11,7 +11,7 @@ use couple::replay::{expand_glob, DumpReplay};
 use couple::timestep::DeckSettings;
 use couple::{Coupler, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
 use dem_io::{Boundary, BoxBounds, ReadOptions, Snapshot};
-use foam::{default_boundary, Case, FieldValues, Format, VolField};
+use foam::{Case, Format};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use voidage::Method;
@@ -99,7 +99,13 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
     loop {
         let step = coupler.exchange(&replay.state(), &fluid.state())?;
         let time = time_name(replay.timestep() as f64 * dem_dt);
-        write_step(&case, &time, fluid.mesh(), &step)?;
+        couple::output::write_fields(
+            &case.time_path(&time),
+            &time,
+            fluid.mesh(),
+            &step,
+            Format::Ascii,
+        )?;
         write_forces(&case, &time, &replay, &step, fluid.mesh())?;
         let r = report(&coupler, &replay, &fluid, &step, &time);
         if a.json {
@@ -129,49 +135,6 @@ fn deck_time_step(case: &Path) -> anyhow::Result<f64> {
 pub fn time_name(t: f64) -> String {
     let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
     format!("{rounded}")
-}
-
-fn write_step(
-    case: &Case,
-    time: &str,
-    mesh: &foam::PolyMesh,
-    s: &CouplingStep,
-) -> anyhow::Result<()> {
-    let dir = case.time_path(time);
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    let fields = [
-        (
-            "voidfraction",
-            [0; 7],
-            FieldValues::Scalar(s.voidage.epsilon.clone()),
-        ),
-        (
-            "Ksl",
-            [1, -3, -1, 0, 0, 0, 0],
-            FieldValues::Scalar(s.exchange.ksl.clone()),
-        ),
-        (
-            "Us",
-            [0, 1, -1, 0, 0, 0, 0],
-            FieldValues::Vector(s.exchange.us.clone()),
-        ),
-        (
-            "f",
-            [1, -2, -2, 0, 0, 0, 0],
-            FieldValues::Vector(s.exchange.f.clone()),
-        ),
-    ];
-    for (name, dims, values) in fields {
-        let field = VolField::new(
-            name,
-            time,
-            dims,
-            values,
-            default_boundary(&mesh.boundary, "zeroGradient", None),
-        );
-        field.write(&dir.join(name), Format::Ascii)?;
-    }
-    Ok(())
 }
 
 fn write_forces(

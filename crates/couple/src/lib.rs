@@ -32,6 +32,7 @@ pub mod forces;
 pub mod frozen;
 pub mod interpolate;
 pub mod memory;
+pub mod output;
 pub mod replay;
 pub mod sides;
 pub mod step;

@@ -1,0 +1,56 @@
+//! Writing a coupling step's cell fields into an OpenFOAM time directory, under CFDEM's names:
+//! `voidfraction` (ε), `Ksl` (kg/(m³·s)), `Us` (m/s) and `f` (N/m³), ADR 0004.
+
+use crate::error::CoupleError;
+use crate::step::CouplingStep;
+use foam::{default_boundary, FieldValues, Format, PolyMesh, VolField};
+use std::path::Path;
+
+/// Writes ε, Ksl, Us and f of `step` into the time directory `dir` (created if needed),
+/// whose name `time` becomes each file's `location`. Boundaries are `zeroGradient`. Each file
+/// is written atomically.
+pub fn write_fields(
+    dir: &Path,
+    time: &str,
+    mesh: &PolyMesh,
+    step: &CouplingStep,
+    format: Format,
+) -> Result<(), CoupleError> {
+    std::fs::create_dir_all(dir).map_err(|source| CoupleError::Io {
+        path: dir.to_owned(),
+        source,
+    })?;
+    let fields = [
+        (
+            "voidfraction",
+            [0; 7],
+            FieldValues::Scalar(step.voidage.epsilon.clone()),
+        ),
+        (
+            "Ksl",
+            [1, -3, -1, 0, 0, 0, 0],
+            FieldValues::Scalar(step.exchange.ksl.clone()),
+        ),
+        (
+            "Us",
+            [0, 1, -1, 0, 0, 0, 0],
+            FieldValues::Vector(step.exchange.us.clone()),
+        ),
+        (
+            "f",
+            [1, -2, -2, 0, 0, 0, 0],
+            FieldValues::Vector(step.exchange.f.clone()),
+        ),
+    ];
+    for (name, dims, values) in fields {
+        let field = VolField::new(
+            name,
+            time,
+            dims,
+            values,
+            default_boundary(&mesh.boundary, "zeroGradient", None),
+        );
+        field.write(&dir.join(name), format)?;
+    }
+    Ok(())
+}
