@@ -5,6 +5,7 @@
 //! references computed from the case's own parameters and its measured bed.
 pub mod bed;
 pub mod layout;
+pub mod native;
 pub mod plot;
 pub mod reference;
 pub mod validation;

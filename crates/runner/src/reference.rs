@@ -29,11 +29,13 @@ pub fn ergun_velocity_for(dp: f64, l: f64, eps: f64, d: f64, mu: f64, rho: f64) 
 }
 
 /// One sphere settling from rest in a quiescent fluid under gravity, integrated as CFDEM's
-/// settlingTestMPI reference does: the drag is Schiller–Naumann's
-/// ([`closures::drag::schiller_naumann::beta`]) and each step solves
-/// v⁺ = (v + Δt (1 − ρ/ρ_p) g) / (1 + Δt β/m), i.e. drag implicit in v with β frozen at the
-/// old velocity. Returns the speeds at t = 0, Δt, 2Δt, …, `t_end` (m/s, positive downwards).
-pub fn settling_speed_history(
+/// settlingTestMPI reference does, with the drag law `beta` (kg/s, from a [`DragInput`] at
+/// ε = 1): each step solves v⁺ = (v + Δt (1 − ρ/ρ_p) g) / (1 + Δt β/m), i.e. drag implicit in
+/// v with β frozen at the old velocity. Returns the speeds at t = 0, Δt, 2Δt, …, `t_end`
+/// (m/s, positive downwards).
+#[allow(clippy::too_many_arguments)]
+pub fn settling_speed_history_with(
+    beta: &dyn Fn(&DragInput) -> f64,
     d: f64,
     rho_p: f64,
     rho: f64,
@@ -48,23 +50,45 @@ pub fn settling_speed_history(
     let mut out = Vec::with_capacity(n + 1);
     out.push((0.0, 0.0));
     for k in 1..=n {
-        let beta = schiller_naumann::beta(&DragInput::new(1.0, d, v.abs(), rho, nu * rho));
-        v = (v + dt * (1.0 - rho / rho_p) * g) / (1.0 + dt * beta / m);
+        let b = beta(&DragInput::new(1.0, d, v.abs(), rho, nu * rho));
+        v = (v + dt * (1.0 - rho / rho_p) * g) / (1.0 + dt * b / m);
         out.push((k as f64 * dt, v));
     }
     out
 }
 
-/// Terminal settling speed of one sphere (m/s) with Di Felice's drag at ε = 1
-/// ([`closures::drag::di_felice::beta`]): the speed u where β(u)·u equals the buoyant weight
-/// (ρ_p − ρ) V_p g, found by bisection to 1e-12 relative.
-pub fn di_felice_terminal_speed(d: f64, rho_p: f64, rho: f64, nu: f64, g: f64) -> f64 {
+/// [`settling_speed_history_with`] with Schiller–Naumann's drag
+/// ([`closures::drag::schiller_naumann::beta`]): CFDEM's reference curve.
+pub fn settling_speed_history(
+    d: f64,
+    rho_p: f64,
+    rho: f64,
+    nu: f64,
+    g: f64,
+    dt: f64,
+    t_end: f64,
+) -> Vec<(f64, f64)> {
+    settling_speed_history_with(&schiller_naumann::beta, d, rho_p, rho, nu, g, dt, t_end)
+}
+
+/// Terminal settling speed of one sphere (m/s) with the drag law `beta` at ε = 1: the speed u
+/// where β(u)·u equals the buoyant weight (ρ_p − ρ) V_p g, found by bisection to 1e-12
+/// relative. The drag must grow at least like Stokes' (true of every law in `closures`).
+pub fn terminal_speed_with(
+    beta: &dyn Fn(&DragInput) -> f64,
+    d: f64,
+    rho_p: f64,
+    rho: f64,
+    nu: f64,
+    g: f64,
+) -> f64 {
     let weight = (rho_p - rho) * sphere_volume(d) * g;
-    let drag = |u: f64| di_felice::beta(&DragInput::new(1.0, d, u, rho, nu * rho)) * u;
-    // Stokes' speed bounds the answer from above (the drag grows faster than Stokes').
+    let drag = |u: f64| beta(&DragInput::new(1.0, d, u, rho, nu * rho)) * u;
     let (mut lo, mut hi) = (0.0, weight / (3.0 * std::f64::consts::PI * nu * rho * d));
-    while drag(hi) < weight {
+    let mut grow = 0;
+    while drag(hi) < weight && grow < 200 {
         hi *= 2.0;
+        grow += 1;
     }
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
@@ -78,6 +102,12 @@ pub fn di_felice_terminal_speed(d: f64, rho_p: f64, rho: f64, nu: f64, g: f64) -
         }
     }
     0.5 * (lo + hi)
+}
+
+/// Terminal settling speed of one sphere (m/s) with Di Felice's drag at ε = 1
+/// ([`closures::drag::di_felice::beta`]).
+pub fn di_felice_terminal_speed(d: f64, rho_p: f64, rho: f64, nu: f64, g: f64) -> f64 {
+    terminal_speed_with(&di_felice::beta, d, rho_p, rho, nu, g)
 }
 
 #[cfg(test)]
@@ -127,5 +157,13 @@ mod tests {
         // REFERENCE.md: 0.1286 m/s.
         let u = di_felice_terminal_speed(1e-4, 3000.0, 10.0, 1e-5, 9.81);
         assert!((u - 0.1286).abs() < 5e-5, "{u}");
+        // The Di Felice ODE converges to it.
+        let h = settling_speed_history_with(&di_felice::beta, 1e-4, 3000.0, 10.0, 1e-5, 9.81, 1e-3, 0.5);
+        assert!((h.last().unwrap().1 - u).abs() < 1e-9, "{:?}", h.last());
+        // Stokes' law: terminal speed (ρp − ρ) g d² / (18 μ) for the Stokes drag 3πμd.
+        let stokes = |x: &DragInput| 3.0 * std::f64::consts::PI * x.mu * x.diameter;
+        let us = terminal_speed_with(&stokes, 1e-4, 3000.0, 10.0, 1e-5, 9.81);
+        let exact = (3000.0 - 10.0) * 9.81 * 1e-8 / (18.0 * 1e-4);
+        assert!((us - exact).abs() < 1e-11 * exact, "{us} vs {exact}");
     }
 }

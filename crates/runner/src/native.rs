@@ -1,0 +1,152 @@
+//! The native backends as coupling sides: the `fv` PISO solver as a [`FluidSide`] and the
+//! `dem` simulation as a [`ParticleSide`].
+
+use couple::blend::{blend_scalar, fraction};
+use couple::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState, SideError};
+use dem::Simulation;
+use foam::PolyMesh;
+use fv::Fluid;
+use mesh::v3::V3;
+use std::path::Path;
+
+/// The native fluid solver as the fluid side.
+///
+/// A coupling interval Δt_c is advanced in `round(Δt_c / deltaT)` PISO steps of equal length
+/// (`deltaT` from `system/controlDict`), and ε is blended linearly from the interval's old to
+/// its new field over those steps (CFDEM's time blending, [`couple::blend`]); Ksl, Us and f
+/// are held for the interval.
+pub struct NativeFluid {
+    fluid: Fluid,
+    mesh: PolyMesh,
+    div_tau: Vec<V3>,
+    eps_old: Vec<f64>,
+    eps_new: Vec<f64>,
+    /// The ε the solver saw last (the "previous" field of the next step).
+    eps_last: Vec<f64>,
+    steps_done: u64,
+}
+
+impl NativeFluid {
+    /// Reads the OpenFOAM case `cfd` (mesh, settings, start fields), with the model and the
+    /// ∂ε/∂t switch given.
+    pub fn open(cfd: &Path, model: fv::Model, ddt_voidage: bool) -> Result<NativeFluid, SideError> {
+        let mut fluid = Fluid::from_case(cfd)?;
+        fluid.model = model;
+        fluid.ddt_voidage = ddt_voidage;
+        let mesh = foam::Case::open(cfd)?.read_mesh()?;
+        let n = mesh.n_cells;
+        let div_tau = fluid.div_tau();
+        Ok(NativeFluid {
+            fluid,
+            mesh,
+            div_tau,
+            eps_old: vec![1.0; n],
+            eps_new: vec![1.0; n],
+            eps_last: vec![1.0; n],
+            steps_done: 0,
+        })
+    }
+
+    /// The solver (time, fields, settings, writing time directories).
+    pub fn fluid(&self) -> &Fluid {
+        &self.fluid
+    }
+
+    /// PISO steps done so far.
+    pub fn steps_done(&self) -> u64 {
+        self.steps_done
+    }
+}
+
+impl FluidSide for NativeFluid {
+    fn mesh(&self) -> &PolyMesh {
+        &self.mesh
+    }
+
+    fn set_exchange(&mut self, fields: &ExchangeFields<'_>) -> Result<(), SideError> {
+        self.eps_old.clone_from_slice(fields.voidage_old);
+        self.eps_new.clone_from_slice(fields.voidage_new);
+        self.fluid
+            .set_exchange(&fields.exchange.ksl, &fields.exchange.us)?;
+        self.fluid.set_force(&fields.exchange.f)?;
+        Ok(())
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SideError> {
+        let base = self.fluid.settings.delta_t;
+        let n = (dt / base).round().max(1.0) as u64;
+        let h = dt / n as f64;
+        let mut eps = Vec::new();
+        for k in 1..=n {
+            blend_scalar(
+                &self.eps_old,
+                &self.eps_new,
+                fraction(k as f64 * h, 0.0, dt),
+                &mut eps,
+            );
+            self.fluid.set_voidage(&eps, &self.eps_last)?;
+            self.fluid.advance(h)?;
+            std::mem::swap(&mut self.eps_last, &mut eps);
+            self.steps_done += 1;
+        }
+        self.div_tau = self.fluid.div_tau();
+        Ok(())
+    }
+
+    fn state(&self) -> FluidState<'_> {
+        FluidState {
+            u: self.fluid.u(),
+            p: self.fluid.p(),
+            grad_p: self.fluid.grad_p(),
+            div_tau: &self.div_tau,
+        }
+    }
+}
+
+/// The native DEM as the particle side.
+pub struct NativeDem {
+    sim: Simulation,
+}
+
+impl NativeDem {
+    /// Wraps a simulation built from a deck.
+    pub fn new(sim: Simulation) -> NativeDem {
+        NativeDem { sim }
+    }
+
+    /// The simulation (particles, dumps, step count).
+    pub fn sim(&self) -> &Simulation {
+        &self.sim
+    }
+}
+
+impl ParticleSide for NativeDem {
+    fn advance(&mut self, steps: u64) -> Result<(), SideError> {
+        self.sim.run(steps)?;
+        Ok(())
+    }
+
+    fn time_step(&self) -> f64 {
+        self.sim.dt()
+    }
+
+    fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    fn state(&self) -> ParticleState<'_> {
+        let p = &self.sim.particles;
+        ParticleState {
+            ids: &p.id,
+            position: &p.x,
+            velocity: &p.v,
+            radius: &p.radius,
+            density: &p.density,
+        }
+    }
+
+    fn set_forces(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), SideError> {
+        self.sim.set_coupling(f_ext, beta, u_f)?;
+        Ok(())
+    }
+}
