@@ -4,6 +4,7 @@
 mod args;
 mod convert;
 mod couple;
+mod gci;
 mod info;
 mod timestep;
 mod voidage;
@@ -32,6 +33,8 @@ enum Command {
     Couple(couple::CoupleArgs),
     /// DEM, CFD and coupling time-step advice (Rayleigh, Hertz, relaxation time, CFL).
     Timestep(timestep::TimestepArgs),
+    /// Grid Convergence Index (Celik et al. 2008) of a grid-refinement study from a CSV table.
+    Gci(gci::GciArgs),
 }
 
 fn main() {
@@ -42,6 +45,7 @@ fn main() {
         Command::Voidage(a) => voidage::run(&a),
         Command::Couple(a) => couple::run(&a),
         Command::Timestep(a) => timestep::run(&a),
+        Command::Gci(a) => gci::run(&a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -50,10 +50,21 @@ impl Ldu {
         s
     }
 
-    /// `y = A x` (parallel over cells).
+    /// `y = A x` (parallel over cells on large meshes).
     pub fn mul(&self, g: &FvGeometry, x: &[f64], y: &mut [f64]) {
-        y.par_iter_mut().enumerate().for_each(|(c, yc)| {
-            *yc = self.diag[c] * x[c] + self.off_row(g, c, x);
-        });
+        let row = |(c, yc): (usize, &mut f64)| *yc = self.diag[c] * x[c] + self.off_row(g, c, x);
+        if y.len() < crate::linsolve::PAR_MIN {
+            // OpenFOAM's face loop: no branches, contiguous coefficient arrays.
+            for c in 0..y.len() {
+                y[c] = self.diag[c] * x[c];
+            }
+            for f in 0..self.upper.len() {
+                let (o, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                y[o] += self.upper[f] * x[n];
+                y[n] += self.lower[f] * x[o];
+            }
+        } else {
+            y.par_iter_mut().enumerate().for_each(row);
+        }
     }
 }

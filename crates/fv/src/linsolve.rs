@@ -15,6 +15,10 @@ use crate::geometry::FvGeometry;
 use crate::ldu::Ldu;
 use rayon::prelude::*;
 
+/// Vectors shorter than this are processed on the calling thread: below it, handing work to
+/// rayon's pool (a wake-up and a context switch per operation) costs more than it saves.
+pub const PAR_MIN: usize = 50_000;
+
 /// Preconditioner of the conjugate-gradient solver.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Preconditioner {
@@ -61,21 +65,29 @@ pub struct SolveStats {
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.par_iter().zip(b).map(|(x, y)| x * y).sum()
+    if a.len() < PAR_MIN {
+        a.iter().zip(b).map(|(x, y)| x * y).sum()
+    } else {
+        a.par_iter().zip(b).map(|(x, y)| x * y).sum()
+    }
 }
 
 fn sum_abs(a: &[f64]) -> f64 {
-    a.par_iter().map(|x| x.abs()).sum()
+    if a.len() < PAR_MIN {
+        a.iter().map(|x| x.abs()).sum()
+    } else {
+        a.par_iter().map(|x| x.abs()).sum()
+    }
 }
 
 /// OpenFOAM's normalisation factor for the residual of `A x = b` (see the module doc).
 fn norm_factor(a: &Ldu, g: &FvGeometry, x: &[f64], b: &[f64], ax: &[f64]) -> f64 {
     let n = x.len().max(1) as f64;
-    let xbar = x.par_iter().sum::<f64>() / n;
+    let xbar = x.iter().sum::<f64>() / n;
     let xr = vec![xbar; x.len()];
     let mut axr = vec![0.0; x.len()];
     a.mul(g, &xr, &mut axr);
-    ax.par_iter()
+    ax.iter()
         .zip(b)
         .zip(&axr)
         .map(|((ax, b), axr)| (ax - axr).abs() + (b - axr).abs())
@@ -137,7 +149,7 @@ fn start(
 ) -> Result<(Vec<f64>, f64, SolveStats)> {
     let mut ax = vec![0.0; x.len()];
     a.mul(g, x, &mut ax);
-    let r: Vec<f64> = b.par_iter().zip(&ax).map(|(b, ax)| b - ax).collect();
+    let r: Vec<f64> = b.iter().zip(&ax).map(|(b, ax)| b - ax).collect();
     let nf = norm_factor(a, g, x, b, &ax);
     let r0 = sum_abs(&r) / nf;
     check_finite(what, r0)?;
@@ -178,7 +190,7 @@ pub fn pcg(
         match pre {
             Preconditioner::Dic => dic_apply(a, g, &rd, &r, &mut w),
             Preconditioner::Diagonal => w
-                .par_iter_mut()
+                .iter_mut()
                 .zip(&r)
                 .zip(&rd)
                 .for_each(|((w, r), d)| *w = r * d),
@@ -189,19 +201,15 @@ pub fn pcg(
         } else {
             rho / rho_old
         };
-        p.par_iter_mut()
-            .zip(&w)
-            .for_each(|(p, w)| *p = w + beta * *p);
+        p.iter_mut().zip(&w).for_each(|(p, w)| *p = w + beta * *p);
         a.mul(g, &p, &mut ax);
         let pap = dot(&p, &ax);
         if pap == 0.0 {
             break;
         }
         let alpha = rho / pap;
-        x.par_iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
-        r.par_iter_mut()
-            .zip(&ax)
-            .for_each(|(r, ap)| *r -= alpha * ap);
+        x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+        r.iter_mut().zip(&ax).for_each(|(r, ap)| *r -= alpha * ap);
         rho_old = rho;
         stats.iterations += 1;
         stats.last = sum_abs(&r) / nf;
@@ -244,11 +252,11 @@ pub fn bicgstab(
         }
         let beta = (rho_new / rho) * (alpha / omega);
         rho = rho_new;
-        p.par_iter_mut()
+        p.iter_mut()
             .zip(&r)
             .zip(&v)
             .for_each(|((p, r), v)| *p = r + beta * (*p - omega * v));
-        y.par_iter_mut()
+        y.iter_mut()
             .zip(&p)
             .zip(&dinv)
             .for_each(|((y, p), d)| *y = p * d);
@@ -258,22 +266,22 @@ pub fn bicgstab(
             break;
         }
         alpha = rho / rv;
-        s.par_iter_mut()
+        s.iter_mut()
             .zip(&r)
             .zip(&v)
             .for_each(|((s, r), v)| *s = r - alpha * v);
-        z.par_iter_mut()
+        z.iter_mut()
             .zip(&s)
             .zip(&dinv)
             .for_each(|((z, s), d)| *z = s * d);
         a.mul(g, &z, &mut t);
         let tt = dot(&t, &t);
         omega = if tt > 0.0 { dot(&t, &s) / tt } else { 0.0 };
-        x.par_iter_mut()
+        x.iter_mut()
             .zip(&y)
             .zip(&z)
             .for_each(|((x, y), z)| *x += alpha * y + omega * z);
-        r.par_iter_mut()
+        r.iter_mut()
             .zip(&s)
             .zip(&t)
             .for_each(|((r, s), t)| *r = s - omega * t);

@@ -38,3 +38,27 @@ fn cavity_matches_icofoam_fixture() {
         assert!(e < tol, "Re {re}: max |ΔU|/U_lid = {e}");
     }
 }
+
+/// Full tier: a fresh icoFoam run on a coarser 10×10 copy of the Re 10 cavity.
+#[test]
+fn cavity_matches_a_fresh_icofoam_run() {
+    if !testkit::tool("icoFoam") || !testkit::tool("blockMesh") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let ofdir = dir.path().join("icoFoam");
+    let ours = dir.path().join("fv");
+    testkit::copy_dir(&testkit::fixture("fv/cavity-re10"), &ofdir);
+    for d in ["0.5", "constant/polyMesh"] {
+        std::fs::remove_dir_all(ofdir.join(d)).unwrap();
+    }
+    let bmd = ofdir.join("system/blockMeshDict");
+    let text = std::fs::read_to_string(&bmd).unwrap();
+    std::fs::write(&bmd, text.replace("(20 20 1)", "(10 10 1)")).unwrap();
+    testkit::run_ok(testkit::openfoam("blockMesh"), &ofdir);
+    testkit::copy_dir(&ofdir, &ours);
+    testkit::run_ok(testkit::openfoam("icoFoam"), &ofdir);
+    let e = max_du(&ours, &ofdir);
+    eprintln!("cavity Re 10, 10×10, fresh icoFoam: max |ΔU|/U_lid = {e:.3e}");
+    assert!(e < 1e-5, "max |ΔU|/U_lid = {e}");
+}

@@ -15,7 +15,8 @@ pub struct Grid {
     pub value: f64,
 }
 
-/// Sorts `grids` by h (finest first) and analyses every consecutive triplet. Needs at least
+/// Sorts `grids` by h (finest first) and analyses every consecutive triplet; each
+/// [`Triplet::grids`] holds the positions of its grids in `grids`. Needs at least
 /// three grids with distinct h > 0 and finite values ([`crate::table::GridTable`] checks these
 /// with file and line before this is called; here a violation is a [`GciError::TooFewGrids`] or
 /// [`GciError::Grids`] without a location).
@@ -27,16 +28,15 @@ pub fn analyse_study(grids: &[Grid], settings: &Settings) -> Result<Vec<Triplet>
             last_line: 0,
         });
     }
-    let mut sorted = grids.to_vec();
-    sorted.sort_by(|a, b| a.h.total_cmp(&b.h));
-    sorted
+    let mut order: Vec<usize> = (0..grids.len()).collect();
+    order.sort_by(|&a, &b| grids[a].h.total_cmp(&grids[b].h));
+    order
         .windows(3)
         .map(|w| {
-            analyse(
-                [w[0].h, w[1].h, w[2].h],
-                [w[0].value, w[1].value, w[2].value],
-                settings,
-            )
+            let [f, m, c] = [w[0], w[1], w[2]].map(|i| grids[i]);
+            let mut t = analyse([f.h, m.h, c.h], [f.value, m.value, c.value], settings)?;
+            t.grids = [w[0], w[1], w[2]];
+            Ok(t)
         })
         .collect()
 }

@@ -109,6 +109,9 @@ pub enum Outcome {
 /// The analysis of three grids, finest first.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Triplet {
+    /// Indices of the three grids in the caller's list (fine, medium, coarse); `[0, 1, 2]`
+    /// from [`analyse`], positions in the input from [`crate::study::analyse_study`].
+    pub grids: [usize; 3],
     /// Representative cell sizes h1 < h2 < h3.
     pub h: [f64; 3],
     /// Values φ1, φ2, φ3 on those grids.
@@ -198,6 +201,7 @@ pub fn analyse(h: [f64; 3], phi: [f64; 3], settings: &Settings) -> Result<Triple
         }
     };
     Ok(Triplet {
+        grids: [0, 1, 2],
         h,
         phi,
         r21,

@@ -265,6 +265,8 @@ fn four_grids_give_two_successive_triplets_in_any_input_order() {
     assert_eq!(ts.len(), 2);
     assert_eq!(ts[0].h, [1.0, 2.0, 4.0]);
     assert_eq!(ts[1].h, [2.0, 4.0, 8.0]);
+    assert_eq!(ts[0].grids, [1, 3, 2]);
+    assert_eq!(ts[1].grids, [3, 2, 0]);
     for t in &ts {
         let e = t.estimate().unwrap();
         assert!((e.p - 2.0).abs() < 1e-14);
