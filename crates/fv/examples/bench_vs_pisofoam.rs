@@ -40,7 +40,7 @@ fn main() {
     let tmp = std::env::temp_dir().join(format!("fv-bench-{n}"));
     let _ = std::fs::remove_dir_all(&tmp);
     let of = tmp.join("pisoFoam");
-    copy(&root, &of);
+    testkit::copy_dir(&root, &of);
     let _ = std::fs::remove_dir_all(of.join("0.5"));
     let _ = std::fs::remove_dir_all(of.join("constant/polyMesh"));
     edit(
@@ -74,7 +74,7 @@ fn main() {
     );
     run("blockMesh", &of);
     let ours = tmp.join("fv");
-    copy(&of, &ours);
+    testkit::copy_dir(&of, &ours);
     let log = run("pisoFoam", &of);
     let t = execution_times(&log);
     assert_eq!(t.len(), steps, "pisoFoam steps");
@@ -100,19 +100,6 @@ fn main() {
         native / piso,
         rayon::current_num_threads()
     );
-}
-
-fn copy(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let target = to.join(e.file_name());
-        if e.file_type().unwrap().is_dir() {
-            copy(&e.path(), &target);
-        } else {
-            std::fs::copy(e.path(), target).unwrap();
-        }
-    }
 }
 
 fn edit(path: &Path, from: &str, to: &str) {
