@@ -44,7 +44,10 @@ fn liggghts_loop_time(log: &Path) -> Result<(f64, f64), String> {
 fn run() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.len() < 2 {
-        return Err("usage: pour_compare DECK LIGGGHTS_DUMP [--log LOG] [--half-width W] [-var N V]…".into());
+        return Err(
+            "usage: pour_compare DECK LIGGGHTS_DUMP [--log LOG] [--half-width W] [-var N V]…"
+                .into(),
+        );
     }
     let deck_path = PathBuf::from(&args[0]);
     let reference = PathBuf::from(&args[1]);
@@ -103,11 +106,13 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let b_nat = bed_of(&nat)?;
     println!("LIGGGHTS: {b_lig:?}");
     println!("native:   {b_nat:?}");
-    let [top, phi, h] = bed::relative(&b_nat, &b_lig);
+    let [top, phi, slab, h] = bed::relative(&b_nat, &b_lig);
     println!(
-        "native vs LIGGGHTS: top {:+.2} %, core solid fraction {:+.2} %, packed height {:+.2} %",
+        "native vs LIGGGHTS: top {:+.2} %, core solid fraction {:+.2} %, slab solid fraction \
+         {:+.2} %, packed height {:+.2} %",
         100.0 * top,
         100.0 * phi,
+        100.0 * slab,
         100.0 * h
     );
     let steps = sim.step() as f64;

@@ -38,7 +38,11 @@ fn mass(r: f64, rho: f64) -> f64 {
 
 #[test]
 fn hertz_integral_is_johnsons_constant() {
-    assert!((hertz_integral() - 1.4716).abs() < 1e-4, "{}", hertz_integral());
+    assert!(
+        (hertz_integral() - 1.4716).abs() < 1e-4,
+        "{}",
+        hertz_integral()
+    );
 }
 
 /// Two equal spheres meet head-on (e = 1): duration of contact and maximum overlap vs Hertz,
@@ -74,7 +78,10 @@ fn hertz_pair_impact_duration_and_overlap() {
     let t = in_contact as f64 * dt;
     eprintln!("contact time {t:.6e} s (Hertz {tc:.6e} s), overlap {max_overlap:.6e} m (Hertz {dmax:.6e} m)");
     assert!((t / tc - 1.0).abs() < 1e-3, "contact {t} s, Hertz {tc} s");
-    assert!((max_overlap / dmax - 1.0).abs() < 1e-3, "{max_overlap} vs {dmax}");
+    assert!(
+        (max_overlap / dmax - 1.0).abs() < 1e-3,
+        "{max_overlap} vs {dmax}"
+    );
     // elastic: the spheres separate with the speed they came with
     assert!((s.particles.v[1][0] - 0.5 * v).abs() < 1e-6 * v);
     assert!((s.particles.v[0][0] + 0.5 * v).abs() < 1e-6 * v);
@@ -138,7 +145,12 @@ fn free_fall_is_exact() {
 fn sphere_on_incline_rolls_below_and_slides_above_the_friction_limit() {
     let (r, rho, mu, g): (f64, f64, f64, f64) = (1e-3, 2500.0, 0.3, 9.81);
     let critical = (3.5 * mu).atan();
-    for theta in [0.5 * critical, 0.8 * critical, 1.3 * critical, 1.8 * critical] {
+    for theta in [
+        0.5 * critical,
+        0.8 * critical,
+        1.3 * critical,
+        1.8 * critical,
+    ] {
         let gv = [g * theta.sin(), 0.0, -g * theta.cos()];
         let mut s = sim(1e7, 0.3, 0.5, mu, gv, 2e-6);
         s.add_wall(plane(2, 0.0, ContactModel::default())).unwrap();
@@ -152,17 +164,37 @@ fn sphere_on_incline_rolls_below_and_slides_above_the_friction_limit() {
         s.run((t / 2e-6) as u64).unwrap();
         let p = &s.particles;
         let (v, w) = (p.v[0][0], p.omega[0][1]);
-        eprintln!("θ/θc {:.2}: v {v:.6} m/s, ωR {:.6} m/s", theta / critical, w * r);
+        eprintln!(
+            "θ/θc {:.2}: v {v:.6} m/s, ωR {:.6} m/s",
+            theta / critical,
+            w * r
+        );
         if theta < critical {
             let a = 5.0 / 7.0 * g * theta.sin();
-            assert!((v / (a * t) - 1.0).abs() < 0.01, "θ {theta}: v {v}, rolling {}", a * t);
+            assert!(
+                (v / (a * t) - 1.0).abs() < 0.01,
+                "θ {theta}: v {v}, rolling {}",
+                a * t
+            );
             // contact point velocity v − ωR (ω about +y rolls towards +x)
-            assert!((v - w * r).abs() < 0.01 * v, "θ {theta}: slip {}", v - w * r);
+            assert!(
+                (v - w * r).abs() < 0.01 * v,
+                "θ {theta}: slip {}",
+                v - w * r
+            );
         } else {
             let a = g * (theta.sin() - mu * theta.cos());
-            assert!((v / (a * t) - 1.0).abs() < 0.01, "θ {theta}: v {v}, sliding {}", a * t);
+            assert!(
+                (v / (a * t) - 1.0).abs() < 0.01,
+                "θ {theta}: v {v}, sliding {}",
+                a * t
+            );
             let wdot = 5.0 * mu * g * theta.cos() / (2.0 * r);
-            assert!((w / (wdot * t) - 1.0).abs() < 0.01, "θ {theta}: ω {w} vs {}", wdot * t);
+            assert!(
+                (w / (wdot * t) - 1.0).abs() < 0.01,
+                "θ {theta}: ω {w} vs {}",
+                wdot * t
+            );
         }
     }
 }
@@ -183,7 +215,8 @@ fn energy_is_conserved_without_damping_and_friction() {
     let mut s = sim(e_mod, nu, 1.0, 0.0, [0.0, 0.0, -g], 2e-6);
     let l = 0.01;
     for axis in 0..3 {
-        s.add_wall(plane(axis, 0.0, ContactModel::default())).unwrap();
+        s.add_wall(plane(axis, 0.0, ContactModel::default()))
+            .unwrap();
         s.add_wall(plane(axis, l, ContactModel::default())).unwrap();
     }
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
@@ -191,7 +224,11 @@ fn energy_is_conserved_without_damping_and_friction() {
     for i in 0..4 {
         for j in 0..4 {
             for k in 0..4 {
-                let x = [0.0015 + 0.0023 * i as f64, 0.0015 + 0.0023 * j as f64, 0.0015 + 0.0023 * k as f64];
+                let x = [
+                    0.0015 + 0.0023 * i as f64,
+                    0.0015 + 0.0023 * j as f64,
+                    0.0015 + 0.0023 * k as f64,
+                ];
                 let v = [0, 1, 2].map(|_| rng.gen_range(-0.3..0.3));
                 ps.push(sphere(x, v, rng.gen_range(5e-4..9e-4), 2500.0));
             }
@@ -213,7 +250,10 @@ fn energy_is_conserved_without_damping_and_friction() {
                 }
             }
             for j in i + 1..p.len() {
-                let dist = (0..3).map(|k| (p.x[i][k] - p.x[j][k]).powi(2)).sum::<f64>().sqrt();
+                let dist = (0..3)
+                    .map(|k| (p.x[i][k] - p.x[j][k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
                 let d = p.radius[i] + p.radius[j] - dist;
                 if d > 0.0 {
                     let reff = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
@@ -236,7 +276,9 @@ fn energy_is_conserved_without_damping_and_friction() {
         // no friction: no torque, ever
         assert!(s.particles.omega.iter().all(|w| *w == [0.0; 3]));
     }
-    eprintln!("largest energy drift {drift:.3e} of KE₀, largest elastic energy {max_elastic:.3e} J");
+    eprintln!(
+        "largest energy drift {drift:.3e} of KE₀, largest elastic energy {max_elastic:.3e} J"
+    );
     assert!(drift < 1e-4, "energy drift {drift} of KE₀ {ke0}");
     // contacts did happen (stored elastic energy was seen)
     assert!(max_elastic > 1e-3 * ke0);
@@ -301,7 +343,10 @@ fn cdt_rolling_friction_decelerates_a_rolling_sphere() {
     let v = s.particles.v[0][0];
     let expect = v0 - 5.0 / 7.0 * mur * g * t;
     eprintln!("cdt: v {v:.6} m/s, expected {expect:.6} m/s");
-    assert!(((v0 - v) / (v0 - expect) - 1.0).abs() < 0.01, "v {v} vs {expect}");
+    assert!(
+        ((v0 - v) / (v0 - expect) - 1.0).abs() < 0.01,
+        "v {v} vs {expect}"
+    );
 }
 
 /// Coupling: a constant F_ext accelerates exactly (a = F/m); the implicit pair relaxes v to
@@ -311,19 +356,28 @@ fn coupling_forces_act_as_adr_0004_says() {
     let (r, rho) = (5e-4, 2000.0);
     let m = mass(r, rho);
     let mut s = sim(1e7, 0.3, 0.5, 0.5, [0.0; 3], 1e-5);
-    s.add_particles(&[sphere([0.0; 3], [0.0; 3], r, rho)]).unwrap();
-    s.set_coupling(&[[1e-5, 0.0, 0.0]], &[0.0], &[[0.0; 3]]).unwrap();
+    s.add_particles(&[sphere([0.0; 3], [0.0; 3], r, rho)])
+        .unwrap();
+    s.set_coupling(&[[1e-5, 0.0, 0.0]], &[0.0], &[[0.0; 3]])
+        .unwrap();
     s.run(1000).unwrap();
     let t = 1000.0 * 1e-5;
     assert!((s.particles.v[0][0] - 1e-5 / m * t).abs() < 1e-12);
     let beta = 0.02 * m / 1e-5; // β dt/m = 0.02
     s.particles.v[0] = [0.0; 3];
     s.invalidate_forces();
-    s.set_coupling(&[[0.0; 3]], &[beta], &[[0.0, 0.1, 0.0]]).unwrap();
+    s.set_coupling(&[[0.0; 3]], &[beta], &[[0.0, 0.1, 0.0]])
+        .unwrap();
     s.run(100).unwrap();
     let expect = 0.1 * (1.0 - (-beta * 100.0 * 1e-5 / m).exp());
-    assert!((s.particles.v[0][1] / expect - 1.0).abs() < 0.02, "{} vs {expect}", s.particles.v[0][1]);
-    let e = s.set_coupling(&[[0.0; 3]], &[300.0 * m / 1e-5], &[[0.0; 3]]).unwrap_err();
+    assert!(
+        (s.particles.v[0][1] / expect - 1.0).abs() < 0.02,
+        "{} vs {expect}",
+        s.particles.v[0][1]
+    );
+    let e = s
+        .set_coupling(&[[0.0; 3]], &[300.0 * m / 1e-5], &[[0.0; 3]])
+        .unwrap_err();
     assert!(e.to_string().contains("particle 1"), "{e}");
     let e = s.set_coupling(&[], &[], &[]).unwrap_err();
     assert!(e.to_string().contains("1 particles"), "{e}");
@@ -334,7 +388,10 @@ fn coupling_forces_act_as_adr_0004_says() {
 #[test]
 fn results_are_reproducible_for_a_thread_count() {
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| {
             let inp = MaterialInput {
                 youngs_modulus: vec![1e7, 2e7],
@@ -369,7 +426,12 @@ fn results_are_reproducible_for_a_thread_count() {
                 let rad = 0.0045 * ((k % 20) as f64 / 20.0).sqrt();
                 ps.push(NewParticle {
                     atom_type: 1 + (k % 2) as u32,
-                    ..sphere([rad * a.cos(), rad * a.sin(), 0.001 + 0.0011 * h], [0.0; 3], 5e-4, 2500.0)
+                    ..sphere(
+                        [rad * a.cos(), rad * a.sin(), 0.001 + 0.0011 * h],
+                        [0.0; 3],
+                        5e-4,
+                        2500.0,
+                    )
                 });
             }
             s.add_particles(&ps).unwrap();

@@ -11,6 +11,9 @@ pub struct Bed {
     /// Solid fraction in the core of the bed: |x|, |y| < w − 2d_max, 2d_max < z < top − 3d_max,
     /// from exact sphere ∩ box volumes (voidage's closed form).
     pub core_solid_fraction: f64,
+    /// Solid fraction of the slab d_max/2 < z < top − d_max over the whole box section (wall
+    /// layers included; the measure for narrow beds).
+    pub slab_solid_fraction: f64,
     /// Σ sphere volumes / (box area × core solid fraction) (m): the height the bed would have
     /// at the core packing everywhere.
     pub packed_height: f64,
@@ -35,20 +38,33 @@ pub fn measure(x: &[[f64; 3]], r: &[f64], w: f64) -> Bed {
         .sum();
     let core = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
     let phi = solid / core;
-    let total: f64 = r.iter().map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3)).sum();
+    let (slo, shi) = ([-w, -w, 0.5 * d], [w, w, top - d]);
+    let slab: f64 = x
+        .iter()
+        .zip(r)
+        .map(|(p, &r)| voidage::sphere_box_volume(*p, r, slo, shi))
+        .sum();
+    let slab_phi = slab / (4.0 * w * w * (shi[2] - slo[2]));
+    let total: f64 = r
+        .iter()
+        .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+        .sum();
     Bed {
         top,
         core_solid_fraction: phi,
+        slab_solid_fraction: slab_phi,
         packed_height: total / (4.0 * w * w * phi),
         n,
     }
 }
 
-/// Relative differences (native / reference − 1) of top, solid fraction and packed height.
-pub fn relative(native: &Bed, reference: &Bed) -> [f64; 3] {
+/// Relative differences (native / reference − 1) of top, core and slab solid fractions and
+/// packed height.
+pub fn relative(native: &Bed, reference: &Bed) -> [f64; 4] {
     [
         native.top / reference.top - 1.0,
         native.core_solid_fraction / reference.core_solid_fraction - 1.0,
+        native.slab_solid_fraction / reference.slab_solid_fraction - 1.0,
         native.packed_height / reference.packed_height - 1.0,
     ]
 }

@@ -2,6 +2,8 @@
 
 #![allow(dead_code)]
 
+pub mod bed;
+
 use dem::contact::ContactModel;
 use dem::material::{MaterialInput, Materials};
 use dem::particles::NewParticle;
@@ -10,7 +12,12 @@ use dem::{SimBox, SimConfig, Simulation};
 
 /// A simulation with one material (E, ν, e, μ), no walls, gravity `g`, time step `dt`.
 pub fn sim(e_mod: f64, nu: f64, e: f64, mu: f64, g: [f64; 3], dt: f64) -> Simulation {
-    sim_with(MaterialInput::single(e_mod, nu, e, mu), ContactModel::default(), g, dt)
+    sim_with(
+        MaterialInput::single(e_mod, nu, e, mu),
+        ContactModel::default(),
+        g,
+        dt,
+    )
 }
 
 /// A simulation with the given materials and contact model.

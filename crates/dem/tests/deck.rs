@@ -1,0 +1,201 @@
+//! Decks: the reference cases' decks (`openfoam-cases/*/DEM/`) run natively; dumps written
+//! through dem-io read back; unsupported or bad input names the file, line and command.
+
+use std::path::Path;
+
+use dem::deck::Deck;
+use dem::Simulation;
+use dem_io::{read_snapshot, DumpFormat, ReadOptions, Selection};
+
+fn case_deck(rel: &str) -> std::path::PathBuf {
+    testkit::repo_root().join("openfoam-cases").join(rel)
+}
+
+fn vars(v: &[(&str, &str)]) -> Vec<(String, String)> {
+    v.iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect()
+}
+
+#[test]
+fn ergun_decks_pack_then_couple() {
+    let dir = tempfile::tempdir().unwrap();
+    let init = Deck::read_with_vars(
+        case_deck("ergun/DEM/in.liggghts_init"),
+        &vars(&[("np", "150"), ("tsettle", "400")]),
+    )
+    .unwrap();
+    assert!(init.coupling().is_none());
+    let sim = Simulation::from_deck(&init, dir.path()).unwrap();
+    assert_eq!(sim.particles.len(), 150);
+    assert_eq!(sim.step(), 400);
+    // inserted inside the insertion cylinder (r = 12 mm) and kept by the walls
+    for x in &sim.particles.x {
+        assert!(x[0].hypot(x[1]) < 0.0138 && x[2] > 0.0 && x[2] < 0.0553);
+    }
+    assert!(sim.particles.radius.iter().all(|&r| r == 0.0005));
+    assert!(dir.path().join("post/packed.data").is_file());
+
+    let run = Deck::read(case_deck("ergun/DEM/in.liggghts_run")).unwrap();
+    let c = run.coupling().expect("the run deck is coupled");
+    assert_eq!(c.couple_every, 50);
+    assert!(c.implicit && c.has_force_fix);
+    let mut sim2 = Simulation::from_deck(&run, dir.path()).unwrap();
+    assert_eq!(sim2.step(), 0);
+    assert_eq!(sim2.particles.id, sim.particles.id);
+    for (a, b) in sim2.particles.x.iter().zip(&sim.particles.x) {
+        for k in 0..3 {
+            assert!(
+                (a[k] - b[k]).abs() <= 1e-15 * b[k].abs().max(1e-3),
+                "{a:?} {b:?}"
+            );
+        }
+    }
+    // the coupler's part: a drag pair, then DEM steps
+    let n = sim2.particles.len();
+    sim2.set_coupling(
+        &vec![[0.0; 3]; n],
+        &vec![1e-4; n],
+        &vec![[0.0, 0.0, 0.01]; n],
+    )
+    .unwrap();
+    sim2.run(50).unwrap();
+    assert_eq!(sim2.step(), 50);
+}
+
+#[test]
+fn settling_deck_makes_one_coupled_sphere() {
+    let dir = tempfile::tempdir().unwrap();
+    let deck = Deck::read(case_deck("settling/DEM/in.liggghts_run")).unwrap();
+    let c = deck.coupling().unwrap();
+    assert_eq!(c.couple_every, 100);
+    assert!(!c.implicit && c.has_force_fix);
+    let mut sim = Simulation::from_deck(&deck, dir.path()).unwrap();
+    let p = &sim.particles;
+    assert_eq!(p.len(), 1);
+    assert_eq!(p.radius[0], 5e-5);
+    assert_eq!(p.density[0], 3000.0);
+    assert_eq!(p.x[0], [0.00625, 0.04375, 0.00625]);
+    // gravity along −y: free fall for 1000 steps of 1e-5 s, v = −g t exactly
+    sim.run(1000).unwrap();
+    assert!((sim.particles.v[0][1] + 9.81 * 0.01).abs() < 1e-12);
+    assert_eq!(sim.particles.v[0][0], 0.0);
+}
+
+const SMALL: &str = "\
+atom_style granular
+atom_modify map array
+boundary f f f
+newton off
+units si
+region box block 0 0.01 0 0.01 0 0.01 units box
+create_box 1 box
+neighbor 0.0002 bin
+fix m1 all property/global youngsModulus peratomtype 5.e6
+fix m2 all property/global poissonsRatio peratomtype 0.45
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+pair_style gran model hertz tangential history
+pair_coeff * *
+timestep 1e-5
+fix g all gravity 9.81 vector 0 0 -1
+fix floor all wall/gran model hertz tangential history primitive type 1 zplane 0
+create_atoms 1 single 0.005 0.005 0.002 units box
+create_atoms 1 single 0.005 0.005 0.004 units box
+set group all diameter 0.001 density 2500
+fix integr all nve/sphere
+";
+
+#[test]
+fn dumps_read_back_with_dem_io() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = format!(
+        "{SMALL}dump t all custom 50 post/a.txt id type x y z vx vy vz fx fy fz omegax omegay omegaz radius mass\n\
+         dump b all custom 100 post/b.bin id type x y z vx vy vz radius\n\
+         dump s all custom 100 post/s_*.txt id x z diameter density\n\
+         dump_modify s sort id\nrun 200\n"
+    );
+    let deck = Deck::parse(&src, Path::new("mem.in"), &[]).unwrap();
+    let sim = Simulation::from_deck(&deck, dir.path()).unwrap();
+    let opts = ReadOptions::default();
+    let t = read_snapshot(dir.path().join("post/a.txt"), &opts, Selection::Last).unwrap();
+    assert_eq!(t.timestep, 200);
+    let p = t.particles().unwrap();
+    assert_eq!(p.id, sim.particles.id);
+    assert_eq!(p.position, sim.particles.x);
+    assert_eq!(p.velocity, sim.particles.v);
+    assert_eq!(p.force.unwrap(), sim.particles.f);
+    assert_eq!(p.mass.unwrap(), sim.particles.mass);
+    // snapshots at 0, 50, 100, 150, 200
+    let mut r = dem_io::DumpReader::open(dir.path().join("post/a.txt"), &opts).unwrap();
+    let mut steps = Vec::new();
+    while let Some(h) = r.next_header().unwrap() {
+        steps.push(h.timestep);
+    }
+    assert_eq!(steps, [0, 50, 100, 150, 200]);
+    assert_eq!(
+        DumpFormat::from_path(Path::new("b.bin")),
+        DumpFormat::Binary
+    );
+    let bopts = ReadOptions {
+        binary_columns: ["id", "type", "x", "y", "z", "vx", "vy", "vz", "radius"]
+            .map(String::from)
+            .to_vec(),
+        ..Default::default()
+    };
+    let b = read_snapshot(dir.path().join("post/b.bin"), &bopts, Selection::Last).unwrap();
+    assert_eq!(b.particles().unwrap().position, sim.particles.x);
+    let s = read_snapshot(dir.path().join("post/s_200.txt"), &opts, Selection::Last).unwrap();
+    assert_eq!(s.column("diameter").unwrap(), [0.001, 0.001]);
+    assert!(dir.path().join("post/s_100.txt").is_file());
+}
+
+fn deck_error(src: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    match Deck::parse(src, Path::new("bad.in"), &[]) {
+        Err(e) => e.to_string(),
+        Ok(d) => Simulation::from_deck(&d, dir.path())
+            .expect_err("the deck should fail")
+            .to_string(),
+    }
+}
+
+#[test]
+fn bad_decks_name_file_line_and_command() {
+    let e = deck_error(&format!("{SMALL}fix p all pour 100 1 1\nrun 1\n"));
+    assert!(e.starts_with("bad.in:22: `fix pour`"), "{e}");
+    assert!(e.contains("not supported"), "{e}");
+    let e = deck_error(&format!("{SMALL}write_restart x.restart\n"));
+    assert!(e.starts_with("bad.in:22: `write_restart`"), "{e}");
+    let e = deck_error(&SMALL.replace("boundary f f f", "boundary p p f"));
+    assert!(e.contains("bad.in:3") && e.contains("periodic"), "{e}");
+    let e = deck_error(&SMALL.replace("timestep 1e-5", "timestep 1e-5x"));
+    assert!(
+        e.contains("bad.in:15: `timestep`") && e.contains("1e-5x"),
+        "{e}"
+    );
+    let e = deck_error(&SMALL.replace(
+        "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n",
+        "",
+    ));
+    assert!(e.contains("coefficientFriction"), "{e}");
+    let e = deck_error(&format!("{SMALL}run 1\n").replace(
+        "youngsModulus peratomtype 5.e6",
+        "youngsModulus peratomtype 1e5",
+    ));
+    assert!(
+        e.contains("bad.in:22: `run`") && e.contains("soft_particles"),
+        "{e}"
+    );
+    let e = deck_error(&SMALL.replace("zplane 0", "zplane 0 temperature 300"));
+    assert!(
+        e.contains("bad.in:17: `fix wall/gran`") && e.contains("temperature"),
+        "{e}"
+    );
+    let e = deck_error(&format!("{SMALL}dump d all custom 10 x.txt id q\n"));
+    assert!(e.contains("column `q`"), "{e}");
+    let e = deck_error(&format!("{SMALL}run 10 every 5 \"print x\"\n"));
+    assert!(e.contains("every"), "{e}");
+    let e = deck_error("units lj\n");
+    assert!(e.starts_with("bad.in:1: `units`"), "{e}");
+}
