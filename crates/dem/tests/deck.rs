@@ -199,3 +199,43 @@ fn bad_decks_name_file_line_and_command() {
     let e = deck_error("units lj\n");
     assert!(e.starts_with("bad.in:1: `units`"), "{e}");
 }
+
+/// The dem-io fixture `settle.txt` (LIGGGHTS, 200 spheres of ρ 2500 and 2000 with a `mass`
+/// column) gives back its densities, and the particles run in a simulation.
+#[test]
+fn particles_from_a_liggghts_dump() {
+    let snap = read_snapshot(
+        testkit::fixture("liggghts/settle.txt"),
+        &ReadOptions::default(),
+        Selection::Last,
+    )
+    .unwrap();
+    let ps = dem::from_dump::particles_from_snapshot(&snap, &[]).unwrap();
+    assert_eq!(ps.len(), 200);
+    for p in &ps {
+        let want = if p.radius == 0.0005 { 2500.0 } else { 2000.0 };
+        assert!(
+            (p.density / want - 1.0).abs() < 1e-12,
+            "{} {}",
+            p.radius,
+            p.density
+        );
+    }
+    let no_density = snap.clone().into_columns();
+    let keep: Vec<usize> = (0..no_density.0.len())
+        .filter(|&k| no_density.0[k] != "mass")
+        .collect();
+    let s2 = dem_io::Snapshot::new(
+        snap.timestep,
+        snap.bounds,
+        keep.iter().map(|&k| no_density.0[k].clone()).collect(),
+        keep.iter().map(|&k| no_density.1[k].clone()).collect(),
+    )
+    .unwrap();
+    let e = dem::from_dump::particles_from_snapshot(&s2, &[]).unwrap_err();
+    assert!(e.to_string().contains("no density"), "{e}");
+    assert_eq!(
+        dem::from_dump::particles_from_snapshot(&s2, &[1000.0]).unwrap()[0].density,
+        1000.0
+    );
+}
