@@ -88,7 +88,7 @@ impl PairList {
     pub fn ensure(&mut self, x: &[V3], radius: &[f64]) -> bool {
         let need = !self.valid || self.x_build.len() != x.len() || {
             let lim = 0.25 * self.skin * self.skin;
-            x.par_iter().zip(&self.x_build).any(|(a, b)| {
+            x.iter().zip(&self.x_build).any(|(a, b)| {
                 let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
                 d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > lim
             })

@@ -350,7 +350,7 @@ impl Simulation {
         }
         if !self.forces_valid {
             self.pairs.ensure(&self.particles.x, &self.particles.radius);
-            self.compute_forces(false);
+            self.compute_forces(false, None);
         }
         self.write_dumps()
     }
@@ -371,47 +371,30 @@ impl Simulation {
         let dt = self.dt;
         let half = 0.5 * dt;
         {
+            // sequential: a few flops per particle, cheaper than a parallel region
             let p = &mut self.particles;
             let (m, r, f, t) = (&p.mass, &p.radius, &p.f, &p.torque);
-            p.x.par_iter_mut()
-                .zip(p.v.par_iter_mut())
-                .zip(p.omega.par_iter_mut())
-                .enumerate()
-                .for_each(|(i, ((x, v), w))| {
-                    let a = half / m[i];
-                    let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
-                    for k in 0..3 {
-                        v[k] += a * f[i][k];
-                        x[k] += dt * v[k];
-                        w[k] += ai * t[i][k];
-                    }
-                });
+            for (i, ((x, v), w)) in p.x.iter_mut().zip(&mut p.v).zip(&mut p.omega).enumerate() {
+                let a = half / m[i];
+                let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
+                for k in 0..3 {
+                    v[k] += a * f[i][k];
+                    x[k] += dt * v[k];
+                    w[k] += ai * t[i][k];
+                }
+            }
         }
         self.step += 1;
         self.remove_lost();
         self.pairs.ensure(&self.particles.x, &self.particles.radius);
-        self.compute_forces(true);
-        {
-            let p = &mut self.particles;
-            let (m, r, f, t) = (&p.mass, &p.radius, &p.f, &p.torque);
-            p.v.par_iter_mut()
-                .zip(p.omega.par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (v, w))| {
-                    let a = half / m[i];
-                    let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
-                    for k in 0..3 {
-                        v[k] += a * f[i][k];
-                        w[k] += ai * t[i][k];
-                    }
-                });
-        }
+        // forces, then the second half kick in the same pass
+        self.compute_forces(true, Some(half));
         self.write_dumps()
     }
 
     fn remove_lost(&mut self) {
         let b = self.sim_box;
-        if !self.particles.x.par_iter().any(|&x| b.loses(x)) {
+        if !self.particles.x.iter().any(|&x| b.loses(x)) {
             return;
         }
         let keep: Vec<bool> = self.particles.x.iter().map(|&x| !b.loses(x)).collect();
@@ -424,8 +407,9 @@ impl Simulation {
         self.coupling.remap(&map);
     }
 
-    /// Evaluates all forces and torques into `particles.f`, `particles.torque`.
-    fn compute_forces(&mut self, update_history: bool) {
+    /// Evaluates all forces and torques into `particles.f`, `particles.torque`; with
+    /// `kick = Some(dt/2)` also applies the second half kick of velocity Verlet.
+    fn compute_forces(&mut self, update_history: bool, kick: Option<f64>) {
         let dt = self.dt;
         let model = self.pair_model;
         let mats = &self.materials;
@@ -506,10 +490,13 @@ impl Simulation {
         let coupling = &self.coupling;
         let g = self.gravity;
         let p = &mut self.particles;
-        let (x, v, w, r, m, ty) = (&p.x, &p.v, &p.omega, &p.radius, &p.mass, &p.atom_type);
+        let (x, r, m, ty) = (&p.x, &p.radius, &p.mass, &p.atom_type);
         let wall_hist = &mut self.wall_hist;
-        let gather = |i: usize, f: &mut V3, t: &mut V3, wh: &mut [History]| {
-            let mut ff = v3::add(v3::scale(m[i], g), coupling.force(i, v[i]));
+        let gather = |i: usize,
+                      (f, t): (&mut V3, &mut V3),
+                      (v, w): (&mut V3, &mut V3),
+                      wh: &mut [History]| {
+            let mut ff = v3::add(v3::scale(m[i], g), coupling.force(i, *v));
             let mut tt = [0.0; 3];
             for a in acc {
                 ff = v3::add(ff, a[i][0]);
@@ -529,8 +516,8 @@ impl Simulation {
                     radj: 0.0,
                     reff: r[i],
                     meff: m[i],
-                    vrel: v[i],
-                    omega_i: w[i],
+                    vrel: *v,
+                    omega_i: *w,
                     omega_j: [0.0; 3],
                     is_wall: true,
                 };
@@ -541,20 +528,28 @@ impl Simulation {
             }
             *f = ff;
             *t = tt;
+            if let Some(half) = kick {
+                let a = half / m[i];
+                let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
+                for k in 0..3 {
+                    v[k] += a * ff[k];
+                    w[k] += ai * tt[k];
+                }
+            }
         };
+        let ft = p.f.par_iter_mut().zip(p.torque.par_iter_mut());
+        let vw = p.v.par_iter_mut().zip(p.omega.par_iter_mut());
         if nw == 0 {
-            p.f.par_iter_mut()
-                .zip(p.torque.par_iter_mut())
+            ft.zip(vw)
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, (f, t))| gather(i, f, t, &mut []));
+                .for_each(|(i, (a, b))| gather(i, a, b, &mut []));
         } else {
-            p.f.par_iter_mut()
-                .zip(p.torque.par_iter_mut())
+            ft.zip(vw)
                 .zip(wall_hist.par_chunks_mut(nw))
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, ((f, t), wh))| gather(i, f, t, wh));
+                .for_each(|(i, ((a, b), wh))| gather(i, a, b, wh));
         }
         self.forces_valid = true;
     }
