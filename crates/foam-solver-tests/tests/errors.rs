@@ -59,6 +59,6 @@ fn an_unknown_coupling_source_is_refused_listing_the_valid_ones() {
                 "couplingInterval 1;\ngrainPisoFoamProps { couplingSource mpi; }",
             )
         },
-        &["couplingSource", "\"mpi\"", "valid: frozen"],
+        &["couplingSource", "\"mpi\"", "valid: frozen, prescribed"],
     );
 }
