@@ -6,6 +6,7 @@ mod convert;
 mod couple;
 mod gci;
 mod info;
+mod run;
 mod timestep;
 mod voidage;
 
@@ -33,6 +34,9 @@ enum Command {
     Couple(couple::CoupleArgs),
     /// DEM, CFD and coupling time-step advice (Rayleigh, Hertz, relaxation time, CFL).
     Timestep(timestep::TimestepArgs),
+    /// Run a coupled CFD-DEM case (CFDEM layout: CASE/CFD, CASE/DEM) and check it against
+    /// its references (CASE/validationDict).
+    Run(run::RunArgs),
     /// Grid Convergence Index (Celik et al. 2008) of a grid-refinement study from a CSV table.
     Gci(gci::GciArgs),
 }
@@ -45,6 +49,7 @@ fn main() {
         Command::Voidage(a) => voidage::run(&a),
         Command::Couple(a) => couple::run(&a),
         Command::Timestep(a) => timestep::run(&a),
+        Command::Run(a) => run::run(&a),
         Command::Gci(a) => gci::run(&a),
     };
     if let Err(e) = result {

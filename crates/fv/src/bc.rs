@@ -324,6 +324,33 @@ pub fn read_velocity(
     })
 }
 
+/// Reads the voidage boundary values of every patch from `voidfraction`'s boundaryField:
+/// `fixedValue` gives ε per face (each in (0, 1]), `zeroGradient`/`calculated`/`slip`/
+/// `symmetry`/`empty` mean "the owner cell's ε" (`None`). CFDEM cases set inlets and outlets
+/// to `fixedValue 1`: the velocity there is then superficial (fluid without particles).
+pub fn read_voidage(
+    file: &Path,
+    field: &foam::VolField,
+    mesh: &foam::PolyMesh,
+    g: &FvGeometry,
+) -> Result<Vec<Option<Vec<f64>>>> {
+    read_all(file, field, mesh, g, |e, t| match t {
+        "fixedValue" => {
+            let v = e.values("value", Item::as_f64, Item::as_f64_list)?;
+            if let Some(bad) = v.iter().find(|x| !(**x > 0.0 && **x <= 1.0)) {
+                return Err(e.err("value", format!("voidage {bad} is not in (0, 1]")));
+            }
+            Ok((Some(v), false))
+        }
+        "zeroGradient" | "calculated" | "slip" | "symmetryPlane" | "symmetry" => Ok((None, false)),
+        "empty" => Ok((None, true)),
+        _ => Err(e.unsupported(
+            t,
+            "fixedValue, zeroGradient, calculated, slip, symmetry, empty",
+        )),
+    })
+}
+
 /// Reads the pressure conditions of every patch from `p`'s boundaryField.
 pub fn read_pressure(
     file: &Path,

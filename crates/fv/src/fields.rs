@@ -22,6 +22,9 @@ pub struct CaseFields {
     pub u_bc: Vec<VelocityBc>,
     /// Pressure conditions per patch.
     pub p_bc: Vec<PressureBc>,
+    /// Voidage boundary values per patch from `voidfraction` if the start time has one
+    /// (`None`: the owner cell's ε; also for every patch without the file).
+    pub eps_bc: Vec<Option<Vec<f64>>>,
 }
 
 fn internal(path: &Path, f: &VolField, n: usize) -> Result<FieldValues> {
@@ -51,6 +54,12 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
     };
     let u_bc = bc::read_velocity(&u_path, &u_file, mesh, g)?;
     let p_bc = bc::read_pressure(&p_path, &p_file, mesh, g)?;
+    let eps_path = dir.join("voidfraction");
+    let eps_bc = if eps_path.is_file() {
+        bc::read_voidage(&eps_path, &VolField::read(&eps_path)?, mesh, g)?
+    } else {
+        vec![None; g.patches.len()]
+    };
     Ok(CaseFields {
         u_file,
         p_file,
@@ -58,5 +67,6 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
         p,
         u_bc,
         p_bc,
+        eps_bc,
     })
 }

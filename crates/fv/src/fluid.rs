@@ -60,6 +60,16 @@ pub struct Fluid {
     pub model: Model,
     /// Include ∂ε/∂t in the pressure equation.
     pub ddt_voidage: bool,
+    /// Resistance-consistent faces for porous jumps (default false: OpenFOAM's linear form).
+    /// When true, the face flux coefficient is the harmonic mean of the cells' γ = εκ
+    /// (κ = κ_p/A, κ_p = ε for model A, 1 for B), 1/γ_f = w/γ_P + (1−w)/γ_N, the predicted
+    /// flux is γ_f (HbyA/κ)_f·S, and the face pressure of the cell gradient that corrects U is
+    /// the flux-continuous one, p_f = (w γ_P p_P + (1−w) γ_N p_N)/(w γ_P + (1−w) γ_N) (w the
+    /// linear weight of the owner). Both reduce to the linear forms where κ is uniform; where Ksl jumps by orders of
+    /// magnitude (the surface of a packed bed) they keep the half-cell resistances in series, so
+    /// the pressure drop of a bed of N cells is that of N cells, not N − 1 (Patankar,
+    /// Numerical Heat Transfer and Fluid Flow, 1980, §4.2-3).
+    pub harmonic_faces: bool,
     case: Case,
     g: FvGeometry,
     u_bc: Vec<VelocityBc>,
@@ -79,6 +89,8 @@ pub struct Fluid {
     ksl: Vec<f64>,
     us: Vec<V3>,
     force: Vec<V3>,
+    /// Prescribed boundary voidage per patch (`None`: the owner's ε), from `voidfraction`.
+    eps_bc: Vec<Option<Vec<f64>>>,
     /// Laplacian delta coefficient per face for the chosen snGrad scheme.
     lap_dc: Vec<f64>,
 }
@@ -127,6 +139,7 @@ impl Fluid {
         let mut fl = Fluid {
             model: Model::A,
             ddt_voidage: true,
+            harmonic_faces: false,
             time: settings.start_time,
             time_index: 0,
             settings,
@@ -144,6 +157,7 @@ impl Fluid {
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
+            eps_bc: fields.eps_bc,
             u_file: fields.u_file,
             p_file: fields.p_file,
             u: fields.u,
@@ -270,13 +284,22 @@ impl Fluid {
         Ok(())
     }
 
-    /// ε at every face: linear interpolation inside, the owner's value on boundary faces.
+    /// ε at every face: linear interpolation inside; on boundary faces the `voidfraction`
+    /// file's fixed value where it has one (CFDEM's inlets and outlets: 1), else the owner's.
     fn eps_faces(&self, eps: &[f64]) -> Vec<f64> {
-        let b: Vec<f64> = self.g.owner[self.g.n_internal..]
+        let g = &self.g;
+        let mut b: Vec<f64> = g.owner[g.n_internal..]
             .iter()
             .map(|&o| eps[o as usize])
             .collect();
-        fvc::interpolate(&self.g, Field::new(eps, &b))
+        for (patch, fixed) in g.patches.iter().zip(&self.eps_bc) {
+            if let Some(v) = fixed {
+                for (k, f) in patch.faces.clone().enumerate() {
+                    b[f - g.n_internal] = v[k];
+                }
+            }
+        }
+        fvc::interpolate(g, Field::new(eps, &b))
     }
 
     /// φ = ε_f U_f·S with U_f linearly interpolated (boundary: U_b).
@@ -433,7 +456,19 @@ impl Fluid {
             .map(|&o| kappa[o as usize])
             .collect();
         let kappa_f = fvc::interpolate(g, Field::new(&kappa, &kappa_b));
-        let gamma: Vec<f64> = (0..g.n_faces()).map(|f| ef[f] * kappa_f[f]).collect();
+        // γ_c = ε_c κ_c: the cell's flux coefficient (φ = γ (H/κ − ∇p)·S).
+        let gam_c: Vec<f64> = (0..n).map(|c| self.eps[c] * kappa[c]).collect();
+        let gamma: Vec<f64> = (0..g.n_faces())
+            .map(|f| {
+                if self.harmonic_faces && f < g.n_internal {
+                    let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                    let w = g.weight[f];
+                    1.0 / (w / gam_c[o] + (1.0 - w) / gam_c[nb_])
+                } else {
+                    ef[f] * kappa_f[f]
+                }
+            })
+            .collect();
         let gamma_b: Vec<f64> = gamma[g.n_internal..].to_vec();
         let erau: Vec<f64> = (0..n).map(|c| self.eps[c] * r_au[c]).collect();
         let erau_b: Vec<f64> = g.owner[g.n_internal..]
@@ -465,8 +500,30 @@ impl Fluid {
             let hb: Vec<V3> = (g.n_internal..g.n_faces())
                 .map(|f| hbya[g.owner[f] as usize])
                 .collect();
-            let hf = fvc::interpolate(g, Field::new(&hbya, &hb));
-            let mut phi_star = self.flux(&ef, &hf);
+            let mut phi_star = if self.harmonic_faces {
+                // φ* = γ_f (HbyA/κ)_f·S on internal faces: the driving term interpolated
+                // like the pressure gradient it balances (Fluid::harmonic_faces).
+                let ht: Vec<V3> = (0..n).map(|c| scale(1.0 / kappa[c], hbya[c])).collect();
+                let htb: Vec<V3> = (g.n_internal..g.n_faces())
+                    .map(|f| ht[g.owner[f] as usize])
+                    .collect();
+                let htf = fvc::interpolate(g, Field::new(&ht, &htb));
+                let hf = fvc::interpolate(g, Field::new(&hbya, &hb));
+                (0..g.n_faces())
+                    .map(|f| {
+                        if f < g.n_internal {
+                            gamma[f] * dot(htf[f], g.sf[f])
+                        } else if g.boundary_empty[f - g.n_internal] {
+                            0.0
+                        } else {
+                            ef[f] * dot(hf[f], g.sf[f])
+                        }
+                    })
+                    .collect()
+            } else {
+                let hf = fvc::interpolate(g, Field::new(&hbya, &hb));
+                self.flux(&ef, &hf)
+            };
             for f in 0..g.n_internal {
                 phi_star[f] += ddt_corr[f];
             }
@@ -569,7 +626,11 @@ impl Fluid {
             }
             self.p = p;
             self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained);
-            self.grad_p = fvc::grad_scalar(&self.g, &self.p, &self.p_b);
+            self.grad_p = if self.harmonic_faces {
+                flux_consistent_grad(&self.g, &self.p, &self.p_b, &gam_c)
+            } else {
+                fvc::grad_scalar(&self.g, &self.p, &self.p_b)
+            };
             for c in 0..n {
                 let k = kappa[c];
                 self.u[c] = sub(hbya[c], scale(k, self.grad_p[c]));
@@ -737,4 +798,34 @@ fn start_dir(case: &Case, start: f64) -> Result<std::path::PathBuf> {
                 format!("there is no time directory for {start}"),
             )
         })
+}
+
+/// Gauss gradient of the cell pressures `p` (boundary values `p_b`) with the flux-continuous
+/// face pressure of [`Fluid::harmonic_faces`] on internal faces: p_f weights each side by its
+/// flux coefficient γ = εκ over its distance to the face.
+fn flux_consistent_grad(g: &FvGeometry, p: &[f64], p_b: &[f64], kappa: &[f64]) -> Vec<V3> {
+    let mut sum = vec![[0.0; 3]; g.n_cells];
+    for f in 0..g.n_internal {
+        let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
+        let w = g.weight[f];
+        let (a, b) = (w * kappa[o], (1.0 - w) * kappa[nb]);
+        let pf = (a * p[o] + b * p[nb]) / (a + b);
+        for i in 0..3 {
+            sum[o][i] += pf * g.sf[f][i];
+            sum[nb][i] -= pf * g.sf[f][i];
+        }
+    }
+    for f in g.n_internal..g.n_faces() {
+        let o = g.owner[f] as usize;
+        let pf = p_b[f - g.n_internal];
+        for i in 0..3 {
+            sum[o][i] += pf * g.sf[f][i];
+        }
+    }
+    for (c, s) in sum.iter_mut().enumerate() {
+        for x in s.iter_mut() {
+            *x /= g.v[c];
+        }
+    }
+    sum
 }

@@ -4,8 +4,12 @@
 //! (integral quantities per coupling step as CSV, PNG plots) and the validation of a case against
 //! references computed from the case's own parameters and its measured bed.
 pub mod bed;
+pub mod checks;
 pub mod layout;
 pub mod native;
 pub mod plot;
 pub mod reference;
+pub mod run;
+pub mod sample;
+pub mod timed;
 pub mod validation;

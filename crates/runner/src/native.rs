@@ -33,6 +33,7 @@ impl NativeFluid {
         let mut fluid = Fluid::from_case(cfd)?;
         fluid.model = model;
         fluid.ddt_voidage = ddt_voidage;
+        fluid.harmonic_faces = true;
         let mesh = foam::Case::open(cfd)?.read_mesh()?;
         let n = mesh.n_cells;
         let div_tau = fluid.div_tau();
@@ -64,6 +65,11 @@ impl FluidSide for NativeFluid {
     }
 
     fn set_exchange(&mut self, fields: &ExchangeFields<'_>) -> Result<(), SideError> {
+        if self.steps_done == 0 {
+            // The start: the solver has seen no voidage yet; ∂ε/∂t starts from the first
+            // interval's old field, not from the ε = 1 the solver was created with.
+            self.eps_last.clone_from_slice(fields.voidage_old);
+        }
         self.eps_old.clone_from_slice(fields.voidage_old);
         self.eps_new.clone_from_slice(fields.voidage_new);
         self.fluid

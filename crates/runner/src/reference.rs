@@ -158,7 +158,16 @@ mod tests {
         let u = di_felice_terminal_speed(1e-4, 3000.0, 10.0, 1e-5, 9.81);
         assert!((u - 0.1286).abs() < 5e-5, "{u}");
         // The Di Felice ODE converges to it.
-        let h = settling_speed_history_with(&di_felice::beta, 1e-4, 3000.0, 10.0, 1e-5, 9.81, 1e-3, 0.5);
+        let h = settling_speed_history_with(
+            &di_felice::beta,
+            1e-4,
+            3000.0,
+            10.0,
+            1e-5,
+            9.81,
+            1e-3,
+            0.5,
+        );
         assert!((h.last().unwrap().1 - u).abs() < 1e-9, "{:?}", h.last());
         // Stokes' law: terminal speed (ρp − ρ) g d² / (18 μ) for the Stokes drag 3πμd.
         let stokes = |x: &DragInput| 3.0 * std::f64::consts::PI * x.mu * x.diameter;

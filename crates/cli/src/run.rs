@@ -1,0 +1,179 @@
+//! `foamgrain run CASE`: runs a coupled case and checks it against its references.
+
+use anyhow::{bail, Context};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use runner::run::{Event, RunOptions};
+use runner::validation::summary;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// The fluid backend.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FluidBackend {
+    /// The native Rust VANS PISO solver.
+    Native,
+    /// grainPisoFoam over MPI (Debian's OpenFOAM v1912).
+    Openfoam,
+}
+
+/// The particle backend.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DemBackend {
+    /// The native Rust DEM.
+    Native,
+    /// LIGGGHTS in-process (Debian's libliggghts).
+    Liggghts,
+}
+
+/// Arguments of `foamgrain run`.
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// The case directory (CFDEM layout: CFD/ with constant/couplingProperties, DEM/ with
+    /// in.liggghts_run and optionally in.liggghts_init, validationDict).
+    pub case: PathBuf,
+    /// Fluid backend.
+    #[arg(long, value_enum, default_value = "native")]
+    pub fluid: FluidBackend,
+    /// Particle backend.
+    #[arg(long, value_enum, default_value = "native")]
+    pub dem: DemBackend,
+    /// Number of threads (native backends) or MPI ranks (OpenFOAM); default: all cores.
+    #[arg(long)]
+    pub np: Option<usize>,
+    /// Stop at this simulated time instead of the controlDict's endTime (s).
+    #[arg(long)]
+    pub end_time: Option<f64>,
+    /// A variable for the packing deck, NAME=VALUE (as LIGGGHTS's `-var NAME VALUE`), e.g.
+    /// `--var np=2000`; repeatable.
+    #[arg(long = "var", value_name = "NAME=VALUE")]
+    pub vars: Vec<String>,
+    /// Run the packing deck again even if its output exists.
+    #[arg(long)]
+    pub repack: bool,
+}
+
+fn parse_vars(vars: &[String]) -> anyhow::Result<Vec<(String, String)>> {
+    vars.iter()
+        .map(|v| match v.split_once('=') {
+            Some((k, x)) if !k.is_empty() => Ok((k.to_owned(), x.to_owned())),
+            _ => bail!("--var {v}: expected NAME=VALUE"),
+        })
+        .collect()
+}
+
+/// Runs the command.
+pub fn run(a: &RunArgs) -> anyhow::Result<()> {
+    if a.fluid != FluidBackend::Native || a.dem != DemBackend::Native {
+        bail!(
+            "this build runs only --fluid native --dem native; the OpenFOAM (grainPisoFoam over \
+             MPI) and LIGGGHTS (libliggghts) backends are not available in it"
+        );
+    }
+    if let Some(n) = a.np {
+        if n == 0 {
+            bail!("--np must be at least 1");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("setting the thread count")?;
+    }
+    let opts = RunOptions {
+        end_time: a.end_time,
+        init_vars: parse_vars(&a.vars)?,
+        repack: a.repack,
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        ctrlc::set_handler(move || {
+            if stop.swap(true, Ordering::SeqCst) {
+                // A second Ctrl-C: leave at once.
+                std::process::exit(130);
+            }
+        })
+        .context("installing the Ctrl-C handler")?;
+    }
+    let tty = std::io::stderr().is_terminal();
+    let bar = tty.then(|| {
+        let b = ProgressBar::new(1000);
+        b.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:30} t = {msg} (ETA {eta})",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let mut last_log = std::time::Instant::now();
+    let mut on_event = |e: Event| match e {
+        Event::Message(m) => match &bar {
+            Some(b) => b.println(m),
+            None => eprintln!("{m}"),
+        },
+        Event::Step {
+            time,
+            end,
+            step,
+            steps,
+            sample,
+        } => {
+            if let Some(b) = &bar {
+                b.set_length(steps);
+                b.set_position(step);
+                b.set_message(format!(
+                    "{time:.5} / {end} s, Δp {:.2} Pa",
+                    sample.pressure_drop
+                ));
+            } else if step == steps || last_log.elapsed().as_secs_f64() >= 5.0 {
+                last_log = std::time::Instant::now();
+                eprintln!(
+                    "step {step}/{steps}: t = {time:.6} s, inlet {:.5} m/s, Δp {:.3} Pa, bed {:.5} m, KE {:.3e} J",
+                    sample.inlet_velocity, sample.pressure_drop, sample.bed_height, sample.kinetic_energy
+                );
+            }
+        }
+    };
+    let report = runner::run::run(&a.case, &opts, &stop, &mut on_event)
+        .with_context(|| format!("running {}", a.case.display()))?;
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let share = |x: f64| {
+        if report.loop_seconds > 0.0 {
+            100.0 * x / report.loop_seconds
+        } else {
+            0.0
+        }
+    };
+    eprintln!(
+        "{} coupling steps to t = {} s, {} particles, {} cells; packing {:.1} s, coupled loop {:.1} s: DEM {:.1} % fluid {:.1} % coupling {:.1} % output {:.1} %",
+        report.steps,
+        report.time,
+        report.particles,
+        report.cells,
+        report.init_seconds,
+        report.loop_seconds,
+        share(report.dem_seconds),
+        share(report.fluid_seconds),
+        share(report.coupling_seconds()),
+        share(report.output_seconds)
+    );
+    if report.stopped {
+        eprintln!("stopped early: no validation");
+        return Ok(());
+    }
+    print!("{}", summary(&report.checks));
+    let failed = report.checks.iter().filter(|c| !c.pass).count();
+    if failed > 0 {
+        bail!(
+            "{failed} of {} checks failed (see {})",
+            report.checks.len(),
+            a.case.join("postProcessing/validation.json").display()
+        );
+    }
+    Ok(())
+}

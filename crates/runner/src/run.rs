@@ -1,0 +1,539 @@
+//! `foamgrain run`: a coupled case on the native stack (native fluid + native DEM).
+//!
+//! 1. Stage 1 (packing): when the coupled deck reads a data file (`read_data FILE`) that does
+//!    not exist and `DEM/in.liggghts_init` does, the init deck is run natively first; it
+//!    writes that file.
+//! 2. Stage 2: the coupled deck builds the DEM, `CFD/` the fluid, `couplingProperties` the
+//!    coupler; `(endTime − startTime) / (couplingInterval · dt_DEM)` coupling steps follow.
+//! 3. After every step the integral quantities ([`Sample`]) are recorded; at the case's write
+//!    times the fluid (U, p), the exchange fields (voidfraction, Ksl, Us, f) and the particles
+//!    (`CASE/postProcessing/particles/*.vtp` + `.pvd`) are written, and the CSV
+//!    (`postProcessing/integrals.csv`) is rewritten.
+//! 4. A stop request (Ctrl-C) ends the loop after the current step; that step's time is then
+//!    written completely.
+//! 5. The case's `validationDict` decides the checks ([`crate::checks`]); they go to
+//!    `postProcessing/validation.json` with PNG plots.
+
+use crate::checks;
+use crate::layout::{CaseLayout, LayoutError, ValidationSpec};
+use crate::native::{NativeDem, NativeFluid};
+use crate::sample::{write_csv, Sample};
+use crate::timed::Timed;
+use crate::validation::{write_json, Check};
+use closures::model::ModelType;
+use couple::{Coupler, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
+use dem::deck::Deck;
+use dem::Simulation;
+use mesh::v3::{dot, V3};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Errors of a run; each names the file or the side it comes from.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The case layout or validationDict.
+    #[error(transparent)]
+    Layout(#[from] LayoutError),
+    /// The coupling configuration or a coupling step.
+    #[error(transparent)]
+    Couple(#[from] couple::CoupleError),
+    /// The native DEM (deck, setup, run).
+    #[error(transparent)]
+    Dem(#[from] dem::DemError),
+    /// The native fluid.
+    #[error("fluid: {0}")]
+    Fluid(couple::SideError),
+    /// A setting that cannot work together with another.
+    #[error("{file}: {message}")]
+    Setup {
+        /// The file with the offending setting.
+        file: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// Writing an output.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The output.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Writing a field.
+    #[error(transparent)]
+    Foam(#[from] foam::FoamError),
+    /// Writing particles.
+    #[error(transparent)]
+    Vtk(#[from] vtk::VtkError),
+    /// Drawing a plot.
+    #[error(transparent)]
+    Plot(#[from] crate::plot::PlotError),
+}
+
+/// Options of a run.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Stop at this simulated time instead of `endTime`.
+    pub end_time: Option<f64>,
+    /// Variables for the init deck (`-var NAME VALUE`, e.g. a smaller particle count).
+    pub init_vars: Vec<(String, String)>,
+    /// Pack again even if the packed-bed file exists.
+    pub repack: bool,
+}
+
+/// What a run reports as it goes.
+#[derive(Clone, Debug)]
+pub enum Event {
+    /// A log line.
+    Message(String),
+    /// Progress after a coupling step.
+    Step {
+        /// Simulated time, s.
+        time: f64,
+        /// End time, s.
+        end: f64,
+        /// Steps done.
+        step: u64,
+        /// Steps in total.
+        steps: u64,
+        /// The step's integrals.
+        sample: Sample,
+    },
+}
+
+/// The outcome of a run.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    /// Coupling steps done.
+    pub steps: u64,
+    /// Simulated time reached, s.
+    pub time: f64,
+    /// True when a stop request ended the run early.
+    pub stopped: bool,
+    /// Particles in the coupled stage.
+    pub particles: usize,
+    /// Fluid cells.
+    pub cells: usize,
+    /// Wall-clock seconds of stage 1 (packing; 0 when skipped).
+    pub init_seconds: f64,
+    /// Wall-clock seconds of the coupled loop (stage 2).
+    pub loop_seconds: f64,
+    /// Of which in the DEM's advance.
+    pub dem_seconds: f64,
+    /// Of which in the fluid's advance.
+    pub fluid_seconds: f64,
+    /// Of which in output writing.
+    pub output_seconds: f64,
+    /// The checks (empty without validationDict or when stopped early).
+    pub checks: Vec<Check>,
+    /// The samples of every step.
+    pub samples: Vec<Sample>,
+}
+
+impl RunReport {
+    /// Wall-clock seconds of the coupler itself (locate, voidage, forces, exchange):
+    /// the loop minus DEM, fluid and output.
+    pub fn coupling_seconds(&self) -> f64 {
+        (self.loop_seconds - self.dem_seconds - self.fluid_seconds - self.output_seconds).max(0.0)
+    }
+}
+
+/// The column the integrals are measured in: axis, floor and cross-section.
+#[derive(Clone, Copy, Debug)]
+struct Column {
+    axis: V3,
+    floor: f64,
+    area: f64,
+}
+
+impl Column {
+    fn of(mesh: &foam::PolyMesh, volume: f64, axis: V3) -> Column {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for p in &mesh.points {
+            let h = dot(*p, axis);
+            lo = lo.min(h);
+            hi = hi.max(h);
+        }
+        Column {
+            axis,
+            floor: lo,
+            area: volume / (hi - lo),
+        }
+    }
+}
+
+fn unit(v: V3) -> Option<V3> {
+    let n = dot(v, v).sqrt();
+    (n > 0.0 && n.is_finite()).then(|| [v[0] / n, v[1] / n, v[2] / n])
+}
+
+/// The data file a deck reads with `read_data`, resolved against the deck's directory.
+fn read_data_file(deck: &Deck, dem_dir: &Path) -> Option<PathBuf> {
+    deck.commands
+        .iter()
+        .find(|c| c.words.first().map(String::as_str) == Some("read_data"))
+        .and_then(|c| c.words.get(1))
+        .map(|f| dem_dir.join(f))
+}
+
+fn setup_err(file: &Path, message: String) -> RunError {
+    RunError::Setup {
+        file: file.to_owned(),
+        message,
+    }
+}
+
+/// Area-weighted mean of boundary values over a patch, with Σ|S_f|; `None` without the patch.
+fn patch_mean<T: Copy>(
+    g: &fv::FvGeometry,
+    name: &str,
+    values: &[T],
+    mut f: impl FnMut(T, usize) -> f64,
+) -> Option<(f64, f64)> {
+    let p = g.patches.iter().find(|p| p.name == name)?;
+    let (mut sum, mut area) = (0.0, 0.0);
+    for face in p.faces.clone() {
+        let a = g.mag_sf[face];
+        sum += f(values[face - g.n_internal], face) * a;
+        area += a;
+    }
+    (area > 0.0).then_some((sum / area, area))
+}
+
+struct Observer {
+    column: Column,
+    rho: f64,
+    g: f64,
+    inlet: Option<String>,
+    outlet: Option<String>,
+}
+
+impl Observer {
+    fn sample<P: ParticleSide>(
+        &self,
+        time: f64,
+        fluid: &NativeFluid,
+        dem: &P,
+        step: &CouplingStep,
+    ) -> Sample {
+        let g = fluid.fluid().geometry();
+        let ps = dem.state();
+        let ax = self.column.axis;
+        let bed = crate::bed::Bed::measure(
+            ps.position,
+            ax,
+            ps.radius,
+            ps.density,
+            self.column.floor,
+            self.column.area,
+        );
+        let mut ke = 0.0;
+        let mut axial = 0.0;
+        for i in 0..ps.len() {
+            let r = ps.radius[i];
+            let m = ps.density[i] * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+            ke += 0.5 * m * dot(ps.velocity[i], ps.velocity[i]);
+            axial += dot(ps.velocity[i], ax);
+        }
+        let force: f64 = step.forces.particles.iter().map(|c| dot(c.total, ax)).sum();
+        let p_mean = |name: &Option<String>| {
+            name.as_deref()
+                .and_then(|n| patch_mean(g, n, fluid.fluid().p_boundary(), |p, _| p))
+                .map(|(m, _)| m)
+        };
+        let pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
+            (Some(a), Some(b)) => self.rho * (a - b),
+            _ => 0.0,
+        };
+        let inlet_velocity = self
+            .inlet
+            .as_deref()
+            .and_then(|n| {
+                patch_mean(g, n, fluid.fluid().u_boundary(), |u, face| {
+                    -dot(u, g.sf[face]) / g.mag_sf[face]
+                })
+            })
+            .map(|(m, _)| m)
+            .unwrap_or(0.0);
+        Sample {
+            time,
+            inlet_velocity,
+            pressure_drop,
+            bed_height: bed.map_or(0.0, |b| b.height),
+            bed_voidage: bed.map_or(1.0, |b| b.voidage),
+            kinetic_energy: ke,
+            mean_axial_velocity: if ps.is_empty() {
+                0.0
+            } else {
+                axial / ps.len() as f64
+            },
+            first_axial_velocity: ps.velocity.first().map_or(0.0, |v| dot(*v, ax)),
+            fluid_force_axial: force,
+            particle_volume: step.deposit.particle_volume,
+            deposited_volume: step.deposit.deposited_volume,
+            outside_volume: step.deposit.outside_volume,
+            clipped_volume: step.voidage.clipped_volume,
+            min_voidage: step.voidage.min_epsilon,
+            particles: ps.len(),
+            sauter_diameter: bed.map_or(0.0, |b| b.sauter_diameter),
+            mean_density: bed.map_or(0.0, |b| b.mass / b.solid_volume),
+            weight_per_area: bed.map_or(0.0, |b| {
+                b.weight_per_area(self.rho, self.g, self.column.area)
+            }),
+        }
+    }
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
+    move |source| RunError::Io {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+/// Writes one output time: fluid U and p, the exchange fields and the particles.
+fn write_time<P: ParticleSide>(
+    layout: &CaseLayout,
+    fluid: &NativeFluid,
+    mesh: &foam::PolyMesh,
+    dem: &P,
+    step: &CouplingStep,
+    vtp: &mut Vec<(f64, PathBuf)>,
+) -> Result<(), RunError> {
+    let name = fluid.fluid().time_name();
+    fluid
+        .fluid()
+        .write(&name)
+        .map_err(|e| RunError::Fluid(Box::new(e)))?;
+    let dir = layout.cfd.join(&name);
+    couple::output::write_fields(&dir, &name, mesh, step, foam::Format::Ascii)?;
+    let ps = dem.state();
+    let pdir = layout.post_processing().join("particles");
+    std::fs::create_dir_all(&pdir).map_err(io_err(&pdir))?;
+    let file = pdir.join(format!("particles_{name}.vtp"));
+    let ids: Vec<i64> = ps.ids.iter().map(|&i| i as i64).collect();
+    let fluid_force: Vec<V3> = step.forces.particles.iter().map(|c| c.total).collect();
+    vtk::write_vtp(
+        &file,
+        ps.position,
+        &[
+            vtk::DataArray::int64("id", &ids),
+            vtk::DataArray::scalar("radius", ps.radius),
+            vtk::DataArray::vector("velocity", ps.velocity),
+            vtk::DataArray::vector("fluidForce", &fluid_force),
+        ],
+    )?;
+    vtp.push((
+        fluid.fluid().time(),
+        PathBuf::from(file.file_name().unwrap_or_default()),
+    ));
+    vtk::write_pvd(pdir.join("particles.pvd"), vtp)?;
+    Ok(())
+}
+
+/// Runs the case at `case` (CFDEM layout) natively. `stop` is polled after every coupling step;
+/// `events` receives log lines and progress.
+pub fn run(
+    case: &Path,
+    opts: &RunOptions,
+    stop: &AtomicBool,
+    events: &mut dyn FnMut(Event),
+) -> Result<RunReport, RunError> {
+    let layout = CaseLayout::open(case)?;
+    let config = CouplingConfig::read_case(&layout.cfd)?;
+    for w in &config.warnings {
+        events(Event::Message(format!("warning: {w}")));
+    }
+    let settings = config.coupler_settings(&layout.cfd)?;
+
+    // Stage 1: the packed bed.
+    let run_deck = Deck::read(&layout.run_deck)?;
+    let mut init_seconds = 0.0;
+    if let Some(data) = read_data_file(&run_deck, &layout.dem) {
+        if opts.repack || !data.exists() {
+            let Some(init) = &layout.init_deck else {
+                return Err(setup_err(
+                    &layout.run_deck,
+                    format!("reads {} which does not exist, and there is no DEM/in.liggghts_init to make it", data.display()),
+                ));
+            };
+            events(Event::Message(format!(
+                "stage 1: running {} natively (writes {})",
+                init.display(),
+                data.display()
+            )));
+            let t = Instant::now();
+            let deck = Deck::read_with_vars(init, &opts.init_vars)?;
+            let sim = Simulation::from_deck(&deck, &layout.dem)?;
+            init_seconds = t.elapsed().as_secs_f64();
+            if !data.exists() {
+                return Err(setup_err(
+                    init,
+                    format!(
+                        "ran, but did not write {} (needs `write_data`)",
+                        data.display()
+                    ),
+                ));
+            }
+            events(Event::Message(format!(
+                "stage 1: {} particles packed in {init_seconds:.1} s",
+                sim.particles.len()
+            )));
+        } else {
+            events(Event::Message(format!(
+                "stage 1: using the existing {} (--repack to pack again)",
+                data.display()
+            )));
+        }
+    }
+
+    // Stage 2: the coupled run.
+    let deck_coupling = run_deck.coupling().ok_or_else(|| {
+        setup_err(
+            &layout.run_deck,
+            "is not coupled: it needs `fix ... couple/cfd couple_every N ...`".into(),
+        )
+    })?;
+    if deck_coupling.couple_every != config.coupling_interval {
+        return Err(setup_err(
+            &layout.run_deck,
+            format!(
+                "couple_every {} differs from couplingInterval {} in {}",
+                deck_coupling.couple_every,
+                config.coupling_interval,
+                config.file.display()
+            ),
+        ));
+    }
+    let sim = Simulation::from_deck(&run_deck, &layout.dem)?;
+    let model = match config.model {
+        ModelType::A => fv::Model::A,
+        _ => fv::Model::B,
+    };
+    let fluid = NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid)?;
+    let mesh = fluid.mesh().clone();
+    let cfd_dt = fluid.fluid().settings.delta_t;
+    let mut dem = Timed::new(NativeDem::new(sim));
+    let mut fluid = Timed::new(fluid);
+    let dt_c = config.coupling_interval as f64 * dem.time_step();
+    let ratio = dt_c / cfd_dt;
+    if (ratio - ratio.round()).abs() > 1e-6 * ratio || ratio.round() < 1.0 {
+        return Err(setup_err(
+            &layout.cfd.join("system/controlDict"),
+            format!(
+                "deltaT {cfd_dt} s must divide the coupling interval {} × {} s = {dt_c} s",
+                config.coupling_interval,
+                dem.time_step()
+            ),
+        ));
+    }
+    let start = fluid.inner.fluid().time();
+    let end = opts
+        .end_time
+        .unwrap_or(fluid.inner.fluid().settings.end_time);
+    let steps = ((end - start) / dt_c - 1e-9).ceil().max(0.0) as u64;
+    let write_every = match fluid.inner.fluid().settings.write {
+        fv::settings::WriteControl::RunTime(t) => (t / dt_c).round().max(1.0) as u64,
+        fv::settings::WriteControl::TimeStep(n) => {
+            ((n as f64 * cfd_dt) / dt_c).round().max(1.0) as u64
+        }
+    };
+    let mut coupler = Coupler::new(&mesh, settings)?;
+    // The voidage of the initial particles, so that the first coupling interval blends from it
+    // (not from an empty domain, which would make ∂ε/∂t a spurious source).
+    coupler.exchange(&dem.state(), &fluid.state())?;
+    let n_particles = dem.state().len();
+    events(Event::Message(format!(
+        "stage 2: {n_particles} particles, {} cells, {steps} coupling steps of {dt_c} s ({} DEM + {} fluid steps each), model {}, voidage {}",
+        mesh.n_cells,
+        config.coupling_interval,
+        ratio.round(),
+        config.model.name(),
+        settings.method.name()
+    )));
+
+    let spec = layout.validation.clone();
+    let axis = match &spec {
+        Some(ValidationSpec::ErgunPackedBed { axis, .. }) => *axis,
+        _ => unit([
+            -settings.physics.gravity[0],
+            -settings.physics.gravity[1],
+            -settings.physics.gravity[2],
+        ])
+        .unwrap_or([0.0, 0.0, 1.0]),
+    };
+    let volume: f64 = fluid.inner.fluid().geometry().v.iter().sum();
+    let (inlet, outlet) = match &spec {
+        Some(ValidationSpec::ErgunPackedBed { inlet, outlet, .. }) => {
+            (Some(inlet.clone()), Some(outlet.clone()))
+        }
+        _ => (None, None),
+    };
+    let observer = Observer {
+        column: Column::of(&mesh, volume, axis),
+        rho: settings.physics.rho,
+        g: dot(settings.physics.gravity, settings.physics.gravity).sqrt(),
+        inlet,
+        outlet,
+    };
+
+    let post = layout.post_processing();
+    let csv = post.join("integrals.csv");
+    let mut samples = Vec::with_capacity(steps as usize);
+    let mut vtp = Vec::new();
+    let mut output_seconds = 0.0;
+    let mut stopped = false;
+    let t_loop = Instant::now();
+    for k in 1..=steps {
+        let step = coupler.step(&mut dem, &mut fluid)?;
+        let time = fluid.inner.fluid().time();
+        let sample = observer.sample(time, &fluid.inner, &dem, &step);
+        samples.push(sample);
+        let stop_now = stop.load(Ordering::SeqCst);
+        if k % write_every == 0 || k == steps || stop_now {
+            let t = Instant::now();
+            write_time(&layout, &fluid.inner, &mesh, &dem, &step, &mut vtp)?;
+            write_csv(&csv, &samples).map_err(io_err(&csv))?;
+            output_seconds += t.elapsed().as_secs_f64();
+        }
+        events(Event::Step {
+            time,
+            end,
+            step: k,
+            steps,
+            sample,
+        });
+        if stop_now && k < steps {
+            stopped = true;
+            events(Event::Message(format!(
+                "stopped at t = {time} s after step {k}; that time is written"
+            )));
+            break;
+        }
+    }
+    let loop_seconds = t_loop.elapsed().as_secs_f64();
+
+    let mut checks = Vec::new();
+    if !stopped {
+        if let Some(spec) = &spec {
+            checks = checks::evaluate(spec, &settings, &samples, &post, dt_c)?;
+            write_json(&post.join("validation.json"), &checks)
+                .map_err(io_err(&post.join("validation.json")))?;
+        }
+    }
+    Ok(RunReport {
+        steps: samples.len() as u64,
+        time: samples.last().map_or(start, |s| s.time),
+        stopped,
+        particles: n_particles,
+        cells: mesh.n_cells,
+        init_seconds,
+        loop_seconds,
+        dem_seconds: dem.seconds,
+        fluid_seconds: fluid.seconds,
+        output_seconds,
+        checks,
+        samples,
+    })
+}
