@@ -1,11 +1,16 @@
 //! Throughput of the coupling core in particles/s: 10⁶ particles (radius 0.004, centres spread
-//! uniformly by Roberts' R3 sequence) on a 50×50×40 = 10⁵-cell axis-aligned grid of the unit
-//! cube (h/d ≈ 2.5–3), Koch–Hill drag with gradP, viscous and Archimedes forces, model A,
-//! smooth interpolation.
-//! * `forces_exchange`: per-particle forces + Ksl/Us/f from given shares (what the coupler does
-//!   per step besides the voidage);
-//! * `coupling_step`: the whole [`Coupler::exchange`]: locate, shares and voidage, forces,
-//!   exchange.
+//! uniformly by Roberts' R3 sequence, so consecutive particles are far apart) on a
+//! 50×50×40 = 10⁵-cell axis-aligned grid of the unit cube (h/d ≈ 2.5–3), Koch–Hill drag with
+//! gradP, viscous and Archimedes forces, model A, smooth interpolation.
+//! * `forces_exchange`: per-particle forces + Ksl/Us/f from given shares, as the coupler does
+//!   them per step besides the voidage ([`couplings_and_exchange`], the couplings written into
+//!   the recycled vector of the previous call, as [`Coupler::run`] does);
+//! * `forces_exchange_fresh`: the same into fresh memory every call (what a caller that does
+//!   not [`Coupler::recycle`] pays: the 112 MB of couplings are page-faulted in anew);
+//! * `forces`, `exchange`: the two parts on their own (fresh output; the exchange of given
+//!   couplings is one in-order pass);
+//! * `coupling_step`: the whole [`Coupler::exchange`] (locate, shares and voidage, forces,
+//!   exchange), steps recycled.
 //!
 //! Run: `cargo bench -p couple` (uses every core rayon sees; the target is ≥ 5·10⁶/s on 2).
 
@@ -13,7 +18,7 @@ use closures::model::ModelType;
 use closures::{DragClosure, DragLaw};
 use couple::config::{DragSettings, Forces};
 use couple::exchange::exchange_with;
-use couple::forces::particle_couplings;
+use couple::forces::{couplings_and_exchange, particle_couplings};
 use couple::{
     Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics, Placement,
 };
@@ -114,8 +119,8 @@ fn method(name: &str) -> Method {
     name.parse().unwrap()
 }
 
-#[divan::bench(args = ["centre", "exact"], sample_count = 5, sample_size = 1)]
-fn forces_exchange(bencher: divan::Bencher, name: &str) {
+/// The placement, voidage and cell volumes of the benchmark's particles with method `name`.
+fn placed(name: &str) -> (Placement, Vec<f64>, Vec<f64>) {
     let d = data();
     let vm = VoidageMesh::new(&d.mesh).unwrap();
     let mut centre = vec![None; N];
@@ -123,15 +128,75 @@ fn forces_exchange(bencher: divan::Bencher, name: &str) {
         .shares_with_cells(method(name), &ParticleSet::new(&d.pos, &d.rad), &mut centre)
         .unwrap();
     let eps = vm.voidage(&dep, None).unwrap().epsilon;
-    let placement = Placement { centre, shares };
+    (
+        Placement { centre, shares },
+        eps,
+        vm.cell_volumes().to_vec(),
+    )
+}
+
+#[divan::bench(args = ["centre", "exact"], sample_count = 5, sample_size = 1)]
+fn forces(bencher: divan::Bencher, name: &str) {
+    let d = data();
+    let (placement, eps, _) = placed(name);
     let ph = physics();
-    let vols = vm.cell_volumes().to_vec();
+    bencher
+        .counter(ItemsCount::new(N))
+        .bench(|| particle_couplings(&ph, &placement, &fluid(d), &eps, &particles(d)));
+}
+
+#[divan::bench(args = ["centre", "exact"], sample_count = 5, sample_size = 1)]
+fn exchange(bencher: divan::Bencher, name: &str) {
+    let d = data();
+    let (placement, eps, vols) = placed(name);
+    let f = particle_couplings(&physics(), &placement, &fluid(d), &eps, &particles(d));
     bencher.counter(ItemsCount::new(N)).bench(|| {
-        let f = particle_couplings(&ph, &placement, &fluid(d), &eps, &particles(d));
         exchange_with(&placement, &vols, |i| {
             let c = &f.particles[i];
             (c.beta_fluid, d.vel[i], c.f_fluid)
         })
+    });
+}
+
+#[divan::bench(args = ["centre", "exact"], sample_count = 5, sample_size = 1)]
+fn forces_exchange(bencher: divan::Bencher, name: &str) {
+    pipeline(bencher, name, true);
+}
+
+#[divan::bench(args = ["centre", "exact"], sample_count = 5, sample_size = 1)]
+fn forces_exchange_fresh(bencher: divan::Bencher, name: &str) {
+    pipeline(bencher, name, false);
+}
+
+/// [`couplings_and_exchange`] on the benchmark's particles placed by method `name`, writing
+/// into the couplings of the previous call when `recycle` is set, into fresh memory otherwise.
+fn pipeline(bencher: divan::Bencher, name: &str, recycle: bool) {
+    let d = data();
+    let (placement, eps, vols) = placed(name);
+    let ph = physics();
+    let run = |reuse| {
+        couplings_and_exchange(
+            &ph,
+            &placement,
+            &fluid(d),
+            &eps,
+            &particles(d),
+            &vols,
+            reuse,
+        )
+    };
+    let mut spare = run(Vec::new()).0.particles;
+    bencher.counter(ItemsCount::new(N)).bench_local(|| {
+        let reuse = if recycle {
+            std::mem::take(&mut spare)
+        } else {
+            Vec::new()
+        };
+        let (set, exchange) = run(reuse);
+        if recycle {
+            spare = set.particles;
+        }
+        exchange
     });
 }
 
@@ -145,12 +210,12 @@ fn coupling_step(bencher: divan::Bencher, name: &str) {
         physics: physics(),
     };
     let mut coupler = Coupler::new(&d.mesh, settings).unwrap();
+    let first = coupler.exchange(&particles(d), &fluid(d)).unwrap();
+    coupler.recycle(first);
     bencher.counter(ItemsCount::new(N)).bench_local(|| {
-        coupler
-            .exchange(&particles(d), &fluid(d))
-            .unwrap()
-            .exchange
-            .ksl
-            .len()
+        let step = coupler.exchange(&particles(d), &fluid(d)).unwrap();
+        let n = step.exchange.ksl.len();
+        coupler.recycle(step);
+        n
     });
 }

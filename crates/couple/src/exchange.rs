@@ -12,10 +12,12 @@
 //! [`Outside`] with its β and force instead of being dropped. A particle partly outside the
 //! mesh has its shares renormalised over the cells inside (ADR 0004), so it is counted whole.
 //!
-//! The sums run over particles in index order, so the result does not depend on the number of
-//! threads.
+//! The sums run over particles in index order ([`Sums`]), so the result does not depend on the
+//! number of threads; the per-cell finish runs in parallel. In the coupler the sums run
+//! alongside the force loop ([`crate::forces::couplings_and_exchange`]).
 
 use crate::interpolate::Placement;
+use rayon::prelude::*;
 
 /// What could not be put into a cell.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -94,47 +96,93 @@ pub fn exchange_with(
     cell_volumes: &[f64],
     particle: impl Fn(usize) -> (f64, [f64; 3], [f64; 3]),
 ) -> Exchange {
-    let n_cells = cell_volumes.len();
-    let mut ksl = vec![0.0; n_cells];
-    let mut bv = vec![[0.0; 3]; n_cells];
-    let mut f = vec![[0.0; 3]; n_cells];
-    let mut outside = Outside::default();
+    let mut sums = Sums::new(cell_volumes.len());
     for i in 0..placement.len() {
         let (b, v, fp) = particle(i);
+        sums.add(placement, i, b, v, fp);
+    }
+    sums.finish(cell_volumes)
+}
+
+/// Running sums of the exchange fields over particles added in index order: Σ w β, Σ w β v and
+/// −Σ w F per cell, and what lay outside the mesh.
+pub(crate) struct Sums {
+    sum_wb: Vec<f64>,
+    sum_wbv: Vec<[f64; 3]>,
+    sum_wf: Vec<[f64; 3]>,
+    outside: Outside,
+}
+
+impl Sums {
+    /// Zero sums on `n_cells` cells.
+    pub(crate) fn new(n_cells: usize) -> Sums {
+        Sums {
+            sum_wb: vec![0.0; n_cells],
+            sum_wbv: vec![[0.0; 3]; n_cells],
+            sum_wf: vec![[0.0; 3]; n_cells],
+            outside: Outside::default(),
+        }
+    }
+
+    /// Adds particle `i` with drag coefficient `b` (kg/s), velocity `v` (m/s) and explicit
+    /// force `fp` (N) to its cells, or to [`Outside`] when it has no share.
+    #[inline]
+    pub(crate) fn add(
+        &mut self,
+        placement: &Placement,
+        i: usize,
+        b: f64,
+        v: [f64; 3],
+        fp: [f64; 3],
+    ) {
         if !placement.inside(i) {
-            outside.particles += 1;
-            outside.beta += b;
+            self.outside.particles += 1;
+            self.outside.beta += b;
             for a in 0..3 {
-                outside.force[a] += fp[a];
+                self.outside.force[a] += fp[a];
             }
-            continue;
+            return;
         }
         placement.for_each_weight(i, |c, w| {
             let c = c as usize;
             let wb = w * b;
-            ksl[c] += wb;
+            self.sum_wb[c] += wb;
             for a in 0..3 {
-                bv[c][a] += wb * v[a];
-                f[c][a] -= w * fp[a];
+                self.sum_wbv[c][a] += wb * v[a];
+                self.sum_wf[c][a] -= w * fp[a];
             }
         });
     }
-    let mut us = bv;
-    for c in 0..n_cells {
-        let sum_wb = ksl[c];
-        us[c] = if sum_wb != 0.0 {
-            us[c].map(|x| x / sum_wb)
-        } else {
-            [0.0; 3]
-        };
-        let inv = 1.0 / cell_volumes[c];
-        ksl[c] = sum_wb * inv;
-        f[c] = f[c].map(|x| x * inv);
-    }
-    Exchange {
-        ksl,
-        us,
-        f,
-        outside,
+
+    /// Ksl = Σ w β / V, Us = Σ w β v / Σ w β (0 where Σ w β = 0) and f = −Σ w F / V on cells of
+    /// volumes `cell_volumes` (m³); parallel over cells.
+    pub(crate) fn finish(self, cell_volumes: &[f64]) -> Exchange {
+        let Sums {
+            sum_wb: mut ksl,
+            sum_wbv: mut us,
+            sum_wf: mut f,
+            outside,
+        } = self;
+        ksl.par_iter_mut()
+            .zip(us.par_iter_mut())
+            .zip(f.par_iter_mut())
+            .zip(cell_volumes.par_iter())
+            .for_each(|(((k, u), f), &volume)| {
+                let sum_wb = *k;
+                *u = if sum_wb != 0.0 {
+                    u.map(|x| x / sum_wb)
+                } else {
+                    [0.0; 3]
+                };
+                let inv = 1.0 / volume;
+                *k = sum_wb * inv;
+                *f = f.map(|x| x * inv);
+            });
+        Exchange {
+            ksl,
+            us,
+            f,
+            outside,
+        }
     }
 }

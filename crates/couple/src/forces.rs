@@ -14,7 +14,8 @@
 //! counted. Units: SI, kinematic p (ADR 0004).
 
 use crate::config::{DragSettings, Forces};
-use crate::interpolate::{Interpolation, Placement};
+use crate::exchange::{Exchange, Sums};
+use crate::interpolate::{Interpolation, Lerp, Placement};
 use crate::sides::{FluidState, ParticleState};
 use closures::model::{particle_forces, FluidAtParticle, ModelType};
 use closures::DragInput;
@@ -73,13 +74,14 @@ pub fn particle_couplings(
     voidage: &[f64],
     particles: &ParticleState<'_>,
 ) -> ForceSet {
-    let mu = physics.nu * physics.rho;
-    let cells = Cells { fluid, voidage };
-    let out: Vec<ParticleCoupling> = (0..placement.len())
+    let kernel = Kernel::new(physics, fluid, voidage);
+    let mut out = Vec::new();
+    (0..placement.len())
         .into_par_iter()
-        .map(|i| one_particle(physics, mu, placement, &cells, particles, i).unwrap_or_default())
-        .collect();
+        .map(|i| kernel.particle(placement, particles, i).unwrap_or_default())
+        .collect_into_vec(&mut out);
     let outside = (0..placement.len())
+        .into_par_iter()
         .filter(|&i| !placement.inside(i))
         .count();
     ForceSet {
@@ -88,10 +90,75 @@ pub fn particle_couplings(
     }
 }
 
-/// The cell fields the forces read.
-struct Cells<'a> {
-    fluid: &'a FluidState<'a>,
-    voidage: &'a [f64],
+/// Particles per stage of [`couplings_and_exchange`]; their (β, F) for the exchange (32 B each,
+/// 1 MB) stay in cache between the two stages. The results do not depend on it.
+const STAGE: usize = 1 << 15;
+
+/// The couplings of every particle and the exchange fields they give on cells of volumes
+/// `cell_volumes` (m³): the same values, bit for bit, as [`particle_couplings`] followed by
+/// [`crate::exchange::exchange_with`] on (β_fluid, v, f_fluid), in one pipeline. `reuse` is a
+/// vector whose allocation holds the couplings (its contents are discarded; `Vec::new()` for
+/// none): the couplings of 10⁶ particles take 112 MB, and writing them into fresh memory costs
+/// the kernel about as much time as computing them (page faults). The particles
+/// go in stages of [`STAGE`]: while the threads compute the couplings of stage k + 1 (parallel
+/// over particles; each also copies its β_fluid and f_fluid to a small stage buffer), one of
+/// them adds stage k to the exchange sums in particle order from that buffer. The exchange
+/// thus overlaps the force loop instead of re-reading 112 B per particle after it, and stays
+/// independent of the number of threads.
+pub fn couplings_and_exchange(
+    physics: &Physics,
+    placement: &Placement,
+    fluid: &FluidState<'_>,
+    voidage: &[f64],
+    particles: &ParticleState<'_>,
+    cell_volumes: &[f64],
+    reuse: Vec<ParticleCoupling>,
+) -> (ForceSet, Exchange) {
+    let kernel = Kernel::new(physics, fluid, voidage);
+    let n = placement.len();
+    let stages = n.div_ceil(STAGE);
+    let mut out = reuse;
+    out.clear();
+    out.reserve(n);
+    let mut sums = Sums::new(cell_volumes.len());
+    let mut buffers: [Vec<(f64, V3)>; 2] = [Vec::new(), Vec::new()];
+    for k in 0..=stages {
+        let [even, odd] = &mut buffers;
+        let (next, done) = if k % 2 == 0 {
+            (even, &*odd)
+        } else {
+            (odd, &*even)
+        };
+        rayon::join(
+            || {
+                if k < stages {
+                    let range = k * STAGE..((k + 1) * STAGE).min(n);
+                    next.clear();
+                    let mut both = (std::mem::take(&mut out), std::mem::take(next));
+                    both.par_extend(range.into_par_iter().map(|i| {
+                        let c = kernel.particle(placement, particles, i).unwrap_or_default();
+                        (c, (c.beta_fluid, c.f_fluid))
+                    }));
+                    (out, *next) = both;
+                }
+            },
+            || {
+                if k > 0 {
+                    let first = (k - 1) * STAGE;
+                    for (j, &(beta, f)) in done.iter().enumerate() {
+                        let i = first + j;
+                        sums.add(placement, i, beta, particles.velocity[i], f);
+                    }
+                }
+            },
+        );
+    }
+    let exchange = sums.finish(cell_volumes);
+    let set = ForceSet {
+        particles: out,
+        outside: exchange.outside.particles,
+    };
+    (set, exchange)
 }
 
 /// Volume of a sphere of radius r, m³.
@@ -100,80 +167,158 @@ fn ball(r: f64) -> f64 {
     4.0 / 3.0 * std::f64::consts::PI * r * r * r
 }
 
-#[inline]
-fn one_particle(
-    ph: &Physics,
+/// What a particle's cells give it: u_f and ε with the drag's rule, ∇p and ∇·τ with theirs.
+struct AtParticle {
+    u: V3,
+    voidage: f64,
+    grad_p: V3,
+    div_tau: V3,
+}
+
+/// The per-particle force computation with the settings resolved once for all particles.
+struct Kernel<'a> {
+    physics: &'a Physics,
+    /// μ = ν ρ, Pa·s.
     mu: f64,
-    placement: &Placement,
-    cells: &Cells<'_>,
-    p: &ParticleState<'_>,
-    i: usize,
-) -> Option<ParticleCoupling> {
-    let fluid = cells.fluid;
-    let drag_rule = ph
-        .forces
-        .drag
-        .map_or(Interpolation::Cell, |d| d.interpolation);
-    let u_f = placement.value_at(fluid.u, i, drag_rule)?;
-    let eps = placement.value_at(cells.voidage, i, drag_rule)?;
-    let r = p.radius[i];
-    let v = p.velocity[i];
-    let volume = ball(r);
-    let (beta, floored) = match ph.forces.drag {
-        Some(DragSettings { closure, .. }) => {
-            let x = DragInput::new(eps, 2.0 * r, mag(sub(u_f, v)), ph.rho, mu);
-            let floored = eps.clamp(closure.voidage_floor, 1.0);
-            (closure.beta(&x), floored)
+    /// Gravity as Archimedes sees it (zero without Archimedes), m/s².
+    gravity: V3,
+    fluid: &'a FluidState<'a>,
+    voidage: &'a [f64],
+    /// Rule for u_f and ε.
+    drag_rule: Interpolation,
+    /// Rules for ∇p and ∇·τ, `None` when the force is off.
+    grad_p_rule: Option<Interpolation>,
+    viscous_rule: Option<Interpolation>,
+}
+
+impl<'a> Kernel<'a> {
+    fn new(physics: &'a Physics, fluid: &'a FluidState<'a>, voidage: &'a [f64]) -> Self {
+        Kernel {
+            physics,
+            mu: physics.nu * physics.rho,
+            gravity: if physics.forces.archimedes {
+                physics.gravity
+            } else {
+                [0.0; 3]
+            },
+            fluid,
+            voidage,
+            drag_rule: physics
+                .forces
+                .drag
+                .map_or(Interpolation::Cell, |d| d.interpolation),
+            grad_p_rule: physics.forces.grad_p,
+            viscous_rule: physics.forces.viscous,
         }
-        None => (0.0, eps.clamp(f64::MIN_POSITIVE, 1.0)),
-    };
-    let grad_p = match ph.forces.grad_p {
-        Some(rule) => placement.value_at(fluid.grad_p, i, rule)?,
-        None => [0.0; 3],
-    };
-    let div_tau = match ph.forces.viscous {
-        Some(rule) => placement.value_at(fluid.div_tau, i, rule)?,
-        None => [0.0; 3],
-    };
-    let at = FluidAtParticle {
-        u: u_f,
-        grad_p,
-        div_tau,
-        voidage: floored,
-        rho: ph.rho,
-    };
-    let g = if ph.forces.archimedes {
-        ph.gravity
-    } else {
-        [0.0; 3]
-    };
-    let f = particle_forces(ph.model, beta, volume, &at, v, g);
-    let settings = ph.forces.drag;
-    let implicit_dem = settings.is_some_and(|d| d.implicit_dem);
-    let explicit_fluid = settings.is_some_and(|d| d.explicit_fluid);
-    let dem_only = settings.is_some_and(|d| d.dem_only);
-    let (beta_dem, f_ext) = if implicit_dem {
-        (f.beta, f.explicit)
-    } else {
-        (0.0, add(f.explicit, f.drag))
-    };
-    let (beta_fluid, drag_to_f) = if dem_only {
-        (0.0, [0.0; 3])
-    } else if explicit_fluid {
-        (0.0, f.drag)
-    } else if ph.implicit_couple {
-        (f.beta, [0.0; 3])
-    } else {
-        (0.0, [0.0; 3])
-    };
-    Some(ParticleCoupling {
-        beta_dem,
-        u_f,
-        f_ext,
-        total: f.total(),
-        beta_fluid,
-        f_fluid: add(f.explicit_coupled, drag_to_f),
-    })
+    }
+
+    /// The fluid fields at particle `i`, `None` outside the mesh: the values
+    /// [`Placement::value_at`] gives, bit for bit, with one pass over the particle's shares
+    /// for all the fields that use the smooth rule.
+    #[inline]
+    fn fluid_at(&self, placement: &Placement, i: usize) -> Option<AtParticle> {
+        if !placement.inside(i) {
+            return None;
+        }
+        let f = self.fluid;
+        let centre = placement.centre[i].map(|c| c as usize);
+        // The cell value where the rule is `cell` and the centre is inside, else `None`
+        // (smooth, summed below).
+        let cell = |rule: Interpolation| match (rule, centre) {
+            (Interpolation::Cell, Some(c)) => Some(c),
+            _ => None,
+        };
+        let drag_cell = cell(self.drag_rule);
+        let grad_p_cell = self.grad_p_rule.map(cell);
+        let viscous_cell = self.viscous_rule.map(cell);
+        let mut at = AtParticle {
+            u: drag_cell.map_or([0.0; 3], |c| f.u[c]),
+            voidage: drag_cell.map_or(0.0, |c| self.voidage[c]),
+            grad_p: grad_p_cell.flatten().map_or([0.0; 3], |c| f.grad_p[c]),
+            div_tau: viscous_cell.flatten().map_or([0.0; 3], |c| f.div_tau[c]),
+        };
+        let smooth_drag = drag_cell.is_none();
+        let smooth_grad_p = grad_p_cell == Some(None);
+        let smooth_viscous = viscous_cell == Some(None);
+        if smooth_drag || smooth_grad_p || smooth_viscous {
+            placement.for_each_weight(i, |c, w| {
+                let c = c as usize;
+                if smooth_drag {
+                    at.u = at.u.add_scaled(w, f.u[c]);
+                    at.voidage = at.voidage.add_scaled(w, self.voidage[c]);
+                }
+                if smooth_grad_p {
+                    at.grad_p = at.grad_p.add_scaled(w, f.grad_p[c]);
+                }
+                if smooth_viscous {
+                    at.div_tau = at.div_tau.add_scaled(w, f.div_tau[c]);
+                }
+            });
+        }
+        Some(at)
+    }
+
+    /// The coupling of particle `i`, `None` outside the mesh.
+    #[inline]
+    fn particle(
+        &self,
+        placement: &Placement,
+        p: &ParticleState<'_>,
+        i: usize,
+    ) -> Option<ParticleCoupling> {
+        let ph = self.physics;
+        let AtParticle {
+            u: u_f,
+            voidage: eps,
+            grad_p,
+            div_tau,
+        } = self.fluid_at(placement, i)?;
+        let r = p.radius[i];
+        let v = p.velocity[i];
+        let volume = ball(r);
+        let (beta, floored) = match ph.forces.drag {
+            Some(DragSettings { closure, .. }) => {
+                let x = DragInput::new(eps, 2.0 * r, mag(sub(u_f, v)), ph.rho, self.mu);
+                let floored = eps.clamp(closure.voidage_floor, 1.0);
+                (closure.beta(&x), floored)
+            }
+            None => (0.0, eps.clamp(f64::MIN_POSITIVE, 1.0)),
+        };
+        let at = FluidAtParticle {
+            u: u_f,
+            grad_p,
+            div_tau,
+            voidage: floored,
+            rho: ph.rho,
+        };
+        let f = particle_forces(ph.model, beta, volume, &at, v, self.gravity);
+        let settings = ph.forces.drag;
+        let implicit_dem = settings.is_some_and(|d| d.implicit_dem);
+        let explicit_fluid = settings.is_some_and(|d| d.explicit_fluid);
+        let dem_only = settings.is_some_and(|d| d.dem_only);
+        let (beta_dem, f_ext) = if implicit_dem {
+            (f.beta, f.explicit)
+        } else {
+            (0.0, add(f.explicit, f.drag))
+        };
+        let (beta_fluid, drag_to_f) = if dem_only {
+            (0.0, [0.0; 3])
+        } else if explicit_fluid {
+            (0.0, f.drag)
+        } else if ph.implicit_couple {
+            (f.beta, [0.0; 3])
+        } else {
+            (0.0, [0.0; 3])
+        };
+        Some(ParticleCoupling {
+            beta_dem,
+            u_f,
+            f_ext,
+            total: f.total(),
+            beta_fluid,
+            f_fluid: add(f.explicit_coupled, drag_to_f),
+        })
+    }
 }
 
 /// Σ of the total fluid forces on the particles, N.

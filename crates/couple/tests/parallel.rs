@@ -1,0 +1,450 @@
+//! The parallel force and exchange loops against serial references, bit for bit, with 1 to 8
+//! threads:
+//! * the exchange fields equal a plain serial loop over the particles written out here
+//!   (Ksl_c = Σ w β / V_c, Us_c = Σ w β v / Σ w β, f_c = −Σ w F / V_c, ADR 0004);
+//! * the per-particle couplings equal the closures' drag law and forces evaluated at the
+//!   fluid fields [`Placement::value_at`] gives, for every combination of interpolation rules;
+//! * the pipelined forces + exchange equal the force loop followed by the exchange, over
+//!   several stages, also when writing into a recycled vector;
+//! * coupling steps that recycle the previous step's buffers give the same results as fresh
+//!   ones, with the particle count changing in between;
+//! * the first bad particle is named by index and id however the check is split.
+
+#![allow(clippy::needless_range_loop)]
+
+use closures::model::{particle_forces, FluidAtParticle, ModelType};
+use closures::{DragClosure, DragInput, DragLaw};
+use couple::config::{DragSettings, Forces};
+use couple::exchange::{exchange, exchange_with, Exchange, Outside};
+use couple::forces::{couplings_and_exchange, particle_couplings, ForceSet};
+use couple::memory::{MemoryFluid, MemoryParticles};
+use couple::{
+    CoupleError, Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics,
+    Placement,
+};
+use mesh::build::{hex_grid, uniform_box};
+use voidage::{MeshOptions, Method, ParticleSet, VoidageMesh};
+
+const THREADS: [usize; 4] = [1, 2, 3, 8];
+
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// A deterministic cloud over [−0.05, 1.05]³: some particles straddle the boundary of the unit
+/// cube, some lie outside.
+struct Cloud {
+    pos: Vec<[f64; 3]>,
+    rad: Vec<f64>,
+    vel: Vec<[f64; 3]>,
+    ids: Vec<u64>,
+    den: Vec<f64>,
+}
+
+impl Cloud {
+    /// The cloud as a particle side shows it (ids 1…N, density 2500 kg/m³).
+    fn state(&self) -> ParticleState<'_> {
+        ParticleState {
+            ids: &self.ids,
+            position: &self.pos,
+            velocity: &self.vel,
+            radius: &self.rad,
+            density: &self.den,
+        }
+    }
+}
+
+fn cloud(n: usize) -> Cloud {
+    let phi = 1.324_717_957_244_746_f64;
+    let alpha = [1.0 / phi, 1.0 / (phi * phi), 1.0 / (phi * phi * phi)];
+    Cloud {
+        pos: (0..n)
+            .map(|k| alpha.map(|a| -0.05 + 1.1 * (0.5 + k as f64 * a).fract()))
+            .collect(),
+        rad: (0..n)
+            .map(|k| 0.01 + 0.02 * ((k * 7919) % 101) as f64 / 100.0)
+            .collect(),
+        vel: (0..n)
+            .map(|k| {
+                let s = k as f64;
+                [(s * 0.37).sin(), (s * 0.11).cos(), 0.3 - (s * 0.05).sin()]
+            })
+            .collect(),
+        ids: (1..=n as u64).collect(),
+        den: vec![2500.0; n],
+    }
+}
+
+fn place(vm: &VoidageMesh, m: Method, c: &Cloud) -> (Placement, Vec<f64>) {
+    let mut centre = vec![None; c.pos.len()];
+    let (shares, dep) = vm
+        .shares_with_cells(m, &ParticleSet::new(&c.pos, &c.rad), &mut centre)
+        .unwrap();
+    let eps = vm.voidage(&dep, None).unwrap().epsilon;
+    (Placement { centre, shares }, eps)
+}
+
+/// The two meshes: a graded axis-aligned grid (closed-form kernels) and the same grid
+/// through the general polyhedral path.
+fn meshes() -> Vec<VoidageMesh> {
+    let xs = mesh::build::graded_planes(0.0, 1.0, 13, 1.3);
+    let ys = mesh::build::graded_planes(0.0, 1.0, 9, 0.8);
+    let zs = mesh::build::graded_planes(0.0, 1.0, 11, 1.0);
+    let grid = hex_grid(&xs, &ys, &zs);
+    vec![
+        VoidageMesh::new(&grid).unwrap(),
+        VoidageMesh::with_options(
+            &grid,
+            MeshOptions {
+                axis_aligned_fast_path: false,
+            },
+        )
+        .unwrap(),
+    ]
+}
+
+/// The exchange fields by a serial loop over the particles (ADR 0004).
+fn serial_exchange(
+    p: &Placement,
+    vols: &[f64],
+    beta: &[f64],
+    vel: &[[f64; 3]],
+    force: &[[f64; 3]],
+) -> Exchange {
+    let n = vols.len();
+    let (mut ksl, mut bv, mut f) = (vec![0.0; n], vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+    let mut outside = Outside::default();
+    for i in 0..p.len() {
+        let (cells, shares) = p.shares.of(i);
+        if cells.is_empty() {
+            outside.particles += 1;
+            outside.beta += beta[i];
+            for a in 0..3 {
+                outside.force[a] += force[i][a];
+            }
+            continue;
+        }
+        let inv = 1.0 / shares.iter().sum::<f64>();
+        for (&c, &v) in cells.iter().zip(shares) {
+            let (c, w) = (c as usize, v * inv);
+            ksl[c] += w * beta[i];
+            for a in 0..3 {
+                bv[c][a] += w * beta[i] * vel[i][a];
+                f[c][a] -= w * force[i][a];
+            }
+        }
+    }
+    let us = (0..n)
+        .map(|c| {
+            if ksl[c] != 0.0 {
+                bv[c].map(|x| x / ksl[c])
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect();
+    Exchange {
+        ksl: (0..n).map(|c| ksl[c] * (1.0 / vols[c])).collect(),
+        us,
+        f: (0..n).map(|c| f[c].map(|x| x * (1.0 / vols[c]))).collect(),
+        outside,
+    }
+}
+
+#[test]
+fn exchange_equals_a_serial_loop_with_any_thread_count() {
+    let c = cloud(30_000);
+    let beta: Vec<f64> = c.rad.iter().map(|r| 1e3 * r + 0.25).collect();
+    let force: Vec<[f64; 3]> = c.vel.iter().map(|v| [v[2], v[0], -v[1]]).collect();
+    for vm in meshes() {
+        let vols = vm.cell_volumes();
+        for m in Method::ALL {
+            let (p, _) = place(&vm, m, &c);
+            let reference = serial_exchange(&p, vols, &beta, &c.vel, &force);
+            assert!(reference.outside.particles > 0 && reference.outside.particles < p.len());
+            for t in THREADS {
+                let ex = in_pool(t, || exchange(&p, vols, &beta, &c.vel, &force));
+                assert!(ex == reference, "{m}, {t} threads");
+            }
+        }
+    }
+}
+
+#[test]
+fn exchange_of_many_particles_on_few_cells() {
+    // 20 000 particles in 4 cells: every cell range holds thousands of entries from every
+    // block of particles.
+    let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [2, 2, 1])).unwrap();
+    let c = cloud(20_000);
+    let beta = vec![2.0; c.pos.len()];
+    let (p, _) = place(&vm, Method::Exact, &c);
+    let reference = serial_exchange(&p, vm.cell_volumes(), &beta, &c.vel, &c.vel);
+    for t in THREADS {
+        let ex = in_pool(t, || exchange(&p, vm.cell_volumes(), &beta, &c.vel, &c.vel));
+        assert!(ex == reference, "{t} threads");
+    }
+}
+
+const RHO: f64 = 1.2;
+const NU: f64 = 1.5e-5;
+const G: [f64; 3] = [0.0, 0.0, -9.81];
+
+fn physics(rules: [Interpolation; 3], model: ModelType, law: DragLaw) -> Physics {
+    Physics {
+        rho: RHO,
+        nu: NU,
+        gravity: G,
+        model,
+        forces: Forces {
+            drag: Some(DragSettings {
+                closure: DragClosure::new(law, 0.3).unwrap(),
+                interpolation: rules[0],
+                implicit_dem: true,
+                explicit_fluid: false,
+                dem_only: false,
+            }),
+            grad_p: Some(rules[1]),
+            viscous: Some(rules[2]),
+            archimedes: true,
+        },
+        implicit_couple: true,
+    }
+}
+
+/// Cell fields varying in space, so every interpolation rule gives other numbers.
+struct Fluid {
+    u: Vec<[f64; 3]>,
+    p: Vec<f64>,
+    grad_p: Vec<[f64; 3]>,
+    div_tau: Vec<[f64; 3]>,
+}
+
+fn fluid(vm: &VoidageMesh) -> Fluid {
+    let x = &vm.geometry().cell_centres;
+    Fluid {
+        u: x.iter().map(|c| [c[1], -c[0], 0.5 + c[2] * c[2]]).collect(),
+        p: x.iter().map(|c| c[2]).collect(),
+        grad_p: x.iter().map(|c| [c[0] * c[1], 1.0, c[2]]).collect(),
+        div_tau: x.iter().map(|c| [0.1 * c[2], c[0] - c[1], 0.0]).collect(),
+    }
+}
+
+fn state(f: &Fluid) -> FluidState<'_> {
+    FluidState {
+        u: &f.u,
+        p: &f.p,
+        grad_p: &f.grad_p,
+        div_tau: &f.div_tau,
+    }
+}
+
+#[test]
+fn couplings_are_the_laws_at_the_interpolated_fields() {
+    use Interpolation::{Cell, Smooth};
+    let c = cloud(3000);
+    let particles = c.state();
+    let vm = &meshes()[0];
+    let fl = fluid(vm);
+    for m in [Method::Centre, Method::Exact] {
+        let (p, eps) = place(vm, m, &c);
+        for rules in [
+            [Cell, Cell, Cell],
+            [Smooth, Smooth, Smooth],
+            [Smooth, Cell, Smooth],
+            [Cell, Smooth, Cell],
+        ] {
+            for (model, law) in [
+                (ModelType::A, DragLaw::KochHill),
+                (ModelType::BFull, DragLaw::GIDASPOW),
+            ] {
+                let ph = physics(rules, model, law);
+                let set = particle_couplings(&ph, &p, &state(&fl), &eps, &particles);
+                let mut outside = 0;
+                for i in 0..p.len() {
+                    let got = set.particles[i];
+                    let Some(u) = p.value_at(&fl.u, i, rules[0]) else {
+                        outside += 1;
+                        assert_eq!(got, Default::default(), "outside particle {i}");
+                        continue;
+                    };
+                    let e = p.value_at(&eps, i, rules[0]).unwrap();
+                    let at = FluidAtParticle {
+                        u,
+                        grad_p: p.value_at(&fl.grad_p, i, rules[1]).unwrap(),
+                        div_tau: p.value_at(&fl.div_tau, i, rules[2]).unwrap(),
+                        voidage: e.clamp(0.3, 1.0),
+                        rho: RHO,
+                    };
+                    let d = 2.0 * c.rad[i];
+                    let slip = mesh::v3::mag(mesh::v3::sub(u, c.vel[i]));
+                    let beta = DragClosure::new(law, 0.3).unwrap().beta(&DragInput::new(
+                        e,
+                        d,
+                        slip,
+                        RHO,
+                        NU * RHO,
+                    ));
+                    let r = c.rad[i];
+                    let volume = 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+                    let f = particle_forces(model, beta, volume, &at, c.vel[i], G);
+                    assert_eq!(got.u_f, u, "{m} {rules:?} {i}");
+                    assert_eq!(got.beta_dem, f.beta, "{m} {rules:?} {i}");
+                    assert_eq!(got.beta_fluid, f.beta, "{m} {rules:?} {i}");
+                    assert_eq!(got.f_ext, f.explicit, "{m} {rules:?} {i}");
+                    assert_eq!(got.f_fluid, f.explicit_coupled, "{m} {rules:?} {i}");
+                    assert_eq!(got.total, f.total(), "{m} {rules:?} {i}");
+                }
+                assert!(outside > 0 && outside < p.len());
+                assert_eq!(set.outside, outside);
+            }
+        }
+    }
+}
+
+#[test]
+fn pipeline_equals_forces_then_exchange_with_any_thread_count() {
+    // 70 000 particles: three stages of the pipeline.
+    let c = cloud(70_000);
+    let particles = c.state();
+    let grid = uniform_box([0.0; 3], [1.0; 3], [20, 20, 20]);
+    let vm = VoidageMesh::new(&grid).unwrap();
+    let fl = fluid(&vm);
+    let vols = vm.cell_volumes();
+    for (m, model) in [
+        (Method::Centre, ModelType::A),
+        (Method::Exact, ModelType::BFull),
+    ] {
+        let ph = physics([Interpolation::Smooth; 3], model, DragLaw::KochHill);
+        let (p, eps) = place(&vm, m, &c);
+        let set = particle_couplings(&ph, &p, &state(&fl), &eps, &particles);
+        let ex = exchange_with(&p, vols, |i| {
+            let k = &set.particles[i];
+            (k.beta_fluid, c.vel[i], k.f_fluid)
+        });
+        assert!(set.outside > 0 && ex.outside.particles == set.outside);
+        for t in THREADS {
+            let (set_t, ex_t) = in_pool(t, || {
+                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, Vec::new())
+            });
+            assert!(set_t == set, "{m}, {t} threads: couplings");
+            assert!(ex_t == ex, "{m}, {t} threads: exchange");
+        }
+        // Into a recycled vector holding other couplings, longer and shorter than needed.
+        for len in [100_000, 10] {
+            let garbage = vec![set.particles[1]; len];
+            let (set_r, ex_r) =
+                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, garbage);
+            assert!(set_r == set && ex_r == ex, "{m}: recycled {len}");
+        }
+    }
+}
+
+#[test]
+fn coupler_exchange_does_not_depend_on_the_thread_count() {
+    let c = cloud(20_000);
+    let particles = c.state();
+    let grid = uniform_box([0.0; 3], [1.0; 3], [20, 20, 20]);
+    let fl = fluid(&VoidageMesh::new(&grid).unwrap());
+    let settings = CouplerSettings {
+        method: Method::Exact,
+        alpha_min: Some(0.4),
+        coupling_interval: 1,
+        physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
+    };
+    let run = |t| {
+        in_pool(t, || {
+            let step = Coupler::new(&grid, settings)
+                .unwrap()
+                .exchange(&particles, &state(&fl))
+                .unwrap();
+            (step.forces, step.exchange, step.voidage.epsilon)
+        })
+    };
+    let one: (ForceSet, Exchange, Vec<f64>) = run(1);
+    for t in [2, 3, 8] {
+        assert!(run(t) == one, "{t} threads");
+    }
+}
+
+#[test]
+fn recycled_steps_equal_fresh_steps() {
+    let grid = uniform_box([0.0; 3], [1.0; 3], [6, 6, 6]);
+    let settings = CouplerSettings {
+        method: Method::Exact,
+        alpha_min: None,
+        coupling_interval: 3,
+        physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
+    };
+    let mut fresh = Coupler::new(&grid, settings).unwrap();
+    let mut recycling = Coupler::new(&grid, settings).unwrap();
+    for n in [500, 800, 300] {
+        let c = cloud(n);
+        let mut p1 = MemoryParticles::new(c.pos.clone(), c.rad.clone(), 2500.0, 1e-3);
+        p1.gravity = G;
+        let mut p2 = p1.clone();
+        let mut f1 = MemoryFluid::uniform(grid.clone(), [0.0, 0.0, 0.3]);
+        let mut f2 = MemoryFluid::uniform(grid.clone(), [0.0, 0.0, 0.3]);
+        for _ in 0..3 {
+            let a = fresh.step(&mut p1, &mut f1).unwrap();
+            let b = recycling.step(&mut p2, &mut f2).unwrap();
+            assert!(
+                a.forces == b.forces && a.exchange == b.exchange,
+                "{n} particles"
+            );
+            assert_eq!(a.placement.centre, b.placement.centre);
+            recycling.recycle(b);
+        }
+        assert_eq!(p1.velocity, p2.velocity);
+        assert!(p1.velocity.iter().any(|v| v[2] != 0.0));
+    }
+}
+
+#[test]
+fn the_first_bad_particle_is_named() {
+    let grid = uniform_box([0.0; 3], [1.0; 3], [4, 4, 4]);
+    let n = 50_000;
+    let mut c = Cloud {
+        pos: vec![[0.5; 3]; n],
+        rad: vec![0.01; n],
+        vel: vec![[0.0; 3]; n],
+        ids: (0..n as u64).map(|i| 1000 + i).collect(),
+        den: vec![2500.0; n],
+    };
+    c.den[41_234] = -1.0;
+    c.vel[45_000] = [f64::NAN, 0.0, 0.0];
+    c.den[30_001] = 0.0;
+    c.vel[30_001][2] = f64::INFINITY;
+    let fl = fluid(&VoidageMesh::new(&grid).unwrap());
+    let settings = CouplerSettings {
+        method: Method::Centre,
+        alpha_min: None,
+        coupling_interval: 1,
+        physics: physics([Interpolation::Cell; 3], ModelType::A, DragLaw::KochHill),
+    };
+    let error = |c: &Cloud, t| {
+        in_pool(t, || {
+            Coupler::new(&grid, settings)
+                .unwrap()
+                .exchange(&c.state(), &state(&fl))
+                .unwrap_err()
+        })
+    };
+    for t in THREADS {
+        match error(&c, t) {
+            CoupleError::Particle { index, id, message } => {
+                assert_eq!((index, id), (30_001, Some(31_001)), "{t} threads");
+                assert!(message.contains("non-finite velocity"), "{message}");
+            }
+            other => panic!("{other}"),
+        }
+    }
+    c.den[30_001] = 2500.0;
+    c.vel[30_001][2] = 0.0;
+    let err = error(&c, 2).to_string();
+    assert!(err.contains("41234") && err.contains("42234"), "{err}");
+    assert!(err.contains("density -1"), "{err}");
+}
