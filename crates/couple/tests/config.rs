@@ -17,7 +17,7 @@ fn ergun_case() {
     assert_eq!(c.voidage.method, Method::Divided);
     assert_eq!(c.voidage.alpha_min, Some(0.3));
     let drag = c.forces.drag.unwrap();
-    assert_eq!(drag.closure.law, DragLaw::KochHill);
+    assert_eq!(drag.closure.law, DragLaw::GIDASPOW);
     assert_eq!(drag.interpolation, Interpolation::Smooth);
     assert!(drag.implicit_dem && !drag.explicit_fluid && !drag.dem_only);
     assert_eq!(c.forces.grad_p, Some(Interpolation::Smooth));
