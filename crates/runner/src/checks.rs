@@ -186,6 +186,14 @@ fn ergun(
                 style: Style::Line,
             },
             Series {
+                name: "plateau means (checked)".into(),
+                points: ends
+                    .iter()
+                    .map(|s| (s.inlet_velocity, s.pressure_drop))
+                    .collect(),
+                style: Style::Points,
+            },
+            Series {
                 name: "simulated, every coupling step".into(),
                 points: samples
                     .iter()

@@ -1,0 +1,129 @@
+//! The reference cases run end to end on the native stack (debug build: the settling case in
+//! full, the Ergun case as a short smoke run; the full Ergun run is in `.ci/cli-smoke`).
+
+use runner::run::{run, Event, RunOptions};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+fn case_copy(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../openfoam-cases")
+        .join(name);
+    let dst = dir.path().join(name);
+    copy(&src, &dst);
+    (dir, dst)
+}
+
+fn copy(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        let t = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy(&e.path(), &t);
+        } else {
+            std::fs::copy(e.path(), &t).unwrap();
+        }
+    }
+}
+
+#[test]
+fn settling_sphere_passes_its_checks() {
+    let (_tmp, case) = case_copy("settling");
+    let stop = AtomicBool::new(false);
+    let mut log = Vec::new();
+    let report = run(&case, &RunOptions::default(), &stop, &mut |e| {
+        if let Event::Message(m) = e {
+            log.push(m)
+        }
+    })
+    .unwrap();
+    assert_eq!(report.steps, 200);
+    assert_eq!(report.particles, 1);
+    assert!(!report.checks.is_empty());
+    for c in &report.checks {
+        assert!(c.pass, "{c:?}");
+    }
+    // Outputs: time directories with the fluid and exchange fields, particles, CSV, plot, JSON.
+    for f in ["U", "p", "voidfraction", "Ksl", "Us", "f"] {
+        assert!(case.join("CFD/0.2").join(f).is_file(), "{f}");
+    }
+    let post = case.join("postProcessing");
+    for f in [
+        "integrals.csv",
+        "validation.json",
+        "settling.png",
+        "particles/particles.pvd",
+    ] {
+        assert!(post.join(f).is_file(), "{f}");
+    }
+    let csv = std::fs::read_to_string(post.join("integrals.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 201);
+    // Volume accounting: the sphere is inside the mesh at every step.
+    for s in &report.samples {
+        assert!(
+            (s.deposited_volume + s.outside_volume - s.particle_volume).abs()
+                < 1e-12 * s.particle_volume
+        );
+        assert_eq!(s.outside_volume, 0.0);
+    }
+}
+
+#[test]
+fn ergun_case_runs_packing_and_coupling_in_a_short_smoke_run() {
+    let (_tmp, case) = case_copy("ergun");
+    let stop = AtomicBool::new(false);
+    let opts = RunOptions {
+        end_time: Some(0.0015),
+        init_vars: vec![
+            ("np".into(), "300".into()),
+            ("tsettle".into(), "1500".into()),
+        ],
+        repack: false,
+    };
+    let report = run(&case, &opts, &stop, &mut |_| {}).unwrap();
+    assert!(case.join("DEM/post/packed.data").is_file());
+    assert_eq!(report.particles, 300);
+    assert_eq!(report.steps, 3);
+    // A short run validates nothing it cannot: the checks are computed, and the particle volume
+    // is accounted for at every step (inside the cells or outside the polygonal mesh).
+    for s in &report.samples {
+        assert!(
+            (s.deposited_volume + s.outside_volume - s.particle_volume).abs()
+                < 1e-12 * s.particle_volume
+        );
+        assert!(s.pressure_drop.is_finite());
+    }
+    assert!(case.join("postProcessing/validation.json").is_file());
+}
+
+#[test]
+fn a_stop_request_ends_after_the_current_step_and_writes_it() {
+    let (_tmp, case) = case_copy("settling");
+    let stop = AtomicBool::new(true);
+    let report = run(&case, &RunOptions::default(), &stop, &mut |_| {}).unwrap();
+    assert!(report.stopped);
+    assert_eq!(report.steps, 1);
+    assert!(report.checks.is_empty());
+    assert!(case.join("CFD/0.001/U").is_file());
+    assert!(case.join("CFD/0.001/voidfraction").is_file());
+}
+
+#[test]
+fn a_deck_whose_coupling_interval_disagrees_is_refused() {
+    let (_tmp, case) = case_copy("settling");
+    let deck = case.join("DEM/in.liggghts_run");
+    let text = std::fs::read_to_string(&deck)
+        .unwrap()
+        .replace("couple_every 100", "couple_every 50");
+    std::fs::write(&deck, text).unwrap();
+    let stop = AtomicBool::new(false);
+    let err = run(&case, &RunOptions::default(), &stop, &mut |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("couple_every 50") && err.contains("couplingInterval 100"),
+        "{err}"
+    );
+}
