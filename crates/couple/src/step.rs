@@ -23,7 +23,7 @@ use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, Particle
 use foam::{Label, PolyMesh};
 use mesh::v3::V3;
 use rayon::prelude::*;
-use voidage::{Deposit, Method, ParticleSet, Voidage, VoidageMesh};
+use voidage::{CellShares, Deposit, Method, ParticleSet, Voidage, VoidageMesh};
 
 /// What a coupler needs besides the mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,7 +64,7 @@ pub struct Coupler {
 }
 
 /// Per-particle buffers kept from one step to the next ([`Coupler::recycle`]): for 10⁶
-/// particles they hold about 180 MB, which fresh allocations would page-fault in again every
+/// particles they hold about 200 MB, which fresh allocations would page-fault in again every
 /// step.
 #[derive(Default)]
 struct Spare {
@@ -72,6 +72,8 @@ struct Spare {
     couplings: Vec<ParticleCoupling>,
     /// Centre cells of a recycled step.
     centre: Vec<Option<Label>>,
+    /// Voidage shares of a recycled step.
+    shares: Option<CellShares>,
     /// What [`Coupler::step`] hands the particle side: F_ext, β and u_f.
     f_ext: Vec<V3>,
     beta: Vec<f64>,
@@ -149,9 +151,16 @@ impl Coupler {
             radii: particles.radius,
             ids: Some(particles.ids),
         };
-        let (shares, deposit) =
-            self.vm
-                .shares_with_cells(self.settings.method, &set, &mut self.hints)?;
+        let method = self.settings.method;
+        let mut shares = self.spare.shares.take().unwrap_or(CellShares {
+            method,
+            offsets: Vec::new(),
+            cells: Vec::new(),
+            volumes: Vec::new(),
+        });
+        let deposit = self
+            .vm
+            .shares_with_cells_into(method, &set, &mut self.hints, &mut shares)?;
         let voidage = self.vm.voidage(&deposit, self.settings.alpha_min)?;
         let mut centre = std::mem::take(&mut self.spare.centre);
         centre.clone_from(&self.hints);
@@ -234,12 +243,13 @@ impl Coupler {
     }
 
     /// Takes back a step the caller is done with, so that the next [`Coupler::exchange`]
-    /// writes its per-particle couplings and centre cells into the same memory instead of
-    /// fresh pages (the results are the same either way). Optional; worth it in a loop over
+    /// writes its per-particle couplings, voidage shares and centre cells into the same memory
+    /// instead of fresh pages (the results are the same either way). Optional; worth it in a loop over
     /// many particles.
     pub fn recycle(&mut self, step: CouplingStep) {
         self.spare.couplings = step.forces.particles;
         self.spare.centre = step.placement.centre;
+        self.spare.shares = Some(step.placement.shares);
     }
 }
 

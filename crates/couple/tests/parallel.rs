@@ -396,6 +396,8 @@ fn recycled_steps_equal_fresh_steps() {
                 "{n} particles"
             );
             assert_eq!(a.placement.centre, b.placement.centre);
+            assert_eq!(a.placement.shares, b.placement.shares);
+            assert!(a.deposit == b.deposit && a.voidage == b.voidage);
             recycling.recycle(b);
         }
         assert_eq!(p1.velocity, p2.velocity);

@@ -541,13 +541,32 @@ impl VoidageMesh {
     ) -> Result<(CellShares, Deposit), VoidageError> {
         let mut shares = CellShares {
             method,
-            offsets: Vec::with_capacity(particles.len() + 1),
+            offsets: Vec::new(),
             cells: Vec::new(),
             volumes: Vec::new(),
         };
-        shares.offsets.push(0);
-        let dep = self.run(method, particles, cells, Some(&mut shares))?;
+        let dep = self.shares_with_cells_into(method, particles, cells, &mut shares)?;
         Ok((shares, dep))
+    }
+
+    /// [`VoidageMesh::shares_with_cells`] into `shares`, whose previous contents are replaced
+    /// and whose allocations are reused: a coupling loop that hands back the shares of the
+    /// last step writes 20 bytes per share into memory already mapped instead of fresh pages.
+    /// On error `shares` is left empty or partly filled.
+    pub fn shares_with_cells_into(
+        &self,
+        method: Method,
+        particles: &ParticleSet<'_>,
+        cells: &mut [Option<Label>],
+        shares: &mut CellShares,
+    ) -> Result<Deposit, VoidageError> {
+        shares.method = method;
+        shares.offsets.clear();
+        shares.offsets.reserve(particles.len() + 1);
+        shares.offsets.push(0);
+        shares.cells.clear();
+        shares.volumes.clear();
+        self.run(method, particles, cells, Some(shares))
     }
 
     /// [`VoidageMesh::shares_with_cells`] without a cell hint.

@@ -74,6 +74,31 @@ fn shares_add_up_to_the_deposit_bit_for_bit() {
 }
 
 #[test]
+fn shares_into_a_reused_set_equal_fresh_shares() {
+    let (pos, rad) = cloud(5, 400);
+    let vm = &meshes()[0];
+    let mut reused = vm
+        .shares(Method::Exact, &ParticleSet::new(&pos, &rad))
+        .unwrap()
+        .0;
+    // Fewer and more particles than the set held, and another method.
+    for (n, m) in [
+        (100, Method::Centre),
+        (400, Method::Divided),
+        (250, Method::Exact),
+    ] {
+        let set = ParticleSet::new(&pos[..n], &rad[..n]);
+        let (mut hint_a, mut hint_b) = (vec![None; n], vec![None; n]);
+        let fresh = vm.shares_with_cells(m, &set, &mut hint_a).unwrap();
+        let dep = vm
+            .shares_with_cells_into(m, &set, &mut hint_b, &mut reused)
+            .unwrap();
+        assert_eq!((&reused, &dep), (&fresh.0, &fresh.1), "{m}, {n} particles");
+        assert_eq!(hint_a, hint_b);
+    }
+}
+
+#[test]
 fn each_particle_matches_a_deposit_of_it_alone() {
     let (pos, rad) = cloud(11, 60);
     for vm in meshes() {
