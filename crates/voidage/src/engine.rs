@@ -614,25 +614,37 @@ impl VoidageMesh {
             .map(|s| s..(s + CHUNK).min(n))
             .collect();
         let cells: &[Option<Label>] = cells;
-        for batch in chunks.chunks(BATCH) {
-            let outs: Vec<ChunkOut> = batch
-                .par_iter()
-                .map_init(Scratch::default, |s, range| {
-                    self.chunk(method, particles, cells, range.clone(), s)
-                })
-                .collect();
-            for o in outs {
-                for &(c, v) in &o.shares {
-                    solid[c as usize] += v;
-                }
-                if let Some(k) = keep.as_deref_mut() {
-                    k.append(&o.shares, &o.counts);
-                }
-                dep.outside_volume += o.outside;
-                dep.particle_volume += o.volume;
-                dep.particles_outside += o.fully_outside;
-                dep.particles_partly_outside += o.partly_outside;
-            }
+        // A two-stage pipeline: while the threads compute batch b + 1, one of them adds batch
+        // b to the solid volumes and the shares, in particle order.
+        let mut done: Option<Vec<ChunkOut>> = None;
+        for batch in chunks.chunks(BATCH).map(Some).chain([None]) {
+            let (next, ()) = rayon::join(
+                || {
+                    batch.map(|batch| {
+                        batch
+                            .par_iter()
+                            .map_init(Scratch::default, |s, range| {
+                                self.chunk(method, particles, cells, range.clone(), s)
+                            })
+                            .collect::<Vec<ChunkOut>>()
+                    })
+                },
+                || {
+                    for o in done.take().into_iter().flatten() {
+                        for &(c, v) in &o.shares {
+                            solid[c as usize] += v;
+                        }
+                        if let Some(k) = keep.as_deref_mut() {
+                            k.append(&o.shares, &o.counts);
+                        }
+                        dep.outside_volume += o.outside;
+                        dep.particle_volume += o.volume;
+                        dep.particles_outside += o.fully_outside;
+                        dep.particles_partly_outside += o.partly_outside;
+                    }
+                },
+            );
+            done = next;
         }
         dep.deposited_volume = solid.iter().sum();
         dep.solid = solid;

@@ -99,6 +99,38 @@ fn shares_into_a_reused_set_equal_fresh_shares() {
 }
 
 #[test]
+fn many_batches_sum_in_particle_order_with_any_thread_count() {
+    // 150 000 particles: several batches of the engine's pipeline.
+    let (pos, rad) = cloud(9, 150_000);
+    let set = ParticleSet::new(&pos, &rad);
+    let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [10, 10, 10])).unwrap();
+    for m in [Method::Centre, Method::Divided] {
+        let (sh, dep) = vm.shares(m, &set).unwrap();
+        let mut solid = vec![0.0; vm.n_cells()];
+        let mut volume = 0.0;
+        for (i, r) in rad.iter().enumerate() {
+            volume += ball_volume(*r);
+            for (&c, &v) in sh.of(i).0.iter().zip(sh.of(i).1) {
+                solid[c as usize] += v;
+            }
+        }
+        assert_eq!(solid, dep.solid, "{m}: serial sum in particle order");
+        assert!(
+            (dep.particle_volume - volume).abs() <= 1e-13 * volume,
+            "{m}"
+        );
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let again = pool.install(|| vm.shares(m, &set).unwrap());
+            assert_eq!((&again.0, &again.1), (&sh, &dep), "{m}, {threads} threads");
+        }
+    }
+}
+
+#[test]
 fn each_particle_matches_a_deposit_of_it_alone() {
     let (pos, rad) = cloud(11, 60);
     for vm in meshes() {
