@@ -12,7 +12,7 @@
 //! [`Outside`] with its β and force instead of being dropped. A particle partly outside the
 //! mesh has its shares renormalised over the cells inside (ADR 0004), so it is counted whole.
 //!
-//! The sums run over particles in index order ([`Sums`]), so the result does not depend on the
+//! The sums run over particles in index order (`Sums`), so the result does not depend on the
 //! number of threads; the per-cell finish runs in parallel. In the coupler the sums run
 //! alongside the force loop ([`crate::forces::couplings_and_exchange`]).
 

@@ -100,7 +100,7 @@ const STAGE: usize = 1 << 15;
 /// vector whose allocation holds the couplings (its contents are discarded; `Vec::new()` for
 /// none): the couplings of 10⁶ particles take 112 MB, and writing them into fresh memory costs
 /// the kernel about as much time as computing them (page faults). The particles
-/// go in stages of [`STAGE`]: while the threads compute the couplings of stage k + 1 (parallel
+/// go in stages of 2¹⁵: while the threads compute the couplings of stage k + 1 (parallel
 /// over particles; each also copies its β_fluid and f_fluid to a small stage buffer), one of
 /// them adds stage k to the exchange sums in particle order from that buffer. The exchange
 /// thus overlaps the force loop instead of re-reading 112 B per particle after it, and stays

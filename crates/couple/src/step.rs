@@ -6,7 +6,7 @@
 //!    the new ε (clipped at `alphaMin` when set, the clipped volume reported);
 //! 3. the fluid state (U, ∇p, ∇·τ, with the new ε) is interpolated to the particles and the
 //!    forces computed ([`crate::forces`]);
-//! 4. the exchange fields Ksl, Us, f are built with the same shares ([`crate::exchange`]) and
+//! 4. the exchange fields Ksl, Us, f are built with the same shares ([`crate::exchange`](mod@crate::exchange)) and
 //!    handed to the fluid with ε old and new (the fluid blends them over the interval,
 //!    [`crate::blend`]); the particle side gets (F_ext, β, u_f);
 //! 5. the fluid advances one coupling interval, `couplingInterval × dt_DEM`.
