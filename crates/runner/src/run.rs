@@ -504,6 +504,7 @@ pub fn run(
             steps,
             sample,
         });
+        coupler.recycle(step);
         if stop_now && k < steps {
             stopped = true;
             events(Event::Message(format!(
