@@ -50,3 +50,10 @@ pub fn cross(a: V3, b: V3) -> V3 {
 pub fn mag(a: V3) -> f64 {
     (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
+
+/// `a / |a|`, or `None` for a zero or non-finite vector.
+#[inline]
+pub fn unit(a: V3) -> Option<V3> {
+    let n = mag(a);
+    (n > 0.0 && n.is_finite()).then(|| div(a, n))
+}

@@ -1,6 +1,7 @@
 //! Measurements of a particle bed used by the references: bed height and mean voidage.
 
-use mesh::v3::{cross, dot, V3};
+use mesh::v3::{cross, dot, unit, V3};
+use voidage::sphere_box::ball_volume;
 
 /// A packed bed measured from its particles in a vertical column of cross-section `area`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,16 +25,11 @@ pub struct Bed {
     pub sauter_diameter: f64,
 }
 
-fn normalise(v: V3) -> V3 {
-    let n = dot(v, v).sqrt();
-    [v[0] / n, v[1] / n, v[2] / n]
-}
-
 impl Bed {
     /// Measures a bed: `positions` of the particle centres, `axis` the unit vector up the
     /// column, `floor` the column's bottom along it (m), `radii` and `densities` per particle,
     /// `area` the column cross-section (m²). Returns `None` for no particles, mismatched
-    /// lengths or a non-positive area.
+    /// lengths, a non-positive area or a zero axis.
     pub fn measure(
         positions: &[V3],
         axis: V3,
@@ -46,9 +42,12 @@ impl Bed {
         if n == 0 || radii.len() != n || densities.len() != n || area.is_nan() || area <= 0.0 {
             return None;
         }
-        let vol = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
-        let solid_volume: f64 = radii.iter().map(|&r| vol(r)).sum();
-        let mass: f64 = radii.iter().zip(densities).map(|(&r, &d)| d * vol(r)).sum();
+        let solid_volume: f64 = radii.iter().map(|&r| ball_volume(r)).sum();
+        let mass: f64 = radii
+            .iter()
+            .zip(densities)
+            .map(|(&r, &d)| d * ball_volume(r))
+            .sum();
         let d3: f64 = radii.iter().map(|r| (2.0 * r).powi(3)).sum();
         let d2: f64 = radii.iter().map(|r| (2.0 * r).powi(2)).sum();
         let sauter = d3 / d2;
@@ -58,7 +57,7 @@ impl Bed {
         } else {
             [0.0, 1.0, 0.0]
         };
-        let e1 = normalise(cross(axis, t));
+        let e1 = unit(cross(axis, t))?;
         let e2 = cross(axis, e1);
         let bin = 2.0 * sauter;
         let mut tops: std::collections::HashMap<(i64, i64), f64> = Default::default();

@@ -24,7 +24,7 @@ use closures::model::ModelType;
 use couple::{Coupler, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
 use dem::deck::Deck;
 use dem::Simulation;
-use mesh::v3::{dot, V3};
+use mesh::v3::{dot, unit, V3};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -163,11 +163,6 @@ impl Column {
     }
 }
 
-fn unit(v: V3) -> Option<V3> {
-    let n = dot(v, v).sqrt();
-    (n > 0.0 && n.is_finite()).then(|| [v[0] / n, v[1] / n, v[2] / n])
-}
-
 /// The data file a deck reads with `read_data`, resolved against the deck's directory.
 fn read_data_file(deck: &Deck, dem_dir: &Path) -> Option<PathBuf> {
     deck.commands
@@ -232,7 +227,7 @@ impl Observer {
         let mut axial = 0.0;
         for i in 0..ps.len() {
             let r = ps.radius[i];
-            let m = ps.density[i] * 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+            let m = ps.density[i] * voidage::sphere_box::ball_volume(r);
             ke += 0.5 * m * dot(ps.velocity[i], ps.velocity[i]);
             axial += dot(ps.velocity[i], ax);
         }
