@@ -15,7 +15,7 @@ use std::sync::Arc;
 pub enum FluidBackend {
     /// The native Rust VANS PISO solver.
     Native,
-    /// grainPisoFoam over MPI (Debian's OpenFOAM v1912).
+    /// grainPisoFoam over MPI (Debian's OpenFOAM v1912; a build with feature `mpi`).
     Openfoam,
 }
 
@@ -24,8 +24,10 @@ pub enum FluidBackend {
 pub enum DemBackend {
     /// The native Rust DEM.
     Native,
-    /// LIGGGHTS in-process (Debian's libliggghts).
+    /// LIGGGHTS in-process (Debian's libliggghts; a build with feature `liggghts`).
     Liggghts,
+    /// LIGGGHTS as a child process coupled through files (slow: LIGGGHTS polls every 10 s).
+    LiggghtsFile,
 }
 
 /// Arguments of `foamgrain run`.
@@ -40,7 +42,8 @@ pub struct RunArgs {
     /// Particle backend.
     #[arg(long, value_enum, default_value = "native")]
     pub dem: DemBackend,
-    /// Number of threads (native backends) or MPI ranks (OpenFOAM); default: all cores.
+    /// Number of threads of the native backends (default: all cores) and MPI ranks of
+    /// grainPisoFoam (default 1).
     #[arg(long)]
     pub np: Option<usize>,
     /// Stop at this simulated time instead of the controlDict's endTime (s).
@@ -66,12 +69,6 @@ fn parse_vars(vars: &[String]) -> anyhow::Result<Vec<(String, String)>> {
 
 /// Runs the command.
 pub fn run(a: &RunArgs) -> anyhow::Result<()> {
-    if a.fluid != FluidBackend::Native || a.dem != DemBackend::Native {
-        bail!(
-            "this build runs only --fluid native --dem native; the OpenFOAM (grainPisoFoam over \
-             MPI) and LIGGGHTS (libliggghts) backends are not available in it"
-        );
-    }
     if let Some(n) = a.np {
         if n == 0 {
             bail!("--np must be at least 1");
@@ -85,6 +82,16 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
         end_time: a.end_time,
         init_vars: parse_vars(&a.vars)?,
         repack: a.repack,
+        fluid: match a.fluid {
+            FluidBackend::Native => runner::backend::FluidBackend::Native,
+            FluidBackend::Openfoam => runner::backend::FluidBackend::OpenFoam,
+        },
+        dem: match a.dem {
+            DemBackend::Native => runner::backend::DemBackend::Native,
+            DemBackend::Liggghts => runner::backend::DemBackend::Liggghts,
+            DemBackend::LiggghtsFile => runner::backend::DemBackend::LiggghtsFile,
+        },
+        fluid_ranks: a.np.unwrap_or(1),
     };
     let stop = Arc::new(AtomicBool::new(false));
     {

@@ -3,8 +3,10 @@
 //! Owns: the pairing of a particle backend with a fluid backend, the run loop's outputs
 //! (integral quantities per coupling step as CSV, PNG plots) and the validation of a case against
 //! references computed from the case's own parameters and its measured bed.
+pub mod backend;
 pub mod bed;
 pub mod checks;
+pub mod fluid;
 pub mod layout;
 pub mod native;
 pub mod plot;

@@ -1,8 +1,11 @@
 //! The native backends as coupling sides: the `fv` PISO solver as a [`FluidSide`] and the
 //! `dem` simulation as a [`ParticleSide`].
 
+use crate::fluid::RunFluid;
 use couple::blend::{blend_scalar, fraction};
-use couple::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState, SideError};
+use couple::{
+    CouplingStep, ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState, SideError,
+};
 use dem::Simulation;
 use foam::PolyMesh;
 use fv::Fluid;
@@ -106,6 +109,57 @@ impl FluidSide for NativeFluid {
             grad_p: self.fluid.grad_p(),
             div_tau: &self.div_tau,
         }
+    }
+}
+
+/// Area-weighted mean of boundary values over a patch; `None` without the patch.
+fn patch_mean<T: Copy>(
+    g: &fv::FvGeometry,
+    name: &str,
+    values: &[T],
+    mut f: impl FnMut(T, usize) -> f64,
+) -> Option<f64> {
+    let p = g.patches.iter().find(|p| p.name == name)?;
+    let (mut sum, mut area) = (0.0, 0.0);
+    for face in p.faces.clone() {
+        let a = g.mag_sf[face];
+        sum += f(values[face - g.n_internal], face) * a;
+        area += a;
+    }
+    (area > 0.0).then(|| sum / area)
+}
+
+impl RunFluid for NativeFluid {
+    fn time(&self) -> f64 {
+        self.fluid.time()
+    }
+
+    fn patch_pressure(&self, name: &str) -> Option<f64> {
+        patch_mean(
+            self.fluid.geometry(),
+            name,
+            self.fluid.p_boundary(),
+            |p, _| p,
+        )
+    }
+
+    fn inflow_velocity(&self, name: &str) -> Option<f64> {
+        let g = self.fluid.geometry();
+        patch_mean(g, name, self.fluid.u_boundary(), |u, face| {
+            -mesh::v3::dot(u, g.sf[face]) / g.mag_sf[face]
+        })
+    }
+
+    fn write_time(
+        &mut self,
+        cfd: &Path,
+        mesh: &PolyMesh,
+        step: &CouplingStep,
+    ) -> Result<String, SideError> {
+        let name = self.fluid.time_name();
+        self.fluid.write(&name)?;
+        couple::output::write_fields(&cfd.join(&name), &name, mesh, step, foam::Format::Ascii)?;
+        Ok(name)
     }
 }
 

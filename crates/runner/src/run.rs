@@ -14,14 +14,16 @@
 //! 5. The case's `validationDict` decides the checks ([`crate::checks`]); they go to
 //!    `postProcessing/validation.json` with PNG plots.
 
+use crate::backend::{DemBackend, FluidBackend};
 use crate::checks;
+use crate::fluid::RunFluid;
 use crate::layout::{CaseLayout, LayoutError, ValidationSpec};
 use crate::native::{NativeDem, NativeFluid};
 use crate::sample::{write_csv, Sample};
 use crate::timed::Timed;
 use crate::validation::{write_json, Check};
 use closures::model::ModelType;
-use couple::{Coupler, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
+use couple::{Coupler, CouplerSettings, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
 use dem::deck::Deck;
 use dem::Simulation;
 use mesh::v3::{dot, unit, V3};
@@ -69,6 +71,9 @@ pub enum RunError {
     /// Drawing a plot.
     #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
+    /// A backend that is not available or failed to start.
+    #[error("{0}")]
+    Backend(String),
 }
 
 /// Options of a run.
@@ -80,6 +85,12 @@ pub struct RunOptions {
     pub init_vars: Vec<(String, String)>,
     /// Pack again even if the packed-bed file exists.
     pub repack: bool,
+    /// The fluid backend.
+    pub fluid: FluidBackend,
+    /// The particle backend.
+    pub dem: DemBackend,
+    /// MPI ranks of the fluid solver (OpenFOAM backend; 0 or 1: serial).
+    pub fluid_ranks: usize,
 }
 
 /// What a run reports as it goes.
@@ -179,23 +190,6 @@ fn setup_err(file: &Path, message: String) -> RunError {
     }
 }
 
-/// Area-weighted mean of boundary values over a patch, with Σ|S_f|; `None` without the patch.
-fn patch_mean<T: Copy>(
-    g: &fv::FvGeometry,
-    name: &str,
-    values: &[T],
-    mut f: impl FnMut(T, usize) -> f64,
-) -> Option<(f64, f64)> {
-    let p = g.patches.iter().find(|p| p.name == name)?;
-    let (mut sum, mut area) = (0.0, 0.0);
-    for face in p.faces.clone() {
-        let a = g.mag_sf[face];
-        sum += f(values[face - g.n_internal], face) * a;
-        area += a;
-    }
-    (area > 0.0).then_some((sum / area, area))
-}
-
 struct Observer {
     column: Column,
     rho: f64,
@@ -205,14 +199,13 @@ struct Observer {
 }
 
 impl Observer {
-    fn sample<P: ParticleSide>(
+    fn sample<P: ParticleSide, F: RunFluid>(
         &self,
         time: f64,
-        fluid: &NativeFluid,
+        fluid: &F,
         dem: &P,
         step: &CouplingStep,
     ) -> Sample {
-        let g = fluid.fluid().geometry();
         let ps = dem.state();
         let ax = self.column.axis;
         let bed = crate::bed::Bed::measure(
@@ -232,11 +225,7 @@ impl Observer {
             axial += dot(ps.velocity[i], ax);
         }
         let force: f64 = step.forces.particles.iter().map(|c| dot(c.total, ax)).sum();
-        let p_mean = |name: &Option<String>| {
-            name.as_deref()
-                .and_then(|n| patch_mean(g, n, fluid.fluid().p_boundary(), |p, _| p))
-                .map(|(m, _)| m)
-        };
+        let p_mean = |name: &Option<String>| name.as_deref().and_then(|n| fluid.patch_pressure(n));
         let pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
             (Some(a), Some(b)) => self.rho * (a - b),
             _ => 0.0,
@@ -244,12 +233,7 @@ impl Observer {
         let inlet_velocity = self
             .inlet
             .as_deref()
-            .and_then(|n| {
-                patch_mean(g, n, fluid.fluid().u_boundary(), |u, face| {
-                    -dot(u, g.sf[face]) / g.mag_sf[face]
-                })
-            })
-            .map(|(m, _)| m)
+            .and_then(|n| fluid.inflow_velocity(n))
             .unwrap_or(0.0);
         Sample {
             time,
@@ -288,21 +272,17 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
 }
 
 /// Writes one output time: fluid U and p, the exchange fields and the particles.
-fn write_time<P: ParticleSide>(
+fn write_time<P: ParticleSide, F: RunFluid>(
     layout: &CaseLayout,
-    fluid: &NativeFluid,
+    fluid: &mut F,
     mesh: &foam::PolyMesh,
     dem: &P,
     step: &CouplingStep,
     vtp: &mut Vec<(f64, PathBuf)>,
 ) -> Result<(), RunError> {
-    let name = fluid.fluid().time_name();
-    fluid
-        .fluid()
-        .write(&name)
-        .map_err(|e| RunError::Fluid(Box::new(e)))?;
-    let dir = layout.cfd.join(&name);
-    couple::output::write_fields(&dir, &name, mesh, step, foam::Format::Ascii)?;
+    let name = fluid
+        .write_time(&layout.cfd, mesh, step)
+        .map_err(RunError::Fluid)?;
     let ps = dem.state();
     let pdir = layout.post_processing().join("particles");
     std::fs::create_dir_all(&pdir).map_err(io_err(&pdir))?;
@@ -320,7 +300,7 @@ fn write_time<P: ParticleSide>(
         ],
     )?;
     vtp.push((
-        fluid.fluid().time(),
+        fluid.time(),
         PathBuf::from(file.file_name().unwrap_or_default()),
     ));
     vtk::write_pvd(pdir.join("particles.pvd"), vtp)?;
@@ -401,51 +381,97 @@ pub fn run(
             ),
         ));
     }
-    let sim = Simulation::from_deck(&run_deck, &layout.dem)?;
     let model = match config.model {
         ModelType::A => fv::Model::A,
         _ => fv::Model::B,
     };
-    let fluid = NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid)?;
+    let fluid_settings = fv::settings::Settings::read(&foam::Case::open(&layout.cfd)?)
+        .map_err(|e| RunError::Fluid(Box::new(e)))?;
+    let ctx = LoopContext {
+        layout: &layout,
+        settings,
+        fluid_settings,
+        coupling_interval: config.coupling_interval,
+        model_name: config.model.name(),
+        opts,
+        stop,
+        init_seconds,
+    };
+    match (opts.fluid, opts.dem) {
+        (FluidBackend::Native, DemBackend::Native) => {
+            let sim = Simulation::from_deck(&run_deck, &layout.dem)?;
+            let fluid = NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid)?;
+            couple_loop(ctx, NativeDem::new(sim), fluid, events)
+        }
+        (fluid, dem) => crate::backend::run_external(ctx, &run_deck, model, fluid, dem, events),
+    }
+}
+
+/// Everything the coupled loop needs besides its two sides.
+pub(crate) struct LoopContext<'a> {
+    pub(crate) layout: &'a CaseLayout,
+    pub(crate) settings: CouplerSettings,
+    pub(crate) fluid_settings: fv::settings::Settings,
+    pub(crate) coupling_interval: u64,
+    pub(crate) model_name: &'static str,
+    pub(crate) opts: &'a RunOptions,
+    pub(crate) stop: &'a AtomicBool,
+    pub(crate) init_seconds: f64,
+}
+
+/// Stage 2 on any pair of sides: the schedule, the samples, the outputs and the checks.
+pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
+    ctx: LoopContext<'_>,
+    dem: P,
+    fluid: F,
+    events: &mut dyn FnMut(Event),
+) -> Result<RunReport, RunError> {
+    let LoopContext {
+        layout,
+        settings,
+        fluid_settings,
+        coupling_interval,
+        model_name,
+        opts,
+        stop,
+        init_seconds,
+    } = ctx;
     let mesh = fluid.mesh().clone();
-    let cfd_dt = fluid.fluid().settings.delta_t;
-    let mut dem = Timed::new(NativeDem::new(sim));
+    let cfd_dt = fluid_settings.delta_t;
+    let mut dem = Timed::new(dem);
     let mut fluid = Timed::new(fluid);
-    let dt_c = config.coupling_interval as f64 * dem.time_step();
+    let dt_c = coupling_interval as f64 * dem.time_step();
     let ratio = dt_c / cfd_dt;
     if (ratio - ratio.round()).abs() > 1e-6 * ratio || ratio.round() < 1.0 {
         return Err(setup_err(
             &layout.cfd.join("system/controlDict"),
             format!(
                 "deltaT {cfd_dt} s must divide the coupling interval {} × {} s = {dt_c} s",
-                config.coupling_interval,
+                coupling_interval,
                 dem.time_step()
             ),
         ));
     }
-    let start = fluid.inner.fluid().time();
-    let end = opts
-        .end_time
-        .unwrap_or(fluid.inner.fluid().settings.end_time);
+    let start = fluid.inner.time();
+    let end = opts.end_time.unwrap_or(fluid_settings.end_time);
     let steps = ((end - start) / dt_c - 1e-9).ceil().max(0.0) as u64;
-    let write_every = match fluid.inner.fluid().settings.write {
+    let write_every = match fluid_settings.write {
         fv::settings::WriteControl::RunTime(t) => (t / dt_c).round().max(1.0) as u64,
         fv::settings::WriteControl::TimeStep(n) => {
             ((n as f64 * cfd_dt) / dt_c).round().max(1.0) as u64
         }
     };
+    let method_name = settings.method.name();
     let mut coupler = Coupler::new(&mesh, settings)?;
     // The voidage of the initial particles, so that the first coupling interval blends from it
     // (not from an empty domain, which would make ∂ε/∂t a spurious source).
     coupler.exchange(&dem.state(), &fluid.state())?;
     let n_particles = dem.state().len();
     events(Event::Message(format!(
-        "stage 2: {n_particles} particles, {} cells, {steps} coupling steps of {dt_c} s ({} DEM + {} fluid steps each), model {}, voidage {}",
+        "stage 2: {n_particles} particles, {} cells, {steps} coupling steps of {dt_c} s ({} DEM + {} fluid steps each), model {model_name}, voidage {method_name}",
         mesh.n_cells,
-        config.coupling_interval,
+        coupling_interval,
         ratio.round(),
-        config.model.name(),
-        settings.method.name()
     )));
 
     let spec = layout.validation.clone();
@@ -458,7 +484,7 @@ pub fn run(
         ])
         .unwrap_or([0.0, 0.0, 1.0]),
     };
-    let volume: f64 = fluid.inner.fluid().geometry().v.iter().sum();
+    let volume: f64 = coupler.voidage_mesh().geometry().cell_volumes.iter().sum();
     let (inlet, outlet) = match &spec {
         Some(ValidationSpec::ErgunPackedBed { inlet, outlet, .. }) => {
             (Some(inlet.clone()), Some(outlet.clone()))
@@ -482,13 +508,13 @@ pub fn run(
     let t_loop = Instant::now();
     for k in 1..=steps {
         let step = coupler.step(&mut dem, &mut fluid)?;
-        let time = fluid.inner.fluid().time();
+        let time = fluid.inner.time();
         let sample = observer.sample(time, &fluid.inner, &dem, &step);
         samples.push(sample);
         let stop_now = stop.load(Ordering::SeqCst);
         if k % write_every == 0 || k == steps || stop_now {
             let t = Instant::now();
-            write_time(&layout, &fluid.inner, &mesh, &dem, &step, &mut vtp)?;
+            write_time(layout, &mut fluid.inner, &mesh, &dem, &step, &mut vtp)?;
             write_csv(&csv, &samples).map_err(io_err(&csv))?;
             output_seconds += t.elapsed().as_secs_f64();
         }
@@ -508,6 +534,7 @@ pub fn run(
             break;
         }
     }
+    fluid.inner.finish().map_err(RunError::Fluid)?;
     let loop_seconds = t_loop.elapsed().as_secs_f64();
 
     let mut checks = Vec::new();

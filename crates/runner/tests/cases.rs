@@ -81,6 +81,7 @@ fn ergun_case_runs_packing_and_coupling_in_a_short_smoke_run() {
             ("tsettle".into(), "1500".into()),
         ],
         repack: false,
+        ..RunOptions::default()
     };
     let report = run(&case, &opts, &stop, &mut |_| {}).unwrap();
     assert!(case.join("DEM/post/packed.data").is_file());
