@@ -23,7 +23,8 @@
 //! ([`crate::Interpolation::Smooth`]; CFDEM interpolates trilinearly, foamgrain averages over the
 //! particle's voidage cells), `implForceDEM` (drag applied implicitly every DEM step),
 //! `treatForceExplicit` (drag reaction in `f` instead of Ksl), `treatForceDEM` (no reaction
-//! on the fluid), `verbose`, `switchingVoidfraction` (Gidaspow) and `…FieldName` entries are
+//! on the fluid), `verbose`, `switchingVoidfraction` and the sphericity `phi` (Gidaspow; only
+//! `phi 1`, spheres, is accepted) and `…FieldName` entries are
 //! understood; a field name other than CFDEM's default is an error, since foamgrain reads the
 //! standard names. Any other key, an unknown model name or an unsupported value is a
 //! [`CoupleError::Config`] naming the file and the key; `<name>Props` dictionaries of models
@@ -442,9 +443,21 @@ fn read_forces(r: &mut Reader<'_>, top: &Dict) -> Result<Forces, CoupleError> {
                 "verbose",
             ];
             if matches!(law, DragLaw::Gidaspow { .. }) {
-                known.push("switchingVoidfraction");
+                known.extend(["switchingVoidfraction", "phi"]);
             }
             r.check_props(&props, &dict, &known)?;
+            if props.contains("phi") {
+                // CFDEM's GidaspowDragProps carry the sphericity `phi`; spheres have 1, and
+                // only spheres are supported.
+                let key = format!("{dict}/phi");
+                let phi = r.number(&props, "phi", &key)?;
+                if phi != 1.0 {
+                    return Err(r.err(
+                        &key,
+                        format!("sphericity {phi}: only spheres (phi 1) are supported"),
+                    ));
+                }
+            }
             let mut law = law;
             if props.contains("switchingVoidfraction") {
                 let key = format!("{dict}/switchingVoidfraction");

@@ -64,6 +64,17 @@ fn read(text: &str) -> Result<CouplingConfig, String> {
 }
 
 #[test]
+fn cfdem_sphericity_of_one_is_accepted() {
+    let c = read(&BASE.replace("interpolation true;", "interpolation true; phi 1;")).unwrap();
+    assert_eq!(
+        c.forces.drag.unwrap().closure.law,
+        DragLaw::Gidaspow {
+            switch_voidage: 0.7
+        }
+    );
+}
+
+#[test]
 fn our_extensions_and_gidaspow_switch() {
     let c = read(BASE).unwrap();
     assert_eq!(c.voidage.method, Method::Exact);
@@ -133,6 +144,11 @@ fn errors_name_file_and_key() {
         "switchingVoidfraction 0.7;",
         "switchingVoidfraction 1.7;",
         &["GidaspowDragProps", "switchingVoidfraction"],
+    );
+    fails(
+        "switchingVoidfraction 0.7;",
+        "switchingVoidfraction 0.7; phi 0.8;",
+        &["GidaspowDragProps/phi", "0.8", "spheres"],
     );
     fails(
         "locateModel engine;",
