@@ -423,14 +423,16 @@ impl Fluid {
             Model::B => 1.0,
         };
         if self.settings.momentum_predictor {
-            for k in 0..3 {
+            let solver = self.settings.u_solver;
+            for k in (0..3).filter(|&k| g.solution_dirs[k]) {
                 m.diag = diag.iter().map(|d| d[k]).collect();
                 let rhs: Vec<f64> = (0..n)
                     .map(|c| b[c][k] - g.v[c] * kappa_p(c) * self.grad_p[c][k])
                     .collect();
                 let mut x: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
+                let what = ["Ux", "Uy", "Uz"][k];
                 let s =
-                    linsolve::bicgstab(&m, g, &rhs, &mut x, &self.settings.u_solver.controls, "U")?;
+                    linsolve::solve(solver.method, &m, g, &rhs, &mut x, &solver.controls, what)?;
                 report.momentum.push(s);
                 for c in 0..n {
                     self.u[c][k] = x[c];
@@ -488,8 +490,9 @@ impl Fluid {
         let n_corr = self.settings.n_correctors;
         for corr in 0..n_corr {
             let g = &self.g;
+            // H/A; zero in a direction that is not solved (OpenFOAM's fvMatrix::H).
             let mut hbya: Vec<V3> = vec![[0.0; 3]; n];
-            for k in 0..3 {
+            for k in (0..3).filter(|&k| g.solution_dirs[k]) {
                 let uk: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
                 hbya.par_iter_mut().enumerate().for_each(|(c, h)| {
                     let hv =
@@ -606,8 +609,7 @@ impl Fluid {
                 } else {
                     &self.settings.p_solver
                 };
-                let s =
-                    linsolve::pcg(&pm, g, &rhs, &mut p, ctl.preconditioner, &ctl.controls, "p")?;
+                let s = linsolve::solve(ctl.method, &pm, g, &rhs, &mut p, &ctl.controls, "p")?;
                 report.pressure.push(s);
             }
             // Rhie–Chow face flux from the pressure solution.

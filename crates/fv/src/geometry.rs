@@ -11,6 +11,8 @@ use foam::PolyMesh;
 use mesh::v3::{dot, mag, scale, sub};
 use mesh::MeshGeometry;
 
+use crate::ldu::RowAddressing;
+
 /// A 3-vector (m, m², m/s … as the field says).
 pub type V3 = [f64; 3];
 
@@ -85,6 +87,12 @@ pub struct FvGeometry {
     /// Cell → face adjacency, the faces of each cell in increasing face order, without faces of
     /// `empty` patches.
     pub cell_faces: Vec<u32>,
+    /// Row-wise addressing of the matrices of the mesh (internal faces only).
+    pub rows: RowAddressing,
+    /// The directions the equations are solved in: false for a direction normal to the
+    /// `empty` patches of a 2-D case (OpenFOAM's `polyMesh::solutionD`), whose velocity
+    /// component is not solved for.
+    pub solution_dirs: [bool; 3],
 }
 
 impl FvGeometry {
@@ -184,6 +192,8 @@ impl FvGeometry {
         }
         // Faces were visited in increasing order, so each cell's list is sorted: sums over a
         // cell's faces run in face order, as OpenFOAM's face loops accumulate them.
+        let rows = RowAddressing::new(n_cells, &owner[..n_internal], &neighbour);
+        let solution_dirs = solution_dirs(&sf, &boundary_empty, n_internal);
         Ok(FvGeometry {
             n_cells,
             n_internal,
@@ -202,6 +212,8 @@ impl FvGeometry {
             boundary_empty,
             cell_offsets,
             cell_faces,
+            rows,
+            solution_dirs,
         })
     }
 
@@ -252,4 +264,25 @@ impl FvGeometry {
     pub fn nhat(&self, f: usize) -> V3 {
         scale(1.0 / self.mag_sf[f], self.sf[f])
     }
+}
+
+/// The solution directions of a mesh (as OpenFOAM's `polyMesh::solutionD`): with s the sum
+/// over the `empty` faces of the component magnitudes of S_f, a direction i is left out when
+/// s_i/|s| > 1e-6 (the normal of a 2-D case's front and back planes). A mesh without `empty`
+/// faces solves in all three directions.
+fn solution_dirs(sf: &[V3], boundary_empty: &[bool], n_internal: usize) -> [bool; 3] {
+    let mut sum = [0.0f64; 3];
+    for (b, &empty) in boundary_empty.iter().enumerate() {
+        if empty {
+            let s = sf[n_internal + b];
+            for i in 0..3 {
+                sum[i] += s[i].abs();
+            }
+        }
+    }
+    let m = mag(sum);
+    if m == 0.0 {
+        return [true; 3];
+    }
+    std::array::from_fn(|i| sum[i] / m <= 1e-6)
 }

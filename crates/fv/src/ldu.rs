@@ -1,12 +1,93 @@
 //! The sparse matrix of a finite-volume equation in OpenFOAM's LDU layout: one diagonal
 //! coefficient per cell, one upper (owner row, neighbour column) and one lower (neighbour row,
-//! owner column) coefficient per internal face. Products gather over each cell's faces, so they
-//! run in parallel without atomics.
+//! owner column) coefficient per internal face — the layout the equations are assembled in —
+//! and its row-wise copy ([`RowMatrix`]) that the linear solvers iterate over.
+//!
+//! The row form keeps, for each cell, first the faces it is the neighbour of (the strictly
+//! lower part, columns below the row since owner < neighbour) and then the faces it owns (the
+//! upper part), each in increasing face order. On a mesh in OpenFOAM's upper-triangular face
+//! order this is the order in which OpenFOAM's face loops accumulate into a cell, so a row sum
+//! here has the same terms in the same order (bit-identical results); the products gather per
+//! row, so they run in parallel without atomics, and the triangular sweeps keep the running
+//! value in a register instead of scattering it through memory.
+
+
+// Row loops index several arrays by the same row or entry, as the equations do.
+#![allow(clippy::needless_range_loop)]
 
 use crate::geometry::FvGeometry;
 use rayon::prelude::*;
 
-/// A square matrix with the sparsity of the mesh's cell–face graph.
+/// Rows at least this long are multiplied in parallel: below it, handing work to rayon's pool
+/// (a wake-up and a context switch per operation) costs more than it saves.
+pub const PAR_MIN: usize = 50_000;
+
+/// Row-wise (CSR) addressing of the LDU matrix of a mesh, computed once per mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RowAddressing {
+    /// Start of each row's entries (length `n_cells + 1`).
+    pub start: Vec<u32>,
+    /// First upper entry of each row: entries `start[c]..mid[c]` are the faces with `c` as
+    /// neighbour (column: the owner), `mid[c]..start[c + 1]` the faces `c` owns (column: the
+    /// neighbour), each in increasing face order.
+    pub mid: Vec<u32>,
+    /// Column (the other cell) of each entry.
+    pub col: Vec<u32>,
+    /// Internal face of each entry.
+    pub face: Vec<u32>,
+}
+
+impl RowAddressing {
+    /// The addressing of the internal faces `owner[f] < neighbour[f]` of a mesh of `n_cells`.
+    pub fn new(n_cells: usize, owner: &[u32], neighbour: &[u32]) -> Self {
+        let mut n_lower = vec![0u32; n_cells];
+        let mut n_upper = vec![0u32; n_cells];
+        for (&o, &n) in owner.iter().zip(neighbour) {
+            n_upper[o as usize] += 1;
+            n_lower[n as usize] += 1;
+        }
+        let mut start = vec![0u32; n_cells + 1];
+        let mut mid = vec![0u32; n_cells];
+        for c in 0..n_cells {
+            mid[c] = start[c] + n_lower[c];
+            start[c + 1] = mid[c] + n_upper[c];
+        }
+        let total = start[n_cells] as usize;
+        let mut col = vec![0u32; total];
+        let mut face = vec![0u32; total];
+        let mut next_lower: Vec<u32> = start[..n_cells].to_vec();
+        let mut next_upper = mid.clone();
+        for (f, (&o, &n)) in owner.iter().zip(neighbour).enumerate() {
+            let k = next_lower[n as usize] as usize;
+            next_lower[n as usize] += 1;
+            col[k] = o;
+            face[k] = f as u32;
+            let k = next_upper[o as usize] as usize;
+            next_upper[o as usize] += 1;
+            col[k] = n;
+            face[k] = f as u32;
+        }
+        RowAddressing {
+            start,
+            mid,
+            col,
+            face,
+        }
+    }
+
+    /// Number of rows.
+    pub fn n_rows(&self) -> usize {
+        self.mid.len()
+    }
+
+    /// The entries of row `c` (lower part, then upper part).
+    #[inline]
+    pub fn row(&self, c: usize) -> std::ops::Range<usize> {
+        self.start[c] as usize..self.start[c + 1] as usize
+    }
+}
+
+/// A square matrix with the sparsity of the mesh's cell–face graph, in LDU layout.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ldu {
     /// Diagonal, one per cell.
@@ -35,36 +116,95 @@ impl Ldu {
     /// Σ of the off-diagonal coefficients of row `c` times `x` of the other cells.
     #[inline]
     pub fn off_row(&self, g: &FvGeometry, c: usize, x: &[f64]) -> f64 {
+        let r = &g.rows;
         let mut s = 0.0;
-        for &f in g.faces_of(c) {
-            let f = f as usize;
-            if f >= g.n_internal {
-                continue;
-            }
-            if g.owner[f] as usize == c {
-                s += self.upper[f] * x[g.neighbour[f] as usize];
-            } else {
-                s += self.lower[f] * x[g.owner[f] as usize];
-            }
+        for k in r.start[c] as usize..r.mid[c] as usize {
+            s += self.lower[r.face[k] as usize] * x[r.col[k] as usize];
+        }
+        for k in r.mid[c] as usize..r.start[c + 1] as usize {
+            s += self.upper[r.face[k] as usize] * x[r.col[k] as usize];
         }
         s
     }
 
-    /// `y = A x` (parallel over cells on large meshes).
+    /// `y = A x` (the same bits as [`RowMatrix::mul`]).
     pub fn mul(&self, g: &FvGeometry, x: &[f64], y: &mut [f64]) {
-        let row = |(c, yc): (usize, &mut f64)| *yc = self.diag[c] * x[c] + self.off_row(g, c, x);
-        if y.len() < crate::linsolve::PAR_MIN {
-            // OpenFOAM's face loop: no branches, contiguous coefficient arrays.
-            for c in 0..y.len() {
-                y[c] = self.diag[c] * x[c];
+        RowMatrix::new(self, g).mul(x, y);
+    }
+}
+
+/// An [`Ldu`] matrix copied into row order (see the module doc): what the solvers iterate over.
+#[derive(Clone, Debug)]
+pub struct RowMatrix<'a> {
+    /// The row addressing of the mesh.
+    pub rows: &'a RowAddressing,
+    /// Diagonal, one per row.
+    pub diag: &'a [f64],
+    /// Off-diagonal coefficient of each entry of [`RowAddressing`].
+    pub coef: Vec<f64>,
+}
+
+impl<'a> RowMatrix<'a> {
+    /// The row form of `a` on the mesh of `g`.
+    pub fn new(a: &'a Ldu, g: &'a FvGeometry) -> Self {
+        let r = &g.rows;
+        let mut coef = vec![0.0; r.col.len()];
+        for c in 0..r.n_rows() {
+            let (s, m, e) = (
+                r.start[c] as usize,
+                r.mid[c] as usize,
+                r.start[c + 1] as usize,
+            );
+            for k in s..m {
+                coef[k] = a.lower[r.face[k] as usize];
             }
-            for f in 0..self.upper.len() {
-                let (o, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
-                y[o] += self.upper[f] * x[n];
-                y[n] += self.lower[f] * x[o];
+            for k in m..e {
+                coef[k] = a.upper[r.face[k] as usize];
+            }
+        }
+        RowMatrix {
+            rows: r,
+            diag: &a.diag,
+            coef,
+        }
+    }
+
+    /// Row `c` of `A x`: d_c x_c + Σ a_ck x_k, the terms in row order.
+    #[inline]
+    pub fn row_times(&self, c: usize, x: &[f64]) -> f64 {
+        let mut s = self.diag[c] * x[c];
+        for k in self.rows.row(c) {
+            s += self.coef[k] * x[self.rows.col[k] as usize];
+        }
+        s
+    }
+
+    /// `y = A x` (parallel over rows on large meshes; the same bits either way).
+    pub fn mul(&self, x: &[f64], y: &mut [f64]) {
+        if y.len() < PAR_MIN {
+            for (c, yc) in y.iter_mut().enumerate() {
+                *yc = self.row_times(c, x);
             }
         } else {
-            y.par_iter_mut().enumerate().for_each(row);
+            y.par_iter_mut()
+                .enumerate()
+                .for_each(|(c, yc)| *yc = self.row_times(c, x));
+        }
+    }
+
+    /// `y = A x` and returns Σ x·y (summed in row order on small meshes, as
+    /// [`crate::linsolve`]'s dot products are).
+    pub fn mul_dot(&self, x: &[f64], y: &mut [f64]) -> f64 {
+        if y.len() < PAR_MIN {
+            let mut d = 0.0;
+            for (c, yc) in y.iter_mut().enumerate() {
+                *yc = self.row_times(c, x);
+                d += x[c] * *yc;
+            }
+            d
+        } else {
+            self.mul(x, y);
+            crate::linsolve::dot(x, y)
         }
     }
 }

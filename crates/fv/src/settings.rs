@@ -5,7 +5,7 @@
 //! ignored.
 
 use crate::error::{FvError, Result};
-use crate::linsolve::{Preconditioner, SolverControls};
+use crate::linsolve::{Method, Preconditioner, Smoother, SolverControls};
 use foam::{Case, Dict, Item};
 use std::path::{Path, PathBuf};
 
@@ -43,8 +43,8 @@ pub enum SnGrad {
 /// Linear-solver choice for one field.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LinearSolver {
-    /// The preconditioner for PCG (pressure); ignored for the momentum BiCGStab.
-    pub preconditioner: Preconditioner,
+    /// The algorithm.
+    pub method: Method,
     /// Tolerances.
     pub controls: SolverControls,
 }
@@ -154,40 +154,65 @@ fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
     let solver = s
         .word("solver")
         .map_err(|e| err(file, &key("solver"), e.0))?;
-    let preconditioner = match solver {
-        "PCG" | "PBiCG" | "PBiCGStab" => {
-            let pre = s
-                .word("preconditioner")
-                .or_else(|_| {
-                    s.dict("preconditioner")
-                        .and_then(|p| p.word("preconditioner"))
-                })
-                .unwrap_or("diagonal");
-            match pre {
-                "DIC" | "DILU" => Preconditioner::Dic,
-                "diagonal" | "none" => Preconditioner::Diagonal,
+    let preconditioner = || -> Result<Preconditioner> {
+        let pre = s
+            .word("preconditioner")
+            .or_else(|_| {
+                s.dict("preconditioner")
+                    .and_then(|p| p.word("preconditioner"))
+            })
+            .unwrap_or("none");
+        match pre {
+            "DIC" | "DILU" => Ok(Preconditioner::Dic),
+            "diagonal" => Ok(Preconditioner::Diagonal),
+            "none" => Ok(Preconditioner::None),
+            other => Err(err(
+                file,
+                &key("preconditioner"),
+                format!("`{other}` is not supported (DIC, DILU, diagonal, none)"),
+            )),
+        }
+    };
+    let method = match solver {
+        "PCG" => Method::Pcg(preconditioner()?),
+        "PBiCG" | "PBiCGStab" => Method::BiCgStab(preconditioner()?),
+        "smoothSolver" => {
+            let smoother = s
+                .word("smoother")
+                .map_err(|e| err(file, &key("smoother"), e.0))?;
+            let symmetric = match smoother {
+                "symGaussSeidel" => true,
+                "GaussSeidel" => false,
                 other => {
                     return Err(err(
                         file,
-                        &key("preconditioner"),
-                        format!("`{other}` is not supported (DIC, DILU, diagonal, none)"),
+                        &key("smoother"),
+                        format!("`{other}` is not supported (GaussSeidel, symGaussSeidel)"),
                     ))
                 }
+            };
+            let sweeps = s
+                .f64_or("nSweeps", 1.0)
+                .map_err(|e| err(file, &key("nSweeps"), e.0))?;
+            if !(sweeps >= 1.0 && sweeps.fract() == 0.0) {
+                return Err(err(file, &key("nSweeps"), "must be a positive integer"));
             }
+            Method::Smooth(Smoother {
+                symmetric,
+                sweeps: sweeps as usize,
+            })
         }
-        // Smoothers and GAMG are replaced by our Krylov solvers with the same tolerances.
-        "smoothSolver" | "GAMG" => Preconditioner::Dic,
         other => {
             return Err(err(
                 file,
                 &key("solver"),
-                format!("`{other}` is not supported (PCG, PBiCG, PBiCGStab, smoothSolver, GAMG)"),
+                format!("`{other}` is not supported (PCG, PBiCG, PBiCGStab, smoothSolver)"),
             ))
         }
     };
     let num = |k: &str, default: f64| s.f64_or(k, default).map_err(|e| err(file, &key(k), e.0));
     Ok(LinearSolver {
-        preconditioner,
+        method,
         controls: SolverControls {
             tolerance: num("tolerance", 1e-6)?,
             rel_tol: num("relTol", 0.0)?,
@@ -386,7 +411,11 @@ impl Settings {
             algo.f64_or("pRefValue", 0.0).unwrap_or(0.0),
         );
         let p_solver = linear_solver(&sol, &sol_file, "p")?;
-        let p_final = linear_solver(&sol, &sol_file, "pFinal").unwrap_or(p_solver);
+        let p_final = if sol.lookup_path("solvers.pFinal").is_some() {
+            linear_solver(&sol, &sol_file, "pFinal")?
+        } else {
+            p_solver
+        };
         let u_solver = linear_solver(&sol, &sol_file, "U")?;
 
         let full_stress = match case.read_dict("constant/turbulenceProperties") {
