@@ -1,0 +1,556 @@
+//! The coupled LIGGGHTS deck (`DEM/in.liggghts_run`): what it declares for the coupling, the
+//! checks that must pass before LIGGGHTS sees it, and the copies the backends run.
+//!
+//! Any LIGGGHTS error ends the whole process (it calls `exit`), so what can be checked is
+//! checked here first, each failure naming the deck line:
+//! - exactly one `fix ID GROUP couple/cfd [couple_every N] mpi|file PREFIX`, and one
+//!   `fix … couple/cfd/force` or `couple/cfd/force/implicit` *after* it (the other order
+//!   segfaults LIGGGHTS 3.8.0);
+//! - `atom_modify map array` (or `map hash`): the coupling addresses particles by tag;
+//! - no `transfer_torque no` (segfaults; the torques simply stay zero), no Crank–Nicolson or
+//!   added-mass options (they change the force law of ADR 0004);
+//! - trailing `run` commands are skipped (the coupler issues its own runs) and reported; a `run`
+//!   after `couple/cfd` that is followed by other commands cannot be replaced and is an error;
+//! - `include`, `jump`, `label` and `next` are refused (the checks could not see through them);
+//! - files named by `read_data` exist in the working directory.
+//!
+//! Lines are read with the native DEM's deck reader ([`dem::deck`]: `&` continuations,
+//! comments, quotes, `-var` values and `variable` substitution).
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use crate::error::LiggghtsError;
+
+/// How the deck's `couple/cfd` exchanges data.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum DataCoupling {
+    /// `mpi`: through the library calls (in-process).
+    Mpi,
+    /// `file PREFIX`: through files named PREFIX + property + `0`/`1`.
+    File(String),
+}
+
+/// The force fix of the deck.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ForceFix {
+    /// 1-based deck line.
+    pub line: usize,
+    /// `couple/cfd/force/implicit` (applies Ksl·(uf − v) + dragforce every step) rather than
+    /// `couple/cfd/force` (applies dragforce only).
+    pub implicit: bool,
+    /// `transfer_density yes`.
+    pub transfer_density: bool,
+    /// `transfer_type yes`.
+    pub transfer_type: bool,
+    /// Options other than transfer_density/transfer_type/transfer_torque (file coupling refuses
+    /// them: they add exchange files whose layout it does not handle).
+    pub other_options: bool,
+}
+
+/// A `run` command the coupler skips.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SkippedRun {
+    /// 1-based deck line.
+    pub line: usize,
+    /// The command as LIGGGHTS would run it (variables substituted).
+    pub command: String,
+}
+
+/// A coupled deck, checked.
+#[derive(Debug, Clone)]
+pub struct CouplingDeck {
+    /// The deck file.
+    pub file: PathBuf,
+    /// Its text.
+    source: String,
+    /// `couple/cfd`'s 1-based line, fix id and group.
+    pub couple_line: usize,
+    couple_id: String,
+    couple_group: String,
+    /// `couple_every N` when given (LIGGGHTS ignores it with `mpi`: the caller decides).
+    pub couple_every: Option<u64>,
+    /// `mpi` or `file PREFIX`.
+    pub data_coupling: DataCoupling,
+    /// The force fix.
+    pub force: ForceFix,
+    force_words: Vec<String>,
+    /// The trailing `run` commands, skipped.
+    pub skipped_runs: Vec<SkippedRun>,
+    /// `timestep` when given as a number (s).
+    pub time_step: Option<f64>,
+    read_data: Vec<(usize, String)>,
+}
+
+impl CouplingDeck {
+    /// Reads and checks a deck; `vars` are the `-var NAME VALUE` pairs LIGGGHTS will get.
+    pub fn read(path: &Path, vars: &[(String, String)]) -> Result<CouplingDeck, LiggghtsError> {
+        let source =
+            std::fs::read_to_string(path).map_err(|e| LiggghtsError::io(path.to_path_buf(), e))?;
+        CouplingDeck::parse(&source, path, vars)
+    }
+
+    /// Parses and checks deck text; `file` names it in errors.
+    pub fn parse(
+        source: &str,
+        file: &Path,
+        vars: &[(String, String)],
+    ) -> Result<CouplingDeck, LiggghtsError> {
+        let deck = dem::deck::Deck::parse(source, file, vars)?;
+        let err = |line: usize, message: String| LiggghtsError::Deck {
+            file: file.to_path_buf(),
+            line,
+            message,
+        };
+        let mut map = false;
+        let mut couple: Option<(usize, String, String, Option<u64>, DataCoupling)> = None;
+        let mut force: Option<(ForceFix, Vec<String>)> = None;
+        let mut time_step = None;
+        let mut read_data = Vec::new();
+        for c in &deck.commands {
+            let w = &c.words;
+            match w[0].as_str() {
+                "atom_modify" => {
+                    if let Some(k) = w.iter().position(|x| x == "map") {
+                        map = matches!(w.get(k + 1).map(String::as_str), Some("array" | "hash"));
+                    }
+                }
+                "include" | "jump" | "label" | "next" => {
+                    return Err(err(
+                        c.line,
+                        format!(
+                            "`{}` is not supported in a coupled deck (the checks that must pass \
+                             before LIGGGHTS runs could not see through it): inline the commands",
+                            w[0]
+                        ),
+                    ))
+                }
+                "timestep" => time_step = w.get(1).and_then(|s| s.parse::<f64>().ok()),
+                "read_data" => {
+                    if let Some(f) = w.get(1) {
+                        read_data.push((c.line, f.clone()));
+                    }
+                }
+                "fix" if w.get(3).map(String::as_str) == Some("couple/cfd") => {
+                    if let Some((first, ..)) = &couple {
+                        return Err(err(
+                            c.line,
+                            format!("a second `fix … couple/cfd` (the first is on line {first})"),
+                        ));
+                    }
+                    couple = Some(parse_couple(w).map_err(|m| err(c.line, m))?);
+                    let (line, ..) = couple.as_mut().unwrap();
+                    *line = c.line;
+                }
+                "fix"
+                    if matches!(
+                        w.get(3).map(String::as_str),
+                        Some("couple/cfd/force" | "couple/cfd/force/implicit")
+                    ) =>
+                {
+                    if couple.is_none() {
+                        return Err(err(
+                            c.line,
+                            format!(
+                                "`fix … {}` before `fix … couple/cfd`: LIGGGHTS 3.8.0 segfaults \
+                                 in this order; define couple/cfd first",
+                                w[3]
+                            ),
+                        ));
+                    }
+                    if let Some((f, _)) = &force {
+                        return Err(err(
+                            c.line,
+                            format!(
+                                "a second coupling force fix (the first is on line {})",
+                                f.line
+                            ),
+                        ));
+                    }
+                    let f = parse_force(w, c.line).map_err(|m| err(c.line, m))?;
+                    force = Some((f, w.clone()));
+                }
+                _ => {}
+            }
+        }
+        let Some((couple_line, couple_id, couple_group, couple_every, data_coupling)) = couple
+        else {
+            return Err(err(
+                0,
+                "no `fix ID all couple/cfd couple_every N mpi`: the deck is not coupled to a CFD \
+                 solver"
+                    .into(),
+            ));
+        };
+        let Some((force, force_words)) = force else {
+            return Err(err(
+                0,
+                "no `fix ID all couple/cfd/force/implicit` (or `couple/cfd/force`) after \
+                 `couple/cfd`: the particles would receive no fluid force"
+                    .into(),
+            ));
+        };
+        if !map {
+            return Err(err(
+                0,
+                "no `atom_modify map array`: the coupling addresses particles by tag and \
+                 LIGGGHTS stops without an atom map"
+                    .into(),
+            ));
+        }
+        // trailing runs, then any other run after couple/cfd
+        let mut first_trailing = deck.commands.len();
+        while first_trailing > 0 && deck.commands[first_trailing - 1].words[0] == "run" {
+            first_trailing -= 1;
+        }
+        if let Some(c) = deck.commands[..first_trailing]
+            .iter()
+            .find(|c| c.words[0] == "run" && c.line > couple_line)
+        {
+            return Err(err(
+                c.line,
+                "a `run` after `fix … couple/cfd` followed by other commands: the coupler drives \
+                 the steps of a coupled deck and can only skip trailing runs"
+                    .into(),
+            ));
+        }
+        let skipped_runs = deck.commands[first_trailing..]
+            .iter()
+            .map(|c| SkippedRun {
+                line: c.line,
+                command: c.words.join(" "),
+            })
+            .collect();
+        Ok(CouplingDeck {
+            file: file.to_path_buf(),
+            source: source.to_string(),
+            couple_line,
+            couple_id,
+            couple_group,
+            couple_every,
+            data_coupling,
+            force,
+            force_words,
+            skipped_runs,
+            time_step,
+            read_data,
+        })
+    }
+
+    /// Checks that the files the deck reads (`read_data`) exist under `workdir`, the directory
+    /// LIGGGHTS will run in.
+    pub fn check_inputs(&self, workdir: &Path) -> Result<(), LiggghtsError> {
+        if !workdir.is_dir() {
+            return Err(LiggghtsError::Parameter(format!(
+                "working directory {} does not exist",
+                workdir.display()
+            )));
+        }
+        for (line, f) in &self.read_data {
+            if !workdir.join(f).is_file() {
+                return Err(LiggghtsError::Deck {
+                    file: self.file.clone(),
+                    line: *line,
+                    message: format!(
+                        "read_data: {} does not exist (relative to the working directory {}; \
+                         does stage 1 have to run first?)",
+                        f,
+                        workdir.display()
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The deck with its trailing `run` commands turned into comments (same line numbers, so
+    /// LIGGGHTS's messages point at the original lines).
+    pub fn without_runs(&self) -> String {
+        let lines: Vec<&str> = self.source.lines().collect();
+        let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        for r in &self.skipped_runs {
+            for k in physical_span(&lines, r.line) {
+                out[k] = format!(
+                    "# foamgrain: skipped, the coupler runs the steps: {}",
+                    lines[k]
+                );
+            }
+        }
+        out.join("\n") + "\n"
+    }
+
+    /// The deck for file coupling (see [`crate::file`]): `couple/cfd` rewritten to
+    /// `file PREFIX` with a block before it that gives every particle its tag as a per-atom
+    /// property `fgTag` and dumps the initial state to `init_dump`; the force fix with
+    /// `transfer_density yes transfer_property name fgTag type scalar-atom` appended; the
+    /// trailing runs replaced by one `run total_steps`.
+    pub fn for_file_coupling(
+        &self,
+        prefix: &str,
+        init_dump: &str,
+        total_steps: u64,
+    ) -> Result<String, LiggghtsError> {
+        let every = self.couple_every.ok_or_else(|| LiggghtsError::Deck {
+            file: self.file.clone(),
+            line: self.couple_line,
+            message: "file coupling needs `couple_every N` on the couple/cfd line".into(),
+        })?;
+        if self.force.other_options || self.force.transfer_type {
+            return Err(LiggghtsError::Deck {
+                file: self.file.clone(),
+                line: self.force.line,
+                message: "file coupling supports only transfer_density on the force fix (other \
+                          options add exchange files it does not handle)"
+                    .into(),
+            });
+        }
+        let lines: Vec<&str> = self.source.lines().collect();
+        let mut out: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        let couple_span = physical_span(&lines, self.couple_line);
+        let (id, group) = (&self.couple_id, &self.couple_group);
+        let block = [
+            "# foamgrain file coupling: each particle's tag as a per-atom property (the files"
+                .to_string(),
+            "# are in local order), and the initial state".to_string(),
+            format!("fix {TAG_FIX} all property/atom {TAG_PROPERTY} scalar no no no 0"),
+            format!("variable {TAG_FIX}V atom id"),
+            "run 0".to_string(),
+            format!("set group all property/atom {TAG_PROPERTY} v_{TAG_FIX}V"),
+            format!("dump {TAG_FIX}Dump all custom 1 {init_dump} id type x y z vx vy vz radius density"),
+            "dump_modify fgTagDump format \"%d %d %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\"".to_string(),
+            "run 0".to_string(),
+            format!("undump {TAG_FIX}Dump"),
+            format!("fix {id} {group} couple/cfd couple_every {every} file {prefix}"),
+        ];
+        replace_span(&mut out, couple_span, block.join("\n"));
+        let force_span = physical_span(&lines, self.force.line);
+        let mut force = self.force_words.join(" ");
+        if !self.force.transfer_density {
+            force.push_str(" transfer_density yes");
+        }
+        force.push_str(&format!(
+            " transfer_property name {TAG_PROPERTY} type scalar-atom"
+        ));
+        replace_span(&mut out, force_span, force);
+        for r in &self.skipped_runs {
+            let span = physical_span(&lines, r.line);
+            let text = format!(
+                "# foamgrain: replaced by the run at the end: {}",
+                lines[span.clone()].join(" ")
+            );
+            replace_span(&mut out, span, text);
+        }
+        out.push(format!("run {total_steps}"));
+        Ok(out.join("\n") + "\n")
+    }
+}
+
+/// The per-atom property that carries tags in file coupling, and the id of its fix.
+pub(crate) const TAG_PROPERTY: &str = "fgTag";
+const TAG_FIX: &str = "fgTag";
+
+/// Replaces the physical lines `span` by `text` (the first keeps it, the others become empty).
+fn replace_span(out: &mut [String], span: Range<usize>, text: String) {
+    let mut first = true;
+    for k in span {
+        out[k] = if first { text.clone() } else { String::new() };
+        first = false;
+    }
+}
+
+/// The 0-based physical lines of the logical line that starts on 1-based `line` (`&` at the end
+/// of a line continues it).
+fn physical_span(lines: &[&str], line: usize) -> Range<usize> {
+    let start = line - 1;
+    let mut end = start;
+    while end < lines.len() && lines[end].trim_end().ends_with('&') {
+        end += 1;
+    }
+    start..(end + 1).min(lines.len())
+}
+
+type CoupleFix = (usize, String, String, Option<u64>, DataCoupling);
+
+/// `fix ID GROUP couple/cfd [couple_every|every N] mpi|file PREFIX`.
+fn parse_couple(w: &[String]) -> Result<CoupleFix, String> {
+    let mut k = 4;
+    let mut every = None;
+    if matches!(w.get(k).map(String::as_str), Some("couple_every" | "every")) {
+        let n = w
+            .get(k + 1)
+            .and_then(|s| s.parse::<u64>().ok())
+            .filter(|&n| n > 0)
+            .ok_or("couple_every needs a positive whole number")?;
+        every = Some(n);
+        k += 2;
+    }
+    let mode = match w.get(k).map(String::as_str) {
+        Some("mpi") => DataCoupling::Mpi,
+        Some("file") => {
+            DataCoupling::File(w.get(k + 1).cloned().ok_or("`file` needs a path prefix")?)
+        }
+        other => {
+            return Err(format!(
+                "couple/cfd: expected `mpi` or `file PREFIX`, found {}",
+                other.map_or("nothing".to_string(), |s| format!("`{s}`"))
+            ))
+        }
+    };
+    Ok((0, w[1].clone(), w[2].clone(), every, mode))
+}
+
+/// The options of `fix … couple/cfd/force[/implicit]`.
+fn parse_force(w: &[String], line: usize) -> Result<ForceFix, String> {
+    let mut f = ForceFix {
+        line,
+        implicit: w[3].ends_with("implicit"),
+        transfer_density: false,
+        transfer_type: false,
+        other_options: false,
+    };
+    let yes = |k: usize| -> Result<bool, String> {
+        match w.get(k).map(String::as_str) {
+            Some("yes") => Ok(true),
+            Some("no") => Ok(false),
+            _ => Err(format!("`{}` needs yes or no", w[k - 1])),
+        }
+    };
+    let mut k = 4;
+    while k < w.len() {
+        match w[k].as_str() {
+            "transfer_torque" => {
+                if !yes(k + 1)? {
+                    return Err(
+                        "`transfer_torque no` segfaults LIGGGHTS 3.8.0; leave it out \
+                                (the hydrodynamic torques stay zero)"
+                            .into(),
+                    );
+                }
+                k += 2;
+            }
+            "transfer_density" => {
+                f.transfer_density = yes(k + 1)?;
+                k += 2;
+            }
+            "transfer_type" => {
+                f.transfer_type = yes(k + 1)?;
+                k += 2;
+            }
+            "CrankNicolson" | "CAddRhoFluid" => {
+                return Err(format!(
+                    "`{}` changes the particle force law; foamgrain applies \
+                     F = F_ext + β(u_f − v) each step (ADR 0004): remove it",
+                    w[k]
+                ))
+            }
+            _ => {
+                f.other_options = true;
+                k += 1;
+            }
+        }
+    }
+    Ok(f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn deck(body: &str) -> Result<CouplingDeck, LiggghtsError> {
+        CouplingDeck::parse(body, Path::new("in.t"), &[("n".into(), "7".into())])
+    }
+
+    const GOOD: &str = "atom_style granular\natom_modify map array\ntimestep 1e-5\n\
+        fix cfd all couple/cfd couple_every 50 mpi\n\
+        fix cfd2 all couple/cfd/force/implicit\nfix integr all nve/sphere\nrun 100\n\
+        run ${n} &\n  upto\n";
+
+    #[test]
+    fn the_reference_case_decks_pass() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../openfoam-cases");
+        let e = CouplingDeck::read(&root.join("ergun/DEM/in.liggghts_run"), &[]).unwrap();
+        assert_eq!(e.couple_every, Some(50));
+        assert!(e.force.implicit);
+        assert_eq!(e.data_coupling, DataCoupling::Mpi);
+        assert_eq!(e.time_step, Some(1e-5));
+        let s = CouplingDeck::read(&root.join("settling/DEM/in.liggghts_run"), &[]).unwrap();
+        assert_eq!(s.couple_every, Some(100));
+        assert!(!s.force.implicit);
+        let err = e.check_inputs(Path::new("/nonexistent")).unwrap_err();
+        assert!(err.to_string().contains("does not exist"), "{err}");
+    }
+
+    #[test]
+    fn trailing_runs_are_skipped_with_lines_kept() {
+        let d = deck(GOOD).unwrap();
+        assert_eq!(
+            d.skipped_runs,
+            [
+                SkippedRun {
+                    line: 7,
+                    command: "run 100".into()
+                },
+                SkippedRun {
+                    line: 8,
+                    command: "run 7 upto".into()
+                }
+            ]
+        );
+        let text = d.without_runs();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 9);
+        assert!(lines[6].starts_with("# foamgrain: skipped"));
+        assert!(lines[7].starts_with("# foamgrain: skipped"));
+        assert!(lines[8].starts_with("# foamgrain: skipped"));
+        assert_eq!(lines[5], "fix integr all nve/sphere");
+    }
+
+    #[test]
+    fn what_liggghts_would_die_on_is_refused_with_its_line() {
+        let cases = [
+            (GOOD.replace("atom_modify map array\n", ""), 0, "atom_modify map array"),
+            (
+                "atom_modify map array\nfix cfd2 all couple/cfd/force\nfix cfd all couple/cfd mpi\n"
+                    .to_string(),
+                2,
+                "segfaults",
+            ),
+            (GOOD.replace("implicit", "implicit transfer_torque no"), 5, "transfer_torque"),
+            (GOOD.replace("implicit", "implicit CrankNicolson 0.5"), 5, "force law"),
+            (GOOD.replace("fix integr", "run 5\nfix integr"), 6, "trailing"),
+            (GOOD.replace("couple_every 50 mpi", "couple_every 50"), 4, "`mpi` or `file"),
+            (GOOD.replace("fix cfd2 all couple/cfd/force/implicit\n", ""), 0, "no `fix ID all couple/cfd/force"),
+            (GOOD.replace("fix cfd all couple/cfd couple_every 50 mpi\n", ""), 4, "before"),
+            (format!("{GOOD}include more.in\n"), 10, "include"),
+            (format!("{GOOD}fix c all couple/cfd mpi\n"), 10, "second"),
+        ];
+        for (src, line, what) in cases {
+            let e = deck(&src).unwrap_err();
+            let s = e.to_string();
+            assert!(s.starts_with(&format!("in.t:{line}:")), "{s}");
+            assert!(s.contains(what), "{s}");
+        }
+    }
+
+    #[test]
+    fn file_coupling_copy_rewrites_the_coupling_lines() {
+        let d = deck(GOOD).unwrap();
+        let text = d.for_file_coupling("/w/cpl/", "init.dump", 300).unwrap();
+        assert!(
+            text.contains("\nfix cfd all couple/cfd couple_every 50 file /w/cpl/\n"),
+            "{text}"
+        );
+        assert!(text.contains(
+            "fix cfd2 all couple/cfd/force/implicit transfer_density yes transfer_property name \
+             fgTag type scalar-atom\n"
+        ));
+        assert!(text.contains("set group all property/atom fgTag v_fgTagV"));
+        assert!(text.ends_with("run 300\n"), "{text}");
+        assert!(!text.contains("\nrun 100"));
+        // the couple/cfd line comes after the tag block and before the force fix
+        let c = text.find("couple/cfd couple_every").unwrap();
+        assert!(text.find("run 0").unwrap() < c && c < text.find("couple/cfd/force").unwrap());
+        let no_every = deck(&GOOD.replace("couple_every 50 ", "")).unwrap();
+        assert!(no_every.for_file_coupling("p", "d", 1).is_err());
+    }
+}
