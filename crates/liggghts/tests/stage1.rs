@@ -1,0 +1,55 @@
+//! Stage 1 with the `liggghts` binary (full tier): the Ergun case's init deck, reduced, packs a
+//! bed and writes the data file the run deck reads; a failing deck is reported with its log.
+
+use std::path::Path;
+
+#[test]
+fn the_ergun_init_deck_writes_its_packed_bed() {
+    if !testkit::tool("liggghts") {
+        return;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../openfoam-cases/ergun/DEM");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("post")).unwrap();
+    let vars = [
+        ("np".to_string(), "50".to_string()),
+        ("tsettle".to_string(), "300".to_string()),
+    ];
+    let run =
+        liggghts::run_deck(&root.join("in.liggghts_init"), dir.path(), &vars, "init").unwrap();
+    let data = std::fs::read_to_string(dir.path().join("post/packed.data")).unwrap();
+    assert!(data.lines().any(|l| l.trim() == "50 atoms"), "{data}");
+    assert!(std::fs::read_to_string(&run.log)
+        .unwrap()
+        .contains("Loop time"));
+    // 50 spheres of d = 1 mm inside the insertion cylinder r = 12 mm, above the floor
+    let bed = dem::deck::data_file::read_data(&dir.path().join("post/packed.data")).unwrap();
+    assert_eq!(bed.particles.len(), 50);
+    for p in &bed.particles {
+        assert!((p.radius - 0.0005).abs() < 1e-12, "{p:?}");
+        assert!(p.x[0].hypot(p.x[1]) < 0.012 + 1e-6 && p.x[2] > 0.0, "{p:?}");
+    }
+    // and the run deck accepts it: its checks pass with the packed bed in place
+    let deck = liggghts::CouplingDeck::read(&root.join("in.liggghts_run"), &[]).unwrap();
+    deck.check_inputs(dir.path()).unwrap();
+}
+
+#[test]
+fn a_failing_deck_reports_the_tail_of_its_log() {
+    if !testkit::tool("liggghts") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("in.bad");
+    std::fs::write(
+        &deck,
+        "atom_style granular\nunits si\nregion reg block 0 1 0 1 0 1 units box\nfrobnicate 3\n",
+    )
+    .unwrap();
+    let e = liggghts::run_deck(&deck, dir.path(), &[], "bad")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("exited with status 1"), "{e}");
+    assert!(e.contains("ERROR") && e.contains("frobnicate"), "{e}");
+    assert!(e.contains("log.bad"), "{e}");
+}
