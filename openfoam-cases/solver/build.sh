@@ -9,7 +9,9 @@
 #      uses (OpenFOAM, OSspecific/POSIX, finiteVolume, meshTools) into the cache,
 #   3. makes their lnInclude folders (a symlink to every source file of a library),
 #   4. compiles grainPisoFoam with plain g++ command lines (the flags Debian's build used:
-#      double precision, 32-bit labels) and links it with Debian's libraries,
+#      double precision, 32-bit labels) and links it with Debian's libraries and Open MPI (the
+#      flags of `mpicxx --showme:compile` / `--showme:link`; the `mpi` coupling source talks
+#      to foamgrain's coupler over MPI),
 #   5. installs the binary as $FOAMGRAIN_CACHE/bin/grainPisoFoam.
 # Every step is skipped when its result is already there, so a second run takes about a second.
 # The last line printed is `grainPisoFoam=<path of the binary>`.
@@ -117,10 +119,14 @@ cxxflags=(-std=c++14 -pthread -m64 -DOPENFOAM=1912 -DWM_DP -DWM_LABEL_SIZE=32 -D
           -ftemplate-depth-100 -fPIC -O3 -Wall -Wno-unused-parameter -Wno-attributes)
 includes=(-I"$solver_dir")
 for lib in "${libs_with_headers[@]}"; do includes+=(-I"$src_root/src/$lib/lnInclude"); done
-ldlibs=(-L/usr/lib -lfiniteVolume -lmeshTools -lOpenFOAM -lPstream -ldl -lm)
+# Open MPI (the same library Debian's libPstream uses); word splitting of mpicxx's flags intended.
+read -r -a mpi_compile <<<"$(mpicxx --showme:compile)"
+read -r -a mpi_link <<<"$(mpicxx --showme:link)"
+includes+=("${mpi_compile[@]}")
+ldlibs=(-L/usr/lib -lfiniteVolume -lmeshTools -lOpenFOAM -lPstream "${mpi_link[@]}" -ldl -lm)
 target="$bin_dir/grainPisoFoam"
 stamp="$target.sources.sha256"
-digest="$( { cat "$solver_dir"/*.C "$solver_dir"/*.H; echo "${cxxflags[*]} ${ldlibs[*]}";
+digest="$( { cat "$solver_dir"/*.C "$solver_dir"/*.H; echo "${cxxflags[*]} ${includes[*]} ${ldlibs[*]}";
              "$cxx" --version | head -1; echo "$installed"; } | sha256sum | cut -d' ' -f1)"
 if [ -x "$target" ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$digest" ]; then
     say "grainPisoFoam is up to date"

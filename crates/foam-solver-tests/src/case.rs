@@ -137,6 +137,20 @@ impl TestCase {
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
     }
 
+    /// The cavity's porous block, 0.03 < x < 0.09 m and y < 0.05 m, per cell (the `simple`
+    /// 2 × 1 × 1 decomposition splits the cells at x ≈ 0.06 m, through the block). Checks that
+    /// the block is neither empty nor the whole mesh.
+    pub fn cavity_porous_block(&self) -> Vec<bool> {
+        let (_, g) = self.mesh();
+        let porous: Vec<bool> = g
+            .cell_centres
+            .iter()
+            .map(|c| c[0] > 0.03 && c[0] < 0.09 && c[1] < 0.05)
+            .collect();
+        assert!(porous.iter().any(|&b| b) && !porous.iter().all(|&b| b));
+        porous
+    }
+
     /// Cell values of a scalar field.
     pub fn scalars(&self, time: &str, name: &str) -> Vec<f64> {
         match self.cell_values(time, name) {

@@ -56,9 +56,31 @@ fn an_unknown_coupling_source_is_refused_listing_the_valid_ones() {
             case.edit(
                 "constant/couplingProperties",
                 "couplingInterval 1;",
+                "couplingInterval 1;\ngrainPisoFoamProps { couplingSource sockets; }",
+            )
+        },
+        &[
+            "couplingSource",
+            "\"sockets\"",
+            "valid: frozen, prescribed, mpi",
+        ],
+    );
+}
+
+#[test]
+fn the_mpi_source_without_the_coupler_is_refused_saying_so() {
+    assert_refused(
+        |case| {
+            case.edit(
+                "constant/couplingProperties",
+                "couplingInterval 1;",
                 "couplingInterval 1;\ngrainPisoFoamProps { couplingSource mpi; }",
             )
         },
-        &["couplingSource", "\"mpi\"", "valid: frozen, prescribed"],
+        &[
+            "couplingSource mpi",
+            "not started by foamgrain's coupler",
+            "foam-link",
+        ],
     );
 }

@@ -16,15 +16,7 @@ fn two_ranks_reproduce_the_serial_run_with_porous_region_and_force() {
         return;
     }
     let serial = TestCase::new("cavity");
-    let (_, g) = serial.mesh();
-    // A porous block 0.03 < x < 0.09 m, y < 0.05 m; the decomposition splits the cells at the
-    // median x (≈ 0.06 m), through the block.
-    let porous: Vec<bool> = g
-        .cell_centres
-        .iter()
-        .map(|c| c[0] > 0.03 && c[0] < 0.09 && c[1] < 0.05)
-        .collect();
-    assert!(porous.iter().any(|&b| b) && !porous.iter().all(|&b| b));
+    let porous = serial.cavity_porous_block();
     let pick = |inside: f64, outside: f64| -> Vec<f64> {
         porous
             .iter()

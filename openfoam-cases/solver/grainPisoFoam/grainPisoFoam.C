@@ -18,7 +18,8 @@
     ∇·(ε_f (k/A)_f ∇p) = ∇·φ* + ∂ε/∂t,   φ = φ* − ε_f (k/A)_f |S| snGrad p,   U = HbyA − (k/A)∇p.
 
   Fields: U, p as pisoFoam; voidfraction, Ksl, Us, f read from the start time (couplingFields.H)
-  and updated each step by the selected couplingSource (couplingSource.H).
+  and updated each step by the selected couplingSource (couplingSource.H), which also drives
+  the time loop (the mpi source: as the coupler commands, mpiCouplingSource.H).
 \*---------------------------------------------------------------------------*/
 
 #include "fvCFD.H"
@@ -29,6 +30,9 @@
 
 int main(int argc, char *argv[])
 {
+    // Spawned by the coupler (serial): MPI first, so that the coupler's spawn returns.
+    grainPisoFoamLink::initSerialMpi(argc, argv);
+
     argList::addNote
     (
         "Transient incompressible volume-averaged (CFD-DEM) PISO solver of foamgrain:"
@@ -43,33 +47,60 @@ int main(int argc, char *argv[])
 
     #include "createFields.H"
 
+    // Linked to the coupler: a FatalError is sent to it before the solver stops, so the
+    // coupler can name it (see mpiCouplingSource.H).
+    mpiCouplingSource* link = dynamic_cast<mpiCouplingSource*>(source.get());
+    if (link)
+    {
+        FatalError.throwExceptions();
+        FatalIOError.throwExceptions();
+    }
+
     Info<< "\nStarting time loop\n" << endl;
 
-    while (runTime.loop())
+    try
     {
-        Info<< "Time = " << runTime.timeName() << nl << endl;
+        source->start(U, p, phi);
 
-        source->receive(coupling);
-        coupling.checkVoidfraction();
-
-        const surfaceScalarField voidfractionf(fvc::interpolate(voidfraction));
-
-        #include "interstitialCourantNo.H"
-
+        while (source->advance(runTime))
         {
-            #include "UEqn.H"
+            Info<< "Time = " << runTime.timeName() << nl << endl;
 
-            while (piso.correct())
+            source->receive(coupling);
+            coupling.checkVoidfraction();
+
+            const surfaceScalarField voidfractionf(fvc::interpolate(voidfraction));
+
+            #include "interstitialCourantNo.H"
+
             {
-                #include "pEqn.H"
+                #include "UEqn.H"
+
+                while (piso.correct())
+                {
+                    #include "pEqn.H"
+                }
             }
+
+            source->send(U, p, phi);
+
+            runTime.write();
+
+            runTime.printExecutionTime(Info);
         }
-
-        source->send(U, p);
-
-        runTime.write();
-
-        runTime.printExecutionTime(Info);
+    }
+    catch (const Foam::error& err)
+    {
+        OStringStream msg;
+        err.write(msg);
+        Serr<< msg.str() << endl;
+        if (link)
+        {
+            link->reportError(msg.str());
+        }
+        // Leave without MPI_Finalize/Pstream::exit: the other ranks may wait in a reduction;
+        // the coupler has the message and ends the run.
+        std::_Exit(1);
     }
 
     Info<< "End\n" << endl;

@@ -1,0 +1,412 @@
+//! The messages between the coupler and grainPisoFoam's `mpi` coupling source
+//! (`openfoam-cases/solver/grainPisoFoam/mpiCouplingSource.H` is the other half; the two must
+//! change together, [`PROTOCOL_VERSION`] guards it).
+//!
+//! Every solver rank talks to the coupler's rank 0 over the spawn intercommunicator. With n the
+//! rank's cells and m its non-processor patches (f64 = MPI_DOUBLE, i32 = MPI_INT):
+//!
+//! | tag | direction | content |
+//! |---|---|---|
+//! | 1 [`tag::HELLO`] | rank → coupler | i32\[5\]: version, n, pid, m, rank |
+//! | 2 [`tag::CELLS`] | rank → coupler | i32\[n\]: the global cell of each local cell |
+//! | 3 [`tag::PATCHES`] | rank → coupler | the m patch names, each followed by `\n` |
+//! | 4 [`tag::TIMES`] | rank → coupler | f64\[2\]: start time, controlDict deltaT (s) |
+//! | 20 [`tag::STATE`] | rank → coupler | the start fields, laid out as an advance's reply |
+//! | 10 [`tag::COMMAND`] | coupler → rank | f64\[4\]: [`Command::words`] |
+//! | 11 [`tag::FIELDS`] | coupler → rank | f64\[9n\]: ε_old, ε_new, Ksl, Us (3n), f (3n) |
+//! | 20 [`tag::STATE`] | rank → coupler | f64\[1+10n+3m\]: time, U (3n), p, ∇p (3n), ∇·τ (3n), Σp\|S\|, Σ\|S\|, Σφ per patch |
+//! | 21 [`tag::DONE`] | rank → coupler | f64\[1\]: time (after write or stop) |
+//! | 30 [`tag::ERROR`] | rank → coupler | the text of an OpenFOAM FatalError |
+//!
+//! Units are ADR 0004's: ε dimensionless, Ksl kg/(m³ s), Us m/s, f N/m³; U m/s, p m²/s²
+//! (kinematic), ∇p and ∇·τ m/s², φ m³/s.
+
+use crate::ranks::RankMap;
+use mesh::v3::V3;
+
+/// The version both sides must agree on.
+pub const PROTOCOL_VERSION: i32 = 1;
+
+/// Message tags.
+pub mod tag {
+    /// Handshake: version, cells, pid, patches, rank.
+    pub const HELLO: i32 = 1;
+    /// Handshake: local → global cells.
+    pub const CELLS: i32 = 2;
+    /// Handshake: patch names.
+    pub const PATCHES: i32 = 3;
+    /// Handshake: start time and deltaT.
+    pub const TIMES: i32 = 4;
+    /// A command.
+    pub const COMMAND: i32 = 10;
+    /// The exchange fields of an advance.
+    pub const FIELDS: i32 = 11;
+    /// The fluid after an advance.
+    pub const STATE: i32 = 20;
+    /// Acknowledges write and stop.
+    pub const DONE: i32 = 21;
+    /// A FatalError's message.
+    pub const ERROR: i32 = 30;
+}
+
+/// Doubles per cell sent with an advance (ε_old, ε_new, Ksl, Us, f).
+pub const FIELD_WORDS_PER_CELL: usize = 9;
+/// Doubles per cell in the reply (U, p, ∇p, ∇·τ).
+pub const STATE_WORDS_PER_CELL: usize = 10;
+/// Doubles per patch in the reply (Σ p|S|, Σ |S|, Σ φ).
+pub const PATCH_WORDS: usize = 3;
+
+/// What the coupler asks of the solver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Command {
+    /// `steps` PISO steps of `step_length` seconds; `first` makes ε_old ε's old time too (the
+    /// first interval, as the native solver does).
+    Advance {
+        /// Number of steps (≥ 1).
+        steps: u64,
+        /// Step length, s.
+        step_length: f64,
+        /// The first interval of the run.
+        first: bool,
+    },
+    /// Write all fields now (runTime.writeNow()).
+    Write,
+    /// Leave the time loop and exit.
+    Stop,
+}
+
+impl Command {
+    /// The four doubles of the message.
+    pub fn words(&self) -> [f64; 4] {
+        match *self {
+            Command::Advance {
+                steps,
+                step_length,
+                first,
+            } => [1.0, steps as f64, step_length, f64::from(u8::from(first))],
+            Command::Write => [2.0, 0.0, 0.0, 0.0],
+            Command::Stop => [3.0, 0.0, 0.0, 0.0],
+        }
+    }
+}
+
+/// The first handshake message of a rank.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Hello {
+    /// The solver's protocol version.
+    pub version: i32,
+    /// Cells on the rank.
+    pub n_cells: usize,
+    /// The solver process id.
+    pub pid: u32,
+    /// Non-processor patches.
+    pub n_patches: usize,
+    /// The rank in the solver's own MPI_COMM_WORLD.
+    pub rank: usize,
+}
+
+impl Hello {
+    /// Decodes the five integers; `Err` says what is wrong.
+    pub fn parse(words: &[i32]) -> Result<Hello, String> {
+        let &[version, n_cells, pid, n_patches, rank] = words else {
+            return Err(format!("handshake of {} integers, expected 5", words.len()));
+        };
+        if version != PROTOCOL_VERSION {
+            return Err(format!(
+                "protocol version {version}, this coupler speaks {PROTOCOL_VERSION} \
+                 (rebuild grainPisoFoam with openfoam-cases/solver/build.sh)"
+            ));
+        }
+        let count = |v: i32, what: &str| {
+            usize::try_from(v).map_err(|_| format!("negative {what} ({v}) in the handshake"))
+        };
+        Ok(Hello {
+            version,
+            n_cells: count(n_cells, "cell count")?,
+            pid: u32::try_from(pid).map_err(|_| format!("bad pid {pid} in the handshake"))?,
+            n_patches: count(n_patches, "patch count")?,
+            rank: count(rank, "rank")?,
+        })
+    }
+}
+
+/// The patch names of the handshake (`name\n` each).
+pub fn parse_patch_names(bytes: &[u8]) -> Result<Vec<String>, String> {
+    let text = std::str::from_utf8(bytes).map_err(|e| format!("patch names: {e}"))?;
+    if !text.is_empty() && !text.ends_with('\n') {
+        return Err("patch names: the list does not end with a newline".into());
+    }
+    Ok(text.lines().map(str::to_owned).collect())
+}
+
+/// The fields one rank receives for an advance, in its local cell order (ADR 0004 units).
+#[derive(Clone, Copy, Debug)]
+pub struct FieldsIn<'a> {
+    /// ε at the start of the interval.
+    pub eps_old: &'a [f64],
+    /// ε at its end.
+    pub eps_new: &'a [f64],
+    /// Ksl, kg/(m³ s).
+    pub ksl: &'a [f64],
+    /// Us, m/s.
+    pub us: &'a [V3],
+    /// f, N/m³.
+    pub f: &'a [V3],
+}
+
+/// Packs the global fields of `cells` (a rank's global cell ids, in its local order) into the
+/// [`tag::FIELDS`] message `out` (cleared first).
+pub fn pack_fields(cells: &[u32], fields: &FieldsIn<'_>, out: &mut Vec<f64>) {
+    let n = cells.len();
+    out.clear();
+    out.resize(FIELD_WORDS_PER_CELL * n, 0.0);
+    let (eps_old, rest) = out.split_at_mut(n);
+    let (eps_new, rest) = rest.split_at_mut(n);
+    let (ksl, rest) = rest.split_at_mut(n);
+    let (us, f) = rest.split_at_mut(3 * n);
+    for (i, &c) in cells.iter().enumerate() {
+        let c = c as usize;
+        eps_old[i] = fields.eps_old[c];
+        eps_new[i] = fields.eps_new[c];
+        ksl[i] = fields.ksl[c];
+        us[3 * i..3 * i + 3].copy_from_slice(&fields.us[c]);
+        f[3 * i..3 * i + 3].copy_from_slice(&fields.f[c]);
+    }
+}
+
+/// The fluid on the whole mesh, assembled from the ranks' replies.
+#[derive(Clone, Debug, Default)]
+pub struct GlobalState {
+    /// Simulated time, s.
+    pub time: f64,
+    /// U per global cell, m/s.
+    pub u: Vec<V3>,
+    /// Kinematic p per global cell, m²/s².
+    pub p: Vec<f64>,
+    /// ∇p per global cell, m/s².
+    pub grad_p: Vec<V3>,
+    /// ∇·τ per global cell, m/s².
+    pub div_tau: Vec<V3>,
+    /// Per patch: Σ p|S| (m⁴/s²), Σ |S| (m²), Σ φ (m³/s), summed over the ranks.
+    pub patch_sums: Vec<[f64; 3]>,
+}
+
+impl GlobalState {
+    /// Zeroed arrays for `n_cells` cells and `n_patches` patches.
+    pub fn new(n_cells: usize, n_patches: usize) -> GlobalState {
+        GlobalState {
+            time: 0.0,
+            u: vec![[0.0; 3]; n_cells],
+            p: vec![0.0; n_cells],
+            grad_p: vec![[0.0; 3]; n_cells],
+            div_tau: vec![[0.0; 3]; n_cells],
+            patch_sums: vec![[0.0; 3]; n_patches],
+        }
+    }
+
+    /// Starts assembling a new reply: the patch sums are zeroed (the cell arrays are
+    /// overwritten cell by cell).
+    pub fn clear_sums(&mut self) {
+        self.patch_sums.fill([0.0; 3]);
+    }
+
+    /// Scatters one rank's [`tag::STATE`] reply into the global arrays and adds its patch sums;
+    /// returns the rank's time. `Err` when the length does not fit the rank's cells.
+    pub fn scatter(&mut self, cells: &[u32], msg: &[f64]) -> Result<f64, String> {
+        let n = cells.len();
+        let m = self.patch_sums.len();
+        let expected = 1 + STATE_WORDS_PER_CELL * n + PATCH_WORDS * m;
+        if msg.len() != expected {
+            return Err(format!(
+                "state reply of {} values, expected {expected} ({n} cells, {m} patches)",
+                msg.len()
+            ));
+        }
+        let (u, rest) = msg[1..].split_at(3 * n);
+        let (p, rest) = rest.split_at(n);
+        let (grad_p, rest) = rest.split_at(3 * n);
+        let (div_tau, sums) = rest.split_at(3 * n);
+        let v = |s: &[f64], i: usize| -> V3 { [s[3 * i], s[3 * i + 1], s[3 * i + 2]] };
+        for (i, &c) in cells.iter().enumerate() {
+            let c = c as usize;
+            self.u[c] = v(u, i);
+            self.p[c] = p[i];
+            self.grad_p[c] = v(grad_p, i);
+            self.div_tau[c] = v(div_tau, i);
+        }
+        for (acc, s) in self
+            .patch_sums
+            .iter_mut()
+            .zip(sums.chunks_exact(PATCH_WORDS))
+        {
+            for k in 0..PATCH_WORDS {
+                acc[k] += s[k];
+            }
+        }
+        Ok(msg[0])
+    }
+}
+
+/// Bytes of one advance for a mesh of `n_cells` cells on `ranks` ranks with `n_patches`
+/// patches: (coupler → solver, solver → coupler), the message payloads only.
+pub fn advance_bytes(n_cells: usize, ranks: usize, n_patches: usize) -> (usize, usize) {
+    let f = std::mem::size_of::<f64>();
+    let sent = f * (4 * ranks + FIELD_WORDS_PER_CELL * n_cells);
+    let received = f * (ranks * (1 + PATCH_WORDS * n_patches) + STATE_WORDS_PER_CELL * n_cells);
+    (sent, received)
+}
+
+/// Checks exchange fields before they go to the solver (which would stop on a NaN with a
+/// floating-point trap, or on ε outside (0, 1]); the error names the field and global cell.
+pub fn check_fields(map: &RankMap, fields: &FieldsIn<'_>) -> Result<(), crate::LinkError> {
+    use crate::LinkError;
+    let n = map.n_cells();
+    for (what, len) in [
+        ("voidage_old", fields.eps_old.len()),
+        ("voidage_new", fields.eps_new.len()),
+        ("Ksl", fields.ksl.len()),
+        ("Us", fields.us.len()),
+        ("f", fields.f.len()),
+    ] {
+        if len != n {
+            return Err(couple::CoupleError::Length {
+                what,
+                expected: n,
+                found: len,
+            }
+            .into());
+        }
+    }
+    for (what, eps) in [
+        ("voidage_old", fields.eps_old),
+        ("voidage_new", fields.eps_new),
+    ] {
+        if let Some(c) = eps.iter().position(|&e| !(e > 0.0 && e <= 1.0)) {
+            return Err(LinkError::Value {
+                what,
+                cell: c,
+                message: format!("ε = {} is not in (0, 1]", eps[c]),
+            });
+        }
+    }
+    if let Some(c) = fields
+        .ksl
+        .iter()
+        .position(|&k| !(k.is_finite() && k >= 0.0))
+    {
+        return Err(LinkError::Value {
+            what: "Ksl",
+            cell: c,
+            message: format!("{} is not a finite value ≥ 0", fields.ksl[c]),
+        });
+    }
+    for (what, v) in [("Us", fields.us), ("f", fields.f)] {
+        if let Some(c) = v.iter().position(|x| !x.iter().all(|y| y.is_finite())) {
+            return Err(LinkError::Value {
+                what,
+                cell: c,
+                message: format!("{:?} is not finite", v[c]),
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_are_packed_in_each_ranks_local_order_by_block() {
+        // 3 global cells; this rank holds global cells 2 and 0 (in that local order).
+        let eps_old = [0.1, 0.2, 0.3];
+        let eps_new = [0.4, 0.5, 0.6];
+        let ksl = [7.0, 8.0, 9.0];
+        let us = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]];
+        let f = [[-1.0, -2.0, -3.0], [-4.0, -5.0, -6.0], [-7.0, -8.0, -9.0]];
+        let fields = FieldsIn {
+            eps_old: &eps_old,
+            eps_new: &eps_new,
+            ksl: &ksl,
+            us: &us,
+            f: &f,
+        };
+        let mut out = vec![99.0; 5];
+        pack_fields(&[2, 0], &fields, &mut out);
+        let expected = [
+            0.3, 0.1, // ε_old
+            0.6, 0.4, // ε_new
+            9.0, 7.0, // Ksl
+            7.0, 8.0, 9.0, 1.0, 2.0, 3.0, // Us
+            -7.0, -8.0, -9.0, -1.0, -2.0, -3.0, // f
+        ];
+        assert_eq!(out, expected);
+    }
+
+    #[test]
+    fn replies_scatter_to_global_cells_and_patch_sums_add_over_ranks() {
+        let mut s = GlobalState::new(3, 1);
+        // Rank 0 holds global cells 1 and 2, rank 1 holds cell 0.
+        let r0 = [
+            0.5, // time
+            1.0, 0.0, 0.0, 2.0, 0.0, 0.0, // U
+            10.0, 20.0, // p
+            0.0, 1.0, 0.0, 0.0, 2.0, 0.0, // ∇p
+            0.0, 0.0, 1.0, 0.0, 0.0, 2.0, // ∇·τ
+            3.0, 1.5, -0.25, // patch sums
+        ];
+        let r1 = [
+            0.5, 3.0, 0.0, 0.0, 30.0, 0.0, 3.0, 0.0, 0.0, 0.0, 3.0, 1.0, 0.5, -0.75,
+        ];
+        s.clear_sums();
+        assert_eq!(s.scatter(&[1, 2], &r0), Ok(0.5));
+        assert_eq!(s.scatter(&[0], &r1), Ok(0.5));
+        assert_eq!(s.u, [[3.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]);
+        assert_eq!(s.p, [30.0, 10.0, 20.0]);
+        assert_eq!(s.grad_p[0], [0.0, 3.0, 0.0]);
+        assert_eq!(s.div_tau[2], [0.0, 0.0, 2.0]);
+        assert_eq!(s.patch_sums, [[4.0, 2.0, -1.0]]);
+        let err = s.scatter(&[0], &r1[..10]).unwrap_err();
+        assert!(err.contains("10 values, expected 14"), "{err}");
+    }
+
+    #[test]
+    fn handshake_checks_version_and_signs() {
+        assert_eq!(
+            Hello::parse(&[1, 4480, 1234, 3, 1]),
+            Ok(Hello {
+                version: 1,
+                n_cells: 4480,
+                pid: 1234,
+                n_patches: 3,
+                rank: 1
+            })
+        );
+        assert!(Hello::parse(&[2, 1, 1, 1, 0])
+            .unwrap_err()
+            .contains("build.sh"));
+        assert!(Hello::parse(&[1, -1, 1, 1, 0])
+            .unwrap_err()
+            .contains("cell count"));
+        assert!(Hello::parse(&[1, 1, 1]).is_err());
+        assert_eq!(
+            parse_patch_names(b"inlet\noutlet\nwalls\n").unwrap(),
+            ["inlet", "outlet", "walls"]
+        );
+        assert!(parse_patch_names(b"inlet").is_err());
+    }
+
+    #[test]
+    fn commands_encode_as_documented() {
+        let c = Command::Advance {
+            steps: 5,
+            step_length: 1e-4,
+            first: true,
+        };
+        assert_eq!(c.words(), [1.0, 5.0, 1e-4, 1.0]);
+        assert_eq!(Command::Write.words()[0], 2.0);
+        assert_eq!(Command::Stop.words()[0], 3.0);
+        // 4480 cells on 2 ranks, 3 patches: 8 (8 + 9·4480) and 8 (2·10 + 10·4480) bytes.
+        assert_eq!(advance_bytes(4480, 2, 3), (322_624, 358_560));
+    }
+}
