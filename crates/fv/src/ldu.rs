@@ -11,7 +11,6 @@
 //! row, so they run in parallel without atomics, and the triangular sweeps keep the running
 //! value in a register instead of scattering it through memory.
 
-
 // Row loops index several arrays by the same row or entry, as the equations do.
 #![allow(clippy::needless_range_loop)]
 
@@ -170,11 +169,12 @@ impl<'a> RowMatrix<'a> {
     }
 
     /// Row `c` of `A x`: d_c x_c + Σ a_ck x_k, the terms in row order.
-    #[inline]
+    #[inline(always)]
     pub fn row_times(&self, c: usize, x: &[f64]) -> f64 {
+        let (a, b) = (self.rows.start[c] as usize, self.rows.start[c + 1] as usize);
         let mut s = self.diag[c] * x[c];
-        for k in self.rows.row(c) {
-            s += self.coef[k] * x[self.rows.col[k] as usize];
+        for (&j, &v) in self.rows.col[a..b].iter().zip(&self.coef[a..b]) {
+            s += v * x[j as usize];
         }
         s
     }
