@@ -80,6 +80,7 @@ pub struct CouplingDeck {
     /// `timestep` when given as a number (s).
     pub time_step: Option<f64>,
     read_data: Vec<(usize, String)>,
+    dump_files: Vec<(usize, String)>,
 }
 
 impl CouplingDeck {
@@ -107,6 +108,7 @@ impl CouplingDeck {
         let mut force: Option<(ForceFix, Vec<String>)> = None;
         let mut time_step = None;
         let mut read_data = Vec::new();
+        let mut dump_files = Vec::new();
         for c in &deck.commands {
             let w = &c.words;
             match w[0].as_str() {
@@ -124,6 +126,11 @@ impl CouplingDeck {
                             w[0]
                         ),
                     ))
+                }
+                "dump" => {
+                    if let Some(f) = w.get(5) {
+                        dump_files.push((c.line, f.clone()));
+                    }
                 }
                 "timestep" => time_step = w.get(1).and_then(|s| s.parse::<f64>().ok()),
                 "read_data" => {
@@ -234,6 +241,7 @@ impl CouplingDeck {
             skipped_runs,
             time_step,
             read_data,
+            dump_files,
         })
     }
 
@@ -255,6 +263,20 @@ impl CouplingDeck {
                         "read_data: {} does not exist (relative to the working directory {}; \
                          does stage 1 have to run first?)",
                         f,
+                        workdir.display()
+                    ),
+                });
+            }
+        }
+        for (line, f) in &self.dump_files {
+            let parent = workdir.join(f).parent().map(Path::to_path_buf);
+            if parent.is_some_and(|p| !p.is_dir()) {
+                return Err(LiggghtsError::Deck {
+                    file: self.file.clone(),
+                    line: *line,
+                    message: format!(
+                        "dump: the folder of {f} does not exist in the working directory {} \
+                         (LIGGGHTS would stop)",
                         workdir.display()
                     ),
                 });
@@ -478,6 +500,14 @@ mod tests {
         assert!(!s.force.implicit);
         let err = e.check_inputs(Path::new("/nonexistent")).unwrap_err();
         assert!(err.to_string().contains("does not exist"), "{err}");
+        let dir = tempfile::tempdir().unwrap();
+        let err = s.check_inputs(dir.path()).unwrap_err().to_string();
+        assert!(
+            err.contains("in.liggghts_run:49:") && err.contains("post/dump*.run"),
+            "{err}"
+        );
+        std::fs::create_dir(dir.path().join("post")).unwrap();
+        s.check_inputs(dir.path()).unwrap();
     }
 
     #[test]

@@ -12,6 +12,11 @@
 //!   the exchange: `dragforce = F_ext + β (u_f − v_exchange)` (CFDEM's explicit coupling); the
 //!   difference to ADR 0004 grows like β·Δt_couple/m. The side reports which of the two a deck
 //!   uses ([`crate::ForceMode`]).
+//!
+//! Timing: runs after the first are `run N pre no post no`, so the first half kick of an
+//! interval still uses the force of the previous interval's last step; new forces act from
+//! the first force evaluation on (the native DEM does the same: `set_coupling` keeps its stored
+//! forces). Tested in `tests/link_explicit.rs` to 1e-12.
 
 use mesh::v3::V3;
 

@@ -277,8 +277,9 @@ impl LiggghtsDem {
         };
     }
 
-    /// Reads dt, the step, maxtag and the particles (every rank gets all of them).
-    fn refresh(&mut self) -> Result<(), LiggghtsError> {
+    /// Reads dt, the step, maxtag and the particles again (every rank gets all of them);
+    /// [`ParticleSide::advance`] does it after each run.
+    pub fn refresh(&mut self) -> Result<(), LiggghtsError> {
         let _in = InLiggghts::enter(&self.workdir)?;
         unsafe {
             self.dt = *(ffi::lammps_extract_global(self.lmp, cstr("dt").as_ptr()) as *const f64);
