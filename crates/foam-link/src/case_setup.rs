@@ -127,10 +127,25 @@ pub fn decompose(case: &Case, mesh: &PolyMesh, ranks: usize) -> Result<Decomposi
     Ok(Decomposition { wrote_dict })
 }
 
-/// `reconstructPar -newTimes`: the time directories the decomposed run wrote, back into the
-/// case (about a second per written time for the Ergun mesh).
+/// `reconstructPar -time <the times in processor0/ that the case root lacks>`: the time
+/// directories the decomposed run wrote, back into the case (about a second per written time
+/// for the Ergun mesh). Nothing to do when there are none.
 pub fn reconstruct(case: &Path) -> Result<(), LinkError> {
-    run_tool(case, "reconstructPar", &["-newTimes"])
+    let root: Vec<String> = Case::open(case)?
+        .times()?
+        .into_iter()
+        .map(|t| t.name)
+        .collect();
+    let written: Vec<String> = Case::open(case.join("processor0"))?
+        .times()?
+        .into_iter()
+        .map(|t| t.name)
+        .filter(|name| !root.contains(name))
+        .collect();
+    if written.is_empty() {
+        return Ok(());
+    }
+    run_tool(case, "reconstructPar", &["-time", &written.join(",")])
 }
 
 /// The `WM_PROJECT_DIR` for Debian's OpenFOAM (the environment's, else `/usr/share/openfoam`).

@@ -286,7 +286,7 @@ impl OpenFoamFluid {
     }
 
     /// Stops the solver (it leaves its time loop and exits) and, when decomposed,
-    /// reconstructs the time directories it wrote (`reconstructPar -newTimes`).
+    /// reconstructs the time directories it wrote ([`case_setup::reconstruct`]).
     pub fn finish(mut self) -> Result<(), LinkError> {
         self.stop()?;
         if self.ranks() > 1 {

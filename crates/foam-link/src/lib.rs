@@ -35,7 +35,7 @@
 //! * **np > 1**: `spawn` runs `decomposePar -force`. If `system/decomposeParDict` is missing,
 //!   it **writes one** (`simple`, `np` slabs along the mesh's longest axis — Debian's OpenFOAM
 //!   has no scotch/metis); an existing one must have `numberOfSubdomains np`. `finish`
-//!   reconstructs the written times (`reconstructPar -newTimes`); a run that ends by error
+//!   reconstructs the written times (`reconstructPar -time` those new in `processor0/`); a run that ends by error
 //!   stays decomposed in `processor*/`.
 //! * **Time stepping**: an interval Δt_c is `round(Δt_c/deltaT)` (≥ 1) steps of Δt_c/N; at
 //!   step k, ε = ε_old + (k/N)(ε_new − ε_old); Ksl, Us, f are held; on the first interval ε's
