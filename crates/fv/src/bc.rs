@@ -94,6 +94,17 @@ impl VelocityBc {
     }
 }
 
+impl VelocityBc {
+    /// True when the condition prescribes the value (OpenFOAM's `fixesValue`): fixedValue,
+    /// uniformFixedValue, noSlip.
+    pub fn fixes_value(&self) -> bool {
+        matches!(
+            self,
+            VelocityBc::FixedValue(_) | VelocityBc::UniformFixedValue(_) | VelocityBc::NoSlip
+        )
+    }
+}
+
 impl PressureBc {
     /// True when the condition prescribes the value (a Dirichlet condition of the pressure
     /// equation, which removes its null space).

@@ -363,6 +363,7 @@ impl Fluid {
         let g = &self.g;
         let (n, nb) = (g.n_cells, g.n_boundary());
         let u_old = self.u.clone();
+        let u_b_old = self.u_b.clone();
         let phi_old = self.phi.clone();
         let nu = self.settings.nu;
         let rho = self.settings.rho;
@@ -447,7 +448,7 @@ impl Fluid {
         let g = &self.g;
         let fixed_flux = bc::flux_fixed(g, &self.u_bc, &self.phi);
         let fixes_p = self.p_bc.iter().any(PressureBc::fixes_value);
-        let uf_old = fvc::interpolate(g, Field::new(&u_old, &self.u_b));
+        let uf_old = fvc::interpolate(g, Field::new(&u_old, &u_b_old));
         let a_mean: Vec<f64> = (0..n)
             .map(|c| (diag[c][0] + diag[c][1] + diag[c][2]) / 3.0 / g.v[c])
             .collect();
@@ -478,9 +479,23 @@ impl Fluid {
             .map(|&o| erau[o as usize])
             .collect();
         let erau_f = fvc::interpolate(g, Field::new(&erau, &erau_b));
-        // ddtCorr (OpenFOAM v1912 `ddtCorr` with ddtPhiCoeff −1), internal faces only.
-        let ddt_corr: Vec<f64> = (0..g.n_internal)
+        // ddtCorr (OpenFOAM v1912 `ddtCorr` with ddtPhiCoeff −1): on internal faces and on the
+        // boundary faces of patches whose velocity condition does not fix the value
+        // (zeroGradient, inletOutlet, slip; zero on `empty` faces).
+        let corr_face: Vec<bool> = {
+            let mut v = vec![true; g.n_faces()];
+            for (patch, bc) in g.patches.iter().zip(&self.u_bc) {
+                if bc.fixes_value() || patch.is_empty() {
+                    v[patch.faces.clone()].iter_mut().for_each(|x| *x = false);
+                }
+            }
+            v
+        };
+        let ddt_corr: Vec<f64> = (0..g.n_faces())
             .map(|f| {
+                if !corr_face[f] {
+                    return 0.0;
+                }
                 let old = ef_old[f] * dot(uf_old[f], g.sf[f]);
                 let diff = phi_old[f] - old;
                 let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
@@ -527,7 +542,7 @@ impl Fluid {
                 let hf = fvc::interpolate(g, Field::new(&hbya, &hb));
                 self.flux(&ef, &hf)
             };
-            for f in 0..g.n_internal {
+            for f in 0..g.n_faces() {
                 phi_star[f] += ddt_corr[f];
             }
             let phi_unconstrained = phi_star.clone();
