@@ -31,7 +31,7 @@ pub struct Transport {
     /// Set once a rank died or failed: the intercommunicator is then leaked, not
     /// disconnected (MPI_Comm_disconnect would wait for the dead rank forever).
     broken: bool,
-    /// Seconds spent polling for messages (waiting for the solver).
+    /// Seconds spent polling for replies (waiting for the solver to compute and send).
     pub wait_seconds: f64,
 }
 
@@ -183,7 +183,7 @@ impl Transport {
                 mpi::ffi::MPI_Test(&mut request, &mut done, mpi::ffi::RSMPI_STATUS_IGNORE);
             }
             if done != 0 {
-                self.wait_seconds += poll.waited();
+                // A send's time is exchange cost (copy to the solver), not waiting.
                 return Ok(());
             }
             if poll.due_for_liveness() {
