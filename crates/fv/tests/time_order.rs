@@ -1,0 +1,129 @@
+//! Order of accuracy in time: a decaying shear mode between two no-slip plates, u = (u(y, t), 0, 0)
+//! with u(y, 0) = sin(πy/H) (no pressure gradient, no convection: ∂u/∂t = ν ∂²u/∂y²), in a
+//! column of `NY` cells (one cell along x with zeroGradient ends, `empty` in z).
+//!
+//! The cell-centred values sin(πy_j/H) are an exact eigenvector of the discrete diffusion
+//! operator with the wall's half-cell gradient (the wall acts as an antisymmetric mirror), with
+//! eigenvalue λ_h = (4ν/h²) sin²(πh/(2H)) (h = H/NY). The semi-discrete solution
+//! u_j(t) = sin(πy_j/H) e^(−λ_h t) is therefore exact in space, and the difference from it is
+//! the time-stepping error alone: per step the θ-scheme multiplies by
+//! (1 − (1−θ)λΔt)/(1 + θλΔt) instead of e^(−λΔt) — first order for Euler (θ = 1), second order for
+//! Crank–Nicolson (θ = ½, `CrankNicolson 1`). Reference: e.g. Ferziger & Perić, *Computational
+//! Methods for Fluid Dynamics*, 3rd ed., §6.2–6.3.
+
+mod common;
+use common::{write_case, CaseSpec, PatchSpec};
+
+const NY: usize = 16;
+const NU: f64 = 1.0;
+const H: f64 = 1.0;
+/// λ_h T ≈ 1: the mode decays to about e⁻¹.
+const T: f64 = 0.1;
+
+/// Max |u − u_semi-discrete| at time T over the cells, for `steps` steps with scheme `ddt`,
+/// after checking that the solution is the θ-scheme's own, sin(πy_j/H) gᴺ with
+/// g = (1 − (1−θ)λ_hΔt)/(1 + θλ_hΔt), to the linear solvers' tolerance.
+fn decay_error(ddt: &str, theta: f64, steps: usize) -> f64 {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m = mesh::build::uniform_box([0.0; 3], [0.1, H, 0.1], [1, NY, 1]);
+    for p in &mut m.boundary {
+        if p.name.starts_with('z') {
+            p.patch_type = "empty".into();
+        }
+    }
+    let zg = "type zeroGradient;";
+    let wall = "type noSlip;";
+    let empty = "type empty;";
+    let patch = |name, patch_type, u| PatchSpec {
+        name,
+        patch_type,
+        u,
+        p: if patch_type == "empty" { empty } else { zg },
+    };
+    let patches = [
+        patch("xMin", "patch", zg),
+        patch("xMax", "patch", zg),
+        patch("yMin", "wall", wall),
+        patch("yMax", "wall", wall),
+        patch("zMin", "empty", empty),
+        patch("zMax", "empty", empty),
+    ];
+    let dt = T / steps as f64;
+    let spec = CaseSpec {
+        nu: NU,
+        rho: 1.0,
+        delta_t: dt,
+        end_time: T,
+        ddt,
+        div: "Gauss linear",
+        n_correctors: 2,
+        u_internal: [0.0; 3],
+    };
+    let g = fv::FvGeometry::new(&m).unwrap();
+    write_case(dir.path(), m, &patches, &spec);
+    let mode = |c: &[f64; 3]| (std::f64::consts::PI * c[1] / H).sin();
+    let u0: Vec<String> = g.c.iter().map(|c| format!("({} 0 0)", mode(c))).collect();
+    let u_path = dir.path().join("0/U");
+    let text = std::fs::read_to_string(&u_path).unwrap().replace(
+        "internalField uniform (0 0 0);",
+        &format!(
+            "internalField nonuniform List<vector> {}({});",
+            u0.len(),
+            u0.join(" ")
+        ),
+    );
+    std::fs::write(&u_path, text).unwrap();
+    let mut fluid = fv::Fluid::from_case(dir.path()).unwrap();
+    for _ in 0..steps {
+        fluid.advance(dt).unwrap();
+    }
+    let h = H / NY as f64;
+    let lambda = 4.0 * NU / (h * h) * (std::f64::consts::PI * h / (2.0 * H)).sin().powi(2);
+    let decay = (-lambda * T).exp();
+    let amp = (1.0 - (1.0 - theta) * lambda * dt) / (1.0 + theta * lambda * dt);
+    let scheme = amp.powi(steps as i32);
+    let off_scheme =
+        g.c.iter()
+            .zip(fluid.u())
+            .map(|(c, u)| (u[0] - mode(c) * scheme).abs())
+            .fold(0.0, f64::max);
+    assert!(
+        off_scheme < 1e-10,
+        "{ddt}, {steps} steps: {off_scheme:e} from the θ-scheme"
+    );
+    g.c.iter()
+        .zip(fluid.u())
+        .map(|(c, u)| (u[0] - mode(c) * decay).abs().max(u[1].abs()))
+        .fold(0.0, f64::max)
+}
+
+/// Errors and observed orders for 10, 20, 40 steps.
+fn study(ddt: &str, theta: f64) -> ([f64; 3], [f64; 2]) {
+    let e = [10, 20, 40].map(|n| decay_error(ddt, theta, n));
+    let p = [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()];
+    eprintln!(
+        "{ddt}: max error at T for 10, 20, 40 steps {:.3e} {:.3e} {:.3e}, observed order {p:.3?}",
+        e[0], e[1], e[2]
+    );
+    (e, p)
+}
+
+#[test]
+fn euler_is_first_order_in_time() {
+    let (e, p) = study("Euler", 1.0);
+    assert!(p.iter().all(|&p| (p - 1.0).abs() < 0.15), "{e:?} {p:?}");
+}
+
+#[test]
+fn crank_nicolson_is_second_order_in_time() {
+    let (e, p) = study("CrankNicolson 1", 0.5);
+    assert!(p.iter().all(|&p| (p - 2.0).abs() < 0.15), "{e:?} {p:?}");
+    // OpenFOAM's usual off-centring ψ = 0.9 (θ = 0.55) sits between the two: first order
+    // with a constant about ten times smaller than Euler's.
+    let (e9, p9) = study("CrankNicolson 0.9", 0.55);
+    let (eu, _) = study("Euler", 1.0);
+    assert!(
+        p9[1] < 1.5 && e9[2] < 0.2 * eu[2],
+        "{e9:?} {p9:?} vs Euler {eu:?}"
+    );
+}
