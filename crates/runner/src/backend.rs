@@ -10,8 +10,9 @@
 //! with the cargo feature that would enable it.
 
 use crate::native::NativeFluid;
-use crate::run::{Event, LoopContext, RunError, RunReport};
+use crate::run::{couple_loop, Event, LoopContext, RunError, RunReport};
 use dem::deck::Deck;
+use std::path::{Path, PathBuf};
 
 /// The fluid solver of a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -65,6 +66,54 @@ fn unavailable(fluid: FluidBackend, dem: DemBackend, why: &str) -> RunError {
     ))
 }
 
+fn side_err(what: &str) -> impl FnOnce(String) -> RunError + '_ {
+    move |e| RunError::Backend(format!("{what}: {e}"))
+}
+
+/// The DEM time step of a deck (`timestep DT`), s.
+fn deck_time_step(deck: &Deck) -> Option<f64> {
+    deck.commands
+        .iter()
+        .find(|c| c.words.first().map(String::as_str) == Some("timestep"))
+        .and_then(|c| c.words.get(1))
+        .and_then(|w| w.parse().ok())
+}
+
+/// The grainPisoFoam binary: `$FOAMGRAIN_SOLVER`, else `$FOAMGRAIN_CACHE/bin/grainPisoFoam`,
+/// else `~/.cache/foamgrain/bin/grainPisoFoam` (where `openfoam-cases/solver/build.sh` puts
+/// it).
+pub fn solver_path() -> Result<PathBuf, RunError> {
+    let path = if let Some(p) = std::env::var_os("FOAMGRAIN_SOLVER") {
+        PathBuf::from(p)
+    } else {
+        let cache = std::env::var_os("FOAMGRAIN_CACHE")
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache/foamgrain")))
+            .unwrap_or_else(|| PathBuf::from(".cache/foamgrain"));
+        cache.join("bin/grainPisoFoam")
+    };
+    if path.is_file() {
+        Ok(path)
+    } else {
+        Err(RunError::Backend(format!(
+            "grainPisoFoam not found at {} (build it with openfoam-cases/solver/build.sh, or \
+             set FOAMGRAIN_SOLVER)",
+            path.display()
+        )))
+    }
+}
+
+/// Stage 1 with the `liggghts` binary: runs the init deck in the DEM directory.
+pub(crate) fn pack_with_liggghts(
+    init: &Path,
+    dem_dir: &Path,
+    vars: &[(String, String)],
+) -> Result<(), RunError> {
+    liggghts::run_deck(init, dem_dir, vars, "init")
+        .map(|_| ())
+        .map_err(|e| RunError::Backend(format!("LIGGGHTS (stage 1): {e}")))
+}
+
 /// Runs stage 2 with at least one external backend.
 pub(crate) fn run_external(
     ctx: LoopContext<'_>,
@@ -74,11 +123,123 @@ pub(crate) fn run_external(
     dem: DemBackend,
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
-    let _ = (run_deck, model, &events, &ctx);
-    let _native = NativeFluid::open;
-    Err(unavailable(
-        fluid,
-        dem,
-        "this build has no such backend pair yet",
-    ))
+    let layout = ctx.layout;
+    let native_fluid = || NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid);
+    match (fluid, dem) {
+        (FluidBackend::Native, DemBackend::Native) => {
+            unreachable!("the native pair runs in run::run")
+        }
+        (FluidBackend::Native, DemBackend::LiggghtsFile) => {
+            let dt = deck_time_step(run_deck).ok_or_else(|| {
+                RunError::Backend(format!(
+                    "{}: file coupling needs `timestep DT` with a number",
+                    layout.run_deck.display()
+                ))
+            })?;
+            let dt_c = ctx.coupling_interval as f64 * dt;
+            let start = ctx.fluid_settings.start_time;
+            let end = ctx.opts.end_time.unwrap_or(ctx.fluid_settings.end_time);
+            let steps = ((end - start) / dt_c - 1e-9).ceil().max(0.0) as u64;
+            let options = liggghts::FileOptions::new(steps * ctx.coupling_interval);
+            events(Event::Message(format!(
+                "LIGGGHTS file coupling: {steps} exchanges of about 10 s each (LIGGGHTS polls \
+                 its files every 10 s)"
+            )));
+            let side = liggghts::FileDem::open(&layout.run_deck, &layout.dem, &[], options)
+                .map_err(|e| side_err("LIGGGHTS (file coupling)")(e.to_string()))?;
+            couple_loop(ctx, side, native_fluid()?, events)
+        }
+        (FluidBackend::OpenFoam, DemBackend::LiggghtsFile) => Err(unavailable(
+            fluid,
+            dem,
+            "file coupling is offered with the native fluid only",
+        )),
+        #[cfg(any(feature = "mpi", feature = "liggghts"))]
+        (fluid, dem) => mpi_pair::run(ctx, model, fluid, dem, events),
+        #[cfg(not(any(feature = "mpi", feature = "liggghts")))]
+        (fluid, dem) => Err(unavailable(
+            fluid,
+            dem,
+            "this foamgrain was built without MPI backends; build it with \
+             `cargo build --release -p cli --features mpi,liggghts` (needs openmpi-bin \
+             libopenmpi-dev libclang-dev, and libliggghts-dev for `liggghts`)",
+        )),
+    }
+}
+
+/// The pairs that need MPI (grainPisoFoam spawned over MPI, LIGGGHTS in this process).
+#[cfg(any(feature = "mpi", feature = "liggghts"))]
+mod mpi_pair {
+    use super::*;
+
+    /// Runs one MPI pair: initialises MPI once for this process (both backends share the
+    /// universe), opens the sides and runs the loop.
+    pub(super) fn run(
+        ctx: LoopContext<'_>,
+        model: fv::Model,
+        fluid: FluidBackend,
+        dem: DemBackend,
+        events: &mut dyn FnMut(Event),
+    ) -> Result<RunReport, RunError> {
+        #[cfg(feature = "mpi")]
+        foam_link::prepare_environment();
+        let universe = mpi::initialize().ok_or_else(|| {
+            RunError::Backend("MPI is already initialised in this process".into())
+        })?;
+        let world = universe.world();
+        let layout = ctx.layout;
+        let report = match (fluid, dem) {
+            #[cfg(feature = "liggghts")]
+            (FluidBackend::Native, DemBackend::Liggghts) => {
+                let dem = open_liggghts(&world, layout)?;
+                let fluid = NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid)?;
+                couple_loop(ctx, dem, fluid, events)
+            }
+            #[cfg(feature = "mpi")]
+            (FluidBackend::OpenFoam, DemBackend::Native) => {
+                let _ = model;
+                let sim = dem::Simulation::from_deck(&Deck::read(&layout.run_deck)?, &layout.dem)?;
+                let fluid = open_foam(&world, layout, ctx.opts.fluid_ranks)?;
+                couple_loop(ctx, crate::native::NativeDem::new(sim), fluid, events)
+            }
+            #[cfg(all(feature = "mpi", feature = "liggghts"))]
+            (FluidBackend::OpenFoam, DemBackend::Liggghts) => {
+                let _ = model;
+                // LIGGGHTS first: its deck is checked before a solver is spawned.
+                let dem = open_liggghts(&world, layout)?;
+                let fluid = open_foam(&world, layout, ctx.opts.fluid_ranks)?;
+                couple_loop(ctx, dem, fluid, events)
+            }
+            (fluid, dem) => Err(unavailable(
+                fluid,
+                dem,
+                "this foamgrain lacks the cargo feature for one of these backends; build it \
+                 with `--features mpi,liggghts`",
+            )),
+        };
+        drop(world);
+        drop(universe);
+        report
+    }
+
+    #[cfg(feature = "liggghts")]
+    fn open_liggghts(
+        world: &mpi::topology::SimpleCommunicator,
+        layout: &crate::layout::CaseLayout,
+    ) -> Result<liggghts::LiggghtsDem, RunError> {
+        liggghts::LiggghtsDem::open(world, &layout.run_deck, &layout.dem, &[])
+            .map_err(|e| side_err("LIGGGHTS (in-process)")(e.to_string()))
+    }
+
+    #[cfg(feature = "mpi")]
+    fn open_foam(
+        world: &mpi::topology::SimpleCommunicator,
+        layout: &crate::layout::CaseLayout,
+        ranks: usize,
+    ) -> Result<crate::foam_fluid::FoamFluid, RunError> {
+        let solver = solver_path()?;
+        let fluid = foam_link::OpenFoamFluid::spawn(world, &layout.cfd, ranks.max(1), &solver)
+            .map_err(|e| side_err("grainPisoFoam")(e.to_string()))?;
+        Ok(crate::foam_fluid::FoamFluid::new(fluid))
+    }
 }

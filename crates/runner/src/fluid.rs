@@ -27,6 +27,10 @@ pub trait RunFluid: FluidSide {
         mesh: &PolyMesh,
         step: &CouplingStep,
     ) -> Result<String, SideError>;
+    /// A line on what the backend's exchange cost (external solvers), for the run's log.
+    fn report(&self) -> Option<String> {
+        None
+    }
     /// Ends the fluid's run (stops a solver process); a no-op for in-process solvers.
     fn finish(&mut self) -> Result<(), SideError> {
         Ok(())

@@ -7,6 +7,8 @@ pub mod backend;
 pub mod bed;
 pub mod checks;
 pub mod fluid;
+#[cfg(feature = "mpi")]
+pub mod foam_fluid;
 pub mod layout;
 pub mod native;
 pub mod plot;

@@ -333,14 +333,25 @@ pub fn run(
                     format!("reads {} which does not exist, and there is no DEM/in.liggghts_init to make it", data.display()),
                 ));
             };
-            events(Event::Message(format!(
-                "stage 1: running {} natively (writes {})",
-                init.display(),
-                data.display()
-            )));
             let t = Instant::now();
-            let deck = Deck::read_with_vars(init, &opts.init_vars)?;
-            let sim = Simulation::from_deck(&deck, &layout.dem)?;
+            let packed = if opts.dem == DemBackend::Native {
+                events(Event::Message(format!(
+                    "stage 1: running {} natively (writes {})",
+                    init.display(),
+                    data.display()
+                )));
+                let deck = Deck::read_with_vars(init, &opts.init_vars)?;
+                let sim = Simulation::from_deck(&deck, &layout.dem)?;
+                format!("{} particles packed", sim.particles.len())
+            } else {
+                events(Event::Message(format!(
+                    "stage 1: running {} with the liggghts binary (writes {})",
+                    init.display(),
+                    data.display()
+                )));
+                crate::backend::pack_with_liggghts(init, &layout.dem, &opts.init_vars)?;
+                "packed by LIGGGHTS".to_owned()
+            };
             init_seconds = t.elapsed().as_secs_f64();
             if !data.exists() {
                 return Err(setup_err(
@@ -352,8 +363,7 @@ pub fn run(
                 ));
             }
             events(Event::Message(format!(
-                "stage 1: {} particles packed in {init_seconds:.1} s",
-                sim.particles.len()
+                "stage 1: {packed} in {init_seconds:.1} s"
             )));
         } else {
             events(Event::Message(format!(
@@ -533,6 +543,9 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             )));
             break;
         }
+    }
+    if let Some(line) = fluid.inner.report() {
+        events(Event::Message(line));
     }
     fluid.inner.finish().map_err(RunError::Fluid)?;
     let loop_seconds = t_loop.elapsed().as_secs_f64();

@@ -1,0 +1,107 @@
+//! grainPisoFoam over MPI (`foam-link`) as a [`RunFluid`] (feature `mpi`).
+//!
+//! The solver writes its own time directories (U, p, voidfraction, Ksl, Us, f: it holds the
+//! exchange fields as its own fields); a run's write asks it to write now, in `processorN/`
+//! when decomposed, and [`RunFluid::finish`] stops it and reconstructs.
+
+use crate::fluid::RunFluid;
+use couple::{CouplingStep, ExchangeFields, FluidSide, FluidState, SideError};
+use foam::PolyMesh;
+use foam_link::OpenFoamFluid;
+use std::path::Path;
+
+/// The spawned solver; `None` once finished.
+pub struct FoamFluid {
+    inner: Option<OpenFoamFluid>,
+    mesh: PolyMesh,
+}
+
+impl FoamFluid {
+    /// Wraps a spawned solver.
+    pub fn new(inner: OpenFoamFluid) -> FoamFluid {
+        let mesh = inner.mesh().clone();
+        FoamFluid {
+            inner: Some(inner),
+            mesh,
+        }
+    }
+
+    fn solver(&self) -> &OpenFoamFluid {
+        self.inner
+            .as_ref()
+            .expect("the run loop uses the solver only before finish")
+    }
+
+    fn solver_mut(&mut self) -> Result<&mut OpenFoamFluid, SideError> {
+        self.inner
+            .as_mut()
+            .ok_or_else(|| "grainPisoFoam has already been stopped".into())
+    }
+}
+
+impl FluidSide for FoamFluid {
+    fn mesh(&self) -> &PolyMesh {
+        &self.mesh
+    }
+
+    fn set_exchange(&mut self, fields: &ExchangeFields<'_>) -> Result<(), SideError> {
+        self.solver_mut()?.set_exchange(fields)
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SideError> {
+        self.solver_mut()?.advance(dt)
+    }
+
+    fn state(&self) -> FluidState<'_> {
+        self.solver().state()
+    }
+}
+
+impl RunFluid for FoamFluid {
+    fn time(&self) -> f64 {
+        self.inner.as_ref().map_or(0.0, OpenFoamFluid::time)
+    }
+
+    fn patch_pressure(&self, name: &str) -> Option<f64> {
+        self.inner.as_ref()?.patch(name).map(|p| p.mean_p)
+    }
+
+    fn inflow_velocity(&self, name: &str) -> Option<f64> {
+        let p = self.inner.as_ref()?.patch(name)?;
+        (p.area > 0.0).then(|| -p.flux / p.area)
+    }
+
+    fn write_time(
+        &mut self,
+        _cfd: &Path,
+        _mesh: &PolyMesh,
+        _step: &CouplingStep,
+    ) -> Result<String, SideError> {
+        let solver = self.solver_mut()?;
+        solver.write()?;
+        Ok(format!("{}", solver.time()))
+    }
+
+    fn report(&self) -> Option<String> {
+        let s = self.inner.as_ref()?.stats();
+        let n = s.intervals.max(1) as f64;
+        Some(format!(
+            "grainPisoFoam exchange: {} intervals, {:.1} kB sent and {:.1} kB received per \
+             interval; per interval {:.2} ms packing, {:.2} ms transfer, {:.1} ms waiting for \
+             the solver",
+            s.intervals,
+            s.bytes_sent as f64 / n / 1e3,
+            s.bytes_received as f64 / n / 1e3,
+            1e3 * s.pack_seconds / n,
+            1e3 * s.transfer_seconds / n,
+            1e3 * s.wait_seconds / n,
+        ))
+    }
+
+    fn finish(&mut self) -> Result<(), SideError> {
+        match self.inner.take() {
+            Some(s) => Ok(s.finish()?),
+            None => Ok(()),
+        }
+    }
+}
