@@ -6,6 +6,10 @@
 //!   LIGGGHTS in-process vs the native DEM (1 rayon thread each; LIGGGHTS is serial).
 //!
 //! `cargo bench -p liggghts --features link`. MPI is initialised once in `main`.
+//!
+//! Measured on the 2-core development machine (shared, medians): pull 236 µs + push 196 µs
+//! per exchange of 10,000 spheres; Ergun interval 477 ms in LIGGGHTS (9.5 ms per step) vs
+//! 308 ms native on one thread (6.2 ms per step); stage 1 (10,000 spheres, 3000 steps) 14.7 s.
 
 use couple::ParticleSide;
 use divan::counter::ItemsCount;
