@@ -122,27 +122,31 @@ fn dimensioned(d: &Dict, file: &Path, key: &str) -> Result<Option<f64>> {
     }
 }
 
-fn scheme_words<'a>(d: &'a Dict, file: &Path, sub: &str, key: &str) -> Result<Vec<&'a str>> {
+/// The words of the scheme for `key` in the sub-dictionary `sub` of fvSchemes (its own entry,
+/// else `default`), with the dotted key that supplied them (for error messages).
+fn scheme_words<'a>(
+    d: &'a Dict,
+    file: &Path,
+    sub: &str,
+    key: &str,
+) -> Result<(Vec<&'a str>, String)> {
     let s = d.dict(sub).map_err(|e| err(file, sub, e.0))?;
-    let stream = s
-        .stream(key)
-        .or_else(|_| s.stream("default"))
-        .map_err(|_| err(file, &format!("{sub}.{key}"), "missing (and no `default`)"))?;
-    stream
+    let (stream, used) = match s.stream(key) {
+        Ok(st) => (st, format!("{sub}.{key}")),
+        Err(_) => (
+            s.stream("default")
+                .map_err(|_| err(file, &format!("{sub}.{key}"), "missing (and no `default`)"))?,
+            format!("{sub}.default"),
+        ),
+    };
+    let words = stream
         .iter()
         .map(|i| {
             i.as_word()
-                .ok_or_else(|| err(file, &format!("{sub}.{key}"), "expected scheme words"))
+                .ok_or_else(|| err(file, &used, "expected scheme words"))
         })
-        .collect::<Result<Vec<_>>>()
-        .or_else(|e| {
-            // `CrankNicolson 0.9` has a number.
-            if stream.len() == 2 && stream[0].as_word() == Some("CrankNicolson") {
-                Ok(vec!["CrankNicolson"])
-            } else {
-                Err(e)
-            }
-        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((words, used))
 }
 
 fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
@@ -301,38 +305,36 @@ impl Settings {
         let ddt = sch
             .dict("ddtSchemes")
             .map_err(|e| err(&sch_file, "ddtSchemes", e.0))?;
-        let ddt_s = ddt
-            .stream("ddt(U)")
-            .or_else(|_| ddt.stream("default"))
-            .map_err(|e| err(&sch_file, "ddtSchemes.default", e.0))?;
+        let (ddt_s, ddt_key) = match ddt.stream("ddt(U)") {
+            Ok(s) => (s, "ddtSchemes.ddt(U)"),
+            Err(_) => (
+                ddt.stream("default")
+                    .map_err(|e| err(&sch_file, "ddtSchemes.default", e.0))?,
+                "ddtSchemes.default",
+            ),
+        };
         let time_scheme = match ddt_s {
             [w] if w.as_word() == Some("Euler") => TimeScheme::Euler,
             [w, psi] if w.as_word() == Some("CrankNicolson") => match psi.as_f64() {
                 Some(p) if (0.0..=1.0).contains(&p) => TimeScheme::CrankNicolson(p),
-                _ => {
-                    return Err(err(
-                        &sch_file,
-                        "ddtSchemes.default",
-                        "CrankNicolson needs ψ in [0, 1]",
-                    ))
-                }
+                _ => return Err(err(&sch_file, ddt_key, "CrankNicolson needs ψ in [0, 1]")),
             },
             _ => {
                 return Err(err(
                     &sch_file,
-                    "ddtSchemes.default",
+                    ddt_key,
                     "supported: `Euler`, `CrankNicolson ψ`",
                 ))
             }
         };
-        let conv = scheme_words(&sch, &sch_file, "divSchemes", "div(phi,U)")?;
+        let (conv, conv_key) = scheme_words(&sch, &sch_file, "divSchemes", "div(phi,U)")?;
         let convection = match conv.as_slice() {
             ["Gauss", "linear"] => Convection::Linear,
             ["Gauss", "upwind"] => Convection::Upwind,
             other => {
                 return Err(err(
                     &sch_file,
-                    "divSchemes.div(phi,U)",
+                    &conv_key,
                     format!(
                         "`{}` is not supported (Gauss linear, Gauss upwind)",
                         other.join(" ")
@@ -340,37 +342,53 @@ impl Settings {
                 ))
             }
         };
-        let lap = scheme_words(&sch, &sch_file, "laplacianSchemes", "laplacian(nu,U)")?;
-        let sn_grad = match lap.as_slice() {
-            ["Gauss", "linear", "corrected"] => SnGrad::Corrected,
-            ["Gauss", "linear", "uncorrected"] => SnGrad::Uncorrected,
-            ["Gauss", "linear", "orthogonal"] => SnGrad::Orthogonal,
-            other => {
+        // One snGrad scheme serves the momentum and the pressure Laplacians, so every
+        // Laplacian the solver forms must name the same one.
+        let mut sn_grad = None;
+        for key in [
+            "laplacian(nu,U)",
+            "laplacian(nuEff,U)",
+            "laplacian((1|A(U)),p)",
+        ] {
+            let (lap, lap_key) = scheme_words(&sch, &sch_file, "laplacianSchemes", key)?;
+            let this = match lap.as_slice() {
+                ["Gauss", "linear", "corrected"] => SnGrad::Corrected,
+                ["Gauss", "linear", "uncorrected"] => SnGrad::Uncorrected,
+                ["Gauss", "linear", "orthogonal"] => SnGrad::Orthogonal,
+                other => {
+                    return Err(err(
+                        &sch_file,
+                        &lap_key,
+                        format!(
+                            "`{}` is not supported (Gauss linear corrected|uncorrected|orthogonal)",
+                            other.join(" ")
+                        ),
+                    ))
+                }
+            };
+            if sn_grad.is_some_and(|s| s != this) {
                 return Err(err(
                     &sch_file,
-                    "laplacianSchemes.default",
-                    format!(
-                        "`{}` is not supported (Gauss linear corrected|uncorrected|orthogonal)",
-                        other.join(" ")
-                    ),
-                ))
-            }
-        };
-        let grad = scheme_words(&sch, &sch_file, "gradSchemes", "grad(p)")?;
-        if grad != ["Gauss", "linear"] {
-            return Err(err(
-                &sch_file,
-                "gradSchemes.default",
-                "only `Gauss linear` is supported",
-            ));
-        }
-        if let Ok(i) = scheme_words(&sch, &sch_file, "interpolationSchemes", "default") {
-            if i != ["linear"] {
-                return Err(err(
-                    &sch_file,
-                    "interpolationSchemes.default",
-                    "only `linear` is supported",
+                    &lap_key,
+                    "the momentum and pressure Laplacians must use the same scheme",
                 ));
+            }
+            sn_grad = Some(this);
+        }
+        let sn_grad = sn_grad.unwrap_or(SnGrad::Corrected);
+        for key in ["grad(p)", "grad(U)"] {
+            let (grad, grad_key) = scheme_words(&sch, &sch_file, "gradSchemes", key)?;
+            if grad != ["Gauss", "linear"] {
+                return Err(err(
+                    &sch_file,
+                    &grad_key,
+                    format!("`{}` is not supported (Gauss linear)", grad.join(" ")),
+                ));
+            }
+        }
+        if let Ok((i, key)) = scheme_words(&sch, &sch_file, "interpolationSchemes", "default") {
+            if i != ["linear"] {
+                return Err(err(&sch_file, &key, "only `linear` is supported"));
             }
         }
 
@@ -449,6 +467,17 @@ impl Settings {
             }
             Err(_) => false,
         };
+        if full_stress {
+            let key = "div((nuEff*dev2(T(grad(U)))))";
+            let (w, used) = scheme_words(&sch, &sch_file, "divSchemes", key)?;
+            if w != ["Gauss", "linear"] {
+                return Err(err(
+                    &sch_file,
+                    &used,
+                    format!("`{}` is not supported (Gauss linear)", w.join(" ")),
+                ));
+            }
+        }
         Ok(Settings {
             nu,
             rho,

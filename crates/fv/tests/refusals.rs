@@ -1,0 +1,290 @@
+//! Settings the native solver does not support are refused with an error naming the file and
+//! the key (never silently replaced): each case edits one entry of a copy of the Re 10 cavity
+//! (`tests/fixtures/fv/cavity-re10`) and checks the error.
+
+use fv::FvError;
+
+/// (file, text to replace, replacement, the file named by the error, the key named by it).
+type Edit = (
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+);
+
+const EDITS: &[Edit] = &[
+    (
+        "system/controlDict",
+        "stopAt          endTime;",
+        "stopAt writeNow;",
+        "system/controlDict",
+        "stopAt",
+    ),
+    (
+        "system/controlDict",
+        "startFrom       startTime;",
+        "startFrom now;",
+        "system/controlDict",
+        "startFrom",
+    ),
+    (
+        "system/controlDict",
+        "writeControl    timeStep;",
+        "writeControl cpuTime;",
+        "system/controlDict",
+        "writeControl",
+    ),
+    (
+        "system/controlDict",
+        "deltaT          0.005;",
+        "deltaT 0.005; adjustTimeStep yes;",
+        "system/controlDict",
+        "adjustTimeStep",
+    ),
+    (
+        "system/controlDict",
+        "writeFormat     ascii;",
+        "writeFormat hdf5;",
+        "system/controlDict",
+        "writeFormat",
+    ),
+    (
+        "system/controlDict",
+        "startTime       0;",
+        "startTime 0.1;",
+        "system/controlDict",
+        "startTime",
+    ),
+    (
+        "system/fvSchemes",
+        "default         Euler;",
+        "default backward;",
+        "system/fvSchemes",
+        "ddtSchemes.default",
+    ),
+    (
+        "system/fvSchemes",
+        "default         Euler;",
+        "default CrankNicolson 1.5;",
+        "system/fvSchemes",
+        "ddtSchemes.default",
+    ),
+    (
+        "system/fvSchemes",
+        "default         Euler;",
+        "default Euler; ddt(U) localEuler;",
+        "system/fvSchemes",
+        "ddtSchemes.ddt(U)",
+    ),
+    (
+        "system/fvSchemes",
+        "default         Gauss linear orthogonal;",
+        "default Gauss linear orthogonal; laplacian((1|A(U)),p) Gauss linear corrected;",
+        "system/fvSchemes",
+        "laplacianSchemes.laplacian((1|A(U)),p)",
+    ),
+    (
+        "system/fvSchemes",
+        "div(phi,U)      Gauss linear;",
+        "div(phi,U) Gauss limitedLinearV 1;",
+        "system/fvSchemes",
+        "divSchemes.div(phi,U)",
+    ),
+    (
+        "system/fvSchemes",
+        "default         Gauss linear orthogonal;",
+        "default Gauss harmonic corrected;",
+        "system/fvSchemes",
+        "laplacianSchemes.default",
+    ),
+    (
+        "system/fvSchemes",
+        "grad(p)         Gauss linear;",
+        "grad(p) leastSquares;",
+        "system/fvSchemes",
+        "gradSchemes.grad(p)",
+    ),
+    (
+        "system/fvSchemes",
+        "grad(p)         Gauss linear;",
+        "grad(p) Gauss linear; grad(U) cellLimited Gauss linear 1;",
+        "system/fvSchemes",
+        "gradSchemes.grad(U)",
+    ),
+    (
+        "system/fvSchemes",
+        "default         linear;",
+        "default cubic;",
+        "system/fvSchemes",
+        "interpolationSchemes.default",
+    ),
+    (
+        "system/fvSolution",
+        "solver          PCG;",
+        "solver GAMG; smoother GaussSeidel;",
+        "system/fvSolution",
+        "solvers.p.solver",
+    ),
+    (
+        "system/fvSolution",
+        "preconditioner  DIC;",
+        "preconditioner FDIC;",
+        "system/fvSolution",
+        "solvers.p.preconditioner",
+    ),
+    (
+        "system/fvSolution",
+        "smoother        symGaussSeidel;",
+        "smoother DILU;",
+        "system/fvSolution",
+        "solvers.U.smoother",
+    ),
+    (
+        "system/fvSolution",
+        "smoother        symGaussSeidel;",
+        "smoother symGaussSeidel; nSweeps 0;",
+        "system/fvSolution",
+        "solvers.U.nSweeps",
+    ),
+    (
+        "system/fvSolution",
+        "        $p;\n        relTol          0;",
+        "        solver bogus;",
+        "system/fvSolution",
+        "solvers.pFinal.solver",
+    ),
+    (
+        "system/fvSolution",
+        "nCorrectors     2;",
+        "nCorrectors 1.5;",
+        "system/fvSolution",
+        "PISO.nCorrectors",
+    ),
+    (
+        "system/fvSolution",
+        "pRefCell        0;",
+        "pRefCell 400;",
+        "system/fvSolution",
+        "PISO.pRefCell",
+    ),
+    (
+        "system/fvSolution",
+        "PISO\n{",
+        "PIMPLE\n{\n    nOuterCorrectors 3;",
+        "system/fvSolution",
+        "PIMPLE.nOuterCorrectors",
+    ),
+    (
+        "constant/transportProperties",
+        "nu              0.01;",
+        "transportModel CrossPowerLaw; nu 0.01;",
+        "constant/transportProperties",
+        "transportModel",
+    ),
+    (
+        "constant/transportProperties",
+        "nu              0.01;",
+        "nu -0.01;",
+        "constant/transportProperties",
+        "nu",
+    ),
+    (
+        "0/U",
+        "type            noSlip;",
+        "type codedFixedValue;",
+        "0/U",
+        "boundaryField.fixedWalls.type",
+    ),
+    (
+        "0/U",
+        "type            fixedValue;\n        value           uniform (1 0 0);",
+        "type uniformFixedValue; uniformValue table ((0 (0 0 0)) (0 (1 0 0)));",
+        "0/U",
+        "boundaryField.movingWall.uniformValue",
+    ),
+    (
+        "0/U",
+        "value           uniform (1 0 0);",
+        "value nonuniform List<vector> 2((1 0 0) (1 0 0));",
+        "0/U",
+        "boundaryField.movingWall.value",
+    ),
+    (
+        "0/U",
+        "type            empty;",
+        "type zeroGradient;",
+        "0/U",
+        "boundaryField.frontAndBack.type",
+    ),
+    (
+        "0/p",
+        "movingWall\n    {\n        type            zeroGradient;",
+        "movingWall\n    {\n        type totalPressure; p0 uniform 0; rho rho;",
+        "0/p",
+        "boundaryField.movingWall.rho",
+    ),
+    (
+        "0/p",
+        "movingWall\n    {\n        type            zeroGradient;\n    }",
+        "",
+        "0/p",
+        "boundaryField.movingWall",
+    ),
+];
+
+#[test]
+fn unsupported_settings_are_refused_naming_file_and_key() {
+    let fixture = testkit::fixture("fv/cavity-re10");
+    for &(file, from, to, err_file, err_key) in EDITS {
+        let dir = tempfile::tempdir().unwrap();
+        testkit::copy_dir(&fixture, dir.path());
+        let path = dir.path().join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "{file}: `{from}` not found");
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        let err = match fv::Fluid::from_case(dir.path()) {
+            Ok(_) => panic!("{file}: `{to}` was accepted"),
+            Err(e) => e,
+        };
+        let message = err.to_string();
+        match &err {
+            FvError::Setting { file: f, key, .. } => {
+                assert!(
+                    f.ends_with(err_file) && key == err_key,
+                    "{file}: `{to}`: expected {err_file} `{err_key}`, got {message}"
+                );
+            }
+            other => panic!("{file}: `{to}`: not a setting error: {other}"),
+        }
+        assert!(
+            message.contains(err_file) && message.contains(err_key),
+            "{message}"
+        );
+    }
+}
+
+/// The fvSchemes entry of the explicit stress term of pisoFoam's laminar model must be
+/// `Gauss linear` too when `constant/turbulenceProperties` asks for it.
+#[test]
+fn the_stress_divergence_scheme_is_checked_with_the_laminar_model() {
+    let dir = tempfile::tempdir().unwrap();
+    testkit::copy_dir(&testkit::fixture("fv/cavity-re10"), dir.path());
+    std::fs::write(
+        dir.path().join("constant/turbulenceProperties"),
+        "FoamFile { version 2.0; format ascii; class dictionary; object turbulenceProperties; }\nsimulationType laminar;\n",
+    )
+    .unwrap();
+    let sch = dir.path().join("system/fvSchemes");
+    let text = std::fs::read_to_string(&sch).unwrap().replace(
+        "div(phi,U)      Gauss linear;",
+        "div(phi,U) Gauss linear;\n    div((nuEff*dev2(T(grad(U))))) Gauss upwind;",
+    );
+    std::fs::write(&sch, text).unwrap();
+    let message = fv::Fluid::from_case(dir.path()).err().unwrap().to_string();
+    assert!(
+        message.contains("fvSchemes")
+            && message.contains("divSchemes.div((nuEff*dev2(T(grad(U)))))"),
+        "{message}"
+    );
+}
