@@ -196,6 +196,34 @@ pub fn grad_least_squares(g: &FvGeometry, cells: &[f64], boundary: &[f64]) -> Ve
         .collect()
 }
 
+/// The cell vector whose face fluxes best match the face fluxes `phi` (OpenFOAM's
+/// `fvc::reconstruct`): x_c = T⁻¹ Σ_f n̂_f φ_f with T = Σ_f n̂_f ⊗ S_f over the cell's faces
+/// (`empty` faces left out; a direction in which T is singular, the normal of a 2-D case, gets
+/// 0). Exact for a uniform vector field (φ_f = a·S_f gives a) and for a linear one on cells
+/// symmetric about their centre. For φ in m³/s the result is in m/s.
+pub fn reconstruct(g: &FvGeometry, phi: &[f64]) -> Vec<V3> {
+    assert_eq!(phi.len(), g.n_faces(), "one flux per face");
+    (0..g.n_cells)
+        .into_par_iter()
+        .map(|c| {
+            let mut t = [[0.0; 3]; 3];
+            let mut v = [0.0; 3];
+            for &f in g.faces_of(c) {
+                let f = f as usize;
+                let s = g.sf[f];
+                let n = scale(1.0 / g.mag_sf[f], s);
+                for i in 0..3 {
+                    for j in 0..3 {
+                        t[i][j] += n[i] * s[j];
+                    }
+                    v[i] += n[i] * phi[f];
+                }
+            }
+            solve_sym3(t, v)
+        })
+        .collect()
+}
+
 /// Solves the symmetric positive semi-definite 3×3 system `m x = r`; directions in which `m`
 /// is singular (relative pivot below 1e-12) get a zero component.
 fn solve_sym3(m: Tensor, r: V3) -> V3 {
