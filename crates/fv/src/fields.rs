@@ -1,5 +1,6 @@
 //! U and p of one time directory of a case, with their boundary conditions: what the solver
-//! starts from and what a frozen-fluid coupler reads.
+//! starts from and what a frozen-fluid coupler reads; and the face flux `phi` the solver writes
+//! next to them.
 
 use crate::bc::{self, PressureBc, VelocityBc};
 use crate::error::{FvError, Result};
@@ -25,6 +26,8 @@ pub struct CaseFields {
     /// Voidage boundary values per patch from `voidfraction` if the start time has one
     /// (`None`: the owner cell's ε; also for every patch without the file).
     pub eps_bc: Vec<Option<Vec<f64>>>,
+    /// The face fluxes of the time directory's `phi` if it has one (a restart), one per face.
+    pub phi: Option<Vec<f64>>,
 }
 
 fn internal(path: &Path, f: &VolField, n: usize) -> Result<FieldValues> {
@@ -60,6 +63,12 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
     } else {
         vec![None; g.patches.len()]
     };
+    let phi_path = dir.join("phi");
+    let phi = if phi_path.is_file() {
+        Some(read_phi(&phi_path, g)?)
+    } else {
+        None
+    };
     Ok(CaseFields {
         u_file,
         p_file,
@@ -68,5 +77,106 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
         u_bc,
         p_bc,
         eps_bc,
+        phi,
     })
+}
+
+/// Reads a `surfaceScalarField` of face fluxes (m³/s) written by [`write_phi`] or by OpenFOAM:
+/// `internalField` with one value per internal face, and each non-`empty` patch's `value`
+/// (`uniform X` or a list with one value per face). `empty` patches get 0.
+pub fn read_phi(path: &Path, g: &FvGeometry) -> Result<Vec<f64>> {
+    use foam::Item;
+    let file = foam::parse_file(path)?;
+    let class = file.header.as_ref().map_or("", |h| h.class.as_str());
+    if class != "surfaceScalarField" {
+        return Err(FvError::setting(
+            path,
+            "class",
+            format!("`{class}`: phi must be a surfaceScalarField"),
+        ));
+    }
+    let values = |items: &[Item], n: usize, key: &str| -> Result<Vec<f64>> {
+        let v = match items.first().and_then(Item::as_word) {
+            Some("uniform") if items.len() == 2 => items[1].as_f64().map(|x| vec![x; n]),
+            Some("nonuniform") => items.get(2).and_then(Item::as_f64_list),
+            _ => None,
+        };
+        match v {
+            Some(v) if v.len() == n && v.iter().all(|x| x.is_finite()) => Ok(v),
+            _ => Err(FvError::setting(
+                path,
+                key,
+                format!("expected `uniform X` or a list of {n} finite values"),
+            )),
+        }
+    };
+    let body = &file.body;
+    let internal = body
+        .stream("internalField")
+        .map_err(|e| FvError::setting(path, "internalField", e.0))?;
+    let mut phi = values(internal, g.n_internal, "internalField")?;
+    phi.resize(g.n_faces(), 0.0);
+    let bf = body
+        .dict("boundaryField")
+        .map_err(|e| FvError::setting(path, "boundaryField", e.0))?;
+    for p in g.patches.iter().filter(|p| !p.is_empty()) {
+        let key = format!("boundaryField.{}.value", p.name);
+        let items = bf
+            .dict(&p.name)
+            .and_then(|d| d.stream("value"))
+            .map_err(|e| FvError::setting(path, &key, e.0))?;
+        let v = values(items, p.faces.len(), &key)?;
+        phi[p.faces.clone()].copy_from_slice(&v);
+    }
+    Ok(phi)
+}
+
+/// Writes the face fluxes `phi` (m³/s, one per face) as OpenFOAM's `surfaceScalarField` file
+/// `path`: internal faces in `internalField`, each patch `calculated` with its faces' values
+/// (`empty` patches: `empty` with no values), as pisoFoam writes `phi`. OpenFOAM's solvers
+/// read it back at a restart (`createPhi` reads `phi` when present), so a run continued by
+/// OpenFOAM keeps the Rhie–Chow fluxes instead of recomputing them from U.
+pub fn write_phi(path: &Path, g: &FvGeometry, phi: &[f64], format: foam::Format) -> Result<()> {
+    use foam::{Dict, Item, Value};
+    FvError::check_len("phi", phi.len(), g.n_faces())?;
+    let list = |v: &[f64]| {
+        Value::Stream(vec![
+            Item::Word("nonuniform".into()),
+            Item::Word("List<scalar>".into()),
+            Item::Scalars(v.to_vec()),
+        ])
+    };
+    let mut boundary = Dict::new();
+    for p in &g.patches {
+        let mut e = Dict::new();
+        if p.is_empty() {
+            e.set_item("type", Item::Word("empty".into()));
+            e.set("value", list(&[]));
+        } else {
+            e.set_item("type", Item::Word("calculated".into()));
+            e.set("value", list(&phi[p.faces.clone()]));
+        }
+        boundary.set(&p.name, Value::Dict(e));
+    }
+    let mut body = Dict::new();
+    body.set_item(
+        "dimensions",
+        Item::Dims([0, 3, -1, 0, 0, 0, 0].map(Item::Label).to_vec()),
+    );
+    body.set("internalField", list(&phi[..g.n_internal]));
+    body.set("boundaryField", Value::Dict(boundary));
+    let header = foam::Header {
+        format,
+        arch: foam::Arch::default(),
+        class: "surfaceScalarField".into(),
+        object: "phi".into(),
+        location: path
+            .parent()
+            .and_then(Path::file_name)
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        note: None,
+    };
+    foam::write_dict_file(path, &header, &body)?;
+    Ok(())
 }

@@ -176,7 +176,12 @@ impl Fluid {
             p: fields.p,
         };
         fl.update_u_boundary(fl.time);
-        fl.phi = fl.flux_of_u();
+        // The start time's `phi` when it has one (a restart), else the flux of U (OpenFOAM's
+        // createPhi).
+        fl.phi = match fields.phi {
+            Some(phi) => phi,
+            None => fl.flux_of_u(),
+        };
         fl.update_u_boundary(fl.time);
         let gamma_b = vec![0.0; nb];
         fl.update_p_boundary(fl.time, &gamma_b, &fl.phi.clone());
@@ -792,6 +797,7 @@ impl Fluid {
                 msg: m,
             })?;
         p.write(&dir.join("p"), fmt)?;
+        crate::fields::write_phi(&dir.join("phi"), &self.g, &self.phi, fmt)?;
         Ok(())
     }
 

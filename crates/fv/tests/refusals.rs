@@ -288,3 +288,41 @@ fn the_stress_divergence_scheme_is_checked_with_the_laminar_model() {
         "{message}"
     );
 }
+
+/// A start time's `phi` (read at a restart) must be a surfaceScalarField with one value per
+/// face; anything else names the file and the entry.
+#[test]
+fn a_malformed_phi_is_refused() {
+    let header = "FoamFile { version 2.0; format ascii; class surfaceScalarField; object phi; }\ndimensions [0 3 -1 0 0 0 0];\n";
+    let cases = [
+        (
+            format!("{header}internalField nonuniform List<scalar> 2(0 0);\nboundaryField {{}}\n"),
+            "internalField",
+        ),
+        (
+            format!("{header}internalField uniform 0;\nboundaryField {{ movingWall {{ type calculated; value uniform 0; }} }}\n"),
+            "boundaryField.fixedWalls.value",
+        ),
+        (
+            header.replace("surfaceScalarField", "volScalarField")
+                + "internalField uniform 0;\nboundaryField {}\n",
+            "class",
+        ),
+    ];
+    for (text, key) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        testkit::copy_dir(&testkit::fixture("fv/cavity-re10"), dir.path());
+        std::fs::write(dir.path().join("0/phi"), text).unwrap();
+        match fv::Fluid::from_case(dir.path()) {
+            Err(FvError::Setting { file, key: k, .. }) => {
+                assert!(
+                    file.ends_with("0/phi") && k == key,
+                    "{k} in {}",
+                    file.display()
+                )
+            }
+            Err(e) => panic!("{key}: {e}"),
+            Ok(_) => panic!("{key}: accepted"),
+        }
+    }
+}
