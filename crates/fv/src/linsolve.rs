@@ -109,7 +109,7 @@ pub struct SolveStats {
 }
 
 /// Σ aᵢbᵢ: in index order on small vectors (as OpenFOAM's `gSumProd`), else per fixed block
-/// of [`BLOCK`] in parallel and the block sums in order (the same bits for any thread count).
+/// of 8192 in parallel and the block sums in order (the same bits for any thread count).
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     if a.len() < PAR_MIN {
         a.iter().zip(b).map(|(x, y)| x * y).sum()
