@@ -409,6 +409,20 @@ impl Fluid {
         } else {
             vec![[0.0; 3]; n]
         };
+        // The θ-scheme weights the boundary values too: θ of the new ones (in cd_b) and 1 − θ
+        // of the old ones.
+        let b_old_shift: Vec<V3> = if theta < 1.0 {
+            let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
+            let mut old = vec![[0.0; 3]; n];
+            let mut new = vec![[0.0; 3]; n];
+            self.add_boundary_terms(&ef, &vi, &u_b_old, None, &mut old);
+            self.add_boundary_terms(&ef, &vi, &self.u_b, None, &mut new);
+            (0..n)
+                .map(|c| std::array::from_fn(|k| (1.0 - theta) * (old[c][k] - new[c][k])))
+                .collect()
+        } else {
+            Vec::new()
+        };
         for k in 0..3 {
             let uk: Vec<f64> = u_old.iter().map(|v| v[k]).collect();
             for c in 0..n {
@@ -423,6 +437,7 @@ impl Fluid {
                 if theta < 1.0 {
                     let r_old = cd_diag[c][k] * uk[c] + cd.off_row(g, c, &uk);
                     rhs -= (1.0 - theta) * r_old;
+                    rhs += b_old_shift[c][k];
                 }
                 diag[c][k] = theta * cd_diag[c][k] + ddt + ksl;
                 b[c][k] = rhs;
@@ -757,6 +772,24 @@ impl Fluid {
             }
         }
         let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
+        self.add_boundary_terms(ef, &vi, &self.u_b, Some(&mut diag), &mut b);
+        (m, diag, b)
+    }
+
+    /// Adds the boundary faces' part of convection and diffusion: with the face value
+    /// U_b = vi ⊙ U_P + vb (vi from [`bc::velocity_value_coeffs`], `u_b` the face values), the
+    /// implicit φ vi + νε_f|S|δ (1 − vi) to `diag` (when given) and the explicit
+    /// (−φ + νε_f|S|δ) vb to `b`.
+    fn add_boundary_terms(
+        &self,
+        ef: &[f64],
+        vi: &[V3],
+        u_b: &[V3],
+        mut diag: Option<&mut Vec<V3>>,
+        b: &mut [V3],
+    ) {
+        let g = &self.g;
+        let nu = self.settings.nu;
         for f in g.n_internal..g.n_faces() {
             let bi = f - g.n_internal;
             if g.boundary_empty[bi] {
@@ -766,12 +799,13 @@ impl Fluid {
             let phi = self.phi[f];
             let gam = nu * ef[f] * g.mag_sf[f] * self.lap_dc[f];
             for k in 0..3 {
-                let vb = self.u_b[bi][k] - vi[bi][k] * self.u[o][k];
-                diag[o][k] += phi * vi[bi][k] + gam * (1.0 - vi[bi][k]);
+                if let Some(d) = diag.as_deref_mut() {
+                    d[o][k] += phi * vi[bi][k] + gam * (1.0 - vi[bi][k]);
+                }
+                let vb = u_b[bi][k] - vi[bi][k] * self.u[o][k];
                 b[o][k] += -phi * vb + gam * vb;
             }
         }
-        (m, diag, b)
     }
 
     /// Writes `U` and `p` (and `phi` as a surfaceScalarField) into the time directory `name`
