@@ -10,6 +10,9 @@
 //! (1 − (1−θ)λΔt)/(1 + θλΔt) instead of e^(−λΔt) — first order for Euler (θ = 1), second order for
 //! Crank–Nicolson (θ = ½, `CrankNicolson 1`). Reference: e.g. Ferziger & Perić, *Computational
 //! Methods for Fluid Dynamics*, 3rd ed., §6.2–6.3.
+//!
+//! A second case drives the same column with a smoothly accelerating upper plate (a
+//! time-dependent boundary value) and measures the order by self-convergence.
 
 mod common;
 use common::{write_case, CaseSpec, PatchSpec};
