@@ -159,6 +159,21 @@ pub struct StudyRow {
     pub error_ergun: f64,
 }
 
+/// A run that failed (the solver diverged or refused its input); the study goes on without it.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunFailure {
+    /// Voidage method.
+    pub method: String,
+    /// Fraction of U_mf.
+    pub fraction: f64,
+    /// The Δx/d₃₂ asked for.
+    pub target: f64,
+    /// Cells per direction.
+    pub n: [usize; 3],
+    /// The error.
+    pub message: String,
+}
+
 /// GCI of one method at one velocity over the grids (target: F/A, Pa).
 #[derive(Clone, Debug, Serialize)]
 pub struct GciSeries {
@@ -183,6 +198,8 @@ pub struct StudyReport {
     pub references: Vec<VelocityReference>,
     /// One row per run, in the order run (velocity, method, grid).
     pub rows: Vec<StudyRow>,
+    /// Runs whose fluid solve failed (not in `rows`).
+    pub failures: Vec<RunFailure>,
     /// GCI per method and velocity.
     pub gci: Vec<GciSeries>,
     /// The steady-state criterion used.
@@ -372,12 +389,32 @@ pub fn cellsize(
     };
     let total = references.len() * opts.methods.len() * opts.dx_over_d.len();
     let mut rows = Vec::with_capacity(total);
+    let mut failures = Vec::new();
     let t_runs = Instant::now();
     for r in &references {
         for &method in &opts.methods {
             for &target in &opts.dx_over_d {
                 let n = grid_for(&template, target, summary.diameters.sauter);
-                let run = ctx.run(n, method, r.velocity)?;
+                let run = match ctx.run(n, method, r.velocity) {
+                    Ok(run) => run,
+                    Err(e @ (StudyError::Couple(_) | StudyError::Fluid { .. })) => {
+                        let message = e.to_string();
+                        events(StudyEvent::Message(format!(
+                            "warning: {} Δx/d32 {target} at {:.3} U_mf failed: {message}",
+                            method.name(),
+                            r.fraction
+                        )));
+                        failures.push(RunFailure {
+                            method: method.name().into(),
+                            fraction: r.fraction,
+                            target,
+                            n,
+                            message,
+                        });
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                };
                 let volume: f64 = template.lengths().iter().product();
                 let h = gci::representative_size(volume, run.cells as f64, gci::Dim::Three);
                 let p = run.fluid_force / summary.area;
@@ -402,7 +439,7 @@ pub fn cellsize(
                 }
                 rows.push(row.clone());
                 events(StudyEvent::Run {
-                    done: rows.len(),
+                    done: rows.len() + failures.len(),
                     total,
                     result: Box::new(row),
                 });
@@ -416,6 +453,7 @@ pub fn cellsize(
         bed: summary,
         references,
         rows,
+        failures,
         gci,
         criterion: opts.criterion,
         pack_seconds,
@@ -569,27 +607,9 @@ pub fn write_outputs(report: &StudyReport, dir: &Path) -> Result<Vec<PathBuf>, S
     ];
     for (k, v) in report.references.iter().enumerate() {
         for (tag, label, x_of) in axes {
-            let mut series = method_series(report, &methods, v.fraction, |r| {
+            let series = method_series(report, &methods, v.fraction, |r| {
                 Some((x_of(&r.cell_size), 100.0 * r.error))
             });
-            let xs: Vec<f64> = series
-                .iter()
-                .flat_map(|s| s.points.iter().map(|p| p.0))
-                .collect();
-            let (x0, x1) = xs
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                    (a.min(x), b.max(x))
-                });
-            if x0.is_finite() {
-                for (name, y) in [("+5 %", 5.0), ("−5 %", -5.0)] {
-                    series.push(Series {
-                        name: name.into(),
-                        points: vec![(x0, y), (x1, y)],
-                        style: Style::Line,
-                    });
-                }
-            }
             let plot = LinePlot {
                 title: format!(
                     "Total fluid force vs Gidaspow on the measured bed, U = {:.2} U_mf",
