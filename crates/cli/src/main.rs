@@ -7,6 +7,7 @@ mod couple;
 mod gci;
 mod info;
 mod run;
+mod study;
 mod timestep;
 mod voidage;
 
@@ -39,6 +40,9 @@ enum Command {
     Run(run::RunArgs),
     /// Grid Convergence Index (Celik et al. 2008) of a grid-refinement study from a CSV table.
     Gci(gci::GciArgs),
+    /// Studies over many runs of a case (`study cellsize`: the cell-size study of a frozen bed).
+    #[command(subcommand)]
+    Study(study::StudyCommand),
 }
 
 fn main() {
@@ -51,6 +55,7 @@ fn main() {
         Command::Timestep(a) => timestep::run(&a),
         Command::Run(a) => run::run(&a),
         Command::Gci(a) => gci::run(&a),
+        Command::Study(c) => study::run(&c),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

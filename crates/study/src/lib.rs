@@ -3,7 +3,7 @@
 //!
 //! Start with [`cellsize::cellsize`] on a case in CFDEM layout whose `CFD/system` holds a
 //! `blockMeshDict.template` (e.g. `openfoam-cases/binary-bed`) and [`cellsize::write_outputs`];
-//! `examples/cellsize.rs` runs it from the command line.
+//! `foamgrain study cellsize` (crate `cli`) runs it from the command line.
 //!
 //! Modules, one concept each:
 //! * [`template`]: blockMesh templates with cell-count placeholders and the native generator
