@@ -13,6 +13,7 @@
 //! `cases/column` (a 1-D column of 60 cells for a prescribed porous block).
 
 pub mod case;
+pub mod darcy;
 pub mod solver;
 
 pub use case::TestCase;

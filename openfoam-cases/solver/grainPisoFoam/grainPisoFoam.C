@@ -15,7 +15,11 @@
   PISO step: momentum matrix with the viscous stress written as pisoFoam's laminar model does,
   optional predictor with the old pressure, then per corrector
     HbyA = H/A,  φ* = ε_f ((HbyA)_f·S + (1/A)_f ddtCorr(U, φ/ε_f))
-    ∇·(ε_f (k/A)_f ∇p) = ∇·φ* + ∂ε/∂t,   φ = φ* − ε_f (k/A)_f |S| snGrad p,   U = HbyA − (k/A)∇p.
+    ∇·(ε_f (k/A)_f ∇p) = ∇·φ* + ∂ε/∂t,   φ = φ* − ε_f (k/A)_f |S| snGrad p,   U = HbyA − (k/A)∇p;
+  on faces next to porous cells (ε < 1 or Ksl > 0) the face coefficient is the series
+  resistance of the two half cells, φ* and the face pressure of ∇p are interpolated to match,
+  and fixedFluxPressure patches take the gradient of the half cell next to them
+  (porousFaces.H). Between clear cells the forms above are pisoFoam's.
 
   Fields: U, p as pisoFoam; voidfraction, Ksl, Us, f read from the start time (couplingFields.H)
   and updated each step by the selected couplingSource (couplingSource.H), which also drives
@@ -27,6 +31,7 @@
 #include "vansSettings.H"
 #include "couplingFields.H"
 #include "couplingSource.H"
+#include "porousFaces.H"
 
 int main(int argc, char *argv[])
 {
