@@ -73,6 +73,8 @@ fn column_patch_sums(world: &mpi::topology::SimpleCommunicator, solver: &std::pa
     let zeros = vec![[0.0; 3]; eps.len()];
 
     let mut native = fv::Fluid::from_case(&case.dir).expect("native solver reads the case");
+    // grainPisoFoam's faces next to porous cells are resistance-consistent (porousFaces.H).
+    native.harmonic_faces = true;
     native.set_voidage(&eps, &eps).unwrap();
     native.set_exchange(&ksl, &zeros).unwrap();
     for _ in 0..20 {
@@ -108,15 +110,18 @@ fn column_patch_sums(world: &mpi::topology::SimpleCommunicator, solver: &std::pa
         "column: link vs frozen files U {du_frozen:.2e}, p {dp_frozen:.2e}; vs native fv U \
          {du:.2e}, p {dp:.2e}; inlet {inlet:?}, outlet {outlet:?}"
     );
-    // The frozen run starts its flux from ε of 0/ (the link's 0/ has ε = 1): round-off only
-    // (measured 1.5e-12, 3.4e-12).
+    // The frozen run starts its flux from ε of 0/ (ε_f U_f·S; the link's 0/ has ε = 1, so
+    // U_f·S): the first step's convection differs and the faces next to the block remember it
+    // (two frozen runs with either start flux differ by 1.2e-8 in p, 1.9e-8 in U; measured
+    // here 8.3e-9, 1.3e-8).
     assert!(
-        du_frozen < 1e-10 && dp_frozen < 1e-10,
+        du_frozen < 1e-7 && dp_frozen < 1e-7,
         "link vs frozen: U {du_frozen:e}, p {dp_frozen:e}"
     );
-    // Two discretisations of the same equations, differing at the block's faces (the solver's
-    // Ergun test: Δp within 1e-3); measured U 1.4e-3 (interface cells), p 8.0e-4.
-    assert!(du < 3e-3 && dp < 2e-3, "link vs native: U {du:e}, p {dp:e}");
+    // The same face coefficients (fv's harmonic_faces, grainPisoFoam's porousFaces.H); the
+    // ddtCorr coefficient next to the block differs (fv (ε/A)_f, grainPisoFoam γ_f): measured
+    // U 5.2e-3 (interface cells), p 7.7e-4.
+    assert!(du < 1e-2 && dp < 2e-3, "link vs native: U {du:e}, p {dp:e}");
     assert!(
         (inlet.flux + 0.01 * area).abs() < 1e-12 * 0.01 * area,
         "{inlet:?}"
