@@ -9,11 +9,16 @@
 //!   it with `blockMesh`, sets cell values of fields, runs serial or `-parallel` and reads the
 //!   results back with the `foam` crate.
 //!
+//! - [`darcy`] the Darcy drop of frozen bed fields (bounds for a heterogeneous bed) and
+//!   patch means of written fields; [`frozen_bed`] the Ergun case on frozen coupling fields
+//!   (`fixtures/ergun-bed`, used by `tests/frozen_ergun_bed.rs` and `examples/frozen_ergun.rs`).
+//!
 //! Templates: `cases/cavity` (lid-driven cavity on a skewed 16×16 mesh, Re 10) and
 //! `cases/column` (a 1-D column of 60 cells for a prescribed porous block).
 
 pub mod case;
 pub mod darcy;
+pub mod frozen_bed;
 pub mod solver;
 
 pub use case::TestCase;
