@@ -62,13 +62,16 @@ pub struct Fluid {
     pub ddt_voidage: bool,
     /// Resistance-consistent faces for porous jumps (default false: OpenFOAM's linear form).
     /// When true, the face flux coefficient is the harmonic mean of the cells' γ = εκ
-    /// (κ = κ_p/A, κ_p = ε for model A, 1 for B), 1/γ_f = w/γ_P + (1−w)/γ_N, the predicted
+    /// (κ = κ_p/A, κ_p = ε for model A, 1 for B): the half-cell resistances in series,
+    /// 1/γ_f = (1−w)/γ_P + w/γ_N (w = d_fN/d_PN, the linear weight of the owner); the predicted
     /// flux is γ_f (HbyA/κ)_f·S, and the face pressure of the cell gradient that corrects U is
-    /// the flux-continuous one, p_f = (w γ_P p_P + (1−w) γ_N p_N)/(w γ_P + (1−w) γ_N) (w the
-    /// linear weight of the owner). Both reduce to the linear forms where κ is uniform; where Ksl jumps by orders of
-    /// magnitude (the surface of a packed bed) they keep the half-cell resistances in series, so
-    /// the pressure drop of a bed of N cells is that of N cells, not N − 1 (Patankar,
-    /// Numerical Heat Transfer and Fluid Flow, 1980, §4.2-3).
+    /// the flux-continuous one, p_f = (w γ_P p_P + (1−w) γ_N p_N)/(w γ_P + (1−w) γ_N). On a
+    /// boundary face the owner's half cell alone: γ_b = γ_P and φ*_b = ε_P HbyA_P·S, whatever
+    /// ε the boundary condition holds (so a fixedFluxPressure inlet under a bed keeps the
+    /// bed's half cell). All reduce to the linear forms where κ and ε are uniform; where Ksl
+    /// jumps by orders of magnitude (the surface of a packed bed, a bed on an inlet) they keep
+    /// the resistances in series, so the pressure drop of a bed of N cells is that of N cells,
+    /// not N − 1 (Patankar, Numerical Heat Transfer and Fluid Flow, 1980, §4.2-3).
     pub harmonic_faces: bool,
     /// Cell velocities from the face fluxes near jumps of the flux coefficient (default false:
     /// OpenFOAM's U = HbyA − κ∇p everywhere). Where γ = εκ changes by more than 10× across a
@@ -496,9 +499,15 @@ impl Fluid {
         let gamma: Vec<f64> = (0..g.n_faces())
             .map(|f| {
                 if self.harmonic_faces && f < g.n_internal {
+                    // Two half-cell resistances in series: the owner's half is the fraction
+                    // 1 − w of the centre distance (w = d_fN/d_PN, OpenFOAM's weight).
                     let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                     let w = g.weight[f];
-                    1.0 / (w / gam_c[o] + (1.0 - w) / gam_c[nb_])
+                    1.0 / ((1.0 - w) / gam_c[o] + w / gam_c[nb_])
+                } else if self.harmonic_faces {
+                    // A boundary face closes the owner's half cell: its coefficient is the
+                    // cell's, whatever ε the boundary condition holds (a bed on an inlet).
+                    gam_c[g.owner[f] as usize]
                 } else {
                     ef[f] * kappa_f[f]
                 }
@@ -563,7 +572,6 @@ impl Fluid {
                     .map(|f| ht[g.owner[f] as usize])
                     .collect();
                 let htf = fvc::interpolate(g, Field::new(&ht, &htb));
-                let hf = fvc::interpolate(g, Field::new(&hbya, &hb));
                 (0..g.n_faces())
                     .map(|f| {
                         if f < g.n_internal {
@@ -571,7 +579,9 @@ impl Fluid {
                         } else if g.boundary_empty[f - g.n_internal] {
                             0.0
                         } else {
-                            ef[f] * dot(hf[f], g.sf[f])
+                            // The owner's half cell: φ* = γ_c (HbyA_c/κ_c)·S = ε_c HbyA_c·S.
+                            let o = g.owner[f] as usize;
+                            self.eps[o] * dot(hbya[o], g.sf[f])
                         }
                     })
                     .collect()
