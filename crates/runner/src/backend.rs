@@ -9,8 +9,8 @@
 //! chooses and wires them. A pair that this build cannot run is refused before anything starts,
 //! with the cargo feature that would enable it.
 
-use crate::native::NativeFluid;
-use crate::run::{couple_loop, Event, LoopContext, RunError, RunReport};
+use crate::native::{NativeDem, NativeFluid};
+use crate::run::{couple_loop, coupling_steps, Event, LoopContext, RunError, RunReport};
 use dem::deck::Deck;
 use std::path::{Path, PathBuf};
 
@@ -66,8 +66,8 @@ fn unavailable(fluid: FluidBackend, dem: DemBackend, why: &str) -> RunError {
     ))
 }
 
-fn side_err(what: &str) -> impl FnOnce(String) -> RunError + '_ {
-    move |e| RunError::Backend(format!("{what}: {e}"))
+fn backend_err(what: &str, e: impl std::fmt::Display) -> RunError {
+    RunError::Backend(format!("{what}: {e}"))
 }
 
 /// The DEM time step of a deck (`timestep DT`), s.
@@ -111,11 +111,11 @@ pub(crate) fn pack_with_liggghts(
 ) -> Result<(), RunError> {
     liggghts::run_deck(init, dem_dir, vars, "init")
         .map(|_| ())
-        .map_err(|e| RunError::Backend(format!("LIGGGHTS (stage 1): {e}")))
+        .map_err(|e| backend_err("LIGGGHTS (stage 1)", e))
 }
 
-/// Runs stage 2 with at least one external backend.
-pub(crate) fn run_external(
+/// Runs stage 2 on the chosen pair of sides.
+pub(crate) fn run_pair(
     ctx: LoopContext<'_>,
     run_deck: &Deck,
     model: fv::Model,
@@ -127,7 +127,8 @@ pub(crate) fn run_external(
     let native_fluid = || NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid);
     match (fluid, dem) {
         (FluidBackend::Native, DemBackend::Native) => {
-            unreachable!("the native pair runs in run::run")
+            let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
+            couple_loop(ctx, NativeDem::new(sim), native_fluid()?, events)
         }
         (FluidBackend::Native, DemBackend::LiggghtsFile) => {
             let dt = deck_time_step(run_deck).ok_or_else(|| {
@@ -139,14 +140,14 @@ pub(crate) fn run_external(
             let dt_c = ctx.coupling_interval as f64 * dt;
             let start = ctx.fluid_settings.start_time;
             let end = ctx.opts.end_time.unwrap_or(ctx.fluid_settings.end_time);
-            let steps = ((end - start) / dt_c - 1e-9).ceil().max(0.0) as u64;
+            let steps = coupling_steps(start, end, dt_c);
             let options = liggghts::FileOptions::new(steps * ctx.coupling_interval);
             events(Event::Message(format!(
                 "LIGGGHTS file coupling: {steps} exchanges of about 10 s each (LIGGGHTS polls \
                  its files every 10 s)"
             )));
             let side = liggghts::FileDem::open(&layout.run_deck, &layout.dem, &[], options)
-                .map_err(|e| side_err("LIGGGHTS (file coupling)")(e.to_string()))?;
+                .map_err(|e| backend_err("LIGGGHTS (file coupling)", e))?;
             couple_loop(ctx, side, native_fluid()?, events)
         }
         (FluidBackend::OpenFoam, DemBackend::LiggghtsFile) => Err(unavailable(
@@ -155,7 +156,7 @@ pub(crate) fn run_external(
             "file coupling is offered with the native fluid only",
         )),
         #[cfg(any(feature = "mpi", feature = "liggghts"))]
-        (fluid, dem) => mpi_pair::run(ctx, model, fluid, dem, events),
+        (fluid, dem) => mpi_pair::run(ctx, run_deck, model, fluid, dem, events),
         #[cfg(not(any(feature = "mpi", feature = "liggghts")))]
         (fluid, dem) => Err(unavailable(
             fluid,
@@ -176,7 +177,8 @@ mod mpi_pair {
     /// universe), opens the sides and runs the loop.
     pub(super) fn run(
         ctx: LoopContext<'_>,
-        model: fv::Model,
+        #[cfg_attr(not(feature = "mpi"), allow(unused_variables))] run_deck: &Deck,
+        #[cfg_attr(not(feature = "liggghts"), allow(unused_variables))] model: fv::Model,
         fluid: FluidBackend,
         dem: DemBackend,
         events: &mut dyn FnMut(Event),
@@ -197,14 +199,12 @@ mod mpi_pair {
             }
             #[cfg(feature = "mpi")]
             (FluidBackend::OpenFoam, DemBackend::Native) => {
-                let _ = model;
-                let sim = dem::Simulation::from_deck(&Deck::read(&layout.run_deck)?, &layout.dem)?;
+                let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
                 let fluid = open_foam(&world, layout, ctx.opts.fluid_ranks)?;
-                couple_loop(ctx, crate::native::NativeDem::new(sim), fluid, events)
+                couple_loop(ctx, NativeDem::new(sim), fluid, events)
             }
             #[cfg(all(feature = "mpi", feature = "liggghts"))]
             (FluidBackend::OpenFoam, DemBackend::Liggghts) => {
-                let _ = model;
                 // LIGGGHTS first: its deck is checked before a solver is spawned.
                 let dem = open_liggghts(&world, layout)?;
                 let fluid = open_foam(&world, layout, ctx.opts.fluid_ranks)?;
@@ -228,7 +228,7 @@ mod mpi_pair {
         layout: &crate::layout::CaseLayout,
     ) -> Result<liggghts::LiggghtsDem, RunError> {
         liggghts::LiggghtsDem::open(world, &layout.run_deck, &layout.dem, &[])
-            .map_err(|e| side_err("LIGGGHTS (in-process)")(e.to_string()))
+            .map_err(|e| backend_err("LIGGGHTS (in-process)", e))
     }
 
     #[cfg(feature = "mpi")]
@@ -239,7 +239,7 @@ mod mpi_pair {
     ) -> Result<crate::foam_fluid::FoamFluid, RunError> {
         let solver = solver_path()?;
         let fluid = foam_link::OpenFoamFluid::spawn(world, &layout.cfd, ranks.max(1), &solver)
-            .map_err(|e| side_err("grainPisoFoam")(e.to_string()))?;
+            .map_err(|e| backend_err("grainPisoFoam", e))?;
         Ok(crate::foam_fluid::FoamFluid::new(fluid))
     }
 }

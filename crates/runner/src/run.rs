@@ -18,7 +18,6 @@ use crate::backend::{DemBackend, FluidBackend};
 use crate::checks;
 use crate::fluid::RunFluid;
 use crate::layout::{CaseLayout, LayoutError, ValidationSpec};
-use crate::native::{NativeDem, NativeFluid};
 use crate::sample::{write_csv, Sample};
 use crate::timed::Timed;
 use crate::validation::{write_json, Check};
@@ -407,14 +406,13 @@ pub fn run(
         stop,
         init_seconds,
     };
-    match (opts.fluid, opts.dem) {
-        (FluidBackend::Native, DemBackend::Native) => {
-            let sim = Simulation::from_deck(&run_deck, &layout.dem)?;
-            let fluid = NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid)?;
-            couple_loop(ctx, NativeDem::new(sim), fluid, events)
-        }
-        (fluid, dem) => crate::backend::run_external(ctx, &run_deck, model, fluid, dem, events),
-    }
+    crate::backend::run_pair(ctx, &run_deck, model, opts.fluid, opts.dem, events)
+}
+
+/// Coupling intervals of `dt_c` seconds from `start` to `end` (the last one may end past
+/// `end`; a rounding error of 1e-9 intervals does not add one).
+pub(crate) fn coupling_steps(start: f64, end: f64, dt_c: f64) -> u64 {
+    ((end - start) / dt_c - 1e-9).ceil().max(0.0) as u64
 }
 
 /// Everything the coupled loop needs besides its two sides.
@@ -464,7 +462,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     }
     let start = fluid.inner.time();
     let end = opts.end_time.unwrap_or(fluid_settings.end_time);
-    let steps = ((end - start) / dt_c - 1e-9).ceil().max(0.0) as u64;
+    let steps = coupling_steps(start, end, dt_c);
     let write_every = match fluid_settings.write {
         fv::settings::WriteControl::RunTime(t) => (t / dt_c).round().max(1.0) as u64,
         fv::settings::WriteControl::TimeStep(n) => {
