@@ -25,9 +25,7 @@ fn main() {
     let tmp = tempfile::tempdir().unwrap();
     let case = tmp.path().join("CFD");
     let source = testkit::repo_root().join("openfoam-cases/ergun/CFD");
-    for part in ["0", "constant", "system"] {
-        testkit::copy_dir(&source.join(part), &case.join(part));
-    }
+    testkit::copy_inputs(&source, &case);
     let mut fluid = OpenFoamFluid::spawn(&universe.world(), &case, 2, &solver).unwrap();
     let n = fluid.rank_map().n_cells();
     // A bed in the lower third of the cells by index (values only matter to the solver).

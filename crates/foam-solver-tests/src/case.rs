@@ -48,6 +48,18 @@ impl TestCase {
         }
     }
 
+    /// A copy of the inputs of `dir` (what git tracks: a reference case without the outputs a
+    /// user's run left in it).
+    pub fn inputs_of(dir: &Path) -> TestCase {
+        let tmp = tempfile::tempdir().expect("temporary directory");
+        let dir_out = tmp.path().join("case");
+        testkit::copy_inputs(dir, &dir_out);
+        TestCase {
+            _tmp: tmp,
+            dir: dir_out,
+        }
+    }
+
     /// An independent copy of this case as it is now.
     pub fn duplicate(&self) -> TestCase {
         TestCase::copy_of(&self.dir)

@@ -43,7 +43,7 @@ impl FrozenBed {
     /// Copies the Ergun case and sets the fields of `fields` (`voidfraction Ksl Us f` needed,
     /// `U p` used when present) as its start fields.
     pub fn new(fields: &Path, steps: usize) -> FrozenBed {
-        let case = TestCase::copy_of(&testkit::repo_root().join("openfoam-cases/ergun/CFD"));
+        let case = TestCase::inputs_of(&testkit::repo_root().join("openfoam-cases/ergun/CFD"));
         let n = case.mesh().0.n_cells;
         hold_inlet(&case);
         for name in ["U", "p", "voidfraction", "Ksl", "Us", "f"] {

@@ -2,30 +2,17 @@
 //! full, the Ergun case as a short smoke run; the full Ergun run is in `.ci/cli-smoke`).
 
 use runner::run::{run, Event, RunOptions};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
+/// A copy of a reference case's inputs (what git tracks): a packed bed or time directories that
+/// a user's run of the main job left in `openfoam-cases/` are not copied.
 fn case_copy(name: &str) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().unwrap();
-    let src = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../openfoam-cases")
-        .join(name);
+    let src = testkit::repo_root().join("openfoam-cases").join(name);
     let dst = dir.path().join(name);
-    copy(&src, &dst);
+    testkit::copy_inputs(&src, &dst);
     (dir, dst)
-}
-
-fn copy(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for e in std::fs::read_dir(from).unwrap() {
-        let e = e.unwrap();
-        let t = to.join(e.file_name());
-        if e.file_type().unwrap().is_dir() {
-            copy(&e.path(), &t);
-        } else {
-            std::fs::copy(e.path(), &t).unwrap();
-        }
-    }
 }
 
 #[test]

@@ -16,9 +16,7 @@ fn case() -> PathBuf {
 /// A copy of the binary-bed case with the committed packed bed in `DEM/post`.
 fn case_copy(dir: &Path) -> PathBuf {
     let root = dir.join("binary-bed");
-    for sub in ["CFD/0", "CFD/constant", "CFD/system", "DEM"] {
-        testkit::copy_dir(&case().join(sub), &root.join(sub));
-    }
+    testkit::copy_inputs(&case(), &root);
     std::fs::create_dir_all(root.join("DEM/post")).unwrap();
     std::fs::copy(
         case().join("reference/packed.data"),

@@ -6,6 +6,8 @@
 //!   early with a printed note when the program is absent. With `FOAMGRAIN_FULL=1` (the full
 //!   tier that CI runs after installing the packages) a missing program is a test failure, so
 //!   the full tier can never pass by skipping.
+//! - [`copy_inputs`]: a copy of a reference case's inputs only (what git tracks), never the
+//!   outputs a user's earlier run left in the case (README's order: the main job, then the tests).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -78,5 +80,131 @@ pub fn copy_dir(from: &Path, to: &Path) {
         } else {
             std::fs::copy(e.path(), target).unwrap();
         }
+    }
+}
+
+/// Copies the inputs of a case or fixture directory: the files git tracks under `from`, as they
+/// are in the work tree. Whatever a user's earlier runs wrote there (time directories,
+/// `postProcessing/`, `DEM/post/packed.data`, logs, `processor*`) stays behind, so a test sees
+/// the case as a fresh clone has it.
+///
+/// Outside a git checkout (a source archive, or git not installed), or for a directory git does
+/// not track yet, every file is copied except the paths [`is_run_output`] names.
+pub fn copy_inputs(from: &Path, to: &Path) {
+    let tracked = Command::new("git")
+        .arg("-C")
+        .arg(from)
+        .args(["ls-files", "-z", "--", "."])
+        .output()
+        .ok()
+        .filter(|o| o.status.success() && !o.stdout.is_empty());
+    let files: Vec<PathBuf> = match tracked {
+        Some(out) => out
+            .stdout
+            .split(|&b| b == 0)
+            .filter(|p| !p.is_empty())
+            .map(|p| PathBuf::from(String::from_utf8_lossy(p).into_owned()))
+            .collect(),
+        None => {
+            let mut all = Vec::new();
+            list_files(from, Path::new(""), &mut all);
+            all.retain(|rel| !is_run_output(rel));
+            all
+        }
+    };
+    for rel in files {
+        let target = to.join(&rel);
+        std::fs::create_dir_all(target.parent().unwrap()).unwrap();
+        std::fs::copy(from.join(&rel), &target)
+            .unwrap_or_else(|e| panic!("copying {}: {e}", from.join(&rel).display()));
+    }
+}
+
+fn list_files(root: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(root.join(rel)).unwrap() {
+        let e = e.unwrap();
+        let r = rel.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            list_files(root, &r, out);
+        } else {
+            out.push(r);
+        }
+    }
+}
+
+/// Whether `rel` (relative to a CFDEM-layout case or one of its `CFD/`, `DEM/` folders) is
+/// something a run writes rather than an input: `postProcessing/…`, `DEM/post/…` (but its
+/// `.keep`), a time directory other than `0`, `processorN/…`, or a `log.*` file.
+pub fn is_run_output(rel: &Path) -> bool {
+    let parts: Vec<String> = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect();
+    let Some(name) = parts.last() else {
+        return false;
+    };
+    if name.starts_with("log.") {
+        return true;
+    }
+    parts.iter().enumerate().any(|(k, p)| {
+        let last = k + 1 == parts.len();
+        p == "postProcessing"
+            || p.starts_with("processor")
+            || (!last && p != "0" && p.parse::<f64>().is_ok())
+            || (p == "post" && k + 2 == parts.len() && name != ".keep")
+            || (p == "post" && k + 2 < parts.len())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn run_outputs_are_told_from_inputs() {
+        for out in [
+            "postProcessing/integrals.csv",
+            "DEM/post/packed.data",
+            "DEM/post/restart/liggghts.restart",
+            "CFD/0.02/U",
+            "CFD/1e-05/p",
+            "CFD/processor1/constant/polyMesh/faces",
+            "DEM/log.liggghts",
+            "post/dump100.txt",
+        ] {
+            assert!(is_run_output(Path::new(out)), "{out}");
+        }
+        for input in [
+            "CFD/0/U",
+            "CFD/constant/polyMesh/points",
+            "CFD/system/controlDict",
+            "DEM/in.liggghts_run",
+            "DEM/post/.keep",
+            "validationDict",
+            "reference/packed.data",
+        ] {
+            assert!(!is_run_output(Path::new(input)), "{input}");
+        }
+    }
+
+    #[test]
+    fn a_case_copy_leaves_a_users_outputs_behind() {
+        // The Ergun case as a fresh clone has it, whatever ran in it before (tracked files
+        // only): no time directory but 0, nothing in DEM/post but .keep.
+        let dir = std::env::temp_dir().join(format!("testkit-copy-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        copy_inputs(&repo_root().join("openfoam-cases/ergun"), &dir);
+        let mut names: Vec<String> = std::fs::read_dir(dir.join("CFD"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["0", "constant", "system"]);
+        let post: Vec<_> = std::fs::read_dir(dir.join("DEM/post")).unwrap().collect();
+        assert_eq!(post.len(), 1);
+        assert!(dir.join("DEM/in.liggghts_init").is_file());
+        assert!(dir.join("validationDict").is_file());
+        assert!(!dir.join("postProcessing").exists());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
