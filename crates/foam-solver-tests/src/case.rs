@@ -39,21 +39,19 @@ impl TestCase {
 
     /// A copy of `dir` (e.g. a meshed case about to be run a second way).
     pub fn copy_of(dir: &Path) -> TestCase {
-        let tmp = tempfile::tempdir().expect("temporary directory");
-        let dir_out = tmp.path().join("case");
-        testkit::copy_dir(dir, &dir_out);
-        TestCase {
-            _tmp: tmp,
-            dir: dir_out,
-        }
+        TestCase::copied_with(dir, testkit::copy_dir)
     }
 
     /// A copy of the inputs of `dir` (what git tracks: a reference case without the outputs a
     /// user's run left in it).
     pub fn inputs_of(dir: &Path) -> TestCase {
+        TestCase::copied_with(dir, testkit::copy_inputs)
+    }
+
+    fn copied_with(dir: &Path, copy: fn(&Path, &Path)) -> TestCase {
         let tmp = tempfile::tempdir().expect("temporary directory");
         let dir_out = tmp.path().join("case");
-        testkit::copy_inputs(dir, &dir_out);
+        copy(dir, &dir_out);
         TestCase {
             _tmp: tmp,
             dir: dir_out,
