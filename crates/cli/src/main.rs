@@ -4,6 +4,7 @@
 mod args;
 mod convert;
 mod couple;
+mod dem;
 mod gci;
 mod info;
 mod run;
@@ -35,6 +36,9 @@ enum Command {
     Couple(couple::CoupleArgs),
     /// DEM, CFD and coupling time-step advice (Rayleigh, Hertz, relaxation time, CFL).
     Timestep(timestep::TimestepArgs),
+    /// Run a LIGGGHTS deck on the native DEM, as `liggghts -in DECK` would: thermo lines,
+    /// dumps, write_data, a progress bar (`foamgrain dem DECK -var NAME VALUE …`).
+    Dem(dem::DemArgs),
     /// Run a coupled CFD-DEM case (CFDEM layout: CASE/CFD, CASE/DEM) and check it against
     /// its references (CASE/validationDict).
     Run(run::RunArgs),
@@ -54,6 +58,7 @@ fn main() {
         Command::Couple(a) => couple::run(&a),
         Command::Timestep(a) => timestep::run(&a),
         Command::Run(a) => run::run(&a),
+        Command::Dem(a) => dem::run(&a),
         Command::Gci(a) => gci::run(&a),
         Command::Study(c) => study::run(&c),
     };

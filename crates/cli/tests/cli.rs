@@ -152,3 +152,65 @@ fn every_command_has_help() {
         assert!(out.contains("Usage: foamgrain"), "{args:?}");
     }
 }
+
+#[test]
+fn dem_runs_a_liggghts_deck_as_liggghts_would() {
+    // The small pour of the DEM fixtures, in a directory of its own (paths in the deck are
+    // relative to the current directory, as with `liggghts -in`).
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(fixture("dem/pour.in"), dir.path().join("in.pour")).unwrap();
+    let out = ok(
+        &[
+            "dem", "-in", "in.pour", "-var", "np", "60", "-var", "w", "0.003", "-var", "nsteps",
+            "400", "-var", "zmax", "0.01",
+        ],
+        dir.path(),
+    );
+    // LIGGGHTS's thermo: a header per run and rows at the first and last step of each run
+    // (`run 1`, then `run 400`); the deck's `thermo 2000` has no multiple in between.
+    let rows: Vec<Vec<&str>> = out
+        .lines()
+        .filter(|l| {
+            l.split_whitespace()
+                .next()
+                .is_some_and(|w| w.parse::<u64>().is_ok())
+        })
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    let steps: Vec<&str> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(steps, ["0", "1", "1", "401"], "{out}");
+    assert!(rows.iter().all(|r| r[1] == "60" && r.len() == 4), "{out}");
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.trim_start().starts_with("Step"))
+            .count(),
+        2
+    );
+    assert!(out.contains("Loop time of "), "{out}");
+    // its dumps (every nsteps/4 = 100 steps) and the log file
+    for s in [100, 200, 300, 400] {
+        assert!(
+            dir.path().join(format!("post/pour_{s}.txt")).is_file(),
+            "{s}"
+        );
+    }
+    let log = std::fs::read_to_string(dir.path().join("log.liggghts")).unwrap();
+    assert!(
+        log.contains("Loop time of ") && log.contains("KinEng"),
+        "{log}"
+    );
+
+    // A bad deck: the error names the file and the line, nothing panics.
+    std::fs::write(
+        dir.path().join("in.bad"),
+        "atom_style granular\nfix p all pour 100 1 1\n",
+    )
+    .unwrap();
+    let o = foamgrain(&["dem", "in.bad", "-log", "none"], dir.path());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.contains("in.bad:2:") && e.contains("pour"), "{e}");
+    // An unknown LIGGGHTS option is refused with the supported ones.
+    let o = foamgrain(&["dem", "in.pour", "-sf", "gpu"], dir.path());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("-in, -var"));
+}

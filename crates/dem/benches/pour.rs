@@ -3,11 +3,11 @@
 //! threads. Items = particle-steps, so divan's throughput is particle-steps per second.
 //! LIGGGHTS's figure for the same bed and deck: see `tests/fixtures/dem/README.md`.
 
-use dem::deck::Deck;
 use dem::Simulation;
 use dem_io::{read_snapshot, ReadOptions, Selection};
 use divan::counter::ItemsCount;
 use divan::Bencher;
+use liggghts_deck::Deck;
 
 const STEPS: u64 = 100;
 

@@ -74,7 +74,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     }
     let opts = ReadOptions::default();
     let lig = read_snapshot(&reference, &opts, Selection::Last)?;
-    let deck = dem::deck::Deck::read_with_vars(&deck_path, &vars)?;
+    let deck = liggghts_deck::Deck::read_with_vars(&deck_path, &vars)?;
     let dir = tempfile::tempdir()?;
     let t0 = Instant::now();
     let sim = dem::Simulation::from_deck(&deck, dir.path())?;

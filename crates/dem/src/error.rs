@@ -3,28 +3,7 @@
 
 use std::path::PathBuf;
 
-/// Where in a deck a command was read.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct DeckLocation {
-    /// The deck file.
-    pub file: PathBuf,
-    /// 1-based line of the command's first line.
-    pub line: usize,
-    /// The command word (`fix`, `region`, …) and, for fixes, the style (`fix wall/gran`).
-    pub command: String,
-}
-
-impl std::fmt::Display for DeckLocation {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{}:{}: `{}`",
-            self.file.display(),
-            self.line,
-            self.command
-        )
-    }
-}
+pub use liggghts_deck::DeckLocation;
 
 /// Every failure of building or running a simulation.
 #[derive(Debug, thiserror::Error)]
@@ -38,14 +17,9 @@ pub enum DemError {
         /// What is wrong.
         message: String,
     },
-    /// The deck file cannot be read.
-    #[error("cannot read deck {file}: {source}")]
-    DeckIo {
-        /// The file.
-        file: PathBuf,
-        /// The OS error.
-        source: std::io::Error,
-    },
+    /// The deck cannot be read (missing file, malformed line or variable).
+    #[error(transparent)]
+    DeckRead(#[from] liggghts_deck::DeckError),
     /// Material properties are missing or out of range.
     #[error("material properties: {0}")]
     Material(String),

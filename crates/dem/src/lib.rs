@@ -16,7 +16,7 @@
 //!
 //! # Example
 //! ```no_run
-//! let deck = dem::deck::Deck::read("DEM/in.liggghts")?;
+//! let deck = liggghts_deck::Deck::read("DEM/in.liggghts")?;
 //! let mut sim = dem::Simulation::from_deck(&deck, std::path::Path::new("."))?;
 //! sim.run(1000)?;
 //! println!("{} particles at t = {} s", sim.particles.len(), sim.time());

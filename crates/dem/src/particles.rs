@@ -133,12 +133,22 @@ impl Particles {
 
     /// Total kinetic energy, translational plus rotational (J).
     pub fn kinetic_energy(&self) -> f64 {
+        self.translational_energy() + self.rotational_energy()
+    }
+
+    /// Σ ½ m |v|² (J): LIGGGHTS's thermo `ke` (with `thermo_modify norm no`).
+    pub fn translational_energy(&self) -> f64 {
+        (0..self.len())
+            .map(|i| 0.5 * self.mass[i] * mesh::v3::dot(self.v[i], self.v[i]))
+            .sum()
+    }
+
+    /// Σ ½ I |ω|² with I = ⅖ m r² (J): LIGGGHTS's `compute erotate/sphere`.
+    pub fn rotational_energy(&self) -> f64 {
         (0..self.len())
             .map(|i| {
-                let m = self.mass[i];
-                let inertia = INERTIA_FACTOR * m * self.radius[i] * self.radius[i];
-                0.5 * m * mesh::v3::dot(self.v[i], self.v[i])
-                    + 0.5 * inertia * mesh::v3::dot(self.omega[i], self.omega[i])
+                let inertia = INERTIA_FACTOR * self.mass[i] * self.radius[i] * self.radius[i];
+                0.5 * inertia * mesh::v3::dot(self.omega[i], self.omega[i])
             })
             .sum()
     }

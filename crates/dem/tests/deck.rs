@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use dem::deck::Deck;
 use dem::Simulation;
 use dem_io::{read_snapshot, DumpFormat, ReadOptions, Selection};
+use liggghts_deck::Deck;
 
 fn case_deck(rel: &str) -> std::path::PathBuf {
     testkit::repo_root().join("openfoam-cases").join(rel)
@@ -237,5 +237,64 @@ fn particles_from_a_liggghts_dump() {
     assert_eq!(
         dem::from_dump::particles_from_snapshot(&s2, &[1000.0]).unwrap()[0].density,
         1000.0
+    );
+}
+
+/// Runs `src` with an observer; returns the simulation and the output lines.
+fn observed(src: &str) -> (Simulation, Vec<String>, Vec<(u64, u64)>) {
+    let dir = tempfile::tempdir().unwrap();
+    let deck = Deck::parse(src, Path::new("thermo.in"), &[]).unwrap();
+    let mut lines = Vec::new();
+    let mut runs = Vec::new();
+    let sim = Simulation::from_deck_observed(&deck, dir.path(), &mut |e| match e {
+        dem::deck::exec::DeckEvent::Output(l) => lines.push(l),
+        dem::deck::exec::DeckEvent::RunStart { from, to, .. } => runs.push((from, to)),
+        _ => {}
+    })
+    .unwrap();
+    (sim, lines, runs)
+}
+
+#[test]
+fn thermo_rows_come_at_liggghts_steps_and_do_not_change_the_physics() {
+    // Two spheres falling onto a floor and onto each other, spinning after the contact.
+    let thermo = "compute rke all erotate/sphere\nthermo_style custom step atoms ke c_rke time\n\
+                  thermo 70\nthermo_modify lost ignore norm no\n";
+    let (a, lines, runs) = observed(&format!("{SMALL}{thermo}run 250\nrun 100\n"));
+    let (b, quiet, _) = observed(&format!("{SMALL}run 250\nrun 100\n"));
+    // The same bits whatever the output: the run is cut into chunks at every thermo step.
+    assert_eq!(a.particles.x, b.particles.x);
+    assert_eq!(a.particles.v, b.particles.v);
+    assert_eq!(a.particles.omega, b.particles.omega);
+    assert_eq!(runs, [(0, 250), (250, 350)]);
+    // LIGGGHTS prints a row at the first step of a run, at multiples of N, and at the last.
+    let steps: Vec<u64> = lines
+        .iter()
+        .filter_map(|l| l.split_whitespace().next()?.parse().ok())
+        .collect();
+    assert_eq!(steps, [0, 70, 140, 210, 250, 250, 280, 350]);
+    let header = &lines[0];
+    assert_eq!(
+        header.split_whitespace().collect::<Vec<_>>(),
+        ["Step", "Atoms", "KinEng", "rke", "Time"]
+    );
+    // The last row holds the state at step 350: ½m|v|² and ½I|ω|² of the two spheres.
+    let last: Vec<f64> = lines[lines.len() - 2]
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    let ke = a.particles.translational_energy();
+    let rke = a.particles.rotational_energy();
+    assert!((last[2] - ke).abs() <= 1e-7 * ke, "{last:?} vs {ke}");
+    assert!(
+        (last[3] - rke).abs() <= 1e-7 * rke.max(1e-300),
+        "{last:?} vs {rke}"
+    );
+    assert!((last[4] - 350.0 * 1e-5).abs() < 1e-12);
+    assert!(lines.last().unwrap().starts_with("Loop time of "));
+    // The default style (`one`): step atoms ke cpu.
+    assert_eq!(
+        quiet[0].split_whitespace().collect::<Vec<_>>(),
+        ["Step", "Atoms", "KinEng", "CPU"]
     );
 }

@@ -36,8 +36,8 @@ fn measure(s: &Snapshot) -> bed::Bed {
 
 /// Runs the small pour natively in `dir`; returns its dump of step 12000.
 fn native_small(dir: &Path) -> Snapshot {
-    let deck =
-        dem::deck::Deck::read_with_vars(testkit::fixture("dem/pour.in"), &small_vars()).unwrap();
+    let deck = liggghts_deck::Deck::read_with_vars(testkit::fixture("dem/pour.in"), &small_vars())
+        .unwrap();
     let sim = dem::Simulation::from_deck(&deck, dir).unwrap();
     assert_eq!(sim.particles.len(), 300);
     assert_eq!(sim.lost(), 0);

@@ -101,7 +101,7 @@ fn ergun_interval_native(bencher: Bencher) {
     let stripped = liggghts::CouplingDeck::read(&deck, &[])
         .unwrap()
         .without_runs();
-    let d = dem::deck::Deck::parse(&stripped, &deck, &[]).unwrap();
+    let d = liggghts_deck::Deck::parse(&stripped, &deck, &[]).unwrap();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()

@@ -14,7 +14,7 @@
 //! - `include`, `jump`, `label` and `next` are refused (the checks could not see through them);
 //! - files named by `read_data` exist in the working directory.
 //!
-//! Lines are read with the native DEM's deck reader ([`dem::deck`]: `&` continuations,
+//! Lines are read with the deck language's reader ([`liggghts_deck`]: `&` continuations,
 //! comments, quotes, `-var` values and `variable` substitution).
 
 use std::ops::Range;
@@ -97,7 +97,7 @@ impl CouplingDeck {
         file: &Path,
         vars: &[(String, String)],
     ) -> Result<CouplingDeck, LiggghtsError> {
-        let deck = dem::deck::Deck::parse(source, file, vars)?;
+        let deck = liggghts_deck::Deck::parse(source, file, vars)?;
         let err = |line: usize, message: String| LiggghtsError::Deck {
             file: file.to_path_buf(),
             line,

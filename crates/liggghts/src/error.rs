@@ -17,9 +17,9 @@ pub enum LiggghtsError {
         /// What is wrong and what to do.
         message: String,
     },
-    /// Reading the deck (variables, quotes): the native DEM's deck reader names file and line.
+    /// Reading the deck (variables, quotes): the deck language's reader names file and line.
     #[error(transparent)]
-    DeckSyntax(#[from] dem::DemError),
+    DeckSyntax(#[from] liggghts_deck::DeckError),
     /// An I/O error on a named path.
     #[error("{}: {source}", path.display())]
     Io {

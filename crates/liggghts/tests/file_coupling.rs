@@ -35,7 +35,7 @@ fn two_exchanges_match_the_native_dem() {
     let stripped = liggghts::CouplingDeck::read(&deck, &[])
         .unwrap()
         .without_runs();
-    let d = dem::deck::Deck::parse(&stripped, &deck, &[]).unwrap();
+    let d = liggghts_deck::Deck::parse(&stripped, &deck, &[]).unwrap();
     let mut native = dem::Simulation::from_deck(&d, dir.path()).unwrap();
     let m = 2000.0 * std::f64::consts::PI / 6.0 * 1e-9;
     let beta = [m / 0.01, 0.0, 0.5 * m / 0.01];

@@ -37,7 +37,7 @@ fn falling_spheres_follow_the_closed_form_and_the_native_dem() {
     let stripped = liggghts::CouplingDeck::read(&deck, &[])
         .unwrap()
         .without_runs();
-    let d = dem::deck::Deck::parse(&stripped, &deck, &[]).unwrap();
+    let d = liggghts_deck::Deck::parse(&stripped, &deck, &[]).unwrap();
     let mut native = dem::Simulation::from_deck(&d, dir.path()).unwrap();
     native.clear_coupling();
 

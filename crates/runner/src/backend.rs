@@ -11,7 +11,7 @@
 
 use crate::native::{NativeDem, NativeFluid};
 use crate::run::{couple_loop, coupling_steps, Event, LoopContext, RunError, RunReport};
-use dem::deck::Deck;
+use liggghts_deck::Deck;
 use std::path::{Path, PathBuf};
 
 /// The fluid solver of a run.

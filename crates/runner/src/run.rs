@@ -23,8 +23,8 @@ use crate::timed::Timed;
 use crate::validation::{write_json, Check};
 use closures::model::ModelType;
 use couple::{Coupler, CouplerSettings, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
-use dem::deck::Deck;
 use dem::Simulation;
+use liggghts_deck::Deck;
 use mesh::v3::{dot, unit, V3};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -39,6 +39,9 @@ pub enum RunError {
     /// The coupling configuration or a coupling step.
     #[error(transparent)]
     Couple(#[from] couple::CoupleError),
+    /// A LIGGGHTS deck that cannot be read (file, line).
+    #[error(transparent)]
+    Deck(#[from] liggghts_deck::DeckError),
     /// The native DEM (deck, setup, run).
     #[error(transparent)]
     Dem(#[from] dem::DemError),

@@ -11,6 +11,9 @@ pub enum StudyError {
     /// The coupling configuration or a coupling step.
     #[error(transparent)]
     Couple(#[from] couple::CoupleError),
+    /// A LIGGGHTS deck that cannot be read (file, line).
+    #[error(transparent)]
+    Deck(#[from] liggghts_deck::DeckError),
     /// The native DEM (packing, reading the packed bed).
     #[error(transparent)]
     Dem(#[from] dem::DemError),

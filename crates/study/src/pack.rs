@@ -6,8 +6,8 @@
 //! then taken from the coupled deck's simulation as built, before any step.
 
 use crate::error::StudyError;
-use dem::deck::Deck;
 use dem::Simulation;
+use liggghts_deck::Deck;
 use mesh::v3::V3;
 use runner::layout::CaseLayout;
 

@@ -19,8 +19,11 @@
 //!   `unfix` of gravity, walls and pending insertions;
 //! - output: `dump ID all custom N FILE cols…`, `dump_modify ID sort id|label L|format …`,
 //!   `undump`, `write_data FILE`; `thermo`, `thermo_style`, `thermo_modify`, `compute`,
-//!   `compute_modify`, `echo`, `log`, `print` are accepted and have no effect on the physics;
-//! - `run N [upto] [pre yes|no] [post yes|no]`.
+//!   `uncompute` ([`thermo`](super::thermo): LIGGGHTS-style thermo lines, reported as
+//!   [`DeckEvent::Output`]); `compute_modify`, `echo`, `log`, `print` are accepted and have
+//!   no effect;
+//! - `run N [upto] [pre yes|no] [post yes|no]`, reported as [`DeckEvent`]s: the run's span,
+//!   progress, thermo rows and LIGGGHTS's `Loop time of …` line.
 //!
 //! Relative file names are resolved against the working directory given to
 //! [`Simulation::from_deck`] (LIGGGHTS resolves them against its current directory).
@@ -32,7 +35,8 @@ use dem_io::Boundary;
 use mesh::v3::V3;
 
 use crate::contact::{ContactModel, RollingModel};
-use crate::deck::{data_file, Command, Deck};
+use crate::deck::data_file;
+use crate::deck::thermo::Thermo;
 use crate::dump::DumpOutput;
 use crate::error::DemError;
 use crate::insert::{Distribution, InsertPack, InsertTarget, SphereTemplate};
@@ -42,6 +46,7 @@ use crate::region::Region;
 use crate::sim::{SimBox, SimConfig, Simulation};
 use crate::timestep::{hertz_time, rayleigh_time};
 use crate::walls::{Wall, WallShape};
+use liggghts_deck::{Command, Deck};
 
 type Res<T> = Result<T, String>;
 
@@ -66,8 +71,47 @@ struct Pending {
     hard: bool,
 }
 
+/// What executing a deck reports as it goes, for a front end (`foamgrain dem` prints the
+/// output lines and draws a progress bar from the rest).
+#[derive(Debug, Clone, PartialEq)]
+pub enum DeckEvent {
+    /// A `run` command (deck line `line`) starts at step `from` and will end at step `to`,
+    /// with time step `dt` (s).
+    RunStart {
+        /// 1-based deck line of the `run` command.
+        line: usize,
+        /// The step the run starts from.
+        from: u64,
+        /// The step it ends at.
+        to: u64,
+        /// The time step (s).
+        dt: f64,
+    },
+    /// The run reached `step` (simulated time `time`, s).
+    Progress {
+        /// The current step.
+        step: u64,
+        /// The simulated time (s).
+        time: f64,
+    },
+    /// A line of LIGGGHTS-style screen output: a thermo header or row, or the loop time.
+    Output(String),
+    /// Something accepted that does not act as the deck may expect (deck line `line`).
+    Warning {
+        /// 1-based deck line.
+        line: usize,
+        /// What.
+        message: String,
+    },
+}
+
+/// How many progress reports a run gives at most (each costs one `Simulation::run` call).
+const PROGRESS_REPORTS: u64 = 200;
+
 struct Exec<'a> {
     workdir: &'a Path,
+    observer: &'a mut dyn FnMut(DeckEvent),
+    thermo: Thermo,
     regions: HashMap<String, Region>,
     templates: HashMap<String, SphereTemplate>,
     dists: HashMap<String, Distribution>,
@@ -82,8 +126,20 @@ impl Simulation {
     /// Executes every command of `deck` (including its `run`s) with relative paths resolved
     /// against `workdir`, and returns the simulation ready for more [`Simulation::run`] calls.
     pub fn from_deck(deck: &Deck, workdir: &Path) -> Result<Simulation, DemError> {
+        Simulation::from_deck_observed(deck, workdir, &mut |_| {})
+    }
+
+    /// [`Simulation::from_deck`], reporting runs, progress, thermo output and warnings to
+    /// `observer` as they happen. The physics does not depend on the observer.
+    pub fn from_deck_observed(
+        deck: &Deck,
+        workdir: &Path,
+        observer: &mut dyn FnMut(DeckEvent),
+    ) -> Result<Simulation, DemError> {
         let mut ex = Exec {
             workdir,
+            observer,
+            thermo: Thermo::default(),
             regions: HashMap::new(),
             templates: HashMap::new(),
             dists: HashMap::new(),
@@ -351,7 +407,18 @@ impl Exec<'_> {
                 }
             }
             "newton" | "communicate" | "comm_modify" | "processors" | "echo" | "log" | "print"
-            | "thermo" | "thermo_style" | "thermo_modify" | "compute" | "compute_modify" => {}
+            | "compute_modify" => {}
+            "thermo" => self.thermo.set_every(w)?,
+            "thermo_style" => {
+                let warnings = self.thermo.set_style(w)?;
+                self.warn(c.line, warnings);
+            }
+            "thermo_modify" => {
+                let warnings = self.thermo.modify(w)?;
+                self.warn(c.line, warnings);
+            }
+            "compute" => self.thermo.define_compute(w)?,
+            "uncompute" => self.thermo.remove_compute(word(w, 1, "compute id")?)?,
             "boundary" => {
                 self.before_run("boundary")?;
                 let mut b = [[Boundary::Fixed; 2]; 3];
@@ -478,7 +545,7 @@ impl Exec<'_> {
                     return Err(format!("no dump `{id}`").into());
                 }
             }
-            "run" => self.run(w)?,
+            "run" => self.run(c)?,
             "write_data" => {
                 if w.len() != 2 {
                     return Err("only `write_data FILE` is supported".into());
@@ -1027,7 +1094,17 @@ impl Exec<'_> {
         Ok(())
     }
 
-    fn run(&mut self, w: &[String]) -> Result<(), Failure> {
+    fn warn(&mut self, line: usize, messages: Vec<String>) {
+        for message in messages {
+            (self.observer)(DeckEvent::Warning { line, message });
+        }
+    }
+
+    /// `run N [upto] [pre …] [post …]`: advances in chunks that end at every thermo step and at
+    /// most [`PROGRESS_REPORTS`] times per run (the state does not depend on the chunking:
+    /// a chunk boundary only re-checks insertions and due dumps).
+    fn run(&mut self, c: &Command) -> Result<(), Failure> {
+        let w = &c.words;
         let n = int(w, 1, "number of steps")?;
         let mut upto = false;
         let mut k = 2;
@@ -1044,6 +1121,9 @@ impl Exec<'_> {
                 o => return Err(format!("run keyword `{o}` is not supported").into()),
             }
         }
+        let (columns, warnings) = self.thermo.for_run()?;
+        self.warn(c.line, warnings);
+        let every = self.thermo.every();
         let checks = self.checks.clone();
         let s = self.sim_mut()?;
         let steps = if upto {
@@ -1052,11 +1132,44 @@ impl Exec<'_> {
         } else {
             n
         };
+        let (from, to) = (s.step(), s.step() + steps);
+        let started = std::time::Instant::now();
         s.run(0)?;
         for (fr, fh) in checks {
             check_timestep(s, fr, fh);
         }
-        s.run(steps)?;
+        let (dt, header, first) = (s.dt(), columns.header(), columns.row(s, 0.0));
+        (self.observer)(DeckEvent::RunStart {
+            line: c.line,
+            from,
+            to,
+            dt,
+        });
+        (self.observer)(DeckEvent::Output(header));
+        (self.observer)(DeckEvent::Output(first));
+        let chunk = (steps / PROGRESS_REPORTS).max(1);
+        let mut step = from;
+        while step < to {
+            let mut next = (step + chunk).min(to);
+            if let Some(k) = step.checked_div(every) {
+                next = next.min((k + 1) * every);
+            }
+            let s = self.sim_mut()?;
+            s.run(next - step)?;
+            step = next;
+            let (time, thermo_due) = (s.time(), step == to || (every > 0 && step % every == 0));
+            let row = thermo_due.then(|| columns.row(s, started.elapsed().as_secs_f64()));
+            (self.observer)(DeckEvent::Progress { step, time });
+            if let Some(row) = row {
+                (self.observer)(DeckEvent::Output(row));
+            }
+        }
+        let atoms = self.sim_mut()?.particles.len();
+        (self.observer)(DeckEvent::Output(format!(
+            "Loop time of {} on 1 procs ({} threads) for {steps} steps with {atoms} atoms",
+            liggghts_deck::format::format_g(started.elapsed().as_secs_f64(), 6),
+            rayon::current_num_threads()
+        )));
         Ok(())
     }
 

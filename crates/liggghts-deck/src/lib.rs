@@ -1,0 +1,367 @@
+//! The LIGGGHTS 3.8 input-deck language, read into commands with every variable substituted —
+//! the one reader that the native DEM (`dem`, which executes the commands) and the LIGGGHTS
+//! backend (`liggghts`, which checks a coupled deck before LIGGGHTS sees it) share.
+//!
+//! Reading handles `&` continuations, `#` comments, quotes ([`lines`]), and `variable NAME
+//! index|string|equal|delete …` with `$x`, `${name}` and `$(formula)` substitution ([`expr`]
+//! evaluates formulas; equal-style values are formatted `%.15g` as LAMMPS does, [`format`]);
+//! values given on the command line (`-var NAME VALUE`) take precedence over `index`
+//! definitions. What a command means is not this crate's business: it returns the words.
+//!
+//! ```
+//! let deck = liggghts_deck::Deck::parse(
+//!     "variable n index 10\nvariable h equal 0.5*${n}\nrun ${n} # steps\nprint $(v_h+1)",
+//!     std::path::Path::new("in.demo"),
+//!     &[("n".into(), "4".into())],
+//! )?;
+//! assert_eq!(deck.commands[0].words, ["run", "4"]);
+//! assert_eq!(deck.commands[1].words, ["print", "3"]);
+//! # Ok::<(), liggghts_deck::DeckError>(())
+//! ```
+//!
+//! *Invariant:* every error names the file and the 1-based line of the command.
+
+pub mod expr;
+pub mod format;
+pub mod lines;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use format::format_g;
+
+/// Where in a deck a command was read.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DeckLocation {
+    /// The deck file.
+    pub file: PathBuf,
+    /// 1-based line of the command's first line.
+    pub line: usize,
+    /// The command word (`fix`, `region`, …) and, for fixes, the style (`fix wall/gran`).
+    pub command: String,
+}
+
+impl std::fmt::Display for DeckLocation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}:{}: `{}`",
+            self.file.display(),
+            self.line,
+            self.command
+        )
+    }
+}
+
+/// A deck that cannot be read: the file is missing, or a line does not parse (quotes,
+/// variables, formulas).
+#[derive(Debug, thiserror::Error)]
+pub enum DeckError {
+    /// A line is malformed.
+    #[error("{at}: {message}")]
+    Syntax {
+        /// Where.
+        at: DeckLocation,
+        /// What is wrong.
+        message: String,
+    },
+    /// The deck file cannot be read.
+    #[error("cannot read deck {file}: {source}")]
+    Io {
+        /// The file.
+        file: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+}
+
+/// One command: its line and its words after substitution.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Command {
+    /// 1-based line of the command's first physical line.
+    pub line: usize,
+    /// Words (the command name first).
+    pub words: Vec<String>,
+}
+
+impl Command {
+    /// `fix STYLE` for fixes, the command word otherwise.
+    pub fn label(&self) -> String {
+        match (self.words.first().map(String::as_str), self.words.get(3)) {
+            (Some("fix"), Some(style)) => format!("fix {style}"),
+            (Some(w), _) => w.to_string(),
+            _ => String::new(),
+        }
+    }
+}
+
+/// A read deck.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Deck {
+    /// The file (for messages); relative paths inside the deck are not resolved against it.
+    pub file: PathBuf,
+    /// The commands in order, `variable` lines already applied.
+    pub commands: Vec<Command>,
+}
+
+/// What `fix couple/cfd` and `fix couple/cfd/force[/implicit]` declare.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CoupledDeck {
+    /// `couple_every N`: DEM steps per coupling exchange.
+    pub couple_every: u64,
+    /// Whether the force fix is `couple/cfd/force/implicit` (else `couple/cfd/force`, or none).
+    pub implicit: bool,
+    /// Whether a force fix is present at all.
+    pub has_force_fix: bool,
+}
+
+#[derive(Debug, Clone)]
+enum Var {
+    Text(String),
+    Equal(String),
+}
+
+impl Deck {
+    /// Reads a deck file.
+    pub fn read(path: impl AsRef<Path>) -> Result<Deck, DeckError> {
+        Deck::read_with_vars(path, &[])
+    }
+
+    /// Reads a deck with command-line variables (`-var NAME VALUE`).
+    pub fn read_with_vars(
+        path: impl AsRef<Path>,
+        vars: &[(String, String)],
+    ) -> Result<Deck, DeckError> {
+        let path = path.as_ref();
+        let src = std::fs::read_to_string(path).map_err(|source| DeckError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
+        Deck::parse(&src, path, vars)
+    }
+
+    /// Parses deck text; `file` names it in errors.
+    pub fn parse(src: &str, file: &Path, vars: &[(String, String)]) -> Result<Deck, DeckError> {
+        let mut table: HashMap<String, Var> = vars
+            .iter()
+            .map(|(k, v)| (k.clone(), Var::Text(v.clone())))
+            .collect();
+        let mut commands = Vec::new();
+        for l in lines::logical_lines(src) {
+            let err = |command: &str, message: String| DeckError::Syntax {
+                at: DeckLocation {
+                    file: file.to_path_buf(),
+                    line: l.line,
+                    command: command.to_string(),
+                },
+                message,
+            };
+            let text = substitute(&l.text, &table).map_err(|m| err("", m))?;
+            let words = lines::split_words(lines::strip_comment(&text)).map_err(|m| err("", m))?;
+            if words.is_empty() {
+                continue;
+            }
+            if words[0] == "variable" {
+                define(&words, &mut table).map_err(|m| err("variable", m))?;
+                continue;
+            }
+            commands.push(Command {
+                line: l.line,
+                words,
+            });
+        }
+        Ok(Deck {
+            file: file.to_path_buf(),
+            commands,
+        })
+    }
+
+    /// The location of `c` for messages.
+    pub fn location(&self, c: &Command) -> DeckLocation {
+        DeckLocation {
+            file: self.file.clone(),
+            line: c.line,
+            command: c.label(),
+        }
+    }
+
+    /// Whether and how the deck is coupled to a CFD solver (`fix couple/cfd …`).
+    pub fn coupling(&self) -> Option<CoupledDeck> {
+        let mut out: Option<CoupledDeck> = None;
+        for c in &self.commands {
+            if c.words.first().map(String::as_str) != Some("fix") {
+                continue;
+            }
+            match c.words.get(3).map(String::as_str) {
+                Some("couple/cfd") => {
+                    let every = c
+                        .words
+                        .iter()
+                        .position(|w| w == "couple_every")
+                        .and_then(|k| c.words.get(k + 1))
+                        .and_then(|w| w.parse().ok())
+                        .unwrap_or(1);
+                    out = Some(CoupledDeck {
+                        couple_every: every,
+                        implicit: false,
+                        has_force_fix: false,
+                    });
+                }
+                Some(s @ ("couple/cfd/force" | "couple/cfd/force/implicit")) => {
+                    if let Some(o) = out.as_mut() {
+                        o.has_force_fix = true;
+                        o.implicit = s.ends_with("implicit");
+                    }
+                }
+                _ => {}
+            }
+        }
+        out
+    }
+}
+
+fn lookup(name: &str, table: &HashMap<String, Var>, depth: usize) -> Result<String, String> {
+    if depth > 32 {
+        return Err(format!("variable `{name}` refers to itself"));
+    }
+    match table.get(name) {
+        Some(Var::Text(t)) => Ok(t.clone()),
+        Some(Var::Equal(f)) => {
+            let v = eval_formula(f, table, depth)?;
+            Ok(format_g(v, 15))
+        }
+        None => Err(format!("variable `{name}` is not defined")),
+    }
+}
+
+fn eval_formula(f: &str, table: &HashMap<String, Var>, depth: usize) -> Result<f64, String> {
+    expr::evaluate(f, &|n| {
+        let t = lookup(n, table, depth + 1)?;
+        t.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("variable `{n}` = `{t}` is not a number"))
+    })
+}
+
+/// Replaces `$x`, `${name}` and `$(formula)` outside quotes.
+fn substitute(s: &str, table: &HashMap<String, Var>) -> Result<String, String> {
+    let mut out = String::with_capacity(s.len());
+    let chars: Vec<char> = s.chars().collect();
+    let mut quote: Option<char> = None;
+    let mut k = 0;
+    while k < chars.len() {
+        let c = chars[k];
+        match quote {
+            Some(q) if c == q => quote = None,
+            None if c == '"' || c == '\'' => quote = Some(c),
+            None if c == '#' => {
+                out.extend(&chars[k..]);
+                break;
+            }
+            None if c == '$' => {
+                let (name, rest, immediate) = match chars.get(k + 1) {
+                    Some('{') => {
+                        let end = chars[k + 2..]
+                            .iter()
+                            .position(|&c| c == '}')
+                            .ok_or("missing `}` after `${`")?;
+                        (
+                            chars[k + 2..k + 2 + end].iter().collect::<String>(),
+                            k + 3 + end,
+                            false,
+                        )
+                    }
+                    Some('(') => {
+                        let mut depth = 0;
+                        let mut end = None;
+                        for (j, &c) in chars.iter().enumerate().skip(k + 1) {
+                            if c == '(' {
+                                depth += 1;
+                            } else if c == ')' {
+                                depth -= 1;
+                                if depth == 0 {
+                                    end = Some(j);
+                                    break;
+                                }
+                            }
+                        }
+                        let end = end.ok_or("missing `)` after `$(`")?;
+                        (chars[k + 2..end].iter().collect(), end + 1, true)
+                    }
+                    Some(&c) => (c.to_string(), k + 2, false),
+                    None => return Err("`$` at the end of a line".into()),
+                };
+                let value = if immediate {
+                    format_g(eval_formula(&name, table, 0)?, 15)
+                } else {
+                    lookup(&name, table, 0)?
+                };
+                out.push_str(&value);
+                k = rest;
+                continue;
+            }
+            _ => {}
+        }
+        out.push(c);
+        k += 1;
+    }
+    Ok(out)
+}
+
+/// Applies a `variable` command.
+fn define(words: &[String], table: &mut HashMap<String, Var>) -> Result<(), String> {
+    let (name, style) = match words {
+        [_, n, s, ..] => (n.clone(), s.as_str()),
+        [_, n] => return Err(format!("variable `{n}`: no style")),
+        _ => return Err("no variable name".into()),
+    };
+    let args = &words[3..];
+    match style {
+        "index" | "string" | "getenv" if args.is_empty() => {
+            Err(format!("variable `{name}`: no value"))
+        }
+        // an index variable already set (from the command line) keeps its value
+        "index" => {
+            table.entry(name).or_insert(Var::Text(args[0].clone()));
+            Ok(())
+        }
+        "string" => {
+            table.insert(name, Var::Text(args.join(" ")));
+            Ok(())
+        }
+        "equal" => {
+            if args.is_empty() {
+                return Err(format!("variable `{name}`: no formula"));
+            }
+            table.insert(name, Var::Equal(args.join(" ")));
+            Ok(())
+        }
+        "delete" => {
+            table.remove(&name);
+            Ok(())
+        }
+        other => Err(format!(
+            "variable style `{other}` is not supported (index, string, equal, delete)"
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn variables_and_substitution() {
+        let src = "variable np index 10\nvariable r equal 0.5*${np}\nvariable s string a b\n\
+                   run ${np} # $x\nx ${r} $(v_r*2) \"${s}\" ${s}\nvariable np index 99\ny ${np}";
+        let d = Deck::parse(src, Path::new("t.in"), &[]).unwrap();
+        assert_eq!(d.commands[0].words, ["run", "10"]);
+        assert_eq!(d.commands[1].words, ["x", "5", "10", "${s}", "a", "b"]);
+        assert_eq!(d.commands[2].words, ["y", "10"]);
+        let d = Deck::parse(src, Path::new("t.in"), &[("np".into(), "4".into())]).unwrap();
+        assert_eq!(d.commands[0].words, ["run", "4"]);
+        let e = Deck::parse("a\nb ${nope}", Path::new("t.in"), &[]).unwrap_err();
+        assert!(e.to_string().starts_with("t.in:2:"), "{e}");
+        assert!(e.to_string().contains("nope"), "{e}");
+    }
+}
