@@ -48,3 +48,18 @@ impl DumpArgs {
         })
     }
 }
+
+/// Sets the number of rayon worker threads from a `--np`/`--threads` option (`flag` names it in
+/// the error); `None` keeps rayon's default (all cores).
+pub fn set_threads(n: Option<usize>, flag: &str) -> anyhow::Result<()> {
+    let Some(n) = n else {
+        return Ok(());
+    };
+    if n == 0 {
+        anyhow::bail!("{flag} must be at least 1");
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build_global()
+        .map_err(|e| anyhow::anyhow!("setting the thread count: {e}"))
+}

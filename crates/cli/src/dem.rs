@@ -136,15 +136,7 @@ impl Output {
 /// Runs the command.
 pub fn run(a: &DemArgs) -> anyhow::Result<()> {
     let opts = parse_options(&a.words)?;
-    if let Some(n) = a.threads {
-        if n == 0 {
-            bail!("--threads must be at least 1");
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("setting the thread count")?;
-    }
+    crate::args::set_threads(a.threads, "--threads")?;
     let deck = liggghts_deck::Deck::read_with_vars(&opts.deck, &opts.vars)?;
     let log = match &opts.log {
         Some(p) => Some(std::io::BufWriter::new(

@@ -69,15 +69,7 @@ fn parse_vars(vars: &[String]) -> anyhow::Result<Vec<(String, String)>> {
 
 /// Runs the command.
 pub fn run(a: &RunArgs) -> anyhow::Result<()> {
-    if let Some(n) = a.np {
-        if n == 0 {
-            bail!("--np must be at least 1");
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .context("setting the thread count")?;
-    }
+    crate::args::set_threads(a.np, "--np")?;
     let opts = RunOptions {
         end_time: a.end_time,
         init_vars: parse_vars(&a.vars)?,
