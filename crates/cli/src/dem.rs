@@ -12,15 +12,12 @@ use std::time::Instant;
 /// Arguments of `foamgrain dem`.
 #[derive(Args, Debug)]
 pub struct DemArgs {
-    /// Worker threads of the native DEM (default: all cores; results are deterministic for a
-    /// given count).
-    #[arg(long)]
-    pub threads: Option<usize>,
     /// The deck and LIGGGHTS's own options, as `liggghts` takes them: `DECK` or `-in DECK`,
     /// `-var NAME VALUE` (or `-v`; repeatable), `-log FILE|none` (default `log.liggghts`),
-    /// `-screen none|FILE` (default: this terminal).
+    /// `-screen none|FILE` (default: this terminal); and `--threads N`, the native DEM's worker
+    /// threads (default: all cores; results are deterministic for a given count).
     #[arg(
-        value_name = "DECK | -in DECK | -var NAME VALUE | -log FILE | -screen FILE",
+        value_name = "DECK | -in DECK | -var NAME VALUE | -log FILE | -screen FILE | --threads N",
         required = true,
         allow_hyphen_values = true,
         trailing_var_arg = true
@@ -35,6 +32,7 @@ struct Options {
     vars: Vec<(String, String)>,
     log: Option<PathBuf>,
     screen: Screen,
+    threads: Option<usize>,
 }
 
 #[derive(Debug, PartialEq)]
@@ -49,6 +47,7 @@ fn parse_options(words: &[String]) -> anyhow::Result<Options> {
     let mut vars = Vec::new();
     let mut log = Some(PathBuf::from("log.liggghts"));
     let mut screen = Screen::Terminal;
+    let mut threads = None;
     let mut k = 0;
     let value = |k: usize, flag: &str| -> anyhow::Result<&String> {
         words
@@ -91,9 +90,17 @@ fn parse_options(words: &[String]) -> anyhow::Result<Options> {
                 };
                 k += 2;
             }
+            "--threads" => {
+                let n = value(k + 1, w)?;
+                threads = Some(
+                    n.parse()
+                        .with_context(|| format!("--threads `{n}` is not a whole number"))?,
+                );
+                k += 2;
+            }
             _ if w.starts_with('-') => bail!(
                 "LIGGGHTS option `{w}` is not supported by foamgrain dem \
-                 (supported: -in, -var/-v, -log, -screen)"
+                 (supported: -in, -var/-v, -log, -screen, --threads)"
             ),
             _ if k == 0 => {
                 deck = Some(PathBuf::from(w));
@@ -109,6 +116,7 @@ fn parse_options(words: &[String]) -> anyhow::Result<Options> {
         vars,
         log,
         screen,
+        threads,
     })
 }
 
@@ -136,7 +144,7 @@ impl Output {
 /// Runs the command.
 pub fn run(a: &DemArgs) -> anyhow::Result<()> {
     let opts = parse_options(&a.words)?;
-    crate::args::set_threads(a.threads, "--threads")?;
+    crate::args::set_threads(opts.threads, "--threads")?;
     let deck = liggghts_deck::Deck::read_with_vars(&opts.deck, &opts.vars)?;
     let log = match &opts.log {
         Some(p) => Some(std::io::BufWriter::new(
@@ -251,7 +259,9 @@ mod tests {
         );
         assert_eq!(o.log, None);
         assert_eq!(o.screen, Screen::Terminal);
-        let o = parse_options(&words("in.pour -screen none")).unwrap();
+        assert_eq!(o.threads, None);
+        let o = parse_options(&words("in.pour -screen none --threads 2")).unwrap();
+        assert_eq!(o.threads, Some(2));
         assert_eq!(o.log, Some(PathBuf::from("log.liggghts")));
         assert_eq!(o.screen, Screen::None);
         for (bad, says) in [
@@ -261,6 +271,7 @@ mod tests {
             ("-var n 1 2 3 in.x", "several values"),
             ("in.a -sf gpu", "`-sf`"),
             ("-log x.log", "no deck"),
+            ("in.a --threads two", "whole number"),
         ] {
             let e = parse_options(&words(bad)).unwrap_err().to_string();
             assert!(e.contains(says), "{bad}: {e}");

@@ -158,7 +158,11 @@ fn dem_runs_a_liggghts_deck_as_liggghts_would() {
     // The small pour of the DEM fixtures, in a directory of its own (paths in the deck are
     // relative to the current directory, as with `liggghts -in`).
     let dir = tempfile::tempdir().unwrap();
-    std::fs::copy(fixture("dem/pour.in"), dir.path().join("in.pour")).unwrap();
+    std::fs::copy(
+        testkit::liggghts_input("pour.in"),
+        dir.path().join("in.pour"),
+    )
+    .unwrap();
     let out = ok(
         &[
             "dem", "-in", "in.pour", "-var", "np", "60", "-var", "w", "0.003", "-var", "nsteps",

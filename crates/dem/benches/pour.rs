@@ -1,5 +1,5 @@
 //! Time per step of the native DEM on the settled 3000-sphere bed of the pour fixture
-//! (`tests/fixtures/dem/pour.in`, state from LIGGGHTS's dump `pour_liggghts.txt`), on 1 and 2
+//! (`liggghts-inputs/pour.in`, state from LIGGGHTS's dump `pour_liggghts.txt`), on 1 and 2
 //! threads. Items = particle-steps, so divan's throughput is particle-steps per second.
 //! LIGGGHTS's figure for the same bed and deck: see `tests/fixtures/dem/README.md`.
 
@@ -16,7 +16,7 @@ fn settled_bed() -> Simulation {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/dem");
     // the deck with nothing to insert and no steps: materials, walls, contact model, time step
     let vars = [("np", "0"), ("nsteps", "4")].map(|(a, b)| (a.to_string(), b.to_string()));
-    let deck = Deck::read_with_vars(fixtures.join("pour.in"), &vars).unwrap();
+    let deck = Deck::read_with_vars(testkit::liggghts_input("pour.in"), &vars).unwrap();
     let dir = std::env::temp_dir().join(format!("dem-bench-{}", std::process::id()));
     let mut sim = Simulation::from_deck(&deck, &dir).unwrap();
     // time the dynamics, not the deck's dump

@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! cargo run --release -p dem --example pour_compare -- \
-//!     tests/fixtures/dem/pour.in tests/fixtures/dem/pour_liggghts.txt \
+//!     liggghts-inputs/pour.in tests/fixtures/dem/pour_liggghts.txt \
 //!     [--log tests/fixtures/dem/pour_liggghts.log] [--half-width 0.01] [-var NAME VALUE]…
 //! ```
 //! The native run happens in a temporary directory; its dump of the same step as the LIGGGHTS

@@ -1,5 +1,5 @@
 //! The native DEM against Debian's LIGGGHTS 3.8.0 on the same deck
-//! (`tests/fixtures/dem/pour.in`, see the README there).
+//! (`liggghts-inputs/pour.in`; its LIGGGHTS output is in `tests/fixtures/dem/`, see the README there).
 //!
 //! Fast tier: the small variant of the pour (300 spheres) is run natively and its settled bed
 //! compared with LIGGGHTS's committed dump. Full tier: LIGGGHTS reruns the small variant and
@@ -36,8 +36,9 @@ fn measure(s: &Snapshot) -> bed::Bed {
 
 /// Runs the small pour natively in `dir`; returns its dump of step 12000.
 fn native_small(dir: &Path) -> Snapshot {
-    let deck = liggghts_deck::Deck::read_with_vars(testkit::fixture("dem/pour.in"), &small_vars())
-        .unwrap();
+    let deck =
+        liggghts_deck::Deck::read_with_vars(testkit::liggghts_input("pour.in"), &small_vars())
+            .unwrap();
     let sim = dem::Simulation::from_deck(&deck, dir).unwrap();
     assert_eq!(sim.particles.len(), 300);
     assert_eq!(sim.lost(), 0);
@@ -93,7 +94,11 @@ fn liggghts_reproduces_its_fixture_and_matches_the_native_bed() {
     }
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("post")).unwrap();
-    std::fs::copy(testkit::fixture("dem/pour.in"), dir.path().join("pour.in")).unwrap();
+    std::fs::copy(
+        testkit::liggghts_input("pour.in"),
+        dir.path().join("pour.in"),
+    )
+    .unwrap();
     let mut c = Command::new("liggghts");
     c.args(["-in", "pour.in", "-screen", "s.screen", "-log", "s.log"]);
     for (k, v) in SMALL {

@@ -1,6 +1,7 @@
 //! Test support shared by foamgrain's crates (a dev-dependency only).
 //!
-//! - [`fixture`]: the path of a committed fixture under `tests/fixtures/`.
+//! - [`fixture`]: the path of a committed fixture under `tests/fixtures/`; [`liggghts_input`]:
+//!   a standalone deck of `liggghts-inputs/`.
 //! - [`tool`]: the test tiers. The fast tier (`cargo test --workspace`) needs nothing but Rust;
 //!   tests that compare with Debian's OpenFOAM or LIGGGHTS call `tool("blockMesh")` and return
 //!   early with a printed note when the program is absent. With `FOAMGRAIN_FULL=1` (the full
@@ -20,6 +21,11 @@ pub fn repo_root() -> PathBuf {
 /// `tests/fixtures/<rel>` in the repository.
 pub fn fixture(rel: &str) -> PathBuf {
     repo_root().join("tests/fixtures").join(rel)
+}
+
+/// `liggghts-inputs/<name>` in the repository: a standalone LIGGGHTS deck.
+pub fn liggghts_input(name: &str) -> PathBuf {
+    repo_root().join("liggghts-inputs").join(name)
 }
 
 /// True when the full tier is requested (`FOAMGRAIN_FULL=1`).
