@@ -9,7 +9,8 @@ use std::f64::consts::PI;
 use std::path::Path;
 use std::process::Command;
 
-use common::{assert_same_values, close, fixtures, read_all};
+use approx::{abs_diff_eq, assert_abs_diff_eq, assert_relative_eq};
+use common::{assert_same_values, fixtures, read_all};
 use dem_io::{read_snapshot, Boundary, DumpReader, ErrorKind, ReadOptions, Selection, Snapshot};
 
 const SETTLE_COLUMNS: [&str; 13] = [
@@ -38,10 +39,20 @@ fn assert_text_equals_binary(dir: &Path, stem: &str, columns: &[&str], steps: &[
         assert_eq!(t.bounds.boundary, b.bounds.boundary);
         assert_eq!(t.bounds.tilt.is_some(), b.bounds.tilt.is_some());
         for k in 0..3 {
-            assert!(close(t.bounds.lo[k], b.bounds.lo[k], 5e-6, 0.0));
-            assert!(close(t.bounds.hi[k], b.bounds.hi[k], 5e-6, 0.0));
+            assert_relative_eq!(
+                t.bounds.lo[k],
+                b.bounds.lo[k],
+                epsilon = 0.0,
+                max_relative = 5e-6
+            );
+            assert_relative_eq!(
+                t.bounds.hi[k],
+                b.bounds.hi[k],
+                epsilon = 0.0,
+                max_relative = 5e-6
+            );
             if let (Some(tt), Some(bt)) = (t.bounds.tilt, b.bounds.tilt) {
-                assert!(close(tt[k], bt[k], 5e-6, 0.0));
+                assert_relative_eq!(tt[k], bt[k], epsilon = 0.0, max_relative = 5e-6);
             }
         }
     }
@@ -98,7 +109,12 @@ fn settle_matches_the_deck() {
                 assert_eq!(r, 0.0007);
                 2000.0
             };
-            assert!(close(mass[i], rho * 4.0 / 3.0 * PI * r.powi(3), 1e-12, 0.0));
+            assert_relative_eq!(
+                mass[i],
+                rho * 4.0 / 3.0 * PI * r.powi(3),
+                epsilon = 0.0,
+                max_relative = 1e-12
+            );
             let x = p.position[i];
             // Shrink-wrapped faces follow the particles only at re-neighbouring, so a
             // particle may be up to the neighbour skin (0.5 mm) outside.
@@ -142,16 +158,26 @@ fn default_precision_text_with_scaled_coordinates() {
                 let (lo, hi) = (g.bounds.lo[k], g.bounds.hi[k]);
                 let tol = 5e-6 * (lo.abs() + hi.abs()) + 5e-7 * (hi - lo);
                 assert!(
-                    close(pg.position[i][k], pb.position[i][k], 0.0, tol),
+                    abs_diff_eq!(pg.position[i][k], pb.position[i][k], epsilon = tol),
                     "step {} id {} axis {k}: {} vs {}",
                     g.timestep,
                     pg.id[i],
                     pg.position[i][k],
                     pb.position[i][k]
                 );
-                assert!(close(pg.velocity[i][k], pb.velocity[i][k], 5e-6, 1e-300));
+                assert_relative_eq!(
+                    pg.velocity[i][k],
+                    pb.velocity[i][k],
+                    epsilon = 1e-300,
+                    max_relative = 5e-6
+                );
             }
-            assert!(close(pg.radius[i], pb.radius[i], 5e-6, 0.0));
+            assert_relative_eq!(
+                pg.radius[i],
+                pb.radius[i],
+                epsilon = 0.0,
+                max_relative = 5e-6
+            );
             let expected = if pb.radius[i] == 0.0005 {
                 2500.0
             } else {
@@ -177,8 +203,8 @@ fn triclinic_box_and_scaled_coordinates() {
         assert_eq!(b.boundary, [[p, p], [p, p], [f, f]]);
         let cell = b.cell();
         for k in 0..3 {
-            assert!(close(cell.origin[k], 0.0, 0.0, 1e-18));
-            assert!(close(cell.edges[k][k], 0.01, 1e-14, 0.0));
+            assert_abs_diff_eq!(cell.origin[k], 0.0, epsilon = 1e-18);
+            assert_relative_eq!(cell.edges[k][k], 0.01, epsilon = 0.0, max_relative = 1e-14);
         }
         assert_eq!(cell.edges[1][0], 0.002);
         assert_eq!(cell.edges[2][0], -0.001);
@@ -192,7 +218,7 @@ fn triclinic_box_and_scaled_coordinates() {
             let from_scaled = b.scaled_to_cartesian(xs[i]);
             for k in 0..3 {
                 assert!(
-                    close(from_scaled[k], x[i][k], 0.0, 1e-15),
+                    abs_diff_eq!(from_scaled[k], x[i][k], epsilon = 1e-15),
                     "{from_scaled:?} {:?}",
                     x[i]
                 );
@@ -214,7 +240,7 @@ fn triclinic_box_and_scaled_coordinates() {
             .positions()
             .unwrap();
         for (s, x) in scaled.iter().zip(&x) {
-            assert!((0..3).all(|k| close(s[k], x[k], 0.0, 1e-15)));
+            assert!((0..3).all(|k| abs_diff_eq!(s[k], x[k], epsilon = 1e-15)));
         }
     }
     // In the text dump the bounds are the %g-printed bounding box.

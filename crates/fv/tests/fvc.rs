@@ -81,7 +81,7 @@ fn assert_close(name: &str, what: &str, ours: &[f64], of: &[f64]) {
     let scale = of.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     for (i, (a, b)) in ours.iter().zip(of).enumerate() {
         assert!(
-            (a - b).abs() <= 1e-12 * scale,
+            approx::abs_diff_eq!(a, b, epsilon = 1e-12 * scale),
             "{name} {what} component {i}: ours {a} OpenFOAM {b}"
         );
     }

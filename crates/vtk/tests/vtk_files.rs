@@ -53,7 +53,7 @@ fn assert_close(found: &[f64], expected: &[f64], tol: f64, what: &str) {
     assert_eq!(found.len(), expected.len(), "{what}: length");
     for (i, (&f, &e)) in found.iter().zip(expected).enumerate() {
         assert!(
-            (f - e).abs() <= tol * e.abs().max(1.0),
+            approx::relative_eq!(f, e, epsilon = tol, max_relative = tol),
             "{what}[{i}]: {f} vs {e}"
         );
     }

@@ -34,8 +34,3 @@ pub fn assert_same_values(a: &Snapshot, b: &Snapshot) {
         }
     }
 }
-
-/// `|a − b| ≤ rel·|b| + abs`.
-pub fn close(a: f64, b: f64, rel: f64, abs: f64) -> bool {
-    (a - b).abs() <= rel * b.abs() + abs
-}
