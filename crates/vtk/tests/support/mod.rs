@@ -392,7 +392,8 @@ fn reference_faces(vtk_type: i64) -> &'static [&'static [usize]] {
     }
 }
 
-fn polygon_volume(points: &[[f64; 3]], face: &[usize]) -> f64 {
+/// The face's share of the enclosed volume (divergence theorem over a triangle fan).
+pub fn polygon_volume(points: &[[f64; 3]], face: &[usize]) -> f64 {
     let p0 = points[face[0]];
     face[1..]
         .windows(2)
@@ -401,6 +402,18 @@ fn polygon_volume(points: &[[f64; 3]], face: &[usize]) -> f64 {
             (p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) - p0[1] * (p1[0] * p2[2] - p1[2] * p2[0])
                 + p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]))
                 / 6.0
+        })
+        .sum()
+}
+
+/// The volume a VTK linear cell (tetrahedron, hexahedron, pyramid) with global point ids `cell`
+/// encloses, from VTK's own definition of its faces (positive when the point order is VTK's).
+pub fn linear_cell_volume(points: &[[f64; 3]], cell: &[usize], vtk_type: i64) -> f64 {
+    reference_faces(vtk_type)
+        .iter()
+        .map(|f| {
+            let face: Vec<usize> = f.iter().map(|&l| cell[l]).collect();
+            polygon_volume(points, &face)
         })
         .sum()
 }
@@ -476,13 +489,7 @@ pub fn vtu_cell_volumes(v: &VtkXml) -> Vec<f64> {
             if has_faces {
                 assert_eq!(face_offsets[c], -1);
             }
-            reference_faces(types[c])
-                .iter()
-                .map(|f| {
-                    let face: Vec<usize> = f.iter().map(|&l| cell[l]).collect();
-                    polygon_volume(&points, &face)
-                })
-                .sum()
+            linear_cell_volume(&points, &cell, types[c])
         };
         volumes.push(vol);
         start = end;
