@@ -31,8 +31,12 @@ enum Column {
     Time,
     Dt,
     Vol,
-    /// `c_ID`: a compute, resolved when a run starts (LIGGGHTS allows defining it later).
-    Compute(String),
+    /// `c_ID` or `c_ID[k]`: a compute (its id, the keyword after `c_` for the header),
+    /// resolved when a run starts (LIGGGHTS allows defining it later).
+    Compute {
+        id: String,
+        label: String,
+    },
     /// A keyword foamgrain does not compute: printed blank.
     Blank(String),
 }
@@ -48,7 +52,10 @@ impl Column {
             "dt" => Column::Dt,
             "vol" => Column::Vol,
             w => match w.strip_prefix("c_") {
-                Some(id) if !id.is_empty() => Column::Compute(id.to_owned()),
+                Some(label) if !label.is_empty() => Column::Compute {
+                    id: label.split('[').next().unwrap_or(label).to_owned(),
+                    label: label.to_owned(),
+                },
                 _ => Column::Blank(w.to_owned()),
             },
         }
@@ -64,7 +71,7 @@ impl Column {
             Column::Time => "Time".into(),
             Column::Dt => "Dt".into(),
             Column::Vol => "Volume".into(),
-            Column::Compute(id) => id.clone(),
+            Column::Compute { label, .. } => label.clone(),
             Column::Blank(w) => w.clone(),
         }
     }
@@ -226,18 +233,24 @@ impl Thermo {
         let mut columns = Vec::with_capacity(self.columns.len());
         for c in &self.columns {
             let style = match c {
-                Column::Compute(id) => {
+                Column::Compute { id, label } => {
                     let style = self
                         .computes
                         .get(id)
-                        .ok_or_else(|| format!("thermo column c_{id}: no compute `{id}`"))?;
-                    if let ComputeStyle::Unsupported(s) = style {
+                        .ok_or_else(|| format!("thermo column c_{label}: no compute `{id}`"))?;
+                    let style = match style {
+                        ComputeStyle::RotationalEnergy if label != id => ComputeStyle::Unsupported(
+                            format!("erotate/sphere (a scalar) as {label}"),
+                        ),
+                        s => s.clone(),
+                    };
+                    if let ComputeStyle::Unsupported(s) = &style {
                         warnings.push(format!(
-                            "thermo column c_{id}: compute style `{s}` is not computed by the \
+                            "thermo column c_{label}: compute style `{s}` is not computed by the \
                              native DEM; the column stays blank"
                         ));
                     }
-                    Some(style.clone())
+                    Some(style)
                 }
                 _ => None,
             };
@@ -286,10 +299,10 @@ impl RunColumns {
                     let b = sim.sim_box().dump_bounds(&sim.particles.x);
                     thermo_float((0..3).map(|k| b.hi[k] - b.lo[k]).product())
                 }
-                (Column::Compute(_), Some(ComputeStyle::RotationalEnergy)) => {
+                (Column::Compute { .. }, Some(ComputeStyle::RotationalEnergy)) => {
                     thermo_float(sim.particles.rotational_energy() * per)
                 }
-                (Column::Compute(_) | Column::Blank(_), _) => " ".repeat(14),
+                (Column::Compute { .. } | Column::Blank(_), _) => " ".repeat(14),
             };
             s.push_str(&cell);
             s.push(' ');
