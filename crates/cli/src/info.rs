@@ -46,7 +46,7 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<()> {
     let m = case.read_mesh()?;
     let geom = mesh::MeshGeometry::new(&m)
         .with_context(|| format!("mesh of {}", case.root().display()))?;
-    let bb = mesh::Aabb::of_points(&m.points);
+    let bb = geom.bounds;
     let info = CaseInfo {
         case: case.root().display().to_string(),
         cells: m.n_cells,
@@ -63,7 +63,7 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<()> {
             })
             .collect(),
         total_volume: geom.total_volume(),
-        bounding_box: [bb.min, bb.max],
+        bounding_box: [bb.min.into(), bb.max.into()],
         axis_aligned_hex_grid: mesh::AxisGrid::detect(&m).map(|g| g.dims()),
         times: case.times()?.into_iter().map(|t| t.name).collect(),
         processors: case.processors()?.len(),

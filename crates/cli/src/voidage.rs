@@ -91,7 +91,7 @@ pub fn run(a: &VoidageArgs) -> anyhow::Result<()> {
     let vm =
         VoidageMesh::new(&mesh).with_context(|| format!("mesh of {}", case.root().display()))?;
     let set = ParticleSet {
-        positions: &positions,
+        positions: mesh::v3::as_vectors(&positions),
         radii: &radii,
         ids: ids.as_deref(),
     };

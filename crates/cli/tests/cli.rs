@@ -1,5 +1,6 @@
 //! The `foamgrain` binary end to end on committed fixtures (real OpenFOAM and LIGGGHTS output).
 
+use approx::assert_abs_diff_eq;
 use std::path::Path;
 use std::process::{Command, Output};
 use testkit::fixture;
@@ -35,7 +36,7 @@ fn info_json_matches_checkmesh() {
     assert_eq!(v["faces"], 98);
     assert_eq!(v["internal_faces"], 46);
     assert_eq!(v["points"], 60);
-    assert!((v["total_volume"].as_f64().unwrap() - 1e-4).abs() < 1e-18);
+    assert_abs_diff_eq!(v["total_volume"].as_f64().unwrap(), 1e-4, epsilon = 1e-18);
     assert_eq!(v["patches"][2]["type"], "empty");
     assert_eq!(v["processors"], 2);
     assert_eq!(v["axis_aligned_hex_grid"], serde_json::Value::Null); // the block is skewed

@@ -5,6 +5,7 @@
 //!   round-off), and the reported momentum balances;
 //! * timestep: the Ergun reference case against hand-computed Rayleigh and Stokes times.
 
+use approx::assert_abs_diff_eq;
 use dem_io::{read_snapshot, ReadOptions, Selection};
 use foam::{default_boundary, FieldValues, Format, VolField};
 use mesh::build::uniform_box;
@@ -141,16 +142,19 @@ fn couple_replays_settle_dump() {
         let sum_beta: f64 = beta.iter().sum();
         let int_ksl: f64 = ksl.iter().zip(&vols).map(|(k, v)| k * v).sum();
         assert!(
-            (int_ksl - sum_beta).abs() < 1e-12 * sum_beta,
+            approx::abs_diff_eq!(int_ksl, sum_beta, epsilon = 1e-12 * sum_beta),
             "{int_ksl} vs {sum_beta}"
         );
         for a in 0..3 {
             let bv: f64 = beta.iter().zip(&p.velocity).map(|(b, v)| b * v[a]).sum();
             let cells: f64 = (0..n).map(|c| ksl[c] * vols[c] * us[c][a]).sum();
-            assert!((cells - bv).abs() < 1e-12 * sum_beta, "Σ Ksl Us V vs Σ β v");
+            assert!(
+                approx::abs_diff_eq!(cells, bv, epsilon = 1e-12 * sum_beta),
+                "Σ Ksl Us V vs Σ β v"
+            );
             let pm = r["particle_momentum"][a].as_f64().unwrap();
             let cm = r["cell_momentum"][a].as_f64().unwrap();
-            assert!((pm - cm).abs() <= 1e-12 * sum_beta * 0.1);
+            assert_abs_diff_eq!(pm, cm, epsilon = 1e-12 * sum_beta * 0.1);
         }
         // The total fluid force on the particles: drag β (U − v) in the uniform flow plus
         // Archimedes' ρ V g upwards (model B, no other force).
@@ -224,11 +228,19 @@ fn timestep_of_the_ergun_case() {
     // Rayleigh (seed 002 eq. 10): r = 0.5 mm, ρ_p = 2000, E = 5 MPa, ν = 0.45.
     let shear: f64 = 5e6 / (2.0 * 1.45);
     let rayleigh = PI * 5e-4 * (2000.0 / shear).sqrt() / (0.1631 * 0.45 + 0.8766);
-    assert!((value("Rayleigh time step") - rayleigh).abs() < 1e-6 * rayleigh);
+    assert_abs_diff_eq!(
+        value("Rayleigh time step"),
+        rayleigh,
+        epsilon = 1e-6 * rayleigh
+    );
     // Stokes: ρ_p d²/(18 ρ ν) with ρ = 10, ν = 1.5e-4.
     let stokes = 2000.0 * 1e-6 / (18.0 * 10.0 * 1.5e-4);
-    assert!((value("Stokes relaxation time") - stokes).abs() < 1e-6 * stokes);
-    assert!((value("coupling time") - 50.0 * 1e-5).abs() < 1e-12);
+    assert_abs_diff_eq!(
+        value("Stokes relaxation time"),
+        stokes,
+        epsilon = 1e-6 * stokes
+    );
+    assert_abs_diff_eq!(value("coupling time"), 50.0 * 1e-5, epsilon = 1e-12);
     assert!(
         out.contains("warning: DEM step 1e-5 s resolves the Hertz contact time"),
         "{out}"

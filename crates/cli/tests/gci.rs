@@ -2,6 +2,7 @@
 //! Table 1 through the CLI, successive triplets with a divergent one, command-line lists, and
 //! bad tables whose errors name the file and line.
 
+use approx::assert_abs_diff_eq;
 use std::process::{Command, Output};
 use testkit::fixture;
 
@@ -103,8 +104,11 @@ fn successive_triplets_report_divergence_instead_of_numbers() {
     assert_eq!(ts.len(), 2);
     // φ = 2 + 0.5 h² on h = 0.1, 0.2, 0.4: p = 2, φ_ext = 2 (inputs rounded to 3 decimals).
     let e = &ts[0]["outcome"]["estimate"];
-    assert!((f(&e["p"]) - 2.0).abs() < 1e-9, "{e}");
-    assert!((f(&e["phi_ext21"]) - 2.0).abs() < 1e-9, "{e}");
+    assert!(approx::abs_diff_eq!(f(&e["p"]), 2.0, epsilon = 1e-9), "{e}");
+    assert!(
+        approx::abs_diff_eq!(f(&e["phi_ext21"]), 2.0, epsilon = 1e-9),
+        "{e}"
+    );
     assert_eq!(ts[1]["behaviour"], "oscillatory_divergence");
     assert_eq!(ts[1]["outcome"]["undefined"], "oscillatory_divergence");
     assert!(ts[1]["outcome"].get("estimate").is_none());
@@ -138,7 +142,7 @@ fn command_line_lists_safety_factor_and_small_ratio_warning() {
         f(&v["quantities"][0]["triplets"][0]["outcome"]["estimate"]["relative"]["gci_fine21"])
     };
     assert!(rounds_to(100.0 * gci(&base), 1, 2.2));
-    assert!((gci(&three) / gci(&base) - 3.0 / 1.25).abs() < 1e-12);
+    assert_abs_diff_eq!(gci(&three) / gci(&base), 3.0 / 1.25, epsilon = 1e-12);
 
     let (_, stderr) = ok(&[
         "gci",

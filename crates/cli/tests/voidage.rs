@@ -3,6 +3,7 @@
 //! (general-mesh path) with a generated dump. Checks the JSON accounting against independent
 //! sums, the written field against the reported volumes, clipping, time names and errors.
 
+use approx::assert_abs_diff_eq;
 use dem_io::{Boundary, BoxBounds, Snapshot};
 use foam::{FieldValues, Format, VolField};
 use mesh::build::uniform_box;
@@ -87,12 +88,12 @@ fn every_method_on_a_grid_with_the_settle_dump() {
         assert_eq!(v["cells"], 96);
         assert_eq!(v["axis_aligned_grid"], true);
         assert_eq!(v["clipped_volume"], 0.0);
-        assert!((f(&v, "particle_volume") - volume).abs() < 1e-12 * volume);
+        assert_abs_diff_eq!(f(&v, "particle_volume"), volume, epsilon = 1e-12 * volume);
         let (dep, out) = (f(&v, "deposited_volume"), f(&v, "outside_volume"));
         assert!((dep + out - volume).abs() < 1e-12 * volume, "{method}");
         assert!(f(&v, "voidage_seconds") <= f(&v, "total_seconds"));
         if method == "exact" {
-            assert!((dep - inside).abs() < 1e-12 * volume);
+            assert_abs_diff_eq!(dep, inside, epsilon = 1e-12 * volume);
         }
         // The written field holds the deposited solid: Σ (1 − ε) V = deposited.
         let eps = read_eps(&case.path().join("0/voidfraction"), 96);
@@ -102,7 +103,7 @@ fn every_method_on_a_grid_with_the_settle_dump() {
             .map(|(e, v)| (1.0 - e) * v)
             .sum();
         assert!(
-            (solid - dep).abs() < 1e-12 * dep,
+            approx::abs_diff_eq!(solid, dep, epsilon = 1e-12 * dep),
             "{method}: {solid} vs {dep}"
         );
         assert!(eps.iter().all(|&e| e > 0.5 && e <= 1.0));
@@ -180,7 +181,7 @@ fn general_mesh_cavity_fixture() {
         let v = json(&["voidage", "--case", dir, "--dump", dump, "--method", method]);
         assert_eq!(v["axis_aligned_grid"], false);
         let (dep, out) = (f(&v, "deposited_volume"), f(&v, "outside_volume"));
-        assert!((f(&v, "particle_volume") - volume).abs() < 1e-12 * volume);
+        assert_abs_diff_eq!(f(&v, "particle_volume"), volume, epsilon = 1e-12 * volume);
         assert!((dep + out - volume).abs() < 1e-12 * volume, "{method}");
         assert!(read_eps(&case.path().join("0/voidfraction"), 24).len() == 24);
     }

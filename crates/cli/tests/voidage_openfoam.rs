@@ -62,7 +62,11 @@ fn openfoam_integral_of_written_voidage_equals_deposited_volume() {
         let outside = v["outside_volume"].as_f64().unwrap();
         let particles = v["particle_volume"].as_f64().unwrap();
         assert!(
-            ((deposited + outside) - particles).abs() <= 1e-12 * particles,
+            approx::abs_diff_eq!(
+                (deposited + outside),
+                particles,
+                epsilon = 1e-12 * particles
+            ),
             "{method}: {v}"
         );
         let mut pp = openfoam("postProcess");

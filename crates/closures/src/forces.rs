@@ -4,14 +4,14 @@
 //! Which of these a coupling applies, and where their reactions go, is decided by the model
 //! type ([`crate::model`]).
 
-use mesh::v3::{self, V3};
+use mesh::v3::V3;
 
 /// Pressure-gradient force −V_p ρ ∇p, N, with `grad_p` the gradient of the kinematic
 /// pressure p/ρ (m/s²), `volume` V_p (m³), `rho` ρ (kg/m³) (Zhou et al. 2010, f_∇p; seed `002`
 /// eq. 6; CFDEMcoupling's `gradPForce` with a kinematic p).
 #[inline]
 pub fn pressure_gradient(volume: f64, rho: f64, grad_p: V3) -> V3 {
-    v3::scale(-volume * rho, grad_p)
+    -volume * rho * grad_p
 }
 
 /// Viscous-stress force V_p ρ ∇·τ, N, with `div_tau` = ∇·(ν(∇u + ∇uᵀ)) the divergence of
@@ -21,7 +21,7 @@ pub fn pressure_gradient(volume: f64, rho: f64, grad_p: V3) -> V3 {
 /// the viscous force density of the fluid it displaces (seed `002` eq. 6, f_∇τ).
 #[inline]
 pub fn viscous_stress(volume: f64, rho: f64, div_tau: V3) -> V3 {
-    v3::scale(volume * rho, div_tau)
+    volume * rho * div_tau
 }
 
 /// Archimedes buoyancy −ρ V_p g, N (opposite to gravity `g`, m/s²; CFDEMcoupling's
@@ -30,7 +30,7 @@ pub fn viscous_stress(volume: f64, rho: f64, div_tau: V3) -> V3 {
 /// hydrostatic p the pressure-gradient force already is the buoyancy.
 #[inline]
 pub fn buoyancy(volume: f64, rho: f64, g: V3) -> V3 {
-    v3::scale(-rho * volume, g)
+    -rho * volume * g
 }
 
 /// Added-mass coefficient of an isolated sphere in potential flow (Lamb 1932), dimensionless.
@@ -43,7 +43,7 @@ pub const SPHERE_VIRTUAL_MASS_COEFFICIENT: f64 = 0.5;
 /// stable only for ρ_p ≳ C_vm ρ; for light particles integrate it implicitly.
 #[inline]
 pub fn virtual_mass(c_vm: f64, volume: f64, rho: f64, fluid_accel: V3, particle_accel: V3) -> V3 {
-    v3::scale(c_vm * rho * volume, v3::sub(fluid_accel, particle_accel))
+    c_vm * rho * volume * (fluid_accel - particle_accel)
 }
 
 /// Saffman (1965) shear lift on a sphere, N:
@@ -52,14 +52,11 @@ pub fn virtual_mass(c_vm: f64, volume: f64, rho: f64, fluid_accel: V3, particle_
 /// 6.46 μ a² |u| √(|ω|/ν) with a = d/2). Valid for Re_p ≪ Re_ω^½ ≪ 1; zero without vorticity.
 #[inline]
 pub fn saffman_lift(d: f64, rho: f64, mu: f64, slip: V3, vorticity: V3) -> V3 {
-    let w = v3::mag(vorticity);
+    let w = vorticity.norm();
     if w == 0.0 {
-        return [0.0; 3];
+        return V3::zeros();
     }
-    v3::scale(
-        1.615 * d * d * (rho * mu / w).sqrt(),
-        v3::cross(slip, vorticity),
-    )
+    1.615 * d * d * (rho * mu / w).sqrt() * slip.cross(&vorticity)
 }
 
 /// Mei's (1992) correction C_L/C_L,Saffman of the Saffman lift to finite Reynolds numbers,
@@ -84,10 +81,7 @@ pub fn mei_factor(re_p: f64, re_omega: f64) -> f64 {
 /// Mei (1992) lift: the [`saffman_lift`] times [`mei_factor`], N.
 #[inline]
 pub fn mei_lift(d: f64, rho: f64, mu: f64, slip: V3, vorticity: V3) -> V3 {
-    let re_p = rho * d * v3::mag(slip) / mu;
-    let re_omega = rho * v3::mag(vorticity) * d * d / mu;
-    v3::scale(
-        mei_factor(re_p, re_omega),
-        saffman_lift(d, rho, mu, slip, vorticity),
-    )
+    let re_p = rho * d * slip.norm() / mu;
+    let re_omega = rho * vorticity.norm() * d * d / mu;
+    mei_factor(re_p, re_omega) * saffman_lift(d, rho, mu, slip, vorticity)
 }

@@ -21,7 +21,7 @@
 
 use crate::error::ClosureError;
 use crate::forces::{buoyancy, pressure_gradient, viscous_stress};
-use mesh::v3::{self, V3};
+use mesh::v3::V3;
 
 /// The model type (`modelType` in CFDEM's `couplingProperties`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -104,7 +104,7 @@ impl ParticleForces {
     /// Total fluid force on the particle, N.
     #[inline]
     pub fn total(&self) -> V3 {
-        v3::add(self.drag, self.explicit)
+        self.drag + self.explicit
     }
 }
 
@@ -121,23 +121,23 @@ pub fn particle_forces(
     g: V3,
 ) -> ParticleForces {
     let beta = model.drag_coefficient(beta, fluid.voidage);
-    let drag = v3::scale(beta, v3::sub(fluid.u, v_p));
+    let drag = beta * (fluid.u - v_p);
     let archimedes = buoyancy(volume, fluid.rho, g);
     let stresses = match model {
-        ModelType::B => [0.0; 3],
-        ModelType::A | ModelType::BFull => v3::add(
-            pressure_gradient(volume, fluid.rho, fluid.grad_p),
-            viscous_stress(volume, fluid.rho, fluid.div_tau),
-        ),
+        ModelType::B => V3::zeros(),
+        ModelType::A | ModelType::BFull => {
+            pressure_gradient(volume, fluid.rho, fluid.grad_p)
+                + viscous_stress(volume, fluid.rho, fluid.div_tau)
+        }
     };
     let explicit_coupled = match model {
         ModelType::BFull => stresses,
-        ModelType::A | ModelType::B => [0.0; 3],
+        ModelType::A | ModelType::B => V3::zeros(),
     };
     ParticleForces {
         beta,
         drag,
-        explicit: v3::add(stresses, archimedes),
+        explicit: (stresses + archimedes),
         explicit_coupled,
     }
 }

@@ -2,6 +2,8 @@
 //! exchange coefficients per unit volume, normalised forces), their limits, and the two
 //! REFERENCE.md cases (CFDEM's Ergun bed and settling sphere).
 
+use approx::assert_abs_diff_eq;
+use approx::assert_relative_eq;
 use closures::drag::{beetstra, di_felice, ergun, gidaspow, koch_hill, schiller_naumann, wen_yu};
 use closures::{DragClosure, DragInput, DragLaw, DRAG_LAW_NAMES};
 use std::f64::consts::PI;
@@ -38,11 +40,16 @@ fn ergun_bed_reproduces_reference_pressure_drops() {
         let n = (1.0 - eps) / vp(d);
         let dp = n * beta * u_int / eps * l;
         assert!(
-            (dp - dp_ref).abs() < 0.05 + 5e-4 * dp_ref,
+            approx::abs_diff_eq!(dp, dp_ref, epsilon = 0.05 + 5e-4 * dp_ref),
             "{us}: {dp} vs {dp_ref}"
         );
         // and exactly Ergun's equation (same physics, written independently)
-        assert!(rel(dp, ergun_dp_per_l(eps, d, mu, rho, us) * l) < 1e-12);
+        assert_relative_eq!(
+            dp,
+            ergun_dp_per_l(eps, d, mu, rho, us) * l,
+            epsilon = 0.0,
+            max_relative = 1e-12
+        );
     }
 }
 
@@ -75,12 +82,26 @@ fn gidaspow_jump_at_the_switch() {
     // Ergun over Wen–Yu at ε = 0.8: Stokes 150·0.2/0.8 / (18·0.8^−2.65); Newton regime
     // 1.75 / (0.75·0.44·0.8^−1.65).
     let ratio = |re: f64| ergun::beta(&at(0.8, re)) / wen_yu::beta(&at(0.8, re));
-    assert!(rel(ratio(1e-10), 37.5 / (18.0 * 0.8f64.powf(-2.65))) < 1e-6);
-    assert!((ratio(1e-10) - 1.154).abs() < 1e-3);
-    assert!((ratio(100.0) - 1.73).abs() < 0.01, "{}", ratio(100.0));
+    assert_relative_eq!(
+        ratio(1e-10),
+        37.5 / (18.0 * 0.8f64.powf(-2.65)),
+        epsilon = 0.0,
+        max_relative = 1e-6
+    );
+    assert_abs_diff_eq!(ratio(1e-10), 1.154, epsilon = 1e-3);
+    assert!(
+        approx::abs_diff_eq!(ratio(100.0), 1.73, epsilon = 0.01),
+        "{}",
+        ratio(100.0)
+    );
     // at Re = 1e7 Ergun's viscous term is 1e-6 of its inertial one
-    assert!(rel(ratio(1e7), 1.75 / (0.33 * 0.8f64.powf(-1.65))) < 1e-5);
-    assert!((ratio(1e7) - 3.67).abs() < 0.01);
+    assert_relative_eq!(
+        ratio(1e7),
+        1.75 / (0.33 * 0.8f64.powf(-1.65)),
+        epsilon = 0.0,
+        max_relative = 1e-5
+    );
+    assert_abs_diff_eq!(ratio(1e7), 3.67, epsilon = 0.01);
 }
 
 /// Gidaspow's exchange coefficients per unit volume (Gidaspow 1994, eq. 5.46–5.47), written
@@ -92,7 +113,12 @@ fn ergun_and_wen_yu_match_gidaspows_exchange_coefficients() {
         let u = x.slip;
         let k = 150.0 * (1.0 - eps).powi(2) * x.mu / (eps * x.diameter.powi(2))
             + 1.75 * (1.0 - eps) * x.rho * u / x.diameter;
-        assert!(rel(ergun::beta(&x), k * vp(x.diameter) / (1.0 - eps)) < 1e-13);
+        assert_relative_eq!(
+            ergun::beta(&x),
+            k * vp(x.diameter) / (1.0 - eps),
+            epsilon = 0.0,
+            max_relative = 1e-13
+        );
     }
     for (eps, re, cd) in [
         (0.85, 10.0, 24.0 / 10.0 * (1.0 + 0.15 * 10f64.powf(0.687))),
@@ -101,7 +127,12 @@ fn ergun_and_wen_yu_match_gidaspows_exchange_coefficients() {
     ] {
         let x = at(eps, re);
         let k = 0.75 * cd * eps * (1.0 - eps) * x.rho * x.slip / x.diameter * eps.powf(-2.65);
-        assert!(rel(wen_yu::beta(&x), k * vp(x.diameter) / (1.0 - eps)) < 1e-13);
+        assert_relative_eq!(
+            wen_yu::beta(&x),
+            k * vp(x.diameter) / (1.0 - eps),
+            epsilon = 0.0,
+            max_relative = 1e-13
+        );
     }
 }
 
@@ -110,28 +141,41 @@ fn hand_computed_values() {
     // Ergun at ε = 0.5, d = 1 mm, μ = 1e-3, ρ = 1000, u = 0.01 (water-like):
     // V_p = 5.235987756e-10; 150·0.5·1e-3/(0.5·1e-6) = 1.5e5; 1.75·1000·0.01/1e-3 = 1.75e4.
     let x = DragInput::new(0.5, 1e-3, 0.01, 1000.0, 1e-3);
-    assert!(rel(DragLaw::Ergun.beta(&x), 5.235987756e-10 * 1.675e5) < 1e-9);
+    assert_relative_eq!(
+        DragLaw::Ergun.beta(&x),
+        5.235987756e-10 * 1.675e5,
+        epsilon = 0.0,
+        max_relative = 1e-9
+    );
     // Schiller–Naumann at Re = 100 (d = 1 mm, ρ = 1000, μ = 1e-3, u = 0.1):
     // C_d = 0.24·(1 + 0.15·100^0.687) = 0.24·(1 + 0.15·23.659) = 1.09173; β = π/8·C_d·ρ·d²·u.
     let x = DragInput::new(0.7, 1e-3, 0.1, 1000.0, 1e-3);
     let cd = 0.24 * (1.0 + 0.15 * 100f64.powf(0.687));
-    assert!((cd - 1.09173).abs() < 1e-5);
-    assert!(
-        rel(
-            DragLaw::SchillerNaumann.beta(&x),
-            PI / 8.0 * cd * 1000.0 * 1e-6 * 0.1
-        ) < 1e-13
+    assert_abs_diff_eq!(cd, 1.09173, epsilon = 1e-5);
+    assert_relative_eq!(
+        DragLaw::SchillerNaumann.beta(&x),
+        PI / 8.0 * cd * 1000.0 * 1e-6 * 0.1,
+        epsilon = 0.0,
+        max_relative = 1e-13
     );
     // Koch–Hill at φ = 0.2 (ε = 0.8): F₀ = (1 + 3√0.1 + 2.109375·0.2·ln0.2 + 3.228)
     //   /(1 + 0.1362 − 0.3392 + 0.06528) = 4.497709/0.86228 = 5.21607;
     // F₃ = 0.0673 + 0.0424 + 0.0232/0.32768 = 0.180500.
-    assert!((koch_hill::f0(0.2) - 5.21607).abs() < 2e-5);
-    assert!((koch_hill::f3(0.2) - 0.180500).abs() < 1e-6);
+    assert_abs_diff_eq!(koch_hill::f0(0.2), 5.21607, epsilon = 2e-5);
+    assert_abs_diff_eq!(koch_hill::f3(0.2), 0.180500, epsilon = 1e-6);
     // Beetstra Stokes part at φ = 0.2: 10·0.2/0.64 + 0.64·(1 + 1.5√0.2) = 3.125 + 1.069325.
-    assert!((beetstra::normalised_drag(0.8, 0.0) - 4.194325).abs() < 1e-6);
+    assert_abs_diff_eq!(
+        beetstra::normalised_drag(0.8, 0.0),
+        4.194325,
+        epsilon = 1e-6
+    );
     // Di Felice exponent: 3.7 − 0.65 at Re = 10^1.5; 3.7 − 0.65·e^−0.5 at Re = 10^0.5.
-    assert!((di_felice::exponent(10f64.powf(1.5)) - 3.05).abs() < 1e-12);
-    assert!((di_felice::exponent(10f64.powf(0.5)) - (3.7 - 0.65 * (-0.5f64).exp())).abs() < 1e-12);
+    assert_abs_diff_eq!(di_felice::exponent(10f64.powf(1.5)), 3.05, epsilon = 1e-12);
+    assert_abs_diff_eq!(
+        di_felice::exponent(10f64.powf(0.5)),
+        (3.7 - 0.65 * (-0.5f64).exp()),
+        epsilon = 1e-12
+    );
 }
 
 #[test]
@@ -145,10 +189,18 @@ fn single_particle_laws_reach_stokes_drag() {
             DragLaw::KochHill,
             DragLaw::Beetstra,
         ] {
-            assert!(rel(law.beta(&x), stokes(&x)) < 1e-5, "{law:?}");
+            assert!(
+                approx::relative_eq!(law.beta(&x), stokes(&x), epsilon = 0.0, max_relative = 1e-5),
+                "{law:?}"
+            );
         }
         // Dallavalle's C_d = (0.63 + 4.8/√Re)² → 23.04/Re: 0.96 of Stokes.
-        assert!(rel(DragLaw::DiFelice.beta(&x), 0.96 * stokes(&x)) < 1e-3);
+        assert_relative_eq!(
+            DragLaw::DiFelice.beta(&x),
+            0.96 * stokes(&x),
+            epsilon = 0.0,
+            max_relative = 1e-3
+        );
     }
     // and at exactly zero slip the coefficients stay finite
     let x = DragInput::new(0.6, 1e-3, 0.0, 1.2, 1.8e-5);
@@ -163,15 +215,35 @@ fn dilute_laws_tend_to_single_particle_drag() {
     for re in [0.1, 10.0, 500.0, 3000.0] {
         // Wen–Yu at ε = 1 is Schiller–Naumann (same C_d curve, same Re).
         let x = at(1.0, re);
-        assert!(rel(wen_yu::beta(&x), schiller_naumann::beta(&x)) < 1e-13);
+        assert_relative_eq!(
+            wen_yu::beta(&x),
+            schiller_naumann::beta(&x),
+            epsilon = 0.0,
+            max_relative = 1e-13
+        );
         // Di Felice at ε = 1 is the single-sphere Dallavalle drag ½C_d ρ (πd²/4) u².
         let cd = (0.63 + 4.8 / re.sqrt()).powi(2);
         let f = 0.5 * cd * x.rho * PI * x.diameter.powi(2) / 4.0 * x.slip * x.slip;
-        assert!(rel(di_felice::beta(&x) * x.slip, f) < 1e-13);
+        assert_relative_eq!(
+            di_felice::beta(&x) * x.slip,
+            f,
+            epsilon = 0.0,
+            max_relative = 1e-13
+        );
         // approaching ε → 1 continuously
         let near = at(1.0 - 1e-9, re);
-        assert!(rel(wen_yu::beta(&near), schiller_naumann::beta(&x)) < 1e-6);
-        assert!(rel(di_felice::beta(&near), di_felice::beta(&x)) < 1e-6);
+        assert_relative_eq!(
+            wen_yu::beta(&near),
+            schiller_naumann::beta(&x),
+            epsilon = 0.0,
+            max_relative = 1e-6
+        );
+        assert_relative_eq!(
+            di_felice::beta(&near),
+            di_felice::beta(&x),
+            epsilon = 0.0,
+            max_relative = 1e-6
+        );
     }
 }
 
@@ -230,7 +302,12 @@ fn di_felice_in_its_superficial_form() {
         let cd = (0.63 + 4.8 / re.sqrt()).powi(2);
         let chi = 3.7 - 0.65 * (-(1.5 - re.log10()).powi(2) / 2.0).exp();
         let f = 0.5 * cd * x.rho * PI * x.diameter.powi(2) / 4.0 * us * us * eps.powf(-chi);
-        assert!(rel(di_felice::beta(&x) * x.slip, f) < 1e-12);
+        assert_relative_eq!(
+            di_felice::beta(&x) * x.slip,
+            f,
+            epsilon = 0.0,
+            max_relative = 1e-12
+        );
     }
 }
 
@@ -243,20 +320,34 @@ fn koch_hill_matches_van_buijtenen_and_its_limits() {
         let k =
             18.0 * x.mu * eps * eps * phi * (koch_hill::f0(phi) + 0.5 * koch_hill::f3(phi) * re)
                 / x.diameter.powi(2);
-        assert!(rel(koch_hill::beta(&x), k * vp(x.diameter) / phi) < 1e-12);
+        assert_relative_eq!(
+            koch_hill::beta(&x),
+            k * vp(x.diameter) / phi,
+            epsilon = 0.0,
+            max_relative = 1e-12
+        );
     }
     // Dense Stokes limit: Carman–Kozeny, β = 3πμd·10φ/ε.
     let x = at(0.5, 1e-12);
-    assert!(
-        rel(
-            koch_hill::beta(&x),
-            3.0 * PI * x.mu * x.diameter * 10.0 * 0.5 / 0.5
-        ) < 1e-9
+    assert_relative_eq!(
+        koch_hill::beta(&x),
+        3.0 * PI * x.mu * x.diameter * 10.0 * 0.5 / 0.5,
+        epsilon = 0.0,
+        max_relative = 1e-9
     );
     // F₀'s two branches nearly meet at φ = 0.4 (1 %), and F₀ → 1 + 3√(φ/2) for small φ.
-    assert!(rel(koch_hill::f0(0.3999999), koch_hill::f0(0.4)) < 0.015);
+    assert_relative_eq!(
+        koch_hill::f0(0.3999999),
+        koch_hill::f0(0.4),
+        epsilon = 0.0,
+        max_relative = 0.015
+    );
     let phi = 1e-6;
-    assert!((koch_hill::f0(phi) - (1.0 + 3.0 * (phi / 2.0).sqrt())).abs() < 1e-4);
+    assert_abs_diff_eq!(
+        koch_hill::f0(phi),
+        (1.0 + 3.0 * (phi / 2.0).sqrt()),
+        epsilon = 1e-4
+    );
 }
 
 #[test]
@@ -272,11 +363,11 @@ fn beetstra_against_seed_000_and_its_limits() {
         let seed_a = vp(x.diameter) / phi * a * mu_d2 * phi * phi / eps;
         let seed_b = vp(x.diameter) / phi * b * mu_d2 * phi * re;
         let stokes_part = 3.0 * PI * x.mu * x.diameter * eps * beetstra::normalised_drag(eps, 0.0);
-        assert!(rel(stokes_part, seed_a) < 1e-13);
+        assert_relative_eq!(stokes_part, seed_a, epsilon = 0.0, max_relative = 1e-13);
         let inertial = beetstra::beta(&x) - stokes_part;
         // 0.31/18 vs 0.413/24 differ by 8.1e-4 (the seed's rounding)
         assert!(
-            rel(inertial * eps, seed_b) < 9e-4,
+            approx::relative_eq!(inertial * eps, seed_b, epsilon = 0.0, max_relative = 9e-4),
             "{} vs {}",
             inertial * eps,
             seed_b
@@ -284,16 +375,31 @@ fn beetstra_against_seed_000_and_its_limits() {
     }
     // Stokes limit and dense Carman–Kozeny-like limit 3πμd·(10φ/ε + ε³(1+1.5√φ)).
     let x = at(1.0, 1e-12);
-    assert!(rel(beetstra::beta(&x), 3.0 * PI * x.mu * x.diameter) < 1e-9);
+    assert_relative_eq!(
+        beetstra::beta(&x),
+        3.0 * PI * x.mu * x.diameter,
+        epsilon = 0.0,
+        max_relative = 1e-9
+    );
     // Polydisperse: y = d/⟨d⟩; y = 1 gives the monodisperse law times (1 + 0.064ε).
     let x = at(0.6, 30.0);
     let mono = beetstra::beta(&x);
-    assert!(rel(beetstra::beta_polydisperse(&x), mono * (1.0 + 0.064 * 0.6)) < 1e-13);
+    assert_relative_eq!(
+        beetstra::beta_polydisperse(&x),
+        mono * (1.0 + 0.064 * 0.6),
+        epsilon = 0.0,
+        max_relative = 1e-13
+    );
     // a small particle (y = 0.5) among big ones, hand formula: ⟨Re⟩ on ⟨d⟩ = 2d.
     let small = x.with_sauter_diameter(2.0 * x.diameter);
     let f = 0.6 * 0.5 + 0.4 * 0.25 + 0.064 * 0.6 * 0.125;
     let want = 3.0 * PI * x.mu * x.diameter * 0.6 * beetstra::normalised_drag(0.6, 60.0) * f;
-    assert!(rel(DragLaw::BeetstraPoly.beta(&small), want) < 1e-13);
+    assert_relative_eq!(
+        DragLaw::BeetstraPoly.beta(&small),
+        want,
+        epsilon = 0.0,
+        max_relative = 1e-13
+    );
 }
 
 #[test]
@@ -301,7 +407,12 @@ fn schiller_naumann_newton_branch() {
     let x = DragInput::new(0.5, 1e-3, 20.0, 1.2, 1.8e-5); // Re = 1333
     assert!(x.reynolds_single() > 1000.0);
     let want = PI / 8.0 * 0.44 * 1.2 * 1e-6 * 20.0;
-    assert!(rel(DragLaw::SchillerNaumann.beta(&x), want) < 1e-14);
+    assert_relative_eq!(
+        DragLaw::SchillerNaumann.beta(&x),
+        want,
+        epsilon = 0.0,
+        max_relative = 1e-14
+    );
     // ε does not enter
     let y = DragInput { voidage: 0.9, ..x };
     assert_eq!(
@@ -339,7 +450,10 @@ mod settling {
                 hi = mid;
             }
         }
-        assert!(rel(lo, 0.1286) < 5e-4, "{lo}");
+        assert!(
+            approx::relative_eq!(lo, 0.1286, epsilon = 0.0, max_relative = 5e-4),
+            "{lo}"
+        );
     }
 
     #[test]
@@ -355,7 +469,10 @@ mod settling {
             let k4 = f(v + dt * k3);
             v += dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
         }
-        assert!(rel(v, 0.1373) < 1e-3, "{v}");
+        assert!(
+            approx::relative_eq!(v, 0.1373, epsilon = 0.0, max_relative = 1e-3),
+            "{v}"
+        );
     }
 }
 

@@ -45,7 +45,10 @@ proptest! {
             let b = law.beta(&DragInput { voidage: eps + 1e-9, ..x });
             // Koch–Hill's F₀ switches branch at φ = 0.4 with a 1 % step; Wen–Yu's C_d at
             // Re = 1000 with 0.4 %
-            prop_assert!((a - b).abs() <= 0.012 * a, "{} at ε = {}: {} vs {}", name, eps, a, b);
+            prop_assert!(
+    approx::abs_diff_eq!(a, b, epsilon = 0.012 * a),
+    "{} at ε = {}: {} vs {}", name, eps, a, b
+);
         }
     }
 

@@ -31,6 +31,7 @@ use couple::{
     Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics, Placement,
 };
 use divan::counter::ItemsCount;
+use mesh::v3::V3;
 use std::sync::OnceLock;
 use voidage::{Method, ParticleSet, VoidageMesh};
 
@@ -43,28 +44,28 @@ fn main() {
 struct Data {
     mesh: foam::PolyMesh,
     ids: Vec<u64>,
-    pos: Vec<[f64; 3]>,
-    vel: Vec<[f64; 3]>,
+    pos: Vec<V3>,
+    vel: Vec<V3>,
     rad: Vec<f64>,
     den: Vec<f64>,
-    u: Vec<[f64; 3]>,
+    u: Vec<V3>,
     p: Vec<f64>,
-    gp: Vec<[f64; 3]>,
-    dt: Vec<[f64; 3]>,
+    gp: Vec<V3>,
+    dt: Vec<V3>,
 }
 
 fn data() -> &'static Data {
     static D: OnceLock<Data> = OnceLock::new();
     D.get_or_init(|| {
-        let mesh = mesh::build::uniform_box([0.0; 3], [1.0; 3], [50, 50, 40]);
+        let mesh = mesh::build::uniform_box(V3::repeat(0.0), V3::repeat(1.0), [50, 50, 40]);
         let phi = 1.324_717_957_244_746_f64;
-        let alpha = [1.0 / phi, 1.0 / (phi * phi), 1.0 / (phi * phi * phi)];
-        let pos: Vec<[f64; 3]> = (0..N)
+        let alpha = V3::new(1.0 / phi, 1.0 / (phi * phi), 1.0 / (phi * phi * phi));
+        let pos: Vec<V3> = (0..N)
             .map(|k| alpha.map(|a| 0.004 + 0.992 * (0.5 + k as f64 * a).fract()))
             .collect();
         let vel = pos
             .iter()
-            .map(|x| [0.01 * x[1], 0.0, -0.02 * x[0]])
+            .map(|x| V3::new(0.01 * x[1], 0.0, -0.02 * x[0]))
             .collect();
         let n = mesh.n_cells;
         Data {
@@ -73,10 +74,10 @@ fn data() -> &'static Data {
             den: vec![2500.0; N],
             vel,
             pos,
-            u: vec![[0.0, 0.0, 0.1]; n],
+            u: vec![V3::new(0.0, 0.0, 0.1); n],
             p: vec![0.0; n],
-            gp: vec![[0.0, 0.0, -0.5]; n],
-            dt: vec![[0.01, 0.0, 0.0]; n],
+            gp: vec![V3::new(0.0, 0.0, -0.5); n],
+            dt: vec![V3::new(0.01, 0.0, 0.0); n],
             mesh,
         }
     })
@@ -86,7 +87,7 @@ fn physics() -> Physics {
     Physics {
         rho: 1.2,
         nu: 1.5e-5,
-        gravity: [0.0, 0.0, -9.81],
+        gravity: V3::new(0.0, 0.0, -9.81),
         model: ModelType::A,
         forces: Forces {
             drag: Some(DragSettings {

@@ -8,6 +8,8 @@
 //! `φ(t) = (1 − α) φ_old + α φ_new`, α = clamp((t − t₀) / Δt_c, 0, 1),
 //! applied cell by cell. α = 1 at the end of the interval gives the new field exactly.
 
+use mesh::v3::V3;
+
 /// The blending fraction α for time `t` in the interval starting at `t0` of length
 /// `interval` (s); 1 for a zero-length interval.
 pub fn fraction(t: f64, t0: f64, interval: f64) -> f64 {
@@ -30,12 +32,12 @@ pub fn blend_scalar(old: &[f64], new: &[f64], alpha: f64, out: &mut Vec<f64>) {
 }
 
 /// `(1 − α) old + α new` for vector fields, into `out`.
-pub fn blend_vector(old: &[[f64; 3]], new: &[[f64; 3]], alpha: f64, out: &mut Vec<[f64; 3]>) {
+pub fn blend_vector(old: &[V3], new: &[V3], alpha: f64, out: &mut Vec<V3>) {
     assert_eq!(old.len(), new.len(), "blended fields of equal length");
     out.clear();
     out.extend(
         old.iter()
             .zip(new)
-            .map(|(o, n)| std::array::from_fn(|a| (1.0 - alpha) * o[a] + alpha * n[a])),
+            .map(|(o, n)| V3::from_fn(|a, _| (1.0 - alpha) * o[a] + alpha * n[a])),
     );
 }

@@ -36,6 +36,7 @@ use crate::interpolate::Interpolation;
 use closures::model::ModelType;
 use closures::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR, DRAG_LAW_NAMES};
 use foam::{Dict, Item, Value};
+use mesh::v3::V3;
 use std::path::{Path, PathBuf};
 use voidage::Method;
 
@@ -608,7 +609,7 @@ pub fn read_transport(case: &Path) -> Result<(f64, f64), CoupleError> {
 }
 
 /// Gravity g (m/s²) from `constant/g` (`value (gx gy gz);`), or `None` without the file.
-pub fn read_gravity(case: &Path) -> Result<Option<[f64; 3]>, CoupleError> {
+pub fn read_gravity(case: &Path) -> Result<Option<V3>, CoupleError> {
     let file = case.join("constant").join("g");
     if !file.exists() {
         return Ok(None);
@@ -619,7 +620,7 @@ pub fn read_gravity(case: &Path) -> Result<Option<[f64; 3]>, CoupleError> {
         warnings: Vec::new(),
     };
     d.vector("value")
-        .map(Some)
+        .map(|g| Some(V3::from(g)))
         .map_err(|e| r.err("value", e.to_string()))
 }
 
@@ -638,7 +639,7 @@ impl CouplingConfig {
                     message: "the Archimedes force needs gravity: constant/g is missing".into(),
                 })
             }
-            None => [0.0; 3],
+            None => V3::zeros(),
         };
         Ok(crate::CouplerSettings {
             method: self.voidage.method,

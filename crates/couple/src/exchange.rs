@@ -17,6 +17,7 @@
 //! alongside the force loop ([`crate::forces::couplings_and_exchange`]).
 
 use crate::interpolate::Placement;
+use mesh::v3::V3;
 use rayon::prelude::*;
 
 /// What could not be put into a cell.
@@ -27,7 +28,7 @@ pub struct Outside {
     /// Σ β of those particles, kg/s.
     pub beta: f64,
     /// Σ explicit force of those particles, N.
-    pub force: [f64; 3],
+    pub force: V3,
 }
 
 /// The exchange fields of one coupling step.
@@ -36,9 +37,9 @@ pub struct Exchange {
     /// Implicit coefficient per cell, kg/(m³·s).
     pub ksl: Vec<f64>,
     /// β-weighted particle velocity per cell, m/s.
-    pub us: Vec<[f64; 3]>,
+    pub us: Vec<V3>,
     /// Explicit force density on the fluid per cell, N/m³.
-    pub f: Vec<[f64; 3]>,
+    pub f: Vec<V3>,
     /// What lay outside the mesh.
     pub outside: Outside,
 }
@@ -50,8 +51,8 @@ impl Exchange {
     }
 
     /// Σ_c V_c Ksl_c Us_c, kg·m/s² (equals Σ β v over the particles inside the mesh).
-    pub fn total_ksl_us(&self, cell_volumes: &[f64]) -> [f64; 3] {
-        let mut s = [0.0; 3];
+    pub fn total_ksl_us(&self, cell_volumes: &[f64]) -> V3 {
+        let mut s = V3::zeros();
         for ((k, u), v) in self.ksl.iter().zip(&self.us).zip(cell_volumes) {
             for a in 0..3 {
                 s[a] += k * v * u[a];
@@ -61,8 +62,8 @@ impl Exchange {
     }
 
     /// Σ_c V_c f_c, N (equals −Σ F over the particles inside the mesh).
-    pub fn total_f(&self, cell_volumes: &[f64]) -> [f64; 3] {
-        let mut s = [0.0; 3];
+    pub fn total_f(&self, cell_volumes: &[f64]) -> V3 {
+        let mut s = V3::zeros();
         for (f, v) in self.f.iter().zip(cell_volumes) {
             for a in 0..3 {
                 s[a] += f[a] * v;
@@ -79,8 +80,8 @@ pub fn exchange(
     placement: &Placement,
     cell_volumes: &[f64],
     beta: &[f64],
-    velocity: &[[f64; 3]],
-    force: &[[f64; 3]],
+    velocity: &[V3],
+    force: &[V3],
 ) -> Exchange {
     assert_eq!(beta.len(), placement.len(), "one β per particle");
     assert_eq!(velocity.len(), placement.len(), "one velocity per particle");
@@ -94,7 +95,7 @@ pub fn exchange(
 pub fn exchange_with(
     placement: &Placement,
     cell_volumes: &[f64],
-    particle: impl Fn(usize) -> (f64, [f64; 3], [f64; 3]),
+    particle: impl Fn(usize) -> (f64, V3, V3),
 ) -> Exchange {
     let mut sums = Sums::new(cell_volumes.len());
     for i in 0..placement.len() {
@@ -108,8 +109,8 @@ pub fn exchange_with(
 /// −Σ w F per cell, and what lay outside the mesh.
 pub(crate) struct Sums {
     sum_wb: Vec<f64>,
-    sum_wbv: Vec<[f64; 3]>,
-    sum_wf: Vec<[f64; 3]>,
+    sum_wbv: Vec<V3>,
+    sum_wf: Vec<V3>,
     outside: Outside,
 }
 
@@ -118,8 +119,8 @@ impl Sums {
     pub(crate) fn new(n_cells: usize) -> Sums {
         Sums {
             sum_wb: vec![0.0; n_cells],
-            sum_wbv: vec![[0.0; 3]; n_cells],
-            sum_wf: vec![[0.0; 3]; n_cells],
+            sum_wbv: vec![V3::zeros(); n_cells],
+            sum_wf: vec![V3::zeros(); n_cells],
             outside: Outside::default(),
         }
     }
@@ -127,14 +128,7 @@ impl Sums {
     /// Adds particle `i` with drag coefficient `b` (kg/s), velocity `v` (m/s) and explicit
     /// force `fp` (N) to its cells, or to [`Outside`] when it has no share.
     #[inline]
-    pub(crate) fn add(
-        &mut self,
-        placement: &Placement,
-        i: usize,
-        b: f64,
-        v: [f64; 3],
-        fp: [f64; 3],
-    ) {
+    pub(crate) fn add(&mut self, placement: &Placement, i: usize, b: f64, v: V3, fp: V3) {
         if !placement.inside(i) {
             self.outside.particles += 1;
             self.outside.beta += b;
@@ -172,7 +166,7 @@ impl Sums {
                 *u = if sum_wb != 0.0 {
                     u.map(|x| x / sum_wb)
                 } else {
-                    [0.0; 3]
+                    V3::zeros()
                 };
                 let inv = 1.0 / volume;
                 *k = sum_wb * inv;

@@ -19,7 +19,7 @@ use crate::interpolate::{Interpolation, Lerp, Placement};
 use crate::sides::{FluidState, ParticleState};
 use closures::model::{particle_forces, FluidAtParticle, ModelType};
 use closures::DragInput;
-use mesh::v3::{add, mag, scale, sub, V3};
+use mesh::v3::V3;
 use rayon::prelude::*;
 
 /// Fluid properties and force models of a coupling.
@@ -199,7 +199,7 @@ impl<'a> Kernel<'a> {
             gravity: if physics.forces.archimedes {
                 physics.gravity
             } else {
-                [0.0; 3]
+                V3::zeros()
             },
             fluid,
             voidage,
@@ -232,10 +232,10 @@ impl<'a> Kernel<'a> {
         let grad_p_cell = self.grad_p_rule.map(cell);
         let viscous_cell = self.viscous_rule.map(cell);
         let mut at = AtParticle {
-            u: drag_cell.map_or([0.0; 3], |c| f.u[c]),
+            u: drag_cell.map_or(V3::zeros(), |c| f.u[c]),
             voidage: drag_cell.map_or(0.0, |c| self.voidage[c]),
-            grad_p: grad_p_cell.flatten().map_or([0.0; 3], |c| f.grad_p[c]),
-            div_tau: viscous_cell.flatten().map_or([0.0; 3], |c| f.div_tau[c]),
+            grad_p: grad_p_cell.flatten().map_or(V3::zeros(), |c| f.grad_p[c]),
+            div_tau: viscous_cell.flatten().map_or(V3::zeros(), |c| f.div_tau[c]),
         };
         let smooth_drag = drag_cell.is_none();
         let smooth_grad_p = grad_p_cell == Some(None);
@@ -278,7 +278,7 @@ impl<'a> Kernel<'a> {
         let volume = ball(r);
         let (beta, floored) = match ph.forces.drag {
             Some(DragSettings { closure, .. }) => {
-                let x = DragInput::new(eps, 2.0 * r, mag(sub(u_f, v)), ph.rho, self.mu);
+                let x = DragInput::new(eps, 2.0 * r, (u_f - v).norm(), ph.rho, self.mu);
                 let floored = eps.clamp(closure.voidage_floor, 1.0);
                 (closure.beta(&x), floored)
             }
@@ -299,16 +299,16 @@ impl<'a> Kernel<'a> {
         let (beta_dem, f_ext) = if implicit_dem {
             (f.beta, f.explicit)
         } else {
-            (0.0, add(f.explicit, f.drag))
+            (0.0, (f.explicit + f.drag))
         };
         let (beta_fluid, drag_to_f) = if dem_only {
-            (0.0, [0.0; 3])
+            (0.0, V3::zeros())
         } else if explicit_fluid {
             (0.0, f.drag)
         } else if ph.implicit_couple {
-            (f.beta, [0.0; 3])
+            (f.beta, V3::zeros())
         } else {
-            (0.0, [0.0; 3])
+            (0.0, V3::zeros())
         };
         Some(ParticleCoupling {
             beta_dem,
@@ -316,7 +316,7 @@ impl<'a> Kernel<'a> {
             f_ext,
             total: f.total(),
             beta_fluid,
-            f_fluid: add(f.explicit_coupled, drag_to_f),
+            f_fluid: (f.explicit_coupled + drag_to_f),
         })
     }
 }
@@ -325,7 +325,7 @@ impl<'a> Kernel<'a> {
 pub fn total_force(set: &ForceSet) -> V3 {
     set.particles
         .iter()
-        .fold([0.0; 3], |acc, c| add(acc, c.total))
+        .fold(V3::zeros(), |acc, c| acc + c.total)
 }
 
 /// Σ_p [β_fluid (u_f − v) + f_fluid]: the momentum per time the fluid gives the particles at
@@ -335,7 +335,7 @@ pub fn fluid_momentum_loss(set: &ForceSet, velocity: &[V3]) -> V3 {
     set.particles
         .iter()
         .zip(velocity)
-        .fold([0.0; 3], |acc, (c, &v)| {
-            add(acc, add(scale(c.beta_fluid, sub(c.u_f, v)), c.f_fluid))
+        .fold(V3::zeros(), |acc, (c, &v)| {
+            acc + ((c.beta_fluid * (c.u_f - v)) + c.f_fluid)
         })
 }

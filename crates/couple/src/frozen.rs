@@ -40,8 +40,8 @@ impl FrozenFluid {
             mesh,
             u: vec![u; n],
             p: vec![0.0; n],
-            grad_p: vec![[0.0; 3]; n],
-            div_tau: vec![[0.0; 3]; n],
+            grad_p: vec![V3::zeros(); n],
+            div_tau: vec![V3::zeros(); n],
             time: 0.0,
             last: None,
         }
@@ -68,7 +68,7 @@ impl FrozenFluid {
             .internal(g.n_cells)
             .map_err(|m| field_err(&u_path, m))?
         {
-            FieldValues::Vector(v) => v,
+            FieldValues::Vector(v) => mesh::v3::from_arrays(&v),
             FieldValues::Scalar(_) => {
                 return Err(field_err(&u_path, "U must be a volVectorField".into()))
             }
@@ -86,7 +86,7 @@ impl FrozenFluid {
         let u_bc = bc::read_velocity(&u_path, &u_file, &mesh, &g).map_err(fv_err)?;
         let p_bc = bc::read_pressure(&p_path, &p_file, &mesh, &g).map_err(fv_err)?;
         let phi = vec![0.0; g.n_faces()];
-        let mut u_b = vec![[0.0; 3]; g.n_boundary()];
+        let mut u_b = vec![V3::zeros(); g.n_boundary()];
         bc::eval_velocity(&g, &u_bc, t, &u, &phi, &mut u_b);
         let p_b = pressure_boundary(&g, &p_bc, t, &p, &u_b);
         let grad_p = fvc::grad_scalar(&g, &p, &p_b);

@@ -14,6 +14,7 @@
 
 use crate::error::CoupleError;
 use foam::Label;
+use mesh::v3::V3;
 use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
@@ -140,13 +141,13 @@ impl Lerp for f64 {
     }
 }
 
-impl Lerp for [f64; 3] {
+impl Lerp for V3 {
     #[inline]
     fn zero() -> Self {
-        [0.0; 3]
+        V3::zeros()
     }
     #[inline]
     fn add_scaled(self, w: f64, x: Self) -> Self {
-        [self[0] + w * x[0], self[1] + w * x[1], self[2] + w * x[2]]
+        self + w * x
     }
 }

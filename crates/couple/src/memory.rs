@@ -44,16 +44,16 @@ impl MemoryParticles {
         let n = position.len();
         MemoryParticles {
             ids: (1..=n as u64).collect(),
-            velocity: vec![[0.0; 3]; n],
+            velocity: vec![V3::zeros(); n],
             density: vec![density; n],
             position,
             radius,
-            gravity: [0.0; 3],
+            gravity: V3::zeros(),
             dt,
             time: 0.0,
-            f_ext: vec![[0.0; 3]; n],
+            f_ext: vec![V3::zeros(); n],
             beta: vec![0.0; n],
-            u_f: vec![[0.0; 3]; n],
+            u_f: vec![V3::zeros(); n],
         }
     }
 
@@ -152,8 +152,8 @@ impl MemoryFluid {
             mesh,
             u: vec![u; n],
             p: vec![0.0; n],
-            grad_p: vec![[0.0; 3]; n],
-            div_tau: vec![[0.0; 3]; n],
+            grad_p: vec![V3::zeros(); n],
+            div_tau: vec![V3::zeros(); n],
             received: Vec::new(),
             time: 0.0,
         }

@@ -34,12 +34,12 @@ pub fn write_fields(
         (
             "Us",
             [0, 1, -1, 0, 0, 0, 0],
-            FieldValues::Vector(step.exchange.us.clone()),
+            FieldValues::Vector(mesh::v3::to_arrays(&step.exchange.us)),
         ),
         (
             "f",
             [1, -2, -2, 0, 0, 0, 0],
-            FieldValues::Vector(step.exchange.f.clone()),
+            FieldValues::Vector(mesh::v3::to_arrays(&step.exchange.f)),
         ),
     ];
     for (name, dims, values) in fields {

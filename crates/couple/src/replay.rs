@@ -101,12 +101,13 @@ impl DumpReplay {
 
     fn load(&mut self, snap: &Snapshot) -> Result<(), CoupleError> {
         let radius = snap.radii()?;
-        let position = snap.positions()?;
+        let position = mesh::v3::from_arrays(&snap.positions()?);
         let ids = snap.ids()?;
         let n = ids.len();
         let velocity = snap
             .vectors(["vx", "vy", "vz"])
-            .unwrap_or_else(|| vec![[0.0; 3]; n]);
+            .map(|v| mesh::v3::from_arrays(&v))
+            .unwrap_or_else(|| vec![V3::zeros(); n]);
         let density = if let Some(d) = snap.column("density") {
             d.to_vec()
         } else if let Some(m) = snap.column("mass") {
@@ -132,7 +133,7 @@ impl DumpReplay {
             radius,
             density,
         };
-        self.forces = (vec![[0.0; 3]; n], vec![0.0; n], vec![[0.0; 3]; n]);
+        self.forces = (vec![V3::zeros(); n], vec![0.0; n], vec![V3::zeros(); n]);
         Ok(())
     }
 

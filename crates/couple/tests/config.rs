@@ -5,6 +5,7 @@ use closures::model::ModelType;
 use closures::DragLaw;
 use couple::config::{read_gravity, read_transport};
 use couple::{CouplingConfig, Interpolation};
+use mesh::v3::V3;
 use std::path::Path;
 use voidage::Method;
 
@@ -27,7 +28,7 @@ fn ergun_case() {
     assert_eq!(c.data_exchange, "twoWayMPI");
     assert!(c.warnings.is_empty(), "{:?}", c.warnings);
     assert_eq!(read_transport(&case).unwrap(), (10.0, 1.5e-4));
-    assert_eq!(read_gravity(&case).unwrap(), Some([0.0, 0.0, -9.81]));
+    assert_eq!(read_gravity(&case).unwrap(), Some(V3::new(0.0, 0.0, -9.81)));
 }
 
 #[test]

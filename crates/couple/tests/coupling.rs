@@ -8,6 +8,7 @@
 
 #![allow(clippy::needless_range_loop)]
 
+use approx::assert_abs_diff_eq;
 use closures::model::ModelType;
 use closures::{DragClosure, DragLaw};
 use couple::config::{DragSettings, Forces};
@@ -17,12 +18,13 @@ use couple::replay::DumpReplay;
 use couple::{Coupler, CouplerSettings, FluidSide, Interpolation, ParticleSide, Physics};
 use dem_io::ReadOptions;
 use mesh::build::uniform_box;
+use mesh::v3::V3;
 use std::f64::consts::PI;
 use voidage::Method;
 
 const RHO: f64 = 1000.0;
 const NU: f64 = 1e-6;
-const G: [f64; 3] = [0.0, 0.0, -9.81];
+const G: V3 = V3::new(0.0, 0.0, -9.81);
 
 fn physics(law: DragLaw, model: ModelType, implicit_dem: bool, explicit_fluid: bool) -> Physics {
     Physics {
@@ -60,13 +62,17 @@ fn schiller_naumann(d: f64, slip: f64) -> f64 {
 }
 
 fn settle_box() -> foam::PolyMesh {
-    uniform_box([-0.012, -0.012, 0.0], [0.012, 0.012, 0.03], [8, 8, 10])
+    uniform_box(
+        V3::new(-0.012, -0.012, 0.0),
+        V3::new(0.012, 0.012, 0.03),
+        [8, 8, 10],
+    )
 }
 
 #[test]
 fn replay_of_a_liggghts_dump_conserves_momentum() {
     let dump = testkit::fixture("liggghts/settle.txt");
-    let u = [0.01, -0.02, 0.05];
+    let u = V3::new(0.01, -0.02, 0.05);
     for method in [Method::Centre, Method::Divided, Method::Exact] {
         for explicit_fluid in [false, true] {
             let mut replay =
@@ -96,7 +102,7 @@ fn replay_of_a_liggghts_dump_conserves_momentum() {
                 assert_eq!(n, 200);
                 assert_eq!(s.forces.outside, 0);
                 assert!(s.deposit.conservation_error() < 1e-12);
-                let mut loss = [0.0; 3];
+                let mut loss = V3::repeat(0.0);
                 let mut scale = 0.0;
                 for (c, v) in s.forces.particles.iter().zip(vel) {
                     for a in 0..3 {
@@ -105,20 +111,19 @@ fn replay_of_a_liggghts_dump_conserves_momentum() {
                     }
                 }
                 let ex = &s.exchange;
-                let mut cells = [0.0; 3];
+                let mut cells = V3::repeat(0.0);
                 for c in 0..vols.len() {
                     for a in 0..3 {
                         cells[a] += vols[c] * ex.ksl[c] * (u[a] - ex.us[c][a]);
                     }
                 }
                 let f = ex.total_f(&vols);
-                let fluid_parts: Vec<[f64; 3]> =
-                    s.forces.particles.iter().map(|c| c.f_fluid).collect();
+                let fluid_parts: Vec<V3> = s.forces.particles.iter().map(|c| c.f_fluid).collect();
                 for a in 0..3 {
                     let sum_f: f64 = fluid_parts.iter().map(|x| x[a]).sum();
                     assert!((f[a] + sum_f).abs() <= 1e-12 * scale, "{method}: Σ f");
                     assert!(
-                        (cells[a] - loss[a]).abs() <= 1e-12 * scale,
+                        approx::abs_diff_eq!(cells[a], loss[a], epsilon = 1e-12 * scale),
                         "{method}: Σ Ksl"
                     );
                 }
@@ -140,21 +145,29 @@ fn replay_of_a_liggghts_dump_conserves_momentum() {
                 let mag = (slip[0] * slip[0] + slip[1] * slip[1] + slip[2] * slip[2]).sqrt();
                 let beta = schiller_naumann(2.0 * r, mag);
                 assert!(
-                    (c.beta_dem - beta).abs() < 1e-12 * beta,
+                    approx::abs_diff_eq!(c.beta_dem, beta, epsilon = 1e-12 * beta),
                     "{method} particle {i}: {} vs {beta}, slip {mag}",
                     c.beta_dem
                 );
                 assert_eq!(beta_dem[i], c.beta_dem);
                 let vol = 4.0 / 3.0 * PI * r * r * r;
-                let buoy = [0.0, 0.0, RHO * vol * 9.81];
+                let buoy = V3::new(0.0, 0.0, RHO * vol * 9.81);
                 for a in 0..3 {
-                    assert!((c.f_ext[a] - buoy[a]).abs() < 1e-15, "{:?}", c.f_ext);
+                    assert!(
+                        approx::abs_diff_eq!(c.f_ext[a], buoy[a], epsilon = 1e-15),
+                        "{:?}",
+                        c.f_ext
+                    );
                     let total = beta * slip[a] + buoy[a];
-                    assert!((c.total[a] - total).abs() < 1e-12 * total.abs().max(1e-9));
+                    assert_abs_diff_eq!(c.total[a], total, epsilon = 1e-12 * total.abs().max(1e-9));
                 }
                 // settle.in: templates of radius 0.0005 m at 2500 kg/m³ and 0.0007 m at 2000.
                 let density = if r < 6e-4 { 2500.0 } else { 2000.0 };
-                assert!((st.density[i] - density).abs() < 1e-9, "{}", st.density[i]);
+                assert!(
+                    approx::abs_diff_eq!(st.density[i], density, epsilon = 1e-9),
+                    "{}",
+                    st.density[i]
+                );
             }
         }
     }
@@ -164,9 +177,14 @@ fn replay_of_a_liggghts_dump_conserves_momentum() {
 fn a_settling_sphere_reaches_terminal_velocity() {
     let d = 2e-4;
     let rho_p = 2500.0;
-    let mesh = uniform_box([-0.02, -0.02, -0.3], [0.02, 0.02, 0.02], [4, 4, 32]);
-    let mut fluid = MemoryFluid::uniform(mesh, [0.0; 3]);
-    let mut particles = MemoryParticles::new(vec![[0.001, 0.0, 0.0]], vec![d / 2.0], rho_p, 1e-4);
+    let mesh = uniform_box(
+        V3::new(-0.02, -0.02, -0.3),
+        V3::new(0.02, 0.02, 0.02),
+        [4, 4, 32],
+    );
+    let mut fluid = MemoryFluid::uniform(mesh, V3::repeat(0.0));
+    let mut particles =
+        MemoryParticles::new(vec![V3::new(0.001, 0.0, 0.0)], vec![d / 2.0], rho_p, 1e-4);
     particles.gravity = G;
     let settings = CouplerSettings {
         method: Method::Exact,
@@ -199,7 +217,7 @@ fn a_settling_sphere_reaches_terminal_velocity() {
     let vols = coupler.voidage_mesh().cell_volumes().to_vec();
     let last = &fluid.received[299];
     let beta = schiller_naumann(d, w);
-    assert!((last.exchange.total_ksl(&vols) - beta).abs() < 1e-5 * beta);
-    assert!((fluid.time - 300.0 * 10.0 * 1e-4).abs() < 1e-12);
+    assert_abs_diff_eq!(last.exchange.total_ksl(&vols), beta, epsilon = 1e-5 * beta);
+    assert_abs_diff_eq!(fluid.time, 300.0 * 10.0 * 1e-4, epsilon = 1e-12);
     assert_eq!(last.interval, 1e-3);
 }

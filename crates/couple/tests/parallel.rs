@@ -23,6 +23,7 @@ use couple::{
     Placement,
 };
 use mesh::build::{hex_grid, uniform_box};
+use mesh::v3::V3;
 use voidage::{MeshOptions, Method, ParticleSet, VoidageMesh};
 
 const THREADS: [usize; 4] = [1, 2, 3, 8];
@@ -38,9 +39,9 @@ fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 /// A deterministic cloud over [−0.05, 1.05]³: some particles straddle the boundary of the unit
 /// cube, some lie outside.
 struct Cloud {
-    pos: Vec<[f64; 3]>,
+    pos: Vec<V3>,
     rad: Vec<f64>,
-    vel: Vec<[f64; 3]>,
+    vel: Vec<V3>,
     ids: Vec<u64>,
     den: Vec<f64>,
 }
@@ -60,7 +61,7 @@ impl Cloud {
 
 fn cloud(n: usize) -> Cloud {
     let phi = 1.324_717_957_244_746_f64;
-    let alpha = [1.0 / phi, 1.0 / (phi * phi), 1.0 / (phi * phi * phi)];
+    let alpha = V3::new(1.0 / phi, 1.0 / (phi * phi), 1.0 / (phi * phi * phi));
     Cloud {
         pos: (0..n)
             .map(|k| alpha.map(|a| -0.05 + 1.1 * (0.5 + k as f64 * a).fract()))
@@ -71,7 +72,7 @@ fn cloud(n: usize) -> Cloud {
         vel: (0..n)
             .map(|k| {
                 let s = k as f64;
-                [(s * 0.37).sin(), (s * 0.11).cos(), 0.3 - (s * 0.05).sin()]
+                V3::new((s * 0.37).sin(), (s * 0.11).cos(), 0.3 - (s * 0.05).sin())
             })
             .collect(),
         ids: (1..=n as u64).collect(),
@@ -112,11 +113,15 @@ fn serial_exchange(
     p: &Placement,
     vols: &[f64],
     beta: &[f64],
-    vel: &[[f64; 3]],
-    force: &[[f64; 3]],
+    vel: &[V3],
+    force: &[V3],
 ) -> Exchange {
     let n = vols.len();
-    let (mut ksl, mut bv, mut f) = (vec![0.0; n], vec![[0.0; 3]; n], vec![[0.0; 3]; n]);
+    let (mut ksl, mut bv, mut f) = (
+        vec![0.0; n],
+        vec![V3::repeat(0.0); n],
+        vec![V3::repeat(0.0); n],
+    );
     let mut outside = Outside::default();
     for i in 0..p.len() {
         let (cells, shares) = p.shares.of(i);
@@ -143,7 +148,7 @@ fn serial_exchange(
             if ksl[c] != 0.0 {
                 bv[c].map(|x| x / ksl[c])
             } else {
-                [0.0; 3]
+                V3::repeat(0.0)
             }
         })
         .collect();
@@ -159,7 +164,7 @@ fn serial_exchange(
 fn exchange_equals_a_serial_loop_with_any_thread_count() {
     let c = cloud(30_000);
     let beta: Vec<f64> = c.rad.iter().map(|r| 1e3 * r + 0.25).collect();
-    let force: Vec<[f64; 3]> = c.vel.iter().map(|v| [v[2], v[0], -v[1]]).collect();
+    let force: Vec<V3> = c.vel.iter().map(|v| V3::new(v[2], v[0], -v[1])).collect();
     for vm in meshes() {
         let vols = vm.cell_volumes();
         for m in Method::ALL {
@@ -178,7 +183,7 @@ fn exchange_equals_a_serial_loop_with_any_thread_count() {
 fn exchange_of_many_particles_on_few_cells() {
     // 20 000 particles in 4 cells: every cell range holds thousands of entries from every
     // block of particles.
-    let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [2, 2, 1])).unwrap();
+    let vm = VoidageMesh::new(&uniform_box(V3::repeat(0.0), V3::repeat(1.0), [2, 2, 1])).unwrap();
     let c = cloud(20_000);
     let beta = vec![2.0; c.pos.len()];
     let (p, _) = place(&vm, Method::Exact, &c);
@@ -191,7 +196,7 @@ fn exchange_of_many_particles_on_few_cells() {
 
 const RHO: f64 = 1.2;
 const NU: f64 = 1.5e-5;
-const G: [f64; 3] = [0.0, 0.0, -9.81];
+const G: V3 = V3::new(0.0, 0.0, -9.81);
 
 fn physics(rules: [Interpolation; 3], model: ModelType, law: DragLaw) -> Physics {
     Physics {
@@ -217,19 +222,24 @@ fn physics(rules: [Interpolation; 3], model: ModelType, law: DragLaw) -> Physics
 
 /// Cell fields varying in space, so every interpolation rule gives other numbers.
 struct Fluid {
-    u: Vec<[f64; 3]>,
+    u: Vec<V3>,
     p: Vec<f64>,
-    grad_p: Vec<[f64; 3]>,
-    div_tau: Vec<[f64; 3]>,
+    grad_p: Vec<V3>,
+    div_tau: Vec<V3>,
 }
 
 fn fluid(vm: &VoidageMesh) -> Fluid {
     let x = &vm.geometry().cell_centres;
     Fluid {
-        u: x.iter().map(|c| [c[1], -c[0], 0.5 + c[2] * c[2]]).collect(),
+        u: x.iter()
+            .map(|c| V3::new(c[1], -c[0], 0.5 + c[2] * c[2]))
+            .collect(),
         p: x.iter().map(|c| c[2]).collect(),
-        grad_p: x.iter().map(|c| [c[0] * c[1], 1.0, c[2]]).collect(),
-        div_tau: x.iter().map(|c| [0.1 * c[2], c[0] - c[1], 0.0]).collect(),
+        grad_p: x.iter().map(|c| V3::new(c[0] * c[1], 1.0, c[2])).collect(),
+        div_tau: x
+            .iter()
+            .map(|c| V3::new(0.1 * c[2], c[0] - c[1], 0.0))
+            .collect(),
     }
 }
 
@@ -280,7 +290,7 @@ fn couplings_are_the_laws_at_the_interpolated_fields() {
                         rho: RHO,
                     };
                     let d = 2.0 * c.rad[i];
-                    let slip = mesh::v3::mag(mesh::v3::sub(u, c.vel[i]));
+                    let slip = (u - c.vel[i]).norm();
                     let beta = DragClosure::new(law, 0.3).unwrap().beta(&DragInput::new(
                         e,
                         d,
@@ -310,7 +320,7 @@ fn pipeline_equals_forces_then_exchange_with_any_thread_count() {
     // 70 000 particles: three stages of the pipeline.
     let c = cloud(70_000);
     let particles = c.state();
-    let grid = uniform_box([0.0; 3], [1.0; 3], [20, 20, 20]);
+    let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [20, 20, 20]);
     let vm = VoidageMesh::new(&grid).unwrap();
     let fl = fluid(&vm);
     let vols = vm.cell_volumes();
@@ -347,7 +357,7 @@ fn pipeline_equals_forces_then_exchange_with_any_thread_count() {
 fn coupler_exchange_does_not_depend_on_the_thread_count() {
     let c = cloud(20_000);
     let particles = c.state();
-    let grid = uniform_box([0.0; 3], [1.0; 3], [20, 20, 20]);
+    let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [20, 20, 20]);
     let fl = fluid(&VoidageMesh::new(&grid).unwrap());
     let settings = CouplerSettings {
         method: Method::Exact,
@@ -372,7 +382,7 @@ fn coupler_exchange_does_not_depend_on_the_thread_count() {
 
 #[test]
 fn recycled_steps_equal_fresh_steps() {
-    let grid = uniform_box([0.0; 3], [1.0; 3], [6, 6, 6]);
+    let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [6, 6, 6]);
     let settings = CouplerSettings {
         method: Method::Exact,
         alpha_min: None,
@@ -386,8 +396,8 @@ fn recycled_steps_equal_fresh_steps() {
         let mut p1 = MemoryParticles::new(c.pos.clone(), c.rad.clone(), 2500.0, 1e-3);
         p1.gravity = G;
         let mut p2 = p1.clone();
-        let mut f1 = MemoryFluid::uniform(grid.clone(), [0.0, 0.0, 0.3]);
-        let mut f2 = MemoryFluid::uniform(grid.clone(), [0.0, 0.0, 0.3]);
+        let mut f1 = MemoryFluid::uniform(grid.clone(), V3::new(0.0, 0.0, 0.3));
+        let mut f2 = MemoryFluid::uniform(grid.clone(), V3::new(0.0, 0.0, 0.3));
         for _ in 0..3 {
             let a = fresh.step(&mut p1, &mut f1).unwrap();
             let b = recycling.step(&mut p2, &mut f2).unwrap();
@@ -407,17 +417,17 @@ fn recycled_steps_equal_fresh_steps() {
 
 #[test]
 fn the_first_bad_particle_is_named() {
-    let grid = uniform_box([0.0; 3], [1.0; 3], [4, 4, 4]);
+    let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [4, 4, 4]);
     let n = 50_000;
     let mut c = Cloud {
-        pos: vec![[0.5; 3]; n],
+        pos: vec![V3::repeat(0.5); n],
         rad: vec![0.01; n],
-        vel: vec![[0.0; 3]; n],
+        vel: vec![V3::repeat(0.0); n],
         ids: (0..n as u64).map(|i| 1000 + i).collect(),
         den: vec![2500.0; n],
     };
     c.den[41_234] = -1.0;
-    c.vel[45_000] = [f64::NAN, 0.0, 0.0];
+    c.vel[45_000] = V3::new(f64::NAN, 0.0, 0.0);
     c.den[30_001] = 0.0;
     c.vel[30_001][2] = f64::INFINITY;
     let fl = fluid(&VoidageMesh::new(&grid).unwrap());

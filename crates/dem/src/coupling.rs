@@ -74,14 +74,14 @@ impl Coupling {
     #[inline]
     pub fn force(&self, i: usize, v: V3) -> V3 {
         if self.f_ext.is_empty() {
-            return [0.0; 3];
+            return V3::zeros();
         }
         let (f, b, u) = (self.f_ext[i], self.beta[i], self.u_f[i]);
-        [
+        V3::new(
             f[0] + b * (u[0] - v[0]),
             f[1] + b * (u[1] - v[1]),
             f[2] + b * (u[2] - v[2]),
-        ]
+        )
     }
 
     /// Keeps the entries of surviving particles (`map[old] = Some(new)`).
@@ -101,9 +101,9 @@ impl Coupling {
     /// Extends with zero coupling for `n` new particles.
     pub fn grow(&mut self, n: usize) {
         if self.is_active() {
-            self.f_ext.resize(self.f_ext.len() + n, [0.0; 3]);
+            self.f_ext.resize(self.f_ext.len() + n, V3::zeros());
             self.beta.resize(self.beta.len() + n, 0.0);
-            self.u_f.resize(self.u_f.len() + n, [0.0; 3]);
+            self.u_f.resize(self.u_f.len() + n, V3::zeros());
         }
     }
 }

@@ -2,6 +2,7 @@
 //! coupled run from a bed LIGGGHTS packed.
 
 use dem_io::Snapshot;
+use mesh::v3::V3;
 
 use crate::error::DemError;
 use crate::particles::NewParticle;
@@ -34,9 +35,9 @@ pub fn particles_from_snapshot(
         out.push(NewParticle {
             id: p.id[i],
             atom_type: p.atom_type[i],
-            x: p.position[i],
-            v: p.velocity[i],
-            omega: p.omega.as_ref().map_or([0.0; 3], |w| w[i]),
+            x: p.position[i].into(),
+            v: p.velocity[i].into(),
+            omega: p.omega.as_ref().map_or(V3::zeros(), |w| w[i].into()),
             radius: r,
             density,
         });

@@ -313,8 +313,8 @@ mod tests {
                 ],
                 false,
             ),
-            velocity: [0.0, 0.0, -0.1],
-            omega: [0.0; 3],
+            velocity: V3::new(0.0, 0.0, -0.1),
+            omega: V3::zeros(),
             region: Region::Cylinder {
                 axis: 2,
                 centre: [0.0, 0.0],

@@ -190,8 +190,8 @@ struct CellGrid {
 impl CellGrid {
     fn new(x: &[V3], radius: &[f64], skin: f64) -> CellGrid {
         let n = x.len();
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
+        let mut lo = V3::repeat(f64::INFINITY);
+        let mut hi = V3::repeat(f64::NEG_INFINITY);
         for p in x {
             for k in 0..3 {
                 lo[k] = lo[k].min(p[k]);
@@ -201,8 +201,8 @@ impl CellGrid {
         let rmax = radius.iter().copied().fold(0.0, f64::max);
         let mut side = (2.0 * rmax + skin).max(f64::MIN_POSITIVE);
         if n == 0 {
-            lo = [0.0; 3];
-            hi = [0.0; 3];
+            lo = V3::zeros();
+            hi = V3::zeros();
         }
         // keep the number of cells O(N) for sparse clouds
         let count = |side: f64| -> [usize; 3] {
@@ -283,11 +283,11 @@ mod tests {
         let n = 900;
         let x: Vec<V3> = (0..n)
             .map(|_| {
-                [
+                V3::new(
                     rng.gen::<f64>(),
                     rng.gen::<f64>() * 0.3,
                     rng.gen::<f64>() * 2.0,
-                ]
+                )
             })
             .collect();
         let r: Vec<f64> = (0..n).map(|_| 0.01 + 0.03 * rng.gen::<f64>()).collect();
@@ -306,7 +306,7 @@ mod tests {
         assert_eq!(got, brute);
         // history survives a rebuild, keyed by the pair
         for (p, h) in list.hist.iter_mut().enumerate() {
-            h.shear = [p as f64, list.i[p] as f64, list.j[p] as f64];
+            h.shear = V3::new(p as f64, list.i[p] as f64, list.j[p] as f64);
         }
         let old = list.clone();
         list.build(&x, &r);

@@ -99,8 +99,8 @@ impl Particles {
         self.density.push(p.density);
         self.mass
             .push(4.0 / 3.0 * std::f64::consts::PI * p.radius.powi(3) * p.density);
-        self.f.push([0.0; 3]);
-        self.torque.push([0.0; 3]);
+        self.f.push(V3::zeros());
+        self.torque.push(V3::zeros());
         Ok(())
     }
 
@@ -139,7 +139,7 @@ impl Particles {
     /// Σ ½ m |v|² (J): LIGGGHTS's thermo `ke` (with `thermo_modify norm no`).
     pub fn translational_energy(&self) -> f64 {
         (0..self.len())
-            .map(|i| 0.5 * self.mass[i] * mesh::v3::dot(self.v[i], self.v[i]))
+            .map(|i| 0.5 * self.mass[i] * self.v[i].dot(&self.v[i]))
             .sum()
     }
 
@@ -148,7 +148,7 @@ impl Particles {
         (0..self.len())
             .map(|i| {
                 let inertia = INERTIA_FACTOR * self.mass[i] * self.radius[i] * self.radius[i];
-                0.5 * inertia * mesh::v3::dot(self.omega[i], self.omega[i])
+                0.5 * inertia * self.omega[i].dot(&self.omega[i])
             })
             .sum()
     }

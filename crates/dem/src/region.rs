@@ -52,8 +52,8 @@ impl Region {
                 hi,
             } => {
                 let (a, b) = cross_axes(axis);
-                let mut l = [0.0; 3];
-                let mut h = [0.0; 3];
+                let mut l = V3::zeros();
+                let mut h = V3::zeros();
                 l[axis] = lo;
                 h[axis] = hi;
                 l[a] = centre[0] - radius;
@@ -83,7 +83,7 @@ impl Region {
         if (0..3).any(|k| l[k] > h[k]) {
             return None;
         }
-        let mut draw = || [0, 1, 2].map(|k| l[k] + (h[k] - l[k]) * rng.gen::<f64>());
+        let mut draw = || V3::from_fn(|k, _| l[k] + (h[k] - l[k]) * rng.gen::<f64>());
         match *self {
             Region::Block { .. } => Some(draw()),
             // rejection in the bounding box: accepts π/4 of the draws
@@ -134,12 +134,15 @@ mod tests {
             lo: 0.0,
             hi: 2.0,
         };
-        assert!(c.contains([0.7, 0.7, 1.0]));
-        assert!(!c.contains([0.8, 0.7, 1.0]));
-        assert!(c.contains_sphere([0.5, 0.0, 1.0], 0.5));
-        assert!(!c.contains_sphere([0.5, 0.0, 1.0], 0.51));
-        assert!(!c.contains_sphere([0.0, 0.0, 0.4], 0.5));
+        assert!(c.contains(V3::new(0.7, 0.7, 1.0)));
+        assert!(!c.contains(V3::new(0.8, 0.7, 1.0)));
+        assert!(c.contains_sphere(V3::new(0.5, 0.0, 1.0), 0.5));
+        assert!(!c.contains_sphere(V3::new(0.5, 0.0, 1.0), 0.51));
+        assert!(!c.contains_sphere(V3::new(0.0, 0.0, 0.4), 0.5));
         assert!((c.volume() - 2.0 * std::f64::consts::PI).abs() < 1e-15);
-        assert_eq!(c.bounds(), ([-1.0, -1.0, 0.0], [1.0, 1.0, 2.0]));
+        assert_eq!(
+            c.bounds(),
+            (V3::new(-1.0, -1.0, 0.0), V3::new(1.0, 1.0, 2.0))
+        );
     }
 }

@@ -13,7 +13,7 @@
 //! differ between thread counts only by round-off, which granular dynamics amplify).
 
 use dem_io::{Boundary, BoxBounds};
-use mesh::v3::{self, V3};
+use mesh::v3::V3;
 use rayon::prelude::*;
 
 use crate::contact::{contact_force, ContactInput, ContactModel, History};
@@ -81,8 +81,8 @@ impl SimBox {
             }
         }
         BoxBounds {
-            lo,
-            hi,
+            lo: lo.into(),
+            hi: hi.into(),
             tilt: None,
             boundary: self.boundary,
         }
@@ -444,15 +444,15 @@ impl Simulation {
             .enumerate()
             .for_each(|(c, (acc, hist))| {
                 acc.clear();
-                acc.resize(n, [[0.0; 3]; 2]);
+                acc.resize(n, [V3::zeros(); 2]);
                 let base = first[rows[c]] as usize;
                 for i in rows[c]..rows[c + 1] {
                     let (mut fi, mut ti) = (acc[i][0], acc[i][1]);
                     for k in first[i] as usize..first[i + 1] as usize {
                         let j = pj[k] as usize;
                         let h = &mut hist[k - base];
-                        let d = v3::sub(x[i], x[j]);
-                        let rsq = v3::dot(d, d);
+                        let d = x[i] - x[j];
+                        let rsq = d.dot(&d);
                         let radsum = r[i] + r[j];
                         if rsq >= radsum * radsum {
                             if *h != History::default() {
@@ -462,24 +462,24 @@ impl Simulation {
                         }
                         let dist = rsq.sqrt();
                         let inp = ContactInput {
-                            n: v3::scale(1.0 / dist, d),
+                            n: (1.0 / dist * d),
                             r: dist,
                             deltan: radsum - dist,
                             radi: r[i],
                             radj: r[j],
                             reff: r[i] * r[j] / radsum,
                             meff: m[i] * m[j] / (m[i] + m[j]),
-                            vrel: v3::sub(v[i], v[j]),
+                            vrel: (v[i] - v[j]),
                             omega_i: w[i],
                             omega_j: w[j],
                             is_wall: false,
                         };
                         let c = mats.pair(ty[i], ty[j]);
                         let o = contact_force(&model, c, &inp, h, dt, update_history);
-                        fi = v3::add(fi, o.force);
-                        ti = v3::add(ti, o.torque_i);
-                        acc[j][0] = v3::sub(acc[j][0], o.force);
-                        acc[j][1] = v3::add(acc[j][1], o.torque_j);
+                        fi += o.force;
+                        ti += o.torque_i;
+                        acc[j][0] -= o.force;
+                        acc[j][1] += o.torque_j;
                     }
                     acc[i] = [fi, ti];
                 }
@@ -496,11 +496,11 @@ impl Simulation {
                       (f, t): (&mut V3, &mut V3),
                       (v, w): (&mut V3, &mut V3),
                       wh: &mut [History]| {
-            let mut ff = v3::add(v3::scale(m[i], g), coupling.force(i, *v));
-            let mut tt = [0.0; 3];
+            let mut ff = (m[i] * g) + coupling.force(i, *v);
+            let mut tt = V3::zeros();
             for a in acc {
-                ff = v3::add(ff, a[i][0]);
-                tt = v3::add(tt, a[i][1]);
+                ff += a[i][0];
+                tt += a[i][1];
             }
             for (wall, h) in walls.iter().zip(wh.iter_mut()) {
                 let contact = wall.shape.distance(x[i]).filter(|&(dist, _)| dist < r[i]);
@@ -518,13 +518,13 @@ impl Simulation {
                     meff: m[i],
                     vrel: *v,
                     omega_i: *w,
-                    omega_j: [0.0; 3],
+                    omega_j: V3::zeros(),
                     is_wall: true,
                 };
                 let c = mats.pair(ty[i], wall.material_type);
                 let o = contact_force(&wall.model, c, &inp, h, dt, update_history);
-                ff = v3::add(ff, o.force);
-                tt = v3::add(tt, o.torque_i);
+                ff += o.force;
+                tt += o.torque_i;
             }
             *f = ff;
             *t = tt;

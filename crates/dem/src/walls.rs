@@ -56,7 +56,7 @@ impl WallShape {
         match *self {
             WallShape::Plane { axis, position } => {
                 let d = x[axis] - position;
-                let mut n = [0.0; 3];
+                let mut n = V3::zeros();
                 n[axis] = if d >= 0.0 { 1.0 } else { -1.0 };
                 Some((d.abs(), n))
             }
@@ -73,7 +73,7 @@ impl WallShape {
                 }
                 // outward radial unit vector; inside the cylinder the normal points inwards
                 let sign = if rho > radius { 1.0 } else { -1.0 };
-                let mut n = [0.0; 3];
+                let mut n = V3::zeros();
                 n[a] = sign * da / rho;
                 n[b] = sign * db / rho;
                 Some(((rho - radius).abs(), n))
@@ -92,22 +92,34 @@ mod tests {
             axis: 2,
             position: 1.0,
         };
-        assert_eq!(p.distance([0.0, 0.0, 0.25]), Some((0.75, [0.0, 0.0, -1.0])));
+        assert_eq!(
+            p.distance(V3::new(0.0, 0.0, 0.25)),
+            Some((0.75, V3::new(0.0, 0.0, -1.0)))
+        );
         let c = WallShape::Cylinder {
             axis: 2,
             radius: 2.0,
             centre: [1.0, 0.0],
         };
         // inside at distance 1.5 from the axis along +x: 0.5 from the wall, normal −x
-        assert_eq!(c.distance([2.5, 0.0, 7.0]), Some((0.5, [-1.0, 0.0, 0.0])));
-        assert_eq!(c.distance([1.0, 3.0, 0.0]), Some((1.0, [0.0, 1.0, 0.0])));
-        assert_eq!(c.distance([1.0, 0.0, 0.0]), None);
+        assert_eq!(
+            c.distance(V3::new(2.5, 0.0, 7.0)),
+            Some((0.5, V3::new(-1.0, 0.0, 0.0)))
+        );
+        assert_eq!(
+            c.distance(V3::new(1.0, 3.0, 0.0)),
+            Some((1.0, V3::new(0.0, 1.0, 0.0)))
+        );
+        assert_eq!(c.distance(V3::new(1.0, 0.0, 0.0)), None);
         // y-cylinder: the centre is (z, x)
         let y = WallShape::Cylinder {
             axis: 1,
             radius: 1.0,
             centre: [0.5, 0.0],
         };
-        assert_eq!(y.distance([0.0, 9.0, 0.0]), Some((0.5, [0.0, 0.0, 1.0])));
+        assert_eq!(
+            y.distance(V3::new(0.0, 9.0, 0.0)),
+            Some((0.5, V3::new(0.0, 0.0, 1.0)))
+        );
     }
 }

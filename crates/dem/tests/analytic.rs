@@ -5,10 +5,12 @@
 
 mod common;
 
+use approx::assert_abs_diff_eq;
 use common::{plane, sim, sim_with, sphere};
 use dem::contact::{ContactModel, RollingModel};
 use dem::material::{MaterialInput, Materials};
 use dem::particles::NewParticle;
+use mesh::v3::V3;
 use std::f64::consts::PI;
 
 /// ∫₀¹ dx/√(1 − x^{5/2}) by Simpson's rule after x = 1 − s² (which removes the end
@@ -39,7 +41,7 @@ fn mass(r: f64, rho: f64) -> f64 {
 #[test]
 fn hertz_integral_is_johnsons_constant() {
     assert!(
-        (hertz_integral() - 1.4716).abs() < 1e-4,
+        approx::abs_diff_eq!(hertz_integral(), 1.4716, epsilon = 1e-4),
         "{}",
         hertz_integral()
     );
@@ -56,7 +58,10 @@ fn hertz_pair_impact_duration_and_overlap() {
     let tc = 2.0 * hertz_integral() * dmax / v;
     // the seed-002 form t_H = 2.87 (m*²/(R* Y*² v))^{1/5} is the same law, rounded
     let t_h = dem::timestep::hertz_time(meff, reff, yeff, v);
-    assert!((t_h / tc - 1.0).abs() < 1e-3, "{t_h} vs {tc}");
+    assert!(
+        approx::abs_diff_eq!(t_h / tc, 1.0, epsilon = 1e-3),
+        "{t_h} vs {tc}"
+    );
 
     let dt = tc / 4000.0;
     let mut s = sim(e_mod, nu, 1.0, 0.5, [0.0; 3], dt);
@@ -77,13 +82,16 @@ fn hertz_pair_impact_duration_and_overlap() {
     }
     let t = in_contact as f64 * dt;
     eprintln!("contact time {t:.6e} s (Hertz {tc:.6e} s), overlap {max_overlap:.6e} m (Hertz {dmax:.6e} m)");
-    assert!((t / tc - 1.0).abs() < 1e-3, "contact {t} s, Hertz {tc} s");
     assert!(
-        (max_overlap / dmax - 1.0).abs() < 1e-3,
+        approx::abs_diff_eq!(t / tc, 1.0, epsilon = 1e-3),
+        "contact {t} s, Hertz {tc} s"
+    );
+    assert!(
+        approx::abs_diff_eq!(max_overlap / dmax, 1.0, epsilon = 1e-3),
         "{max_overlap} vs {dmax}"
     );
     // elastic: the spheres separate with the speed they came with
-    assert!((s.particles.v[1][0] - 0.5 * v).abs() < 1e-6 * v);
+    assert_abs_diff_eq!(s.particles.v[1][0], 0.5 * v, epsilon = 1e-6 * v);
     assert!((s.particles.v[0][0] + 0.5 * v).abs() < 1e-6 * v);
 }
 
@@ -114,10 +122,16 @@ fn restitution_is_the_e_set_and_speed_independent() {
         let slow = wall_restitution(e, 0.2);
         let fast = wall_restitution(e, 2.0);
         eprintln!("e set {e}: measured {slow:.5} at 0.2 m/s, {fast:.5} at 2 m/s");
-        assert!((slow / fast - 1.0).abs() < 1e-3, "e {e}: {slow} vs {fast}");
-        assert!((fast / e - 1.0).abs() < 1e-3, "e {e}: measured {fast}");
+        assert!(
+            approx::abs_diff_eq!(slow / fast, 1.0, epsilon = 1e-3),
+            "e {e}: {slow} vs {fast}"
+        );
+        assert!(
+            approx::abs_diff_eq!(fast / e, 1.0, epsilon = 1e-3),
+            "e {e}: measured {fast}"
+        );
     }
-    assert!((wall_restitution(1.0, 1.0) - 1.0).abs() < 1e-6);
+    assert_abs_diff_eq!(wall_restitution(1.0, 1.0), 1.0, epsilon = 1e-6);
 }
 
 /// Constant gravity: velocity Verlet is exact, z = z₀ + v₀t − gt²/2, v = v₀ − gt.
@@ -131,10 +145,14 @@ fn free_fall_is_exact() {
     s.run(3000).unwrap();
     let t = 3000.0 * dt;
     let p = &s.particles;
-    assert!((p.x[0][2] - (0.5 + 1.5 * t - 0.5 * g * t * t)).abs() < 1e-12);
-    assert!((p.v[0][2] - (1.5 - g * t)).abs() < 1e-12);
-    assert!((p.x[0][0] - (0.1 + 0.3 * t)).abs() < 1e-12);
-    assert!((s.time() - t).abs() < 1e-15);
+    assert_abs_diff_eq!(
+        p.x[0][2],
+        (0.5 + 1.5 * t - 0.5 * g * t * t),
+        epsilon = 1e-12
+    );
+    assert_abs_diff_eq!(p.v[0][2], (1.5 - g * t), epsilon = 1e-12);
+    assert_abs_diff_eq!(p.x[0][0], (0.1 + 0.3 * t), epsilon = 1e-12);
+    assert_abs_diff_eq!(s.time(), t, epsilon = 1e-15);
 }
 
 /// A sphere released on a plane with gravity tilted by θ. Below tan θ = 7μ/2 it rolls without
@@ -172,26 +190,26 @@ fn sphere_on_incline_rolls_below_and_slides_above_the_friction_limit() {
         if theta < critical {
             let a = 5.0 / 7.0 * g * theta.sin();
             assert!(
-                (v / (a * t) - 1.0).abs() < 0.01,
+                approx::abs_diff_eq!(v / (a * t), 1.0, epsilon = 0.01),
                 "θ {theta}: v {v}, rolling {}",
                 a * t
             );
             // contact point velocity v − ωR (ω about +y rolls towards +x)
             assert!(
-                (v - w * r).abs() < 0.01 * v,
+                approx::abs_diff_eq!(v, w * r, epsilon = 0.01 * v),
                 "θ {theta}: slip {}",
                 v - w * r
             );
         } else {
             let a = g * (theta.sin() - mu * theta.cos());
             assert!(
-                (v / (a * t) - 1.0).abs() < 0.01,
+                approx::abs_diff_eq!(v / (a * t), 1.0, epsilon = 0.01),
                 "θ {theta}: v {v}, sliding {}",
                 a * t
             );
             let wdot = 5.0 * mu * g * theta.cos() / (2.0 * r);
             assert!(
-                (w / (wdot * t) - 1.0).abs() < 0.01,
+                approx::abs_diff_eq!(w / (wdot * t), 1.0, epsilon = 0.01),
                 "θ {theta}: ω {w} vs {}",
                 wdot * t
             );
@@ -274,7 +292,7 @@ fn energy_is_conserved_without_damping_and_friction() {
         max_elastic = max_elastic.max(elastic);
         drift = drift.max(((e - e0) / ke0).abs());
         // no friction: no torque, ever
-        assert!(s.particles.omega.iter().all(|w| *w == [0.0; 3]));
+        assert!(s.particles.omega.iter().all(|w| *w == V3::zeros()));
     }
     eprintln!(
         "largest energy drift {drift:.3e} of KE₀, largest elastic energy {max_elastic:.3e} J"
@@ -313,7 +331,10 @@ fn sjkr_equilibrium_overlap() {
             b = c
         }
     }
-    assert!((d / a - 1.0).abs() < 1e-4, "δ {d} vs {a}");
+    assert!(
+        approx::abs_diff_eq!(d / a, 1.0, epsilon = 1e-4),
+        "δ {d} vs {a}"
+    );
     assert!(s.particles.v[0][2].abs() < 1e-8);
 }
 
@@ -334,7 +355,7 @@ fn cdt_rolling_friction_decelerates_a_rolling_sphere() {
     let yeff = 1e7 / (2.0 * (1.0 - 0.09));
     let d0 = (m * g / (4.0 / 3.0 * yeff * r.sqrt())).powf(2.0 / 3.0);
     s.add_particles(&[NewParticle {
-        omega: [0.0, v0 / (r - d0 / 2.0), 0.0],
+        omega: V3::new(0.0, v0 / (r - d0 / 2.0), 0.0),
         ..sphere([0.0, 0.0, r - d0], [v0, 0.0, 0.0], r, rho)
     }])
     .unwrap();
@@ -344,7 +365,7 @@ fn cdt_rolling_friction_decelerates_a_rolling_sphere() {
     let expect = v0 - 5.0 / 7.0 * mur * g * t;
     eprintln!("cdt: v {v:.6} m/s, expected {expect:.6} m/s");
     assert!(
-        ((v0 - v) / (v0 - expect) - 1.0).abs() < 0.01,
+        approx::abs_diff_eq!((v0 - v) / (v0 - expect), 1.0, epsilon = 0.01),
         "v {v} vs {expect}"
     );
 }
@@ -358,25 +379,25 @@ fn coupling_forces_act_as_adr_0004_says() {
     let mut s = sim(1e7, 0.3, 0.5, 0.5, [0.0; 3], 1e-5);
     s.add_particles(&[sphere([0.0; 3], [0.0; 3], r, rho)])
         .unwrap();
-    s.set_coupling(&[[1e-5, 0.0, 0.0]], &[0.0], &[[0.0; 3]])
+    s.set_coupling(&[V3::new(1e-5, 0.0, 0.0)], &[0.0], &[V3::zeros()])
         .unwrap();
     s.run(1000).unwrap();
     let t = 1000.0 * 1e-5;
-    assert!((s.particles.v[0][0] - 1e-5 / m * t).abs() < 1e-12);
+    assert_abs_diff_eq!(s.particles.v[0][0], 1e-5 / m * t, epsilon = 1e-12);
     let beta = 0.02 * m / 1e-5; // β dt/m = 0.02
-    s.particles.v[0] = [0.0; 3];
+    s.particles.v[0] = V3::zeros();
     s.invalidate_forces();
-    s.set_coupling(&[[0.0; 3]], &[beta], &[[0.0, 0.1, 0.0]])
+    s.set_coupling(&[V3::zeros()], &[beta], &[V3::new(0.0, 0.1, 0.0)])
         .unwrap();
     s.run(100).unwrap();
     let expect = 0.1 * (1.0 - (-beta * 100.0 * 1e-5 / m).exp());
     assert!(
-        (s.particles.v[0][1] / expect - 1.0).abs() < 0.02,
+        approx::abs_diff_eq!(s.particles.v[0][1] / expect, 1.0, epsilon = 0.02),
         "{} vs {expect}",
         s.particles.v[0][1]
     );
     let e = s
-        .set_coupling(&[[0.0; 3]], &[300.0 * m / 1e-5], &[[0.0; 3]])
+        .set_coupling(&[V3::zeros()], &[300.0 * m / 1e-5], &[V3::zeros()])
         .unwrap_err();
     assert!(e.to_string().contains("particle 1"), "{e}");
     let e = s.set_coupling(&[], &[], &[]).unwrap_err();

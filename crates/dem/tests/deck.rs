@@ -1,6 +1,8 @@
 //! Decks: the reference cases' decks (`openfoam-cases/*/DEM/`) run natively; dumps written
 //! through dem-io read back; unsupported or bad input names the file, line and command.
 
+use approx::assert_abs_diff_eq;
+use mesh::v3::{from_arrays, V3};
 use std::path::Path;
 
 use dem::Simulation;
@@ -46,7 +48,7 @@ fn ergun_decks_pack_then_couple() {
     for (a, b) in sim2.particles.x.iter().zip(&sim.particles.x) {
         for k in 0..3 {
             assert!(
-                (a[k] - b[k]).abs() <= 1e-15 * b[k].abs().max(1e-3),
+                approx::abs_diff_eq!(a[k], b[k], epsilon = 1e-15 * b[k].abs().max(1e-3)),
                 "{a:?} {b:?}"
             );
         }
@@ -54,9 +56,9 @@ fn ergun_decks_pack_then_couple() {
     // the coupler's part: a drag pair, then DEM steps
     let n = sim2.particles.len();
     sim2.set_coupling(
-        &vec![[0.0; 3]; n],
+        &vec![V3::zeros(); n],
         &vec![1e-4; n],
-        &vec![[0.0, 0.0, 0.01]; n],
+        &vec![V3::new(0.0, 0.0, 0.01); n],
     )
     .unwrap();
     sim2.run(50).unwrap();
@@ -75,7 +77,7 @@ fn settling_deck_makes_one_coupled_sphere() {
     assert_eq!(p.len(), 1);
     assert_eq!(p.radius[0], 5e-5);
     assert_eq!(p.density[0], 3000.0);
-    assert_eq!(p.x[0], [0.00625, 0.04375, 0.00625]);
+    assert_eq!(p.x[0], V3::new(0.00625, 0.04375, 0.00625));
     // gravity along −y: free fall for 1000 steps of 1e-5 s, v = −g t exactly
     sim.run(1000).unwrap();
     assert!((sim.particles.v[0][1] + 9.81 * 0.01).abs() < 1e-12);
@@ -122,9 +124,9 @@ fn dumps_read_back_with_dem_io() {
     assert_eq!(t.timestep, 200);
     let p = t.particles().unwrap();
     assert_eq!(p.id, sim.particles.id);
-    assert_eq!(p.position, sim.particles.x);
-    assert_eq!(p.velocity, sim.particles.v);
-    assert_eq!(p.force.unwrap(), sim.particles.f);
+    assert_eq!(from_arrays(&p.position), sim.particles.x);
+    assert_eq!(from_arrays(&p.velocity), sim.particles.v);
+    assert_eq!(from_arrays(&p.force.unwrap()), sim.particles.f);
     assert_eq!(p.mass.unwrap(), sim.particles.mass);
     // snapshots at 0, 50, 100, 150, 200
     let mut r = dem_io::DumpReader::open(dir.path().join("post/a.txt"), &opts).unwrap();
@@ -144,7 +146,10 @@ fn dumps_read_back_with_dem_io() {
         ..Default::default()
     };
     let b = read_snapshot(dir.path().join("post/b.bin"), &bopts, Selection::Last).unwrap();
-    assert_eq!(b.particles().unwrap().position, sim.particles.x);
+    assert_eq!(
+        from_arrays(&b.particles().unwrap().position),
+        sim.particles.x
+    );
     let s = read_snapshot(dir.path().join("post/s_200.txt"), &opts, Selection::Last).unwrap();
     assert_eq!(s.column("diameter").unwrap(), [0.001, 0.001]);
     assert!(dir.path().join("post/s_100.txt").is_file());
@@ -215,7 +220,7 @@ fn particles_from_a_liggghts_dump() {
     for p in &ps {
         let want = if p.radius == 0.0005 { 2500.0 } else { 2000.0 };
         assert!(
-            (p.density / want - 1.0).abs() < 1e-12,
+            approx::abs_diff_eq!(p.density / want, 1.0, epsilon = 1e-12),
             "{} {}",
             p.radius,
             p.density
@@ -285,12 +290,15 @@ fn thermo_rows_come_at_liggghts_steps_and_do_not_change_the_physics() {
         .collect();
     let ke = a.particles.translational_energy();
     let rke = a.particles.rotational_energy();
-    assert!((last[2] - ke).abs() <= 1e-7 * ke, "{last:?} vs {ke}");
     assert!(
-        (last[3] - rke).abs() <= 1e-7 * rke.max(1e-300),
+        approx::abs_diff_eq!(last[2], ke, epsilon = 1e-7 * ke),
+        "{last:?} vs {ke}"
+    );
+    assert!(
+        approx::abs_diff_eq!(last[3], rke, epsilon = 1e-7 * rke.max(1e-300)),
         "{last:?} vs {rke}"
     );
-    assert!((last[4] - 350.0 * 1e-5).abs() < 1e-12);
+    assert_abs_diff_eq!(last[4], 350.0 * 1e-5, epsilon = 1e-12);
     assert!(lines.last().unwrap().starts_with("Loop time of "));
     // The default style (`one`): step atoms ke cpu.
     assert_eq!(

@@ -43,7 +43,7 @@ fn restitution_deck_rebounds_with_the_e_set() {
         for v in [0.2, 2.0] {
             let ratio = native_rebound(e, v) / v;
             assert!(
-                (ratio / e - 1.0).abs() < 1e-3,
+                approx::abs_diff_eq!(ratio / e, 1.0, epsilon = 1e-3),
                 "e {e}, v {v}: measured {ratio}"
             );
         }
@@ -71,9 +71,12 @@ fn restitution_deck_matches_liggghts() {
     testkit::run_ok(c, dir.path());
     let theirs = rebound_velocity(dir.path());
     let ours = native_rebound(e, v);
-    assert!((theirs / v / e - 1.0).abs() < 1e-3, "LIGGGHTS: {theirs}");
     assert!(
-        (ours - theirs).abs() < 1e-9 * v,
+        approx::abs_diff_eq!(theirs / v / e, 1.0, epsilon = 1e-3),
+        "LIGGGHTS: {theirs}"
+    );
+    assert!(
+        approx::abs_diff_eq!(ours, theirs, epsilon = 1e-9 * v),
         "native {ours} vs LIGGGHTS {theirs}"
     );
 }

@@ -34,7 +34,7 @@ fn main() {
         .iter()
         .map(|&e| if e < 1.0 { 3.0e4 } else { 0.0 })
         .collect();
-    let zeros = vec![[0.0; 3]; n];
+    let zeros = vec![mesh::v3::V3::zeros(); n];
     let dt = fluid.delta_t();
     let mut first = None;
     for i in 0..INTERVALS {

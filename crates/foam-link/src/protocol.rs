@@ -169,8 +169,8 @@ pub fn pack_fields(cells: &[u32], fields: &FieldsIn<'_>, out: &mut Vec<f64>) {
         eps_old[i] = fields.eps_old[c];
         eps_new[i] = fields.eps_new[c];
         ksl[i] = fields.ksl[c];
-        us[3 * i..3 * i + 3].copy_from_slice(&fields.us[c]);
-        f[3 * i..3 * i + 3].copy_from_slice(&fields.f[c]);
+        us[3 * i..3 * i + 3].copy_from_slice(fields.us[c].as_slice());
+        f[3 * i..3 * i + 3].copy_from_slice(fields.f[c].as_slice());
     }
 }
 
@@ -196,10 +196,10 @@ impl GlobalState {
     pub fn new(n_cells: usize, n_patches: usize) -> GlobalState {
         GlobalState {
             time: 0.0,
-            u: vec![[0.0; 3]; n_cells],
+            u: vec![V3::zeros(); n_cells],
             p: vec![0.0; n_cells],
-            grad_p: vec![[0.0; 3]; n_cells],
-            div_tau: vec![[0.0; 3]; n_cells],
+            grad_p: vec![V3::zeros(); n_cells],
+            div_tau: vec![V3::zeros(); n_cells],
             patch_sums: vec![[0.0; 3]; n_patches],
         }
     }
@@ -226,7 +226,7 @@ impl GlobalState {
         let (p, rest) = rest.split_at(n);
         let (grad_p, rest) = rest.split_at(3 * n);
         let (div_tau, sums) = rest.split_at(3 * n);
-        let v = |s: &[f64], i: usize| -> V3 { [s[3 * i], s[3 * i + 1], s[3 * i + 2]] };
+        let v = |s: &[f64], i: usize| -> V3 { V3::new(s[3 * i], s[3 * i + 1], s[3 * i + 2]) };
         for (i, &c) in cells.iter().enumerate() {
             let c = c as usize;
             self.u[c] = v(u, i);
@@ -322,8 +322,8 @@ mod tests {
         let eps_old = [0.1, 0.2, 0.3];
         let eps_new = [0.4, 0.5, 0.6];
         let ksl = [7.0, 8.0, 9.0];
-        let us = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]];
-        let f = [[-1.0, -2.0, -3.0], [-4.0, -5.0, -6.0], [-7.0, -8.0, -9.0]];
+        let us = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]].map(V3::from);
+        let f = [[-1.0, -2.0, -3.0], [-4.0, -5.0, -6.0], [-7.0, -8.0, -9.0]].map(V3::from);
         let fields = FieldsIn {
             eps_old: &eps_old,
             eps_new: &eps_new,
@@ -361,10 +361,13 @@ mod tests {
         s.clear_sums();
         assert_eq!(s.scatter(&[1, 2], &r0), Ok(0.5));
         assert_eq!(s.scatter(&[0], &r1), Ok(0.5));
-        assert_eq!(s.u, [[3.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]);
+        assert_eq!(
+            s.u,
+            [[3.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]].map(V3::from)
+        );
         assert_eq!(s.p, [30.0, 10.0, 20.0]);
-        assert_eq!(s.grad_p[0], [0.0, 3.0, 0.0]);
-        assert_eq!(s.div_tau[2], [0.0, 0.0, 2.0]);
+        assert_eq!(s.grad_p[0], V3::new(0.0, 3.0, 0.0));
+        assert_eq!(s.div_tau[2], V3::new(0.0, 0.0, 2.0));
         assert_eq!(s.patch_sums, [[4.0, 2.0, -1.0]]);
         let err = s.scatter(&[0], &r1[..10]).unwrap_err();
         assert!(err.contains("10 values, expected 14"), "{err}");

@@ -42,7 +42,7 @@ fn two_ranks_through_the_link_match_the_serial_prescribed_run() {
     assert!(logs.iter().all(|l| l.is_file()), "{logs:?}");
     fluid.write().unwrap();
     fluid.finish().unwrap();
-    let du_file = rel_diff_v(&linked.vectors(END, "U"), &u_files);
+    let du_file = rel_diff_v(&mesh::v3::from_arrays(&linked.vectors(END, "U")), &u_files);
     assert!(du_file < 1e-8, "reconstructed {END}/U: {du_file:e}");
 
     // No decomposeParDict: a simple one along the longest axis (z for the column) is written.

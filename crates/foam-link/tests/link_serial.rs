@@ -46,7 +46,7 @@ fn serial_link_matches_prescribed_files_and_the_native_solver() {
     fluid.write().unwrap();
     fluid.finish().unwrap();
     // The write went through OpenFOAM: the written U equals the returned one.
-    assert!(rel_diff_v(&linked.vectors(END, "U"), &u_files) < 1e-12);
+    assert!(rel_diff_v(&mesh::v3::from_arrays(&linked.vectors(END, "U")), &u_files) < 1e-12);
     let log = std::fs::read_to_string(linked.dir.join("log.grainPisoFoam")).unwrap();
     assert!(log.contains("couplingSource mpi"), "{log}");
 
@@ -70,7 +70,7 @@ fn column_patch_sums(world: &mpi::topology::SimpleCommunicator, solver: &std::pa
         .collect();
     let eps: Vec<f64> = bed.iter().map(|&b| if b { 0.45 } else { 1.0 }).collect();
     let ksl: Vec<f64> = bed.iter().map(|&b| if b { 5000.0 } else { 0.0 }).collect();
-    let zeros = vec![[0.0; 3]; eps.len()];
+    let zeros = vec![mesh::v3::V3::zeros(); eps.len()];
 
     let mut native = fv::Fluid::from_case(&case.dir).expect("native solver reads the case");
     // grainPisoFoam's faces next to porous cells are resistance-consistent (porousFaces.H).
@@ -99,7 +99,10 @@ fn column_patch_sums(world: &mpi::topology::SimpleCommunicator, solver: &std::pa
         fluid.advance_interval(0.005).unwrap();
     }
     let state = couple::FluidSide::state(&fluid);
-    let du_frozen = rel_diff_v(state.u, &frozen.vectors("0.02", "U"));
+    let du_frozen = rel_diff_v(
+        state.u,
+        &mesh::v3::from_arrays(&frozen.vectors("0.02", "U")),
+    );
     let dp_frozen = rel_diff(state.p, &frozen.scalars("0.02", "p"));
     let du = rel_diff_v(state.u, native.u());
     let dp = rel_diff(state.p, native.p());
@@ -127,13 +130,13 @@ fn column_patch_sums(world: &mpi::topology::SimpleCommunicator, solver: &std::pa
         "{inlet:?}"
     );
     assert!(
-        (outlet.flux - 0.01 * area).abs() < 1e-9 * 0.01 * area,
+        approx::abs_diff_eq!(outlet.flux, 0.01 * area, epsilon = 1e-9 * 0.01 * area),
         "{outlet:?}"
     );
     assert_eq!(outlet.mean_p, 0.0);
     let p0 = state.p[0];
     assert!(
-        (inlet.mean_p - p0).abs() <= 1e-12 * p0.abs(),
+        approx::abs_diff_eq!(inlet.mean_p, p0, epsilon = 1e-12 * p0.abs()),
         "{inlet:?} vs {p0}"
     );
     assert!(fluid.patch("nowhere").is_none());

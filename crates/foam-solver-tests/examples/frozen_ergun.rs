@@ -55,8 +55,10 @@ fn main() {
         let mut fluid = fv::Fluid::from_case(&run.dir).expect("native solver reads the case");
         fluid.harmonic_faces = harmonic;
         fluid.set_voidage(&frozen.eps, &frozen.eps).unwrap();
-        fluid.set_exchange(&frozen.ksl, &frozen.us).unwrap();
-        fluid.set_force(&frozen.f).unwrap();
+        fluid
+            .set_exchange(&frozen.ksl, mesh::v3::as_vectors(&frozen.us))
+            .unwrap();
+        fluid.set_force(mesh::v3::as_vectors(&frozen.f)).unwrap();
         let mut history = Vec::new();
         for step in 1..=steps {
             fluid.advance(DT).unwrap();

@@ -65,7 +65,7 @@ impl Bed {
             .map(|c| (((c[2] - z0) / dz) as usize).min(n_rows - 1))
             .collect();
         // Columns: cells whose centres share x and y (to 0.1 µm).
-        let key = |c: &[f64; 3]| ((c[0] * 1e7).round() as i64, (c[1] * 1e7).round() as i64);
+        let key = |c: &mesh::v3::V3| ((c[0] * 1e7).round() as i64, (c[1] * 1e7).round() as i64);
         let mut keys: Vec<(i64, i64)> = geo.cell_centres.iter().map(key).collect();
         keys.sort_unstable();
         keys.dedup();
@@ -159,14 +159,13 @@ impl Bed {
 }
 
 /// The area-weighted mean of `values` (one per face) over faces with area vectors `areas`.
-pub fn area_mean(areas: &[[f64; 3]], values: &[f64]) -> f64 {
+pub fn area_mean(areas: &[mesh::v3::V3], values: &[f64]) -> f64 {
     assert_eq!(areas.len(), values.len(), "one value per face");
-    let mag = |a: &[f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    let total: f64 = areas.iter().map(mag).sum();
+    let total: f64 = areas.iter().map(|a| a.norm()).sum();
     areas
         .iter()
         .zip(values)
-        .map(|(a, v)| mag(a) * v)
+        .map(|(a, v)| a.norm() * v)
         .sum::<f64>()
         / total
 }

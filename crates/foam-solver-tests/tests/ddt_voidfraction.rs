@@ -86,7 +86,7 @@ fn a_shrinking_voidfraction_pushes_its_volume_out_only_with_the_ddt_term() {
     };
     let (on, volume) = shrinking_block("on");
     assert!(
-        (volume - 16.0 * 4e-9).abs() < 1e-20,
+        approx::abs_diff_eq!(volume, 16.0 * 4e-9, epsilon = 1e-20),
         "block volume {volume}"
     );
     let (off, _) = shrinking_block("off");

@@ -8,6 +8,7 @@
 //! form) summed over the (1 − ε)/V_p particles per unit volume at the steady interstitial slip
 //! u_s/ε, Us = 0 (ADR 0004: Ksl_c = Σ_p β_p / V_c).
 
+use approx::assert_abs_diff_eq;
 use closures::drag::ergun;
 use closures::{sphere_volume, DragInput};
 use foam::FieldValues;
@@ -100,7 +101,9 @@ fn native_drop(case: &TestCase, eps: &[f64], ksl: &[f64], harmonic: bool) -> f64
     let mut fluid = fv::Fluid::from_case(&case.dir).expect("native solver reads the case");
     fluid.harmonic_faces = harmonic;
     fluid.set_voidage(eps, eps).unwrap();
-    fluid.set_exchange(ksl, &vec![[0.0; 3]; eps.len()]).unwrap();
+    fluid
+        .set_exchange(ksl, &vec![mesh::v3::V3::zeros(); eps.len()])
+        .unwrap();
     for _ in 0..STEPS {
         fluid.advance(DT).unwrap();
     }
@@ -144,7 +147,7 @@ fn model_a_pressure_drop_matches_ergun_and_the_native_solver() {
     let u = case.vectors("0.02", "U");
     let u_bed = u[COARSE * 28 / 60][2];
     assert!(
-        (u_bed - U_S / EPS).abs() < 1e-6 * U_S,
+        approx::abs_diff_eq!(u_bed, U_S / EPS, epsilon = 1e-6 * U_S),
         "U in the bed {u_bed}"
     );
 
@@ -176,7 +179,11 @@ fn model_b_pressure_drop_is_the_ksl_force_without_the_voidage_factor() {
     let dp = inlet_pressure(&case);
     // Model B: 0 = −∇p − (Ksl/ρ) U with U = u_s/ε, so Δp = L Ksl u_s/ε (Pa) = ε × Ergun's.
     let reference = (BED.1 - BED.0) * bed_ksl() * U_S / EPS;
-    assert!((reference - EPS * ergun_dp(BED.1 - BED.0)).abs() < 1e-9 * reference);
+    assert_abs_diff_eq!(
+        reference,
+        EPS * ergun_dp(BED.1 - BED.0),
+        epsilon = 1e-9 * reference
+    );
     let err = (dp - reference) / reference;
     eprintln!("model B: Δp = {dp:.6} Pa, L Ksl u_s/ε = {reference:.6} Pa, error {err:.3e}");
     // Measured: −4.0e-3 (60 cells; −1.6e-3 on 600).
@@ -226,7 +233,7 @@ fn a_bed_on_a_fixed_flux_pressure_inlet_keeps_its_first_half_cell() {
     // The half cell is there: the first centre sits half a cell's drop below the face.
     let half = reference / 32.0;
     assert!(
-        ((dp - first_cell) - half).abs() < 0.02 * half,
+        approx::abs_diff_eq!((dp - first_cell), half, epsilon = 0.02 * half),
         "inlet face − first centre = {} Pa, half a cell {half} Pa",
         dp - first_cell
     );

@@ -2,6 +2,7 @@
 //! decomposePar; see tests/fixtures/foam/README.md): ASCII and binary must give identical data,
 //! and read → write → read must be exact in both formats.
 
+use approx::assert_abs_diff_eq;
 use foam::{
     parse_file, read_poly_mesh, write_poly_mesh, Case, FieldKind, FieldValues, Format, Item,
     VolField,
@@ -72,7 +73,7 @@ fn nonuniform_fields_agree_between_formats_and_round_trip() {
     let FieldValues::Scalar(v) = v.internal(24).unwrap() else {
         panic!()
     };
-    assert!((v.iter().sum::<f64>() - 1e-4).abs() < 1e-16);
+    assert_abs_diff_eq!(v.iter().sum::<f64>(), 1e-4, epsilon = 1e-16);
 }
 
 #[test]

@@ -6,6 +6,7 @@
 
 use foam::{Case, Dict, FieldValues, Item, Value, VolField};
 use fv::FvGeometry;
+use mesh::v3::V3;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = std::env::args().nth(1).ok_or("usage: grad_fixture CASE")?;
@@ -13,8 +14,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mesh = case.read_mesh()?;
     let g = FvGeometry::new(&mesh)?;
     let scale = fv::testfields::length_scale(&g);
-    let p = |x: [f64; 3]| fv::testfields::smooth_scalar(x, scale);
-    let u = |x: [f64; 3]| fv::testfields::smooth_vector(x, scale);
+    let p = |x: V3| fv::testfields::smooth_scalar(x, scale);
+    let u = |x: V3| -> [f64; 3] { fv::testfields::smooth_vector(x, scale).into() };
     let mut bp = Dict::new();
     let mut bu = Dict::new();
     for patch in &g.patches {

@@ -15,7 +15,6 @@
 use crate::error::{FvError, Result};
 use crate::geometry::{FvGeometry, V3};
 use foam::{Dict, Item, Value};
-use mesh::v3::{dot, scale, sub};
 use std::path::Path;
 
 /// A value that may vary in time: constant or a piecewise-linear table of (t, value).
@@ -175,10 +174,15 @@ fn read_series<T: Copy>(items: &[Item], one: impl Fn(&Item) -> Option<T>) -> Opt
     }
 }
 
+/// A vector of a dictionary entry (`(x y z)`).
+fn as_v3(i: &Item) -> Option<V3> {
+    i.as_vector().map(V3::from)
+}
+
 fn vec_list(i: &Item) -> Option<Vec<V3>> {
     match i {
-        Item::Vectors(v) => Some(v.clone()),
-        Item::List(l) => l.iter().map(Item::as_vector).collect(),
+        Item::Vectors(v) => Some(mesh::v3::from_arrays(v)),
+        Item::List(l) => l.iter().map(as_v3).collect(),
         _ => None,
     }
 }
@@ -319,14 +323,12 @@ pub fn read_velocity(
 ) -> Result<Vec<VelocityBc>> {
     read_all(file, field, mesh, g, |e, t| {
         let bc = match t {
-            "fixedValue" => VelocityBc::FixedValue(e.values("value", Item::as_vector, vec_list)?),
-            "uniformFixedValue" => VelocityBc::UniformFixedValue(e.series(Item::as_vector)?),
+            "fixedValue" => VelocityBc::FixedValue(e.values("value", as_v3, vec_list)?),
+            "uniformFixedValue" => VelocityBc::UniformFixedValue(e.series(as_v3)?),
             "noSlip" => VelocityBc::NoSlip,
             "slip" | "symmetryPlane" | "symmetry" => VelocityBc::Slip,
             "zeroGradient" => VelocityBc::ZeroGradient,
-            "inletOutlet" => {
-                VelocityBc::InletOutlet(e.values("inletValue", Item::as_vector, vec_list)?)
-            }
+            "inletOutlet" => VelocityBc::InletOutlet(e.values("inletValue", as_v3, vec_list)?),
             "empty" => VelocityBc::Empty,
             _ => return Err(e.unsupported(t, U_SUPPORTED)),
         };
@@ -425,10 +427,10 @@ pub fn eval_velocity(
             out[b] = match bc {
                 VelocityBc::FixedValue(v) => v[i],
                 VelocityBc::UniformFixedValue(s) => s.at(t),
-                VelocityBc::NoSlip => [0.0; 3],
+                VelocityBc::NoSlip => V3::zeros(),
                 VelocityBc::Slip => {
                     let n = g.nhat(f);
-                    sub(up, scale(dot(n, up), n))
+                    up - (n.dot(&up) * n)
                 }
                 VelocityBc::ZeroGradient | VelocityBc::Empty => up,
                 VelocityBc::InletOutlet(v) => {
@@ -446,17 +448,17 @@ pub fn eval_velocity(
 /// The implicit part `vi` of the boundary value φ_b = vi ⊙ U_P + vb for each boundary face
 /// (1 for zeroGradient-like faces, 1 − n_k² for slip, 0 for fixed values).
 pub fn velocity_value_coeffs(g: &FvGeometry, bcs: &[VelocityBc], phi: &[f64]) -> Vec<V3> {
-    let mut out = vec![[0.0; 3]; g.n_boundary()];
+    let mut out = vec![V3::zeros(); g.n_boundary()];
     for (p, bc) in g.patches.iter().zip(bcs) {
         for f in p.faces.clone() {
             out[f - g.n_internal] = match bc {
-                VelocityBc::ZeroGradient | VelocityBc::Empty => [1.0; 3],
-                VelocityBc::InletOutlet(_) if phi[f] >= 0.0 => [1.0; 3],
+                VelocityBc::ZeroGradient | VelocityBc::Empty => V3::repeat(1.0),
+                VelocityBc::InletOutlet(_) if phi[f] >= 0.0 => V3::repeat(1.0),
                 VelocityBc::Slip => {
                     let n = g.nhat(f);
-                    [1.0 - n[0] * n[0], 1.0 - n[1] * n[1], 1.0 - n[2] * n[2]]
+                    V3::new(1.0 - n[0] * n[0], 1.0 - n[1] * n[1], 1.0 - n[2] * n[2])
                 }
-                _ => [0.0; 3],
+                _ => V3::zeros(),
             };
         }
     }
@@ -497,7 +499,7 @@ pub fn eval_pressure(
             out[b] = match bc {
                 PressureBc::FixedValue(v) => v[i],
                 PressureBc::UniformFixedValue(s) => s.at(t),
-                PressureBc::TotalPressure(p0) if phi[f] < 0.0 => p0[i] - 0.5 * dot(u_b[b], u_b[b]),
+                PressureBc::TotalPressure(p0) if phi[f] < 0.0 => p0[i] - 0.5 * u_b[b].dot(&u_b[b]),
                 PressureBc::TotalPressure(p0) => p0[i],
                 PressureBc::ZeroGradient | PressureBc::FixedFluxPressure | PressureBc::Empty => {
                     p[g.owner[f] as usize]

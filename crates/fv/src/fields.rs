@@ -72,7 +72,7 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
     Ok(CaseFields {
         u_file,
         p_file,
-        u,
+        u: mesh::v3::from_arrays(&u),
         p,
         u_bc,
         p_bc,

@@ -25,7 +25,6 @@ use crate::ldu::Ldu;
 use crate::linsolve::{self, SolveStats};
 use crate::settings::{Convection, Settings, SnGrad, TimeScheme};
 use foam::{Case, FieldValues, VolField};
-use mesh::v3::{dot, mag, scale, sub};
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -142,7 +141,7 @@ impl Fluid {
             SnGrad::Orthogonal => (0..g.n_faces())
                 .map(|f| {
                     if f < g.n_internal {
-                        1.0 / mag(g.delta[f])
+                        1.0 / g.delta[f].norm()
                     } else {
                         g.delta_coeff[f]
                     }
@@ -159,15 +158,15 @@ impl Fluid {
             time_index: 0,
             settings,
             case,
-            u_b: vec![[0.0; 3]; nb],
+            u_b: vec![V3::zeros(); nb],
             p_b: vec![0.0; nb],
             phi: vec![0.0; g.n_faces()],
-            grad_p: vec![[0.0; 3]; n],
+            grad_p: vec![V3::zeros(); n],
             eps: vec![1.0; n],
             eps_old: vec![1.0; n],
             ksl: vec![0.0; n],
-            us: vec![[0.0; 3]; n],
-            force: vec![[0.0; 3]; n],
+            us: vec![V3::zeros(); n],
+            force: vec![V3::zeros(); n],
             lap_dc,
             g,
             u_bc: fields.u_bc,
@@ -336,7 +335,7 @@ impl Fluid {
                 if f >= self.g.n_internal && self.g.boundary_empty[f - self.g.n_internal] {
                     0.0
                 } else {
-                    ef[f] * dot(uf[f], self.g.sf[f])
+                    ef[f] * uf[f].dot(&self.g.sf[f])
                 }
             })
             .collect()
@@ -402,26 +401,26 @@ impl Fluid {
         let mut m = cd.clone();
         m.upper.iter_mut().for_each(|x| *x *= theta);
         m.lower.iter_mut().for_each(|x| *x *= theta);
-        let mut diag: Vec<V3> = vec![[0.0; 3]; n];
-        let mut b: Vec<V3> = vec![[0.0; 3]; n];
+        let mut diag: Vec<V3> = vec![V3::zeros(); n];
+        let mut b: Vec<V3> = vec![V3::zeros(); n];
         let stress = if self.settings.full_stress {
             let nu_f: Vec<f64> = ef.iter().map(|e| e * nu).collect();
             let fl =
                 fvc::transpose_stress_flux(g, &nu_f, Field::new(&self.u, &self.u_b), &grad_u, true);
             fvc::surface_integrate(g, &fl)
         } else {
-            vec![[0.0; 3]; n]
+            vec![V3::zeros(); n]
         };
         // The θ-scheme weights the boundary values too: θ of the new ones (in cd_b) and 1 − θ
         // of the old ones.
         let b_old_shift: Vec<V3> = if theta < 1.0 {
             let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
-            let mut old = vec![[0.0; 3]; n];
-            let mut new = vec![[0.0; 3]; n];
+            let mut old = vec![V3::zeros(); n];
+            let mut new = vec![V3::zeros(); n];
             self.add_boundary_terms(&ef, &vi, &u_b_old, None, &mut old);
             self.add_boundary_terms(&ef, &vi, &self.u_b, None, &mut new);
             (0..n)
-                .map(|c| std::array::from_fn(|k| (1.0 - theta) * (old[c][k] - new[c][k])))
+                .map(|c| V3::from_fn(|k, _| (1.0 - theta) * (old[c][k] - new[c][k])))
                 .collect()
         } else {
             Vec::new()
@@ -537,7 +536,7 @@ impl Fluid {
                 if !corr_face[f] {
                     return 0.0;
                 }
-                let old = ef_old[f] * dot(uf_old[f], g.sf[f]);
+                let old = ef_old[f] * uf_old[f].dot(&g.sf[f]);
                 let diff = phi_old[f] - old;
                 let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
                 erau_f[f] * coeff * diff / dt
@@ -552,7 +551,7 @@ impl Fluid {
         for corr in 0..n_corr {
             let g = &self.g;
             // H/A; zero in a direction that is not solved (OpenFOAM's fvMatrix::H).
-            let mut hbya: Vec<V3> = vec![[0.0; 3]; n];
+            let mut hbya: Vec<V3> = vec![V3::zeros(); n];
             for k in (0..3).filter(|&k| g.solution_dirs[k]) {
                 let uk: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
                 hbya.par_iter_mut().enumerate().for_each(|(c, h)| {
@@ -567,7 +566,7 @@ impl Fluid {
             let mut phi_star = if self.harmonic_faces {
                 // φ* = γ_f (HbyA/κ)_f·S on internal faces: the driving term interpolated
                 // like the pressure gradient it balances (Fluid::harmonic_faces).
-                let ht: Vec<V3> = (0..n).map(|c| scale(1.0 / kappa[c], hbya[c])).collect();
+                let ht: Vec<V3> = (0..n).map(|c| 1.0 / kappa[c] * hbya[c]).collect();
                 let htb: Vec<V3> = (g.n_internal..g.n_faces())
                     .map(|f| ht[g.owner[f] as usize])
                     .collect();
@@ -575,13 +574,13 @@ impl Fluid {
                 (0..g.n_faces())
                     .map(|f| {
                         if f < g.n_internal {
-                            gamma[f] * dot(htf[f], g.sf[f])
+                            gamma[f] * htf[f].dot(&g.sf[f])
                         } else if g.boundary_empty[f - g.n_internal] {
                             0.0
                         } else {
                             // The owner's half cell: φ* = γ_c (HbyA_c/κ_c)·S = ε_c HbyA_c·S.
                             let o = g.owner[f] as usize;
-                            self.eps[o] * dot(hbya[o], g.sf[f])
+                            self.eps[o] * hbya[o].dot(&g.sf[f])
                         }
                     })
                     .collect()
@@ -596,7 +595,7 @@ impl Fluid {
             for f in g.n_internal..g.n_faces() {
                 let bi = f - g.n_internal;
                 if fixed_flux[bi] {
-                    phi_star[f] = ef[f] * dot(self.u_b[bi], g.sf[f]);
+                    phi_star[f] = ef[f] * self.u_b[bi].dot(&g.sf[f]);
                 }
             }
             self.phi.clone_from(&phi_star);
@@ -656,9 +655,8 @@ impl Fluid {
                     for f in 0..g.n_internal {
                         let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                         let w = g.weight[f];
-                        let gf: V3 =
-                            std::array::from_fn(|i| w * (gp[o][i] - gp[nb_][i]) + gp[nb_][i]);
-                        nonorth_flux[f] = gamma[f] * g.mag_sf[f] * dot(g.corr_vec[f], gf);
+                        let gf: V3 = V3::from_fn(|i, _| w * (gp[o][i] - gp[nb_][i]) + gp[nb_][i]);
+                        nonorth_flux[f] = gamma[f] * g.mag_sf[f] * g.corr_vec[f].dot(&gf);
                     }
                     for f in 0..g.n_internal {
                         rhs[g.owner[f] as usize] += nonorth_flux[f];
@@ -700,15 +698,15 @@ impl Fluid {
                 let near = &jump_zone;
                 for c in 0..n {
                     self.u[c] = if near[c] {
-                        scale(1.0 / self.eps[c], r[c])
+                        1.0 / self.eps[c] * r[c]
                     } else {
-                        sub(hbya[c], scale(kappa[c], self.grad_p[c]))
+                        hbya[c] - (kappa[c] * self.grad_p[c])
                     };
                 }
             } else {
                 for c in 0..n {
                     let k = kappa[c];
-                    self.u[c] = sub(hbya[c], scale(k, self.grad_p[c]));
+                    self.u[c] = hbya[c] - (k * self.grad_p[c]);
                 }
             }
             self.update_u_boundary(t_new);
@@ -742,8 +740,8 @@ impl Fluid {
         let g = &self.g;
         let nu = self.settings.nu;
         let mut m = Ldu::zeros(g);
-        let mut diag = vec![[0.0; 3]; g.n_cells];
-        let mut b = vec![[0.0; 3]; g.n_cells];
+        let mut diag = vec![V3::zeros(); g.n_cells];
+        let mut b = vec![V3::zeros(); g.n_cells];
         let corrected = self.settings.sn_grad == SnGrad::Corrected;
         for f in 0..g.n_internal {
             let (o, nn) = (g.owner[f] as usize, g.neighbour[f] as usize);
@@ -774,7 +772,8 @@ impl Fluid {
                 for j in 0..3 {
                     let mut s = 0.0;
                     for i in 0..3 {
-                        s += kv[i] * (wf * (grad_u[o][i][j] - grad_u[nn][i][j]) + grad_u[nn][i][j]);
+                        s += kv[i]
+                            * (wf * (grad_u[o][(i, j)] - grad_u[nn][(i, j)]) + grad_u[nn][(i, j)]);
                     }
                     b[o][j] += c * s;
                     b[nn][j] -= c * s;
@@ -828,7 +827,7 @@ impl Fluid {
         })?;
         let fmt = self.settings.write_format;
         let mut u = self.u_file.clone();
-        u.set_internal(FieldValues::Vector(self.u.clone()))
+        u.set_internal(FieldValues::Vector(mesh::v3::to_arrays(&self.u)))
             .map_err(|m| FvError::Value {
                 what: "U".into(),
                 msg: m,
@@ -900,7 +899,7 @@ fn start_dir(case: &Case, start: f64) -> Result<std::path::PathBuf> {
 /// face pressure of [`Fluid::harmonic_faces`] on internal faces: p_f weights each side by its
 /// flux coefficient γ = εκ over its distance to the face.
 fn flux_consistent_grad(g: &FvGeometry, p: &[f64], p_b: &[f64], kappa: &[f64]) -> Vec<V3> {
-    let mut sum = vec![[0.0; 3]; g.n_cells];
+    let mut sum = vec![V3::zeros(); g.n_cells];
     for f in 0..g.n_internal {
         let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
         let w = g.weight[f];

@@ -14,11 +14,11 @@
 //! [`grad_least_squares`] is exact for linear fields on any mesh.
 
 use crate::geometry::{FvGeometry, V3};
-use mesh::v3::{add, dot, scale, sub};
 use rayon::prelude::*;
 
 /// A 3×3 tensor, row-major.
-pub type Tensor = [[f64; 3]; 3];
+/// A second-rank tensor (∇U: `t[(i, j)]` = ∂U_j/∂x_i, OpenFOAM's row-major `xx xy xz …`).
+pub type Tensor = nalgebra::Matrix3<f64>;
 
 /// A cell field together with its boundary-face values.
 #[derive(Clone, Copy, Debug)]
@@ -70,34 +70,32 @@ impl Value for f64 {
     }
     type Grad = V3;
     fn add_outer(acc: V3, s: V3, v: f64) -> V3 {
-        [acc[0] + s[0] * v, acc[1] + s[1] * v, acc[2] + s[2] * v]
+        V3::new(acc[0] + s[0] * v, acc[1] + s[1] * v, acc[2] + s[2] * v)
     }
     fn grad_div(g: V3, v: f64) -> V3 {
-        [g[0] / v, g[1] / v, g[2] / v]
+        V3::new(g[0] / v, g[1] / v, g[2] / v)
     }
 }
 
 impl Value for V3 {
     fn axpy(a: Self, s: f64, b: Self) -> Self {
-        [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]
+        V3::new(a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])
     }
     fn minus(a: Self, b: Self) -> Self {
-        sub(a, b)
+        a - b
     }
     type Grad = Tensor;
     fn add_outer(mut acc: Tensor, s: V3, v: V3) -> Tensor {
         for i in 0..3 {
             for j in 0..3 {
-                acc[i][j] += s[i] * v[j];
+                acc[(i, j)] += s[i] * v[j];
             }
         }
         acc
     }
     fn grad_div(mut g: Tensor, v: f64) -> Tensor {
-        for row in &mut g {
-            for x in row {
-                *x /= v;
-            }
+        for x in g.iter_mut() {
+            *x /= v;
         }
         g
     }
@@ -134,7 +132,7 @@ pub fn gauss_sum<T: Value>(g: &FvGeometry, face_values: &[T]) -> Vec<T::Grad> {
                 let s = if g.owner[f] as usize == c {
                     g.sf[f]
                 } else {
-                    scale(-1.0, g.sf[f])
+                    -1.0 * g.sf[f]
                 };
                 acc = T::add_outer(acc, s, face_values[f]);
             }
@@ -173,20 +171,20 @@ pub fn grad_least_squares(g: &FvGeometry, cells: &[f64], boundary: &[f64]) -> Ve
     (0..g.n_cells)
         .into_par_iter()
         .map(|c| {
-            let mut m = [[0.0; 3]; 3];
-            let mut r = [0.0; 3];
+            let mut m = Tensor::zeros();
+            let mut r = V3::zeros();
             for &f in g.faces_of(c) {
                 let f = f as usize;
                 let (d, dphi) = if f < g.n_internal {
                     let n = g.other(c, f);
-                    (sub(g.c[n], g.c[c]), cells[n] - cells[c])
+                    ((g.c[n] - g.c[c]), cells[n] - cells[c])
                 } else {
-                    (sub(g.cf[f], g.c[c]), boundary[f - g.n_internal] - cells[c])
+                    ((g.cf[f] - g.c[c]), boundary[f - g.n_internal] - cells[c])
                 };
-                let w = 1.0 / dot(d, d);
+                let w = 1.0 / d.dot(&d);
                 for i in 0..3 {
                     for j in 0..3 {
-                        m[i][j] += w * d[i] * d[j];
+                        m[(i, j)] += w * d[i] * d[j];
                     }
                     r[i] += w * d[i] * dphi;
                 }
@@ -206,15 +204,15 @@ pub fn reconstruct(g: &FvGeometry, phi: &[f64]) -> Vec<V3> {
     (0..g.n_cells)
         .into_par_iter()
         .map(|c| {
-            let mut t = [[0.0; 3]; 3];
-            let mut v = [0.0; 3];
+            let mut t = Tensor::zeros();
+            let mut v = V3::zeros();
             for &f in g.faces_of(c) {
                 let f = f as usize;
                 let s = g.sf[f];
-                let n = scale(1.0 / g.mag_sf[f], s);
+                let n = 1.0 / g.mag_sf[f] * s;
                 for i in 0..3 {
                     for j in 0..3 {
-                        t[i][j] += n[i] * s[j];
+                        t[(i, j)] += n[i] * s[j];
                     }
                     v[i] += n[i] * phi[f];
                 }
@@ -227,19 +225,20 @@ pub fn reconstruct(g: &FvGeometry, phi: &[f64]) -> Vec<V3> {
 /// Solves the symmetric positive semi-definite 3×3 system `m x = r`; directions in which `m`
 /// is singular (relative pivot below 1e-12) get a zero component.
 fn solve_sym3(m: Tensor, r: V3) -> V3 {
-    let scale_m = m[0][0].max(m[1][1]).max(m[2][2]);
+    let scale_m = m[(0, 0)].max(m[(1, 1)]).max(m[(2, 2)]);
     if scale_m <= 0.0 {
-        return [0.0; 3];
+        return V3::zeros();
     }
-    let active: Vec<usize> = (0..3).filter(|&i| m[i][i] > 1e-12 * scale_m).collect();
-    let mut x = [0.0; 3];
+    let active: Vec<usize> = (0..3).filter(|&i| m[(i, i)] > 1e-12 * scale_m).collect();
+    let mut x = V3::zeros();
     match active.len() {
         3 => {
-            let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-            let inv =
-                |a: usize, b: usize, c: usize, d: usize| m[a][c] * m[b][d] - m[a][d] * m[b][c];
+            let det = m[(0, 0)] * (m[(1, 1)] * m[(2, 2)] - m[(1, 2)] * m[(2, 1)])
+                - m[(0, 1)] * (m[(1, 0)] * m[(2, 2)] - m[(1, 2)] * m[(2, 0)])
+                + m[(0, 2)] * (m[(1, 0)] * m[(2, 1)] - m[(1, 1)] * m[(2, 0)]);
+            let inv = |a: usize, b: usize, c: usize, d: usize| {
+                m[(a, c)] * m[(b, d)] - m[(a, d)] * m[(b, c)]
+            };
             let adj = [
                 [inv(1, 2, 1, 2), -inv(0, 2, 1, 2), inv(0, 1, 1, 2)],
                 [-inv(1, 2, 0, 2), inv(0, 2, 0, 2), -inv(0, 1, 0, 2)],
@@ -251,11 +250,11 @@ fn solve_sym3(m: Tensor, r: V3) -> V3 {
         }
         2 => {
             let (a, b) = (active[0], active[1]);
-            let det = m[a][a] * m[b][b] - m[a][b] * m[b][a];
-            x[a] = (m[b][b] * r[a] - m[a][b] * r[b]) / det;
-            x[b] = (m[a][a] * r[b] - m[b][a] * r[a]) / det;
+            let det = m[(a, a)] * m[(b, b)] - m[(a, b)] * m[(b, a)];
+            x[a] = (m[(b, b)] * r[a] - m[(a, b)] * r[b]) / det;
+            x[b] = (m[(a, a)] * r[b] - m[(b, a)] * r[a]) / det;
         }
-        1 => x[active[0]] = r[active[0]] / m[active[0]][active[0]],
+        1 => x[active[0]] = r[active[0]] / m[(active[0], active[0])],
         _ => {}
     }
     x
@@ -270,15 +269,12 @@ pub fn boundary_grad(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) ->
             let p = g.owner[f] as usize;
             let n = g.nhat(f);
             let gp = grad_cells[p];
-            let sn = scale(
-                g.delta_coeff[f],
-                sub(u.boundary[f - g.n_internal], u.cells[p]),
-            );
-            let ngp: V3 = std::array::from_fn(|j| (0..3).map(|i| n[i] * gp[i][j]).sum());
+            let sn = g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p]);
+            let ngp: V3 = V3::from_fn(|j, _| (0..3).map(|i| n[i] * gp[(i, j)]).sum());
             let mut gb = gp;
             for i in 0..3 {
                 for j in 0..3 {
-                    gb[i][j] += n[i] * (sn[j] - ngp[j]);
+                    gb[(i, j)] += n[i] * (sn[j] - ngp[j]);
                 }
             }
             gb
@@ -296,10 +292,11 @@ pub fn sn_grad_vector(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -
             let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
             let w = g.weight[f];
             let k = g.corr_vec[f];
-            let mut s = scale(g.delta_coeff[f], sub(u.cells[n], u.cells[p]));
+            let mut s = g.delta_coeff[f] * (u.cells[n] - u.cells[p]);
             for j in 0..3 {
                 for i in 0..3 {
-                    let gf = w * (grad_cells[p][i][j] - grad_cells[n][i][j]) + grad_cells[n][i][j];
+                    let gf =
+                        w * (grad_cells[p][(i, j)] - grad_cells[n][(i, j)]) + grad_cells[n][(i, j)];
                     s[j] += k[i] * gf;
                 }
             }
@@ -308,10 +305,7 @@ pub fn sn_grad_vector(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -
         .collect();
     out.extend((g.n_internal..g.n_faces()).map(|f| {
         let p = g.owner[f] as usize;
-        scale(
-            g.delta_coeff[f],
-            sub(u.boundary[f - g.n_internal], u.cells[p]),
-        )
+        g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p])
     }));
     out
 }
@@ -334,10 +328,10 @@ pub fn transpose_stress_flux(
             let gf = if f < g.n_internal {
                 let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
                 let w = g.weight[f];
-                let mut t = [[0.0; 3]; 3];
+                let mut t = Tensor::zeros();
                 for i in 0..3 {
                     for j in 0..3 {
-                        t[i][j] = w * (grad_u[p][i][j] - grad_u[n][i][j]) + grad_u[n][i][j];
+                        t[(i, j)] = w * (grad_u[p][(i, j)] - grad_u[n][(i, j)]) + grad_u[n][(i, j)];
                     }
                 }
                 t
@@ -345,12 +339,12 @@ pub fn transpose_stress_flux(
                 grad_b[f - g.n_internal]
             };
             let s = g.sf[f];
-            let mut v: V3 = std::array::from_fn(|j| (0..3).map(|i| s[i] * gf[j][i]).sum());
+            let mut v: V3 = V3::from_fn(|j, _| (0..3).map(|i| s[i] * gf[(j, i)]).sum());
             if dev2 {
-                let tr = gf[0][0] + gf[1][1] + gf[2][2];
-                v = sub(v, scale(2.0 / 3.0 * tr, s));
+                let tr = gf[(0, 0)] + gf[(1, 1)] + gf[(2, 2)];
+                v -= 2.0 / 3.0 * tr * s;
             }
-            scale(nu_f[f], v)
+            nu_f[f] * v
         })
         .collect()
 }
@@ -370,7 +364,7 @@ pub fn div_viscous_stress(g: &FvGeometry, nu: Field<'_, f64>, u: Field<'_, V3>) 
     let nu_f = interpolate(g, nu);
     let mut flux = transpose_stress_flux(g, &nu_f, u, &grad_u, false);
     flux.par_iter_mut().enumerate().for_each(|(f, v)| {
-        *v = add(*v, scale(nu_f[f] * g.mag_sf[f], sn[f]));
+        *v += nu_f[f] * g.mag_sf[f] * sn[f];
     });
     surface_integrate(g, &flux)
 }

@@ -8,13 +8,12 @@
 
 use crate::error::{FvError, Result};
 use foam::PolyMesh;
-use mesh::v3::{dot, mag, scale, sub};
 use mesh::MeshGeometry;
 
 use crate::ldu::RowAddressing;
 
 /// A 3-vector (m, m², m/s … as the field says).
-pub type V3 = [f64; 3];
+pub use mesh::v3::V3;
 
 /// One boundary patch as the solver sees it.
 #[derive(Clone, Debug, PartialEq)]
@@ -114,7 +113,7 @@ impl FvGeometry {
         let sf = g.face_areas.clone();
         let cf = g.face_centres.clone();
         let c = g.cell_centres.clone();
-        let mag_sf: Vec<f64> = sf.iter().map(|&s| mag(s)).collect();
+        let mag_sf: Vec<f64> = sf.iter().map(|&s| s.norm()).collect();
         if let Some(f) = mag_sf.iter().position(|&a| a.is_nan() || a <= 0.0) {
             return Err(FvError::Value {
                 what: format!("face {f}"),
@@ -122,29 +121,29 @@ impl FvGeometry {
             });
         }
         let mut weight = vec![0.5; n_internal];
-        let mut delta = vec![[0.0; 3]; n_faces];
+        let mut delta = vec![V3::zeros(); n_faces];
         let mut delta_coeff = vec![0.0; n_faces];
-        let mut corr_vec = vec![[0.0; 3]; n_internal];
+        let mut corr_vec = vec![V3::zeros(); n_internal];
         for f in 0..n_internal {
             let (p, n) = (owner[f] as usize, neighbour[f] as usize);
-            let sfd_own = dot(sf[f], sub(cf[f], c[p])).abs();
-            let sfd_nei = dot(sf[f], sub(c[n], cf[f])).abs();
+            let sfd_own = sf[f].dot(&(cf[f] - c[p])).abs();
+            let sfd_nei = sf[f].dot(&(c[n] - cf[f])).abs();
             if sfd_own + sfd_nei > mesh::geometry::ROOTVSMALL {
                 weight[f] = sfd_nei / (sfd_own + sfd_nei);
             }
-            let d = sub(c[n], c[p]);
-            let nhat = scale(1.0 / mag_sf[f], sf[f]);
+            let d = c[n] - c[p];
+            let nhat = 1.0 / mag_sf[f] * sf[f];
             delta[f] = d;
-            delta_coeff[f] = 1.0 / dot(nhat, d).max(0.05 * mag(d));
-            corr_vec[f] = sub(nhat, scale(delta_coeff[f], d));
+            delta_coeff[f] = 1.0 / nhat.dot(&d).max(0.05 * d.norm());
+            corr_vec[f] = nhat - (delta_coeff[f] * d);
         }
         for f in n_internal..n_faces {
             let p = owner[f] as usize;
-            let nhat = scale(1.0 / mag_sf[f], sf[f]);
-            let d = scale(dot(nhat, sub(cf[f], c[p])), nhat);
+            let nhat = 1.0 / mag_sf[f] * sf[f];
+            let d = nhat.dot(&(cf[f] - c[p])) * nhat;
             delta[f] = d;
-            let dn = dot(nhat, d);
-            delta_coeff[f] = 1.0 / dn.max(0.05 * mag(d)).max(mesh::geometry::VSMALL);
+            let dn = nhat.dot(&d);
+            delta_coeff[f] = 1.0 / dn.max(0.05 * d.norm()).max(mesh::geometry::VSMALL);
         }
         let patches: Vec<FvPatch> = mesh
             .boundary
@@ -262,7 +261,7 @@ impl FvGeometry {
     /// Unit normal of face `f` (out of the owner).
     #[inline]
     pub fn nhat(&self, f: usize) -> V3 {
-        scale(1.0 / self.mag_sf[f], self.sf[f])
+        1.0 / self.mag_sf[f] * self.sf[f]
     }
 }
 
@@ -271,7 +270,7 @@ impl FvGeometry {
 /// s_i/|s| > 1e-6 (the normal of a 2-D case's front and back planes). A mesh without `empty`
 /// faces solves in all three directions.
 fn solution_dirs(sf: &[V3], boundary_empty: &[bool], n_internal: usize) -> [bool; 3] {
-    let mut sum = [0.0f64; 3];
+    let mut sum = V3::zeros();
     for (b, &empty) in boundary_empty.iter().enumerate() {
         if empty {
             let s = sf[n_internal + b];
@@ -280,7 +279,7 @@ fn solution_dirs(sf: &[V3], boundary_empty: &[bool], n_internal: usize) -> [bool
             }
         }
     }
-    let m = mag(sum);
+    let m = sum.norm();
     if m == 0.0 {
         return [true; 3];
     }

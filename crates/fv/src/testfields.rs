@@ -26,13 +26,13 @@ pub fn smooth_scalar(x: V3, l: f64) -> f64 {
 /// ∇p of [`smooth_scalar`] (1/m).
 pub fn smooth_scalar_grad(x: V3, l: f64) -> V3 {
     let [a, b, c] = [x[0] / l, x[1] / l, x[2] / l];
-    [(2.0 + b) / l, (-3.0 + a) / l, (0.5 + 2.0 * c) / l]
+    V3::new((2.0 + b) / l, (-3.0 + a) / l, (0.5 + 2.0 * c) / l)
 }
 
 /// U(x) = (y'² + x', x'z' − y', 1 + x'² − z') (dimensionless).
 pub fn smooth_vector(x: V3, l: f64) -> V3 {
     let [a, b, c] = [x[0] / l, x[1] / l, x[2] / l];
-    [b * b + a, a * c - b, 1.0 + a * a - c]
+    V3::new(b * b + a, a * c - b, 1.0 + a * a - c)
 }
 
 /// A linear scalar field a + g·x.

@@ -6,11 +6,12 @@
 //! 100 steps; the bound is 1e-12).
 
 use foam::{FieldValues, VolField};
+use mesh::v3::V3;
 use std::path::Path;
 
-fn read_u(path: &Path, n: usize) -> Vec<[f64; 3]> {
+fn read_u(path: &Path, n: usize) -> Vec<V3> {
     match VolField::read(path).unwrap().internal(n).unwrap() {
-        FieldValues::Vector(v) => v,
+        FieldValues::Vector(v) => mesh::v3::from_arrays(&v),
         FieldValues::Scalar(_) => panic!("vector field expected"),
     }
 }

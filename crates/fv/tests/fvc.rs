@@ -3,11 +3,13 @@
 //! gradients of linear fields, and the closed-form viscous-stress divergence of a quadratic
 //! velocity field.
 
+use approx::assert_abs_diff_eq;
 use foam::{Case, FieldValues, Item, VolField};
 use fv::fvc::{self, Field};
 use fv::testfields::{length_scale, linear_scalar, smooth_vector};
 use fv::FvGeometry;
 use mesh::build;
+use mesh::v3::{from_arrays, V3};
 
 fn geometry(case: &Case) -> FvGeometry {
     FvGeometry::new(&case.read_mesh().unwrap()).unwrap()
@@ -52,11 +54,11 @@ fn read_scalar(case: &Case, g: &FvGeometry, name: &str) -> (Vec<f64>, Vec<f64>) 
     (c, b)
 }
 
-fn read_vector(case: &Case, g: &FvGeometry, name: &str) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+fn read_vector(case: &Case, g: &FvGeometry, name: &str) -> (Vec<V3>, Vec<V3>) {
     let (FieldValues::Vector(c), FieldValues::Vector(b)) = read(case, g, name) else {
         panic!("{name}: vector field expected")
     };
-    (c, b)
+    (from_arrays(&c), from_arrays(&b))
 }
 
 /// OpenFOAM's cell values of a tensor field (9 components per cell).
@@ -94,17 +96,17 @@ fn gauss_gradients_match_openfoam_postprocess() {
         let g = geometry(&case);
         let (p, pb) = read_scalar(&case, &g, "p");
         let ours: Vec<f64> = fvc::grad_scalar(&g, &p, &pb)
-            .into_iter()
-            .flatten()
+            .iter()
+            .flat_map(|v| v.iter().copied())
             .collect();
         let (of, _) = read_vector(&case, &g, "grad(p)");
-        let of: Vec<f64> = of.into_iter().flatten().collect();
+        let of: Vec<f64> = of.iter().flat_map(|v| v.iter().copied()).collect();
         assert_close(name, "grad(p)", &ours, &of);
         let (u, ub) = read_vector(&case, &g, "U");
+        // OpenFOAM's tensor order: xx xy xz yx … (row by row)
         let ours: Vec<f64> = fvc::grad_vector(&g, &u, &ub)
-            .into_iter()
-            .flatten()
-            .flatten()
+            .iter()
+            .flat_map(|t| (0..3).flat_map(move |i| (0..3).map(move |j| t[(i, j)])))
             .collect();
         assert_close(name, "grad(U)", &ours, &read_tensor_cells(&case, "grad(U)"));
     }
@@ -125,10 +127,13 @@ fn least_squares_gradient_is_exact_for_linear_fields_on_skewed_meshes() {
         let g = geometry(&case);
         let l = length_scale(&g);
         let gl = gvec.map(|x| x / l);
-        let cells: Vec<f64> = g.c.iter().map(|&x| linear_scalar(x, 3.0, gl)).collect();
+        let cells: Vec<f64> =
+            g.c.iter()
+                .map(|&x| linear_scalar(x, 3.0, gl.into()))
+                .collect();
         let bnd: Vec<f64> = g.cf[g.n_internal..]
             .iter()
-            .map(|&x| linear_scalar(x, 3.0, gl))
+            .map(|&x| linear_scalar(x, 3.0, gl.into()))
             .collect();
         let two_d = g.patches.iter().any(|p| p.is_empty());
         let ls = fvc::grad_least_squares(&g, &cells, &bnd);
@@ -178,30 +183,32 @@ fn gauss_gradient_is_exact_for_linear_fields_on_non_orthogonal_unskewed_meshes()
     );
     let g = FvGeometry::new(&m).unwrap();
     let gl = [0.4, -1.3, 2.2];
-    let cells: Vec<f64> = g.c.iter().map(|&x| linear_scalar(x, -1.0, gl)).collect();
+    let cells: Vec<f64> =
+        g.c.iter()
+            .map(|&x| linear_scalar(x, -1.0, gl.into()))
+            .collect();
     let bnd: Vec<f64> = g.cf[g.n_internal..]
         .iter()
-        .map(|&x| linear_scalar(x, -1.0, gl))
+        .map(|&x| linear_scalar(x, -1.0, gl.into()))
         .collect();
     let gr = fvc::grad_scalar(&g, &cells, &bnd);
-    let nonorth = g
-        .corr_vec
-        .iter()
-        .map(|k| mesh::v3::mag(*k))
-        .fold(0.0, f64::max);
+    let nonorth = g.corr_vec.iter().map(|k| (*k).norm()).fold(0.0, f64::max);
     assert!(nonorth > 0.1, "mesh must be non-orthogonal ({nonorth})");
     for (c, v) in gr.iter().enumerate() {
         for k in 0..3 {
-            assert!((v[k] - gl[k]).abs() < 1e-12, "cell {c}: {v:?} vs {gl:?}");
+            assert!(
+                approx::abs_diff_eq!(v[k], gl[k], epsilon = 1e-12),
+                "cell {c}: {v:?} vs {gl:?}"
+            );
         }
     }
     // The vector gradient of U = (φ, 2φ, −φ) has rows ∂_i U = gl_i (1, 2, −1).
-    let u: Vec<[f64; 3]> = cells.iter().map(|&p| [p, 2.0 * p, -p]).collect();
-    let ub: Vec<[f64; 3]> = bnd.iter().map(|&p| [p, 2.0 * p, -p]).collect();
+    let u: Vec<V3> = cells.iter().map(|&p| V3::new(p, 2.0 * p, -p)).collect();
+    let ub: Vec<V3> = bnd.iter().map(|&p| V3::new(p, 2.0 * p, -p)).collect();
     for t in fvc::grad_vector(&g, &u, &ub) {
         for i in 0..3 {
             for (j, f) in [1.0, 2.0, -1.0].iter().enumerate() {
-                assert!((t[i][j] - gl[i] * f).abs() < 1e-12);
+                assert_abs_diff_eq!(t[(i, j)], gl[i] * f, epsilon = 1e-12);
             }
         }
     }
@@ -226,8 +233,8 @@ fn viscous_stress_divergence_of_a_quadratic_field() {
         });
         let g = FvGeometry::new(&m).unwrap();
         let l = 1.0;
-        let u: Vec<[f64; 3]> = g.c.iter().map(|&x| smooth_vector(x, l)).collect();
-        let ub: Vec<[f64; 3]> = g.cf[g.n_internal..]
+        let u: Vec<V3> = g.c.iter().map(|&x| smooth_vector(x, l)).collect();
+        let ub: Vec<V3> = g.cf[g.n_internal..]
             .iter()
             .map(|&x| smooth_vector(x, l))
             .collect();
@@ -268,11 +275,11 @@ fn viscous_stress_divergence_of_a_quadratic_field() {
 /// linear field from the face-centre fluxes.
 #[test]
 fn reconstruct_recovers_uniform_and_linear_fields() {
-    let a = [0.3, -1.2, 0.7];
+    let a = V3::new(0.3, -1.2, 0.7);
     for name in ["skewed_blocks", "poly_dual"] {
         let case = Case::open(testkit::fixture(&format!("fv/grad/{name}"))).unwrap();
         let g = geometry(&case);
-        let phi: Vec<f64> = g.sf.iter().map(|s| mesh::v3::dot(a, *s)).collect();
+        let phi: Vec<f64> = g.sf.iter().map(|s| a.dot(s)).collect();
         let r = fvc::reconstruct(&g, &phi);
         let err = r
             .iter()
@@ -281,9 +288,9 @@ fn reconstruct_recovers_uniform_and_linear_fields() {
         assert!(err < 1e-12, "{name}: {err}");
     }
     let g = FvGeometry::new(&build::uniform_box([0.0; 3], [1.0, 2.0, 0.5], [5, 4, 3])).unwrap();
-    let u = |x: [f64; 3]| [1.0 + 2.0 * x[1], x[0] - x[2], 3.0 * x[0] + x[1]];
+    let u = |x: V3| V3::new(1.0 + 2.0 * x[1], x[0] - x[2], 3.0 * x[0] + x[1]);
     let phi: Vec<f64> = (0..g.n_faces())
-        .map(|f| mesh::v3::dot(u(g.cf[f]), g.sf[f]))
+        .map(|f| (u(g.cf[f])).dot(&g.sf[f]))
         .collect();
     let r = fvc::reconstruct(&g, &phi);
     let err = r

@@ -13,6 +13,7 @@
 mod common;
 use common::{write_case, CaseSpec, PatchSpec};
 use foam::{FaceList, Label, Patch, PolyMesh};
+use mesh::v3::V3;
 use std::collections::HashMap;
 
 /// O-grid of a pipe of radius `r` along z ∈ [0, len]: an `n`×`n` core square of half-side
@@ -153,11 +154,14 @@ fn from_hexes(points: Vec<[f64; 3]>, hexes: &[[Label; 8]], len: f64) -> PolyMesh
     let push = |faces: &mut FaceList, c: usize, verts: [Label; 4]| {
         // Orient S out of the owner: flip when it points towards the cell centre.
         let cc = centre(&hexes[c]);
-        let p: Vec<[f64; 3]> = verts.iter().map(|&v| points[v as usize]).collect();
-        let d1 = mesh::v3::sub(p[2], p[0]);
-        let d2 = mesh::v3::sub(p[3], p[1]);
-        let s = mesh::v3::cross(d1, d2);
-        let out = mesh::v3::dot(s, mesh::v3::sub(centre(&verts), cc)) > 0.0;
+        let p: Vec<V3> = verts
+            .iter()
+            .map(|&v| V3::from(points[v as usize]))
+            .collect();
+        let d1 = p[2] - p[0];
+        let d2 = p[3] - p[1];
+        let s = d1.cross(&d2);
+        let out = s.dot(&(V3::from(centre(&verts)) - V3::from(cc))) > 0.0;
         let v = if out {
             verts
         } else {
@@ -263,13 +267,13 @@ fn write_pipe_case(dir: &std::path::Path, n: usize, m: usize) -> (f64, usize) {
 }
 
 /// The Hagen–Poiseuille velocity (m/s) at the point `c`.
-fn exact(c: &[f64; 3]) -> f64 {
+fn exact(c: &V3) -> f64 {
     DP / LEN * (R * R - c[0] * c[0] - c[1] * c[1]) / (4.0 * NU)
 }
 
 /// (max, volume-weighted RMS) of |u_z − u_exact(r)| / u_max over the cells, and the largest
 /// transverse speed / u_max.
-fn profile_error(centres: &[[f64; 3]], volumes: &[f64], u: &[[f64; 3]]) -> (f64, f64, f64) {
+fn profile_error(centres: &[V3], volumes: &[f64], u: &[V3]) -> (f64, f64, f64) {
     let umax = DP / LEN * R * R / (4.0 * NU);
     let (mut max, mut sq, mut vol, mut transverse) = (0.0f64, 0.0, 0.0, 0.0f64);
     for ((c, v), u) in centres.iter().zip(volumes).zip(u) {
@@ -358,7 +362,7 @@ fn pipe_matches_a_fresh_icofoam_run() {
     let case = foam::Case::open(&theirs).unwrap();
     let last = case.latest_time().unwrap().unwrap();
     assert!(
-        (last.value - dt * steps as f64).abs() < 1e-12,
+        approx::abs_diff_eq!(last.value, dt * steps as f64, epsilon = 1e-12),
         "icoFoam ended at {}",
         last.value
     );
@@ -379,7 +383,7 @@ fn pipe_matches_a_fresh_icofoam_run() {
         / umax;
     let g = fluid.geometry();
     let (e_ours, _, _) = profile_error(&g.c, &g.v, fluid.u());
-    let (e_ico, _, _) = profile_error(&g.c, &g.v, &u_ico);
+    let (e_ico, _, _) = profile_error(&g.c, &g.v, &mesh::v3::from_arrays(&u_ico));
     eprintln!(
         "pipe 6x6/4 vs icoFoam: max |ΔU|/u_max = {du:.3e}; max error vs Hagen–Poiseuille: fv {e_ours:.4e}, icoFoam {e_ico:.4e}"
     );

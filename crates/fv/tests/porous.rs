@@ -8,6 +8,7 @@
 
 mod common;
 use common::{write_case, CaseSpec, PatchSpec};
+use mesh::v3::V3;
 
 /// Δp over the bed (Pa) computed with `n` cells along the 0.06 m column (bed: the middle third),
 /// Ergun's value, and the largest deviation of the cell velocity from the plug flow U = U_s/ε,
@@ -87,7 +88,7 @@ fn bed(n: usize, harmonic: bool, reconstruct: bool) -> (f64, f64, f64) {
             .collect();
     fluid.set_voidage(&eps, &eps).unwrap();
     fluid
-        .set_exchange(&ksl, &vec![[0.0; 3]; g.n_cells])
+        .set_exchange(&ksl, &vec![V3::zeros(); g.n_cells])
         .unwrap();
     for _ in 0..100 {
         fluid.advance(spec.delta_t).unwrap();
@@ -103,7 +104,10 @@ fn bed(n: usize, harmonic: bool, reconstruct: bool) -> (f64, f64, f64) {
     // The superficial flux is uniform (continuity ∇·(εU) = 0 holds for the face fluxes).
     for f in 0..g.n_internal {
         let ux = fluid.phi()[f] / g.sf[f][0];
-        assert!((ux / us - 1.0).abs() < 1e-8, "face {f}: φ/S = {ux}");
+        assert!(
+            approx::abs_diff_eq!(ux / us, 1.0, epsilon = 1e-8),
+            "face {f}: φ/S = {ux}"
+        );
     }
     let u_dev = fluid
         .u()
@@ -166,7 +170,7 @@ fn reconstructed_velocity_has_no_overshoot_at_the_bed_surface() {
     assert!(dev0 > 0.5, "the overshoot this option removes: {dev0}");
     assert!(dev1 < 5e-4, "{dev1}");
     assert!(
-        (dp1 / ergun - 1.0).abs() < 0.01,
+        approx::abs_diff_eq!(dp1 / ergun, 1.0, epsilon = 0.01),
         "Δp {dp1} vs Ergun {ergun}"
     );
 }

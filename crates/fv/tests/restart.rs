@@ -5,16 +5,17 @@
 //! restart recomputes the fluxes from U (the Rhie–Chow part is lost) and drifts away.
 
 use foam::{FieldValues, VolField};
+use mesh::v3::V3;
 use std::path::Path;
 
-fn read_u(path: &Path, n: usize) -> Vec<[f64; 3]> {
+fn read_u(path: &Path, n: usize) -> Vec<V3> {
     match VolField::read(path).unwrap().internal(n).unwrap() {
-        FieldValues::Vector(v) => v,
+        FieldValues::Vector(v) => mesh::v3::from_arrays(&v),
         FieldValues::Scalar(_) => panic!("vector field expected"),
     }
 }
 
-fn max_diff(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+fn max_diff(a: &[V3], b: &[V3]) -> f64 {
     a.iter()
         .zip(b)
         .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))

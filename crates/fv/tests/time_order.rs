@@ -16,6 +16,7 @@
 
 mod common;
 use common::{write_case, CaseSpec, PatchSpec};
+use mesh::v3::V3;
 
 const NY: usize = 16;
 const NU: f64 = 1.0;
@@ -75,7 +76,7 @@ fn column_case(
 fn decay_error(ddt: &str, theta: f64, steps: usize) -> f64 {
     let dir = tempfile::tempdir().unwrap();
     let (g, dt) = column_case(dir.path(), "type noSlip;", ddt, steps);
-    let mode = |c: &[f64; 3]| (std::f64::consts::PI * c[1] / H).sin();
+    let mode = |c: &V3| (std::f64::consts::PI * c[1] / H).sin();
     let u0: Vec<String> = g.c.iter().map(|c| format!("({} 0 0)", mode(c))).collect();
     let u_path = dir.path().join("0/U");
     let text = std::fs::read_to_string(&u_path).unwrap().replace(

@@ -4,6 +4,7 @@
 //! - synthetic fields with a known order, φ(h) = φ0 + C h^p0, where p and φ_ext are exact;
 //! - divergent and oscillatory inputs, classified by construction.
 
+use approx::assert_abs_diff_eq;
 use gci::{analyse, analyse_study, representative_size, Behaviour, Dim, Grid, Outcome, Settings};
 use gci::{Method, Undefined, Warning};
 
@@ -113,10 +114,13 @@ fn relative_errors_agree_with_eqs_5_to_7_evaluated_by_hand_on_the_table_values()
         let e_a = ((c.phi[0] - c.phi[1]) / c.phi[0]).abs();
         let e_ext = ((ext - c.phi[0]) / ext).abs();
         let gci = 1.25 * e_a / (t.r21.powf(p) - 1.0);
-        assert!((r.e_a21 - e_a).abs() < 1e-15, "column {i}");
+        assert!(
+            approx::abs_diff_eq!(r.e_a21, e_a, epsilon = 1e-15),
+            "column {i}"
+        );
         // φ_ext carries ±5e-5 from the table's rounding: δe_ext ≲ 5e-5/|φ_ext|.
         assert!(
-            (r.e_ext21 - e_ext).abs() < 6e-5 / ext.abs(),
+            approx::abs_diff_eq!(r.e_ext21, e_ext, epsilon = 6e-5 / ext.abs()),
             "column {i}: {r:?}"
         );
         // p carries ±5e-3: δGCI/GCI ≈ r^p ln r/(r^p − 1)·5e-3 < 1.5 % here.
@@ -145,13 +149,22 @@ fn synthetic_field_of_known_order_is_recovered_to_1e_10() {
             let t = analyse(h, phi, &Settings::default()).unwrap();
             assert_eq!(t.behaviour, Behaviour::MonotonicConvergence);
             let e = t.estimate().unwrap();
-            assert!((e.p - p0).abs() < 1e-10, "p0 {p0} r {r21},{r32}: {e:?}");
-            assert!((e.phi_ext21 - phi0).abs() < 1e-10, "p0 {p0}: {e:?}");
-            assert!((e.phi_ext32 - phi0).abs() < 1e-10, "p0 {p0}: {e:?}");
+            assert!(
+                approx::abs_diff_eq!(e.p, p0, epsilon = 1e-10),
+                "p0 {p0} r {r21}, {r32}: {e:?}"
+            );
+            assert!(
+                approx::abs_diff_eq!(e.phi_ext21, phi0, epsilon = 1e-10),
+                "p0 {p0}: {e:?}"
+            );
+            assert!(
+                approx::abs_diff_eq!(e.phi_ext32, phi0, epsilon = 1e-10),
+                "p0 {p0}: {e:?}"
+            );
             // GCI_fine = Fs·|φ1 − φ_ext|/|φ1| for an exact model (eqs. 4, 5, 7).
             let r = e.relative.unwrap();
             let exact = 1.25 * ((phi[0] - phi0) / phi[0]).abs();
-            assert!((r.gci_fine21 - exact).abs() < 1e-10 * exact.max(1.0));
+            assert_abs_diff_eq!(r.gci_fine21, exact, epsilon = 1e-10 * exact.max(1.0));
         }
     }
 }
@@ -169,7 +182,7 @@ fn alternating_field_gives_its_order_and_is_flagged_oscillatory() {
     ];
     let t = analyse(h, phi, &Settings::default()).unwrap();
     assert_eq!(t.behaviour, Behaviour::OscillatoryConvergence);
-    assert!((t.estimate().unwrap().p - p0).abs() < 1e-10);
+    assert_abs_diff_eq!(t.estimate().unwrap().p, p0, epsilon = 1e-10);
 }
 
 #[test]
@@ -214,7 +227,7 @@ fn eq_3a_alone_would_report_a_positive_order_for_a_divergent_sequence() {
     // p = |ln ½|/ln 2 = 1 — a plausible-looking number for a sequence that diverges.
     let (eps21, eps32) = (0.2_f64, 0.1_f64);
     let naive = (eps32 / eps21).ln().abs() / 2f64.ln();
-    assert!((naive - 1.0).abs() < 1e-15);
+    assert_abs_diff_eq!(naive, 1.0, epsilon = 1e-15);
     let t = analyse([1.0, 2.0, 4.0], [1.0, 1.2, 1.3], &Settings::default()).unwrap();
     assert_eq!(
         t.outcome,
@@ -237,7 +250,7 @@ fn small_ratios_are_warned_and_safety_factor_scales_the_gci() {
     let base = t.estimate().unwrap().relative.unwrap().gci_fine21;
     let three = analyse(h, phi, &Settings::with_safety_factor(3.0).unwrap()).unwrap();
     let scaled = three.estimate().unwrap().relative.unwrap().gci_fine21;
-    assert!((scaled / base - 3.0 / 1.25).abs() < 1e-14);
+    assert_abs_diff_eq!(scaled / base, 3.0 / 1.25, epsilon = 1e-14);
     assert!(Settings::with_safety_factor(0.0).is_err());
     assert!(Settings::with_safety_factor(f64::NAN).is_err());
 }
@@ -249,8 +262,8 @@ fn zero_fine_value_leaves_relative_errors_undefined() {
     let phi = [0.0, 0.3, 1.5];
     let t = analyse(h, phi, &Settings::default()).unwrap();
     let e = t.estimate().unwrap();
-    assert!((e.p - 2.0).abs() < 1e-14);
-    assert!((e.phi_ext21 - (-0.1)).abs() < 1e-14);
+    assert_abs_diff_eq!(e.p, 2.0, epsilon = 1e-14);
+    assert_abs_diff_eq!(e.phi_ext21, (-0.1), epsilon = 1e-14);
     assert!(e.relative.is_none());
 }
 
@@ -269,8 +282,8 @@ fn four_grids_give_two_successive_triplets_in_any_input_order() {
     assert_eq!(ts[1].grids, [3, 2, 0]);
     for t in &ts {
         let e = t.estimate().unwrap();
-        assert!((e.p - 2.0).abs() < 1e-14);
-        assert!((e.phi_ext21 - 1.0).abs() < 1e-13);
+        assert_abs_diff_eq!(e.p, 2.0, epsilon = 1e-14);
+        assert_abs_diff_eq!(e.phi_ext21, 1.0, epsilon = 1e-13);
         assert_eq!(e.method, Method::FixedPoint);
     }
     assert!(analyse_study(&grids[..2], &Settings::default()).is_err());

@@ -22,9 +22,15 @@ proptest! {
         let t = analyse(h, phi, &Settings::default()).unwrap();
         prop_assert_eq!(t.behaviour, Behaviour::MonotonicConvergence);
         let e = t.estimate().unwrap();
-        prop_assert!((e.p - p0).abs() < 1e-10 * p0.max(1.0), "{:?}", e);
+        prop_assert!(
+    approx::abs_diff_eq!(e.p, p0, epsilon = 1e-10 * p0.max(1.0)),
+    "{:?}", e
+);
         let scale = phi.iter().fold(1.0f64, |m, v| m.max(v.abs()));
-        prop_assert!((e.phi_ext21 - phi0).abs() < 1e-8 * scale, "{:?}", e);
+        prop_assert!(
+    approx::abs_diff_eq!(e.phi_ext21, phi0, epsilon = 1e-8 * scale),
+    "{:?}", e
+);
     }
 
     /// Any finite values on ordered grids: either an estimate whose every number is finite, or

@@ -74,9 +74,9 @@ fn exchange_10k_push(bencher: Bencher) {
     let mut held = GRID.lock().unwrap();
     let dem = held.0.as_mut().unwrap();
     let n = dem.state().len();
-    let f = vec![[1e-9, 0.0, 0.0]; n];
+    let f = vec![mesh::v3::V3::new(1e-9, 0.0, 0.0); n];
     let beta = vec![1e-6; n];
-    let u = vec![[0.0, 0.0, 0.01]; n];
+    let u = vec![mesh::v3::V3::new(0.0, 0.0, 0.01); n];
     bencher
         .counter(ItemsCount::new(n as u64))
         .bench_local(|| dem.set_forces(&f, &beta, &u).unwrap());

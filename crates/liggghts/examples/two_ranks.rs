@@ -4,6 +4,7 @@
 //! Exits with status 1 (and a message) when a velocity misses v = (g + F/m) t.
 
 use couple::ParticleSide;
+use mesh::v3::V3;
 use mpi::topology::Communicator;
 use std::path::Path;
 
@@ -17,16 +18,16 @@ fn main() {
     let n = lig.state().len();
     let mine = lig.share_range();
     // F = (0, 0, 1e-6·tag) N on the own share, 1 N (nonsense) elsewhere
-    let f: Vec<[f64; 3]> = (0..n)
+    let f: Vec<V3> = (0..n)
         .map(|i| {
             if mine.contains(&i) {
-                [0.0, 0.0, 1e-6 * (i + 1) as f64]
+                V3::new(0.0, 0.0, 1e-6 * (i + 1) as f64)
             } else {
-                [1.0; 3]
+                V3::repeat(1.0)
             }
         })
         .collect();
-    lig.set_forces(&f, &vec![0.0; n], &vec![[0.0; 3]; n])
+    lig.set_forces(&f, &vec![0.0; n], &vec![V3::zeros(); n])
         .unwrap();
     lig.advance(100).unwrap();
     let m = 2000.0 * std::f64::consts::PI / 6.0 * 1e-9;

@@ -418,12 +418,12 @@ impl FileDem {
         let vec_rows = |f: &dyn Fn(usize) -> V3| -> String {
             let mut s = format!("{n}\n");
             for r in &at_row {
-                let v = r.map_or([0.0; 3], f);
+                let v = r.map_or(V3::zeros(), f);
                 s.push_str(&format!("{:e} {:e} {:e}\n", v[0], v[1], v[2]));
             }
             s
         };
-        let zero = vec_rows(&|_| [0.0; 3]);
+        let zero = vec_rows(&|_| V3::zeros());
         let mut files: Vec<(&str, String)> = vec![("hdtorque", zero.clone())];
         if self.mode == ForceMode::Implicit {
             let mut ksl = format!("{n}\n");

@@ -93,11 +93,7 @@ pub fn force_fields(
         ForceMode::FrozenAtExchange => {
             out.dragforce.extend((0..n).map(|i| {
                 let (f, b, u, w) = (f_ext[i], beta[i], u_f[i], v[i]);
-                [
-                    f[0] + b * (u[0] - w[0]),
-                    f[1] + b * (u[1] - w[1]),
-                    f[2] + b * (u[2] - w[2]),
-                ]
+                f + b * (u - w)
             }));
         }
     }
@@ -111,10 +107,10 @@ mod tests {
     #[test]
     fn implicit_passes_the_pair_and_explicit_freezes_it() {
         let ids = [4, 9];
-        let v = [[1.0, 0.0, -2.0], [0.0; 3]];
-        let f = [[0.5, 0.0, 0.0], [0.0, 0.0, -1.0]];
+        let v = [V3::new(1.0, 0.0, -2.0), V3::zeros()];
+        let f = [V3::new(0.5, 0.0, 0.0), V3::new(0.0, 0.0, -1.0)];
         let beta = [2.0, 0.0];
-        let uf = [[0.0, 3.0, 0.0], [7.0, 7.0, 7.0]];
+        let uf = [V3::new(0.0, 3.0, 0.0), V3::new(7.0, 7.0, 7.0)];
         let mut out = ForceFields::default();
         force_fields(ForceMode::Implicit, &ids, &v, &f, &beta, &uf, &mut out).unwrap();
         assert_eq!(out.dragforce, f);
@@ -131,7 +127,10 @@ mod tests {
         )
         .unwrap();
         // F_ext + β(u_f − v), by hand
-        assert_eq!(out.dragforce, [[0.5 - 2.0, 6.0, 4.0], [0.0, 0.0, -1.0]]);
+        assert_eq!(
+            out.dragforce,
+            [V3::new(0.5 - 2.0, 6.0, 4.0), V3::new(0.0, 0.0, -1.0)]
+        );
         assert!(out.ksl.is_empty() && out.uf.is_empty());
     }
 
@@ -141,10 +140,10 @@ mod tests {
         let e = force_fields(
             ForceMode::Implicit,
             &[3, 8],
-            &[[0.0; 3]; 2],
-            &[[0.0; 3]; 2],
+            &[V3::zeros(); 2],
+            &[V3::zeros(); 2],
             &[1.0, -1.0],
-            &[[0.0; 3]; 2],
+            &[V3::zeros(); 2],
             &mut out,
         )
         .unwrap_err();
@@ -152,10 +151,10 @@ mod tests {
         let e = force_fields(
             ForceMode::Implicit,
             &[3],
-            &[[0.0; 3]],
-            &[[0.0; 3]],
+            &[V3::zeros()],
+            &[V3::zeros()],
             &[],
-            &[[0.0; 3]],
+            &[V3::zeros()],
             &mut out,
         )
         .unwrap_err();

@@ -310,17 +310,17 @@ impl LiggghtsDem {
         self.pull_double("x", "vector-atom", 3, 3);
         for t in 0..m {
             if self.ibuf[t] as usize == t + 1 {
-                let x = [self.buf3[3 * t], self.buf3[3 * t + 1], self.buf3[3 * t + 2]];
+                let x = V3::new(self.buf3[3 * t], self.buf3[3 * t + 1], self.buf3[3 * t + 2]);
                 self.slot[t] = self.particles.len() as u32 + 1;
                 self.particles
-                    .push(t as u64 + 1, x, [0.0; 3], self.buf1[t], self.buf1b[t]);
+                    .push(t as u64 + 1, x, V3::zeros(), self.buf1[t], self.buf1b[t]);
             }
         }
         self.pull_double("v", "vector-atom", 3, 3);
         for t in 0..m {
             if let Some(s) = self.slot[t].checked_sub(1) {
                 self.particles.velocity[s as usize] =
-                    [self.buf3[3 * t], self.buf3[3 * t + 1], self.buf3[3 * t + 2]];
+                    V3::new(self.buf3[3 * t], self.buf3[3 * t + 1], self.buf3[3 * t + 2]);
             }
         }
         Ok(())
@@ -349,7 +349,7 @@ impl LiggghtsDem {
             let mut b = vec![0.0; 3 * m];
             for s in range.clone() {
                 let t = ids[s] as usize - 1;
-                b[3 * t..3 * t + 3].copy_from_slice(&src[s]);
+                b[3 * t..3 * t + 3].copy_from_slice(src[s].as_slice());
             }
             b
         };

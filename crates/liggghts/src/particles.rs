@@ -52,10 +52,10 @@ impl Particles {
     }
 
     /// Appends one particle.
-    pub fn push(&mut self, id: u64, x: V3, v: V3, radius: f64, density: f64) {
+    pub fn push(&mut self, id: u64, x: impl Into<V3>, v: impl Into<V3>, radius: f64, density: f64) {
         self.ids.push(id);
-        self.position.push(x);
-        self.velocity.push(v);
+        self.position.push(x.into());
+        self.velocity.push(v.into());
         self.radius.push(radius);
         self.density.push(density);
     }

@@ -2,6 +2,7 @@
 //! spheres against the native DEM given the same forces, and a LIGGGHTS that dies while the
 //! coupler waits. LIGGGHTS polls for files every 10 s, so this takes about 25 s.
 
+use approx::assert_abs_diff_eq;
 use couple::ParticleSide;
 use liggghts::{FileDem, FileOptions, ForceMode};
 use std::path::Path;
@@ -29,7 +30,7 @@ fn two_exchanges_match_the_native_dem() {
     {
         let s = lig.state();
         assert_eq!(s.ids, [1, 2, 3]);
-        assert_eq!(s.position[2], [0.02, 0.0, 0.02]);
+        assert_eq!(s.position[2], mesh::v3::V3::new(0.02, 0.0, 0.02));
         assert_eq!(s.density, [2000.0; 3]);
     }
     let stripped = liggghts::CouplingDeck::read(&deck, &[])
@@ -39,23 +40,29 @@ fn two_exchanges_match_the_native_dem() {
     let mut native = dem::Simulation::from_deck(&d, dir.path()).unwrap();
     let m = 2000.0 * std::f64::consts::PI / 6.0 * 1e-9;
     let beta = [m / 0.01, 0.0, 0.5 * m / 0.01];
-    let u_f = [[0.0, 0.0, 0.05], [0.0; 3], [0.02, 0.0, 0.01]];
-    let f_ext = [[0.0; 3], [1e-6, 0.0, 2e-6], [0.0, -3e-6, 5e-6]];
+    let u_f = [[0.0, 0.0, 0.05], [0.0; 3], [0.02, 0.0, 0.01]].map(mesh::v3::V3::from);
+    let f_ext = [[0.0; 3], [1e-6, 0.0, 2e-6], [0.0, -3e-6, 5e-6]].map(mesh::v3::V3::from);
     // LIGGGHTS takes forces only at exchanges: the first 100 steps fall freely
     native.clear_coupling();
     for k in 0..2 {
         lig.advance(100).unwrap();
         native.run(100).unwrap();
-        assert!((lig.time() - (k + 1) as f64 * 1e-3).abs() < 1e-15);
+        assert_abs_diff_eq!(lig.time(), (k + 1) as f64 * 1e-3, epsilon = 1e-15);
         let s = lig.state();
         assert_eq!(s.ids, [1, 2, 3]);
         for i in 0..3 {
             for c in 0..3 {
                 // the files carry 6 significant digits
                 let (v, vn) = (s.velocity[i][c], native.particles.v[i][c]);
-                assert!((v - vn).abs() <= 5e-6 * vn.abs() + 1e-15, "v {v} vs {vn}");
+                assert!(
+                    approx::abs_diff_eq!(v, vn, epsilon = 5e-6 * vn.abs() + 1e-15),
+                    "v {v} vs {vn}"
+                );
                 let (x, xn) = (s.position[i][c], native.particles.x[i][c]);
-                assert!((x - xn).abs() <= 5e-6 * xn.abs() + 1e-15, "x {x} vs {xn}");
+                assert!(
+                    approx::abs_diff_eq!(x, xn, epsilon = 5e-6 * xn.abs() + 1e-15),
+                    "x {x} vs {xn}"
+                );
             }
         }
         lig.set_forces(&f_ext, &beta, &u_f).unwrap();

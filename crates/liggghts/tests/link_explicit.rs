@@ -20,14 +20,15 @@ fn explicit_force_fix_freezes_the_drag_at_the_exchange() {
     assert_eq!(lig.force_mode(), ForceMode::FrozenAtExchange);
     let m = 3000.0 * std::f64::consts::PI / 6.0 * 1e-12; // d = 0.1 mm
     let beta = m / 0.005;
-    let u = [0.0, 0.1, 0.0];
+    let u = mesh::v3::V3::new(0.0, 0.1, 0.0);
     let dt = lig.time_step();
     let t = 100.0 * dt;
     let mut v0 = lig.state().velocity[0];
-    assert_eq!(v0, [0.0; 3]);
+    assert_eq!(v0, mesh::v3::V3::zeros());
     let mut f_old = None;
     for _ in 0..3 {
-        lig.set_forces(&[[0.0; 3]], &[beta], &[u]).unwrap();
+        lig.set_forces(&[mesh::v3::V3::zeros()], &[beta], &[u])
+            .unwrap();
         lig.advance(100).unwrap();
         let v = lig.state().velocity[0];
         // constant force F over the interval: v = v0 + (g + F/m) t (velocity Verlet is exact),
@@ -38,7 +39,7 @@ fn explicit_force_fix_freezes_the_drag_at_the_exchange() {
         let expected = v0[1] + (-9.81 + f / m) * t + lag;
         f_old = Some(f);
         assert!(
-            (v[1] - expected).abs() <= 1e-12 * expected.abs(),
+            approx::abs_diff_eq!(v[1], expected, epsilon = 1e-12 * expected.abs()),
             "{v:?} vs {expected}"
         );
         assert_eq!([v[0], v[2]], [0.0, 0.0]);

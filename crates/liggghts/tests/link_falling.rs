@@ -46,12 +46,12 @@ fn falling_spheres_follow_the_closed_form_and_the_native_dem() {
                            // particle 1: implicit drag towards an upward u_f; 2: explicit force only (β = 0);
                            // 3: both, with a sideways u_f
     let beta = [beta_1, 0.0, 0.5 * beta_1];
-    let u_f = [[0.0, 0.0, 0.05], [0.0; 3], [0.02, 0.0, 0.01]];
-    let f_ext = [[0.0; 3], [1e-6, 0.0, 2e-6], [0.0, -3e-6, 5e-6]];
+    let u_f = [[0.0, 0.0, 0.05], [0.0; 3], [0.02, 0.0, 0.01]].map(mesh::v3::V3::from);
+    let f_ext = [[0.0; 3], [1e-6, 0.0, 2e-6], [0.0, -3e-6, 5e-6]].map(mesh::v3::V3::from);
     {
         let s = lig.state();
         assert_eq!(s.ids, [1, 2, 3]);
-        assert_eq!(s.position[1], [0.0, 0.0, 0.02]);
+        assert_eq!(s.position[1], mesh::v3::V3::new(0.0, 0.0, 0.02));
         assert_eq!(s.radius, [0.0005; 3]);
         assert_eq!(s.density, [2000.0; 3]);
     }
@@ -64,7 +64,11 @@ fn falling_spheres_follow_the_closed_form_and_the_native_dem() {
         lig.advance(STEPS).unwrap();
         native.run(STEPS).unwrap();
         let t = k as f64 * STEPS as f64 * dt;
-        assert!((lig.time() - t).abs() < 1e-12, "time {} vs {t}", lig.time());
+        assert!(
+            approx::abs_diff_eq!(lig.time(), t, epsilon = 1e-12),
+            "time {} vs {t}",
+            lig.time()
+        );
         let s = lig.state();
         for i in 0..3 {
             for c in 0..3 {

@@ -5,6 +5,7 @@
 
 use couple::ParticleSide;
 use liggghts::LiggghtsDem;
+use mesh::v3::V3;
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 
@@ -60,22 +61,22 @@ fn particles_created_in_random_order_keep_their_tags_and_forces() {
     let s = lig.state();
     assert_eq!(s.ids, expected);
     for (i, &t) in s.ids.iter().enumerate() {
-        assert_eq!(s.position[i], sites[t as usize - 1], "tag {t}");
+        assert_eq!(s.position[i], V3::from(sites[t as usize - 1]), "tag {t}");
     }
     // a force that identifies the tag: F = (t, −2t, 3t)·1e-7 N, no drag, no gravity
     let n = s.len();
-    let f: Vec<[f64; 3]> = s
+    let f: Vec<V3> = s
         .ids
         .iter()
         .map(|&t| {
-            [
+            V3::new(
                 t as f64 * 1e-7,
                 -2.0 * t as f64 * 1e-7,
                 3.0 * t as f64 * 1e-7,
-            ]
+            )
         })
         .collect();
-    lig.set_forces(&f, &vec![0.0; n], &vec![[0.0; 3]; n])
+    lig.set_forces(&f, &vec![0.0; n], &vec![V3::zeros(); n])
         .unwrap();
     lig.advance(100).unwrap();
     lig.advance(100).unwrap();
@@ -88,13 +89,13 @@ fn particles_created_in_random_order_keep_their_tags_and_forces() {
             // constant force: velocity Verlet is exact, v = F t / m
             let v = f[i][c] / m * t;
             assert!(
-                (s.velocity[i][c] - v).abs() <= 1e-12 * v.abs(),
+                approx::abs_diff_eq!(s.velocity[i][c], v, epsilon = 1e-12 * v.abs()),
                 "tag {tag}: {:?}",
                 s.velocity[i]
             );
             let x = sites[tag as usize - 1][c] + 0.5 * f[i][c] / m * t * t;
             assert!(
-                (s.position[i][c] - x).abs() <= 1e-15,
+                approx::abs_diff_eq!(s.position[i][c], x, epsilon = 1e-15),
                 "tag {tag}: {:?}",
                 s.position[i]
             );

@@ -26,7 +26,10 @@ fn the_ergun_init_deck_writes_its_packed_bed() {
     let bed = dem::deck::data_file::read_data(&dir.path().join("post/packed.data")).unwrap();
     assert_eq!(bed.particles.len(), 50);
     for p in &bed.particles {
-        assert!((p.radius - 0.0005).abs() < 1e-12, "{p:?}");
+        assert!(
+            approx::abs_diff_eq!(p.radius, 0.0005, epsilon = 1e-12),
+            "{p:?}"
+        );
         assert!(p.x[0].hypot(p.x[1]) < 0.012 + 1e-6 && p.x[2] > 0.0, "{p:?}");
     }
     // and the run deck accepts it: its checks pass with the packed bed in place

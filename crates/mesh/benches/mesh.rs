@@ -3,6 +3,7 @@
 
 use foam::{Label, PolyMesh};
 use mesh::build::{affine, map_points, uniform_box};
+use mesh::v3::{from_arrays, V3};
 use mesh::{Locator, MeshGeometry};
 use std::sync::OnceLock;
 
@@ -30,7 +31,7 @@ const SHEAR: [[f64; 3]; 3] = [[0.9, 0.35, -0.2], [-0.3, 0.85, 0.25], [0.15, -0.2
 struct Case {
     mesh: PolyMesh,
     loc: Locator,
-    points: Vec<[f64; 3]>,
+    points: Vec<V3>,
 }
 
 fn grid() -> &'static Case {
@@ -43,7 +44,7 @@ fn grid() -> &'static Case {
         Case {
             mesh,
             loc,
-            points: rng_points(1, POINTS),
+            points: from_arrays(&rng_points(1, POINTS)),
         }
     })
 }
@@ -56,7 +57,10 @@ fn sheared() -> &'static Case {
         let g = MeshGeometry::new(&mesh).unwrap();
         let loc = Locator::new(&mesh, &g).unwrap();
         assert!(loc.axis_grid().is_none());
-        let points = rng_points(2, POINTS).into_iter().map(&map).collect();
+        let points = rng_points(2, POINTS)
+            .into_iter()
+            .map(|p| V3::from(map(p)))
+            .collect();
         Case { mesh, loc, points }
     })
 }
@@ -85,11 +89,11 @@ fn locate_from_1e6_sheared_after_small_move(b: divan::Bencher) {
     let start: Vec<Option<Label>> = c.loc.locate_all(&c.points);
     // Move every point by up to 0.3 cell widths in each direction.
     let h = 0.3 / N as f64;
-    let moved: Vec<[f64; 3]> = c
+    let moved: Vec<V3> = c
         .points
         .iter()
         .zip(rng_points(3, POINTS))
-        .map(|(p, r)| std::array::from_fn(|a| p[a] + h * (2.0 * r[a] - 1.0)))
+        .map(|(p, r)| V3::from_fn(|a, _| p[a] + h * (2.0 * r[a] - 1.0)))
         .collect();
     b.with_inputs(|| start.clone())
         .bench_local_refs(|cells| c.loc.locate_all_from(&moved, cells));

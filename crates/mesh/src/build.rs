@@ -170,7 +170,8 @@ pub fn hex_grid(xs: &[f64], ys: &[f64], zs: &[f64]) -> PolyMesh {
 }
 
 /// A uniform `n[0] × n[1] × n[2]` grid on the box `[lo, hi]`.
-pub fn uniform_box(lo: [f64; 3], hi: [f64; 3], n: [usize; 3]) -> PolyMesh {
+pub fn uniform_box(lo: impl Into<[f64; 3]>, hi: impl Into<[f64; 3]>, n: [usize; 3]) -> PolyMesh {
+    let (lo, hi) = (lo.into(), hi.into());
     let planes = |a: usize| graded_planes(lo[a], hi[a], n[a], 1.0);
     hex_grid(&planes(0), &planes(1), &planes(2))
 }
@@ -208,7 +209,8 @@ pub fn map_points(mesh: &PolyMesh, f: impl Fn([f64; 3]) -> [f64; 3]) -> PolyMesh
 }
 
 /// The affine map `p ↦ a·p + b` (row-major 3×3 matrix `a`), e.g. for [`map_points`].
-pub fn affine(a: [[f64; 3]; 3], b: [f64; 3]) -> impl Fn([f64; 3]) -> [f64; 3] {
+pub fn affine(a: [[f64; 3]; 3], b: impl Into<[f64; 3]>) -> impl Fn([f64; 3]) -> [f64; 3] {
+    let b = b.into();
     move |p| {
         let mut q = b;
         for (r, row) in a.iter().enumerate() {
@@ -219,7 +221,8 @@ pub fn affine(a: [[f64; 3]; 3], b: [f64; 3]) -> impl Fn([f64; 3]) -> [f64; 3] {
 }
 
 /// The rotation matrix about the unit axis `axis` by `angle` (radians), Rodrigues' formula.
-pub fn rotation(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
+pub fn rotation(axis: impl Into<[f64; 3]>, angle: f64) -> [[f64; 3]; 3] {
+    let axis = axis.into();
     let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
     let [x, y, z] = [axis[0] / n, axis[1] / n, axis[2] / n];
     let (s, c) = angle.sin_cos();

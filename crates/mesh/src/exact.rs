@@ -3,6 +3,8 @@
 //! Discrete Comput. Geom. 18, 1997): a value is held exactly as a sum of non-overlapping
 //! doubles. Used only when the plain floating-point evaluation cannot certify the sign.
 
+use crate::v3::V3;
+
 /// Exact `a + b = s + e`.
 #[inline]
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
@@ -86,12 +88,7 @@ impl Expansion {
 }
 
 /// Exact signs of −((b−a)×(c−a))·(p−a) and of the three components of N = (b−a)×(c−a).
-pub(crate) fn orient_exact(
-    a: &[f64; 3],
-    b: &[f64; 3],
-    c: &[f64; 3],
-    p: &[f64; 3],
-) -> (f64, [f64; 3]) {
+pub(crate) fn orient_exact(a: &V3, b: &V3, c: &V3, p: &V3) -> (f64, V3) {
     let u: [Expansion; 3] = std::array::from_fn(|k| Expansion::diff(b[k], a[k]));
     let v: [Expansion; 3] = std::array::from_fn(|k| Expansion::diff(c[k], a[k]));
     let w: [Expansion; 3] = std::array::from_fn(|k| Expansion::diff(p[k], a[k]));
@@ -101,7 +98,7 @@ pub(crate) fn orient_exact(
         u[0].mul(&v[1]).add(&u[1].mul(&v[0]).neg()),
     ];
     let d = n[0].mul(&w[0]).add(&n[1].mul(&w[1])).add(&n[2].mul(&w[2]));
-    (-d.sign(), [n[0].sign(), n[1].sign(), n[2].sign()])
+    (-d.sign(), V3::new(n[0].sign(), n[1].sign(), n[2].sign()))
 }
 
 #[cfg(test)]
@@ -123,19 +120,19 @@ mod tests {
 
     #[test]
     fn orientation_of_nearly_coplanar_points_is_exact() {
-        let a = [0.1, 0.2, 0.3];
-        let b = [0.7, 0.2, 0.3];
-        let c = [0.1, 0.9, 0.3];
+        let a = V3::new(0.1, 0.2, 0.3);
+        let b = V3::new(0.7, 0.2, 0.3);
+        let c = V3::new(0.1, 0.9, 0.3);
         // Exactly in the plane z = 0.3, and one ulp above and below it.
         let up = f64::from_bits(0.3f64.to_bits() + 1);
         let down = f64::from_bits(0.3f64.to_bits() - 1);
-        assert_eq!(orient_exact(&a, &b, &c, &[0.4, 0.5, 0.3]).0, 0.0);
+        assert_eq!(orient_exact(&a, &b, &c, &V3::new(0.4, 0.5, 0.3)).0, 0.0);
         // N = +z: a point above the plane is on the normal's side, hence negative.
-        assert_eq!(orient_exact(&a, &b, &c, &[0.4, 0.5, up]).0, -1.0);
-        assert_eq!(orient_exact(&a, &b, &c, &[0.4, 0.5, down]).0, 1.0);
+        assert_eq!(orient_exact(&a, &b, &c, &V3::new(0.4, 0.5, up)).0, -1.0);
+        assert_eq!(orient_exact(&a, &b, &c, &V3::new(0.4, 0.5, down)).0, 1.0);
         assert_eq!(
-            orient_exact(&a, &b, &c, &[0.4, 0.5, 0.3]).1,
-            [0.0, 0.0, 1.0]
+            orient_exact(&a, &b, &c, &V3::new(0.4, 0.5, 0.3)).1,
+            V3::new(0.0, 0.0, 1.0)
         );
     }
 }

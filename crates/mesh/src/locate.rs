@@ -20,7 +20,7 @@
 use crate::error::MeshError;
 use crate::geometry::{Aabb, MeshGeometry};
 use crate::tets::{tet_sides, TetDecomposition, TetId};
-use crate::v3::{dot, sub, V3};
+use crate::v3::V3;
 use foam::{Label, PolyMesh};
 use rayon::prelude::*;
 use std::collections::VecDeque;
@@ -58,7 +58,7 @@ impl AxisGrid {
     /// quadrilateral faces, each on one plane, and eight distinct points on the eight corners of
     /// the box between consecutive planes i, i+1 along each axis; when nx·ny·nz equals the number
     /// of cells; and when every (i, j, k) slot holds exactly one cell.
-    pub fn detect_snapped(mesh: &PolyMesh) -> Option<(AxisGrid, Vec<[f64; 3]>)> {
+    pub fn detect_snapped(mesh: &PolyMesh) -> Option<(AxisGrid, Vec<V3>)> {
         if mesh.n_cells == 0 || mesh.check().is_err() || mesh.points.is_empty() {
             return None;
         }
@@ -121,7 +121,7 @@ impl AxisGrid {
         }
         let snapped = ijk
             .iter()
-            .map(|q| std::array::from_fn(|a| planes[a][q[a] as usize]))
+            .map(|q| V3::from_fn(|a, _| planes[a][q[a] as usize]))
             .collect();
         let uniform = std::array::from_fn(|a| uniform_spacing(&planes[a]));
         Some((
@@ -189,7 +189,7 @@ impl AxisGrid {
 
     /// The cell holding `p` by the half-open rule, `None` outside the grid.
     #[inline]
-    pub fn locate(&self, p: [f64; 3]) -> Option<Label> {
+    pub fn locate(&self, p: V3) -> Option<Label> {
         let i = self.interval(0, p[0])?;
         let j = self.interval(1, p[1])?;
         let k = self.interval(2, p[2])?;
@@ -198,7 +198,7 @@ impl AxisGrid {
 
     /// True when the box of cell `cell` holds `p` by the half-open rule.
     #[inline]
-    pub fn cell_holds(&self, cell: Label, p: [f64; 3]) -> bool {
+    pub fn cell_holds(&self, cell: Label, p: V3) -> bool {
         let ijk = self.ijk(cell);
         (0..3).all(|a| p[a] >= self.planes[a][ijk[a]] && p[a] < self.planes[a][ijk[a] + 1])
     }
@@ -305,7 +305,7 @@ impl Bins {
             }
             h *= 1.26;
         }
-        let inv = std::array::from_fn(|a| {
+        let inv = V3::from_fn(|a, _| {
             if ext[a] > 0.0 {
                 dims[a] as f64 / ext[a]
             } else {
@@ -327,10 +327,10 @@ impl Bins {
             .with_min_len(1024)
             .map(|c| {
                 let b = tets.cell_bounds(c);
-                let pad: V3 = std::array::from_fn(|a| 1e-9 * (b.max[a] - b.min[a]) + 1e-300);
+                let pad: V3 = V3::from_fn(|a, _| 1e-9 * (b.max[a] - b.min[a]) + 1e-300);
                 (
-                    bins.bin_of(sub(b.min, pad)),
-                    bins.bin_of(std::array::from_fn(|a| b.max[a] + pad[a])),
+                    bins.bin_of(b.min - pad),
+                    bins.bin_of(V3::from_fn(|a, _| b.max[a] + pad[a])),
                 )
             })
             .collect();
@@ -476,10 +476,10 @@ impl Locator {
             None
         };
         let b = geom.bounds;
-        let pad: V3 = std::array::from_fn(|a| 1e-9 * (b.max[a] - b.min[a]) + 1e-300);
+        let pad: V3 = V3::from_fn(|a, _| 1e-9 * (b.max[a] - b.min[a]) + 1e-300);
         let bounds = Aabb {
-            min: sub(b.min, pad),
-            max: std::array::from_fn(|a| b.max[a] + pad[a]),
+            min: (b.min - pad),
+            max: V3::from_fn(|a, _| b.max[a] + pad[a]),
         };
         let bins = Bins::new(&tets, &bounds);
         let face_normals = geom
@@ -489,9 +489,9 @@ impl Locator {
             .map(|a| {
                 let m = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
                 if m > 0.0 {
-                    [a[0] / m, a[1] / m, a[2] / m]
+                    V3::new(a[0] / m, a[1] / m, a[2] / m)
                 } else {
-                    [0.0; 3]
+                    V3::zeros()
                 }
             })
             .collect();
@@ -516,7 +516,7 @@ impl Locator {
 
     /// The cell holding `p`, `None` outside the mesh.
     #[inline]
-    pub fn locate(&self, p: [f64; 3]) -> Option<Label> {
+    pub fn locate(&self, p: V3) -> Option<Label> {
         if let Some(g) = &self.grid {
             return g.locate(p);
         }
@@ -530,7 +530,7 @@ impl Locator {
     /// previous step). Same answer as [`Locator::locate`]; faster when `hint` is at or near the
     /// answer. A `hint` that is not a cell index is ignored.
     #[inline]
-    pub fn locate_from(&self, p: [f64; 3], hint: Label) -> Option<Label> {
+    pub fn locate_from(&self, p: V3, hint: Label) -> Option<Label> {
         if hint as usize >= self.tets.n_cells() {
             return self.locate(p);
         }
@@ -547,7 +547,7 @@ impl Locator {
     }
 
     /// [`Locator::locate`] for every point, in parallel.
-    pub fn locate_all(&self, points: &[[f64; 3]]) -> Vec<Option<Label>> {
+    pub fn locate_all(&self, points: &[V3]) -> Vec<Option<Label>> {
         points
             .par_iter()
             .with_min_len(512)
@@ -557,7 +557,7 @@ impl Locator {
 
     /// [`Locator::locate_from`] for every point, in parallel: `cells[i]` is the hint for
     /// `points[i]` on entry (`None`: no hint) and the answer on return.
-    pub fn locate_all_from(&self, points: &[[f64; 3]], cells: &mut [Option<Label>]) {
+    pub fn locate_all_from(&self, points: &[V3], cells: &mut [Option<Label>]) {
         assert_eq!(points.len(), cells.len(), "one cell slot per point");
         cells
             .par_iter_mut()
@@ -573,7 +573,7 @@ impl Locator {
 
     /// The cell holding `p` by the general path only (tet walk from the bin seed, then candidate
     /// search), ignoring the axis-aligned grid.
-    pub fn locate_general(&self, p: [f64; 3]) -> Option<Label> {
+    pub fn locate_general(&self, p: V3) -> Option<Label> {
         if !self.bounds.contains(p) {
             return None;
         }
@@ -601,7 +601,7 @@ impl Locator {
             let mut best = (0.0, None);
             for &f in self.tets.cell_faces(c) {
                 let f = f as usize;
-                let d = dot(sub(p, self.tets.face_apex[f]), self.face_normals[f]);
+                let d = (p - self.tets.face_apex[f]).dot(&self.face_normals[f]);
                 let d = if self.tets.owner[f] == c { d } else { -d };
                 if d > best.0 {
                     best = (d, Some(f));
@@ -619,11 +619,11 @@ impl Locator {
     /// most in the direction of `p` seen from the cell apex.
     fn start_tet(&self, cell: Label, p: V3) -> TetId {
         let apex = self.tets.cell_apex[cell as usize];
-        let d = sub(p, apex);
+        let d = p - apex;
         let mut best = (f64::NEG_INFINITY, self.tets.cell_faces(cell)[0]);
         for &f in self.tets.cell_faces(cell) {
-            let r = sub(self.tets.face_apex[f as usize], apex);
-            let score = dot(d, r) / dot(r, r);
+            let r = self.tets.face_apex[f as usize] - apex;
+            let score = d.dot(&r) / r.dot(&r);
             if score > best.0 {
                 best = (score, f);
             }

@@ -36,7 +36,7 @@ use crate::error::MeshError;
 use crate::exact::orient_exact;
 use crate::geometry::MeshGeometry;
 use crate::locate::AxisGrid;
-use crate::v3::{cross, dot, sub, V3};
+use crate::v3::V3;
 use foam::{FaceList, Label, PolyMesh};
 use rayon::prelude::*;
 
@@ -58,7 +58,7 @@ pub struct Tet {
     /// Which tet.
     pub id: TetId,
     /// Vertices (apex cEst first), m.
-    pub points: [[f64; 3]; 4],
+    pub points: [V3; 4],
     /// Canonical vertex keys (mesh point label; face apex n_points + face; cell apex
     /// n_points + n_faces + cell) fixing the evaluation order of the containment test.
     pub keys: [u64; 4],
@@ -67,7 +67,7 @@ pub struct Tet {
 impl Tet {
     /// True when the tet contains `p`, under the tie rule of this module (module docs).
     #[inline]
-    pub fn contains(&self, p: [f64; 3]) -> bool {
+    pub fn contains(&self, p: V3) -> bool {
         tet_sides(&self.points, &self.keys, &p)
             .iter()
             .all(|&s| s > 0.0)
@@ -81,8 +81,8 @@ impl Tet {
 
 /// Signed volume of the tet (a, b, c, d), m³: (b−a)·((c−a)×(d−a)) / 6.
 #[inline]
-pub fn tet_volume(t: &[[f64; 3]; 4]) -> f64 {
-    dot(sub(t[1], t[0]), cross(sub(t[2], t[0]), sub(t[3], t[0]))) / 6.0
+pub fn tet_volume(t: &[V3; 4]) -> f64 {
+    (t[1] - t[0]).dot(&(t[2] - t[0]).cross(&(t[3] - t[0]))) / 6.0
 }
 
 /// Which side of the oriented triangle (a, b, c) the point p is on: positive when p lies on the
@@ -110,11 +110,11 @@ pub(crate) fn side(v: [(&V3, u64); 3], p: &V3) -> f64 {
         }
     }
     let (a, b, c) = (a.0, b.0, c.0);
-    let u = sub(*b, *a);
-    let v = sub(*c, *a);
-    let w = sub(*p, *a);
-    let n = cross(u, v);
-    let d = -dot(n, w);
+    let u = *b - *a;
+    let v = *c - *a;
+    let w = *p - *a;
+    let n = u.cross(&v);
+    let d = -n.dot(&w);
     // Forward error bound of the evaluation above (Shewchuk's orient3d bound A).
     let permanent = w[0].abs() * ((u[1] * v[2]).abs() + (u[2] * v[1]).abs())
         + w[1].abs() * ((u[2] * v[0]).abs() + (u[0] * v[2]).abs())
@@ -173,7 +173,7 @@ impl TetDecomposition {
         geom.check_matches(mesh)?;
         let (grid, points) = match AxisGrid::detect_snapped(mesh) {
             Some((g, snapped)) => (Some(g), snapped),
-            None => (None, mesh.points.clone()),
+            None => (None, crate::v3::from_arrays(&mesh.points)),
         };
         let mut face_apex = geom.face_centres.clone();
         face_apex
@@ -217,17 +217,17 @@ impl TetDecomposition {
     }
 
     /// Mesh points (snapped onto the grid planes for an axis-aligned grid), m.
-    pub fn points(&self) -> &[[f64; 3]] {
+    pub fn points(&self) -> &[V3] {
         &self.points
     }
 
     /// The fan apex of every face (OpenFOAM's face centre, snapped onto axis-aligned planes), m.
-    pub fn face_apexes(&self) -> &[[f64; 3]] {
+    pub fn face_apexes(&self) -> &[V3] {
         &self.face_apex
     }
 
     /// The apex of every cell (OpenFOAM's cEst), m.
-    pub fn cell_apexes(&self) -> &[[f64; 3]] {
+    pub fn cell_apexes(&self) -> &[V3] {
         &self.cell_apex
     }
 
@@ -256,7 +256,7 @@ impl TetDecomposition {
 
     /// The vertices of tet `id`, positively oriented for valid cells.
     #[inline]
-    pub fn tet_points(&self, id: TetId) -> [[f64; 3]; 4] {
+    pub fn tet_points(&self, id: TetId) -> [V3; 4] {
         self.tet(id).points
     }
 
@@ -299,12 +299,12 @@ impl TetDecomposition {
     }
 
     /// The tet of cell `cell` containing `p` (tie rule of this module), by testing all its tets.
-    pub fn cell_tet_containing(&self, cell: Label, p: [f64; 3]) -> Option<TetId> {
+    pub fn cell_tet_containing(&self, cell: Label, p: V3) -> Option<TetId> {
         self.cell_tets(cell).find(|t| t.contains(p)).map(|t| t.id)
     }
 
     /// True when cell `cell` contains `p` (tie rule of this module).
-    pub fn cell_contains(&self, cell: Label, p: [f64; 3]) -> bool {
+    pub fn cell_contains(&self, cell: Label, p: V3) -> bool {
         self.cell_tet_containing(cell, p).is_some()
     }
 

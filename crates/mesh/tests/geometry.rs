@@ -2,12 +2,15 @@
 
 mod common;
 
+use approx::assert_relative_eq;
 use common::*;
 use mesh::build::{affine, graded_planes, hex_grid, map_points, rotation, single_cell};
+use mesh::v3::V3;
 use mesh::{MeshError, MeshGeometry, TetDecomposition};
 
-fn close3(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
-    (0..3).all(|k| (a[k] - b[k]).abs() <= tol)
+/// |aₖ − bₖ| ≤ tol for every component.
+fn close3(a: impl Into<V3>, b: impl Into<V3>, tol: f64) -> bool {
+    approx::abs_diff_eq!(a.into(), b.into(), epsilon = tol)
 }
 
 #[test]
@@ -24,7 +27,7 @@ fn unit_cube_volume_centre_and_face_areas() {
     ]);
     let g = MeshGeometry::new(&m).unwrap();
     assert_eq!(g.cell_volumes, vec![1.0]);
-    assert_eq!(g.cell_centres, vec![[0.5; 3]]);
+    assert_eq!(g.cell_centres, vec![V3::repeat(0.5)]);
     let expected_normals = [
         [-1., 0., 0.],
         [1., 0., 0.],
@@ -33,8 +36,8 @@ fn unit_cube_volume_centre_and_face_areas() {
         [0., 0., -1.],
         [0., 0., 1.],
     ];
-    assert_eq!(g.face_areas, expected_normals.to_vec());
-    assert_eq!(g.face_centres[5], [0.5, 0.5, 1.0]);
+    assert_eq!(g.face_areas, mesh::v3::from_arrays(&expected_normals));
+    assert_eq!(g.face_centres[5], V3::new(0.5, 0.5, 1.0));
 }
 
 #[test]
@@ -62,12 +65,17 @@ fn graded_grid_cells_are_exact_boxes_and_sum_to_the_box() {
     }
     assert!(worst < 1e-13, "worst cell volume deviation {worst:e}");
     let box_volume = 2.0 * 0.5 * 0.9;
-    assert!(rel(g.total_volume(), box_volume, 0.0) < 1e-12);
+    assert_relative_eq!(
+        g.total_volume(),
+        box_volume,
+        epsilon = 0.0,
+        max_relative = 1e-12
+    );
     assert_eq!(
         g.bounds,
         mesh::Aabb {
-            min: [-0.3, 0.1, 2.0],
-            max: [1.7, 0.6, 2.9]
+            min: V3::new(-0.3, 0.1, 2.0),
+            max: V3::new(1.7, 0.6, 2.9)
         }
     );
 }
@@ -81,9 +89,9 @@ fn single_tetrahedron_matches_closed_form() {
         [0.2, 0.3, 0.9],
     ];
     let g = MeshGeometry::new(&tet_mesh(p)).unwrap();
-    let v = mesh::tet_volume(&p);
+    let v = mesh::tet_volume(&p.map(V3::from));
     assert!(v > 0.0);
-    assert!(rel(g.cell_volumes[0], v, 0.0) < 1e-14);
+    assert_relative_eq!(g.cell_volumes[0], v, epsilon = 0.0, max_relative = 1e-14);
     let centroid: [f64; 3] = std::array::from_fn(|k| p.iter().map(|q| q[k]).sum::<f64>() / 4.0);
     assert!(close3(g.cell_centres[0], centroid, 1e-15));
 }
@@ -94,7 +102,12 @@ fn oblique_prism_matches_closed_form() {
     let shift = [0.4, -0.3, 1.2];
     let g = MeshGeometry::new(&prism_mesh(base, shift)).unwrap();
     let base_area = 0.5 * (2.0 * 1.5 - 0.2 * 0.3);
-    assert!(rel(g.cell_volumes[0], base_area * 1.2, 0.0) < 1e-14);
+    assert_relative_eq!(
+        g.cell_volumes[0],
+        base_area * 1.2,
+        epsilon = 0.0,
+        max_relative = 1e-14
+    );
     // Affine image of a right prism: centroid = mean of the six vertices.
     let centroid: [f64; 3] =
         std::array::from_fn(|k| (base.iter().map(|q| q[k]).sum::<f64>() + 1.5 * shift[k]) / 3.0);
@@ -116,7 +129,7 @@ fn hex_with_warped_face_volume_equals_divergence_theorem_on_its_face_fans() {
     let g = MeshGeometry::new(&m).unwrap();
     let (v, c) = closed_surface_volume_centroid(&cell_surface(&m, &g.face_centres, 0));
     assert!(
-        rel(g.cell_volumes[0], v, 0.0) < 1e-14,
+        approx::relative_eq!(g.cell_volumes[0], v, epsilon = 0.0, max_relative = 1e-14),
         "{} vs {v}",
         g.cell_volumes[0]
     );
@@ -131,7 +144,7 @@ fn hex_with_warped_face_volume_equals_divergence_theorem_on_its_face_fans() {
     // only through the face fans; the tets reproduce it.
     let tets = TetDecomposition::new(&m, &g).unwrap();
     let s: f64 = tets.cell_tets(0).map(|t| t.volume()).sum();
-    assert!(rel(s, g.cell_volumes[0], 0.0) < 1e-14);
+    assert_relative_eq!(s, g.cell_volumes[0], epsilon = 0.0, max_relative = 1e-14);
     assert!(tets.cell_tets(0).all(|t| t.volume() > 0.0));
 }
 
@@ -149,12 +162,21 @@ fn volumes_invariant_under_rotation_and_translation() {
     let g1 = MeshGeometry::new(&m1).unwrap();
     for c in 0..m.n_cells {
         assert!(
-            rel(g1.cell_volumes[c], g0.cell_volumes[c], 0.0) < 1e-12,
+            approx::relative_eq!(
+                g1.cell_volumes[c],
+                g0.cell_volumes[c],
+                epsilon = 0.0,
+                max_relative = 1e-12
+            ),
             "cell {c}"
         );
-        assert!(close3(g1.cell_centres[c], map(g0.cell_centres[c]), 1e-13));
+        assert!(close3(
+            g1.cell_centres[c],
+            map(g0.cell_centres[c].into()),
+            1e-13
+        ));
     }
-    assert!(rel(g1.total_volume(), 0.4, 0.0) < 1e-12);
+    assert_relative_eq!(g1.total_volume(), 0.4, epsilon = 0.0, max_relative = 1e-12);
 }
 
 #[test]
@@ -170,7 +192,12 @@ fn tets_sum_to_cell_volumes_and_are_positive_on_a_sheared_grid() {
     let tets = TetDecomposition::new(&m, &g).unwrap();
     for c in 0..m.n_cells as u32 {
         let s: f64 = tets.cell_tets(c).map(|t| t.volume()).sum();
-        assert!(rel(s, g.cell_volumes[c as usize], 0.0) < 1e-12);
+        assert_relative_eq!(
+            s,
+            g.cell_volumes[c as usize],
+            epsilon = 0.0,
+            max_relative = 1e-12
+        );
         assert_eq!(tets.cell_tets(c).count(), 24);
         assert!(tets.cell_tets(c).all(|t| t.volume() > 0.0));
     }

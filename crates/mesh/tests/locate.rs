@@ -3,9 +3,11 @@
 
 mod common;
 
+use approx::assert_relative_eq;
 use common::*;
 use foam::{Label, PolyMesh};
 use mesh::build::{affine, graded_planes, hex_grid, map_points};
+use mesh::v3::V3;
 use mesh::{Locator, LocatorOptions, MeshGeometry, TetDecomposition};
 
 fn locator(m: &PolyMesh, fast: bool) -> Locator {
@@ -21,16 +23,16 @@ fn locator(m: &PolyMesh, fast: bool) -> Locator {
 }
 
 /// Every cell whose tets contain `p`, by testing all tets of all cells.
-fn brute_force(t: &TetDecomposition, p: [f64; 3]) -> Vec<Label> {
+fn brute_force(t: &TetDecomposition, p: V3) -> Vec<Label> {
     (0..t.n_cells() as Label)
         .filter(|&c| t.cell_contains(c, p))
         .collect()
 }
 
-fn random_points(rng: &mut Rng, b: &mesh::Aabb, n: usize, grow: f64) -> Vec<[f64; 3]> {
+fn random_points(rng: &mut Rng, b: &mesh::Aabb, n: usize, grow: f64) -> Vec<V3> {
     let e = b.extent();
     (0..n)
-        .map(|_| std::array::from_fn(|a| rng.range(b.min[a] - grow * e[a], b.max[a] + grow * e[a])))
+        .map(|_| V3::from_fn(|a, _| rng.range(b.min[a] - grow * e[a], b.max[a] + grow * e[a])))
         .collect()
 }
 
@@ -92,12 +94,16 @@ fn locate_equals_brute_force_and_pre_image_on_a_sheared_grid() {
     assert!(loc.axis_grid().is_none());
     let mut rng = Rng(5);
     for _ in 0..5000 {
-        let q: [f64; 3] = std::array::from_fn(|_| rng.unit());
+        let q: V3 = V3::from_fn(|_, _| rng.unit());
         let near_plane = (0..3).any(|a| grid.planes(a).iter().any(|&x| (x - q[a]).abs() < 1e-9));
         if near_plane {
             continue;
         }
-        assert_eq!(loc.locate(map(q)), grid.locate(q), "pre-image {q:?}");
+        assert_eq!(
+            loc.locate(map(q.into()).into()),
+            grid.locate(q),
+            "pre-image {q:?}"
+        );
     }
 }
 
@@ -137,7 +143,9 @@ fn points_outside_return_none() {
             [b.max[0] + 1e-12, b.max[1], b.max[2]],
             [f64::NAN, 0.0, 0.0],
             [1e300, -1e300, 0.0],
-        ] {
+        ]
+        .map(V3::from)
+        {
             assert_eq!(loc.locate(p), None, "{p:?}");
             assert_eq!(loc.locate_from(p, 0), None, "{p:?}");
         }
@@ -146,9 +154,8 @@ fn points_outside_return_none() {
             for f in patch.faces() {
                 let n = g.face_areas[f];
                 let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                let p: [f64; 3] = std::array::from_fn(|a| {
-                    g.face_centres[f][a] + 1e-3 * e[a].max(e[0]) * n[a] / len
-                });
+                let p: V3 =
+                    V3::from_fn(|a, _| g.face_centres[f][a] + 1e-3 * e[a].max(e[0]) * n[a] / len);
                 assert_eq!(loc.locate(p), None);
                 assert!(brute_force(loc.tets(), p).is_empty());
             }
@@ -185,10 +192,10 @@ fn locate_from_any_hint_agrees_with_locate() {
 
 /// Random points of which many have coordinates exactly on grid planes (including the lower
 /// and upper domain boundaries), plus some outside.
-fn grid_points(rng: &mut Rng, planes: [&[f64]; 3], n: usize) -> Vec<[f64; 3]> {
+fn grid_points(rng: &mut Rng, planes: [&[f64]; 3], n: usize) -> Vec<V3> {
     (0..n)
         .map(|_| {
-            std::array::from_fn(|a| {
+            V3::from_fn(|a, _| {
                 let pl = planes[a];
                 let (lo, hi) = (pl[0], pl[pl.len() - 1]);
                 match rng.below(3) {
@@ -237,12 +244,12 @@ fn fast_path_and_general_path_agree_including_points_on_grid_planes() {
         assert!(on_plane > 10000 && outside > 1000, "{on_plane} {outside}");
         // Corners of the grid: lower corner inside, upper faces outside.
         let n = grid.dims();
-        let lo = [planes[0][0], planes[1][0], planes[2][0]];
+        let lo = V3::new(planes[0][0], planes[1][0], planes[2][0]);
         assert_eq!(general.locate(lo), Some(grid.cell(0, 0, 0)));
-        let hi = [planes[0][n[0]], planes[1][0], planes[2][0]];
+        let hi = V3::new(planes[0][n[0]], planes[1][0], planes[2][0]);
         assert_eq!(general.locate(hi), None);
         // A grid node in the interior belongs to the cell above it in x, y and z.
-        let node = [planes[0][2], planes[1][1], planes[2][1]];
+        let node = V3::new(planes[0][2], planes[1][1], planes[2][1]);
         assert_eq!(general.locate(node), Some(grid.cell(2, 1, 1)));
         assert_eq!(fast.locate(node), Some(grid.cell(2, 1, 1)));
     }
@@ -266,7 +273,12 @@ fn multi_block_grid_map_matches_cell_geometry() {
                 let box_vol = (grid.planes(0)[i + 1] - grid.planes(0)[i])
                     * (grid.planes(1)[j + 1] - grid.planes(1)[j])
                     * (grid.planes(2)[k + 1] - grid.planes(2)[k]);
-                assert!(rel(box_vol, g.cell_volumes[c as usize], 0.0) < 1e-12);
+                assert_relative_eq!(
+                    box_vol,
+                    g.cell_volumes[c as usize],
+                    epsilon = 0.0,
+                    max_relative = 1e-12
+                );
             }
         }
     }

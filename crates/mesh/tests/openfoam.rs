@@ -5,6 +5,7 @@
 mod common;
 
 use common::*;
+use mesh::v3::V3;
 use mesh::{MeshGeometry, TetDecomposition};
 
 const CASES: [&str; 3] = ["skewed_blocks", "poly_dual", "box_blocks"];
@@ -24,7 +25,7 @@ fn deviations(case: &str) -> (f64, f64, usize) {
         for (x, y) in g.cell_centres[i].iter().zip(&c[i]) {
             dc = dc.max((x - y).abs() / size);
         }
-        if g.cell_volumes[i] == v[i] && g.cell_centres[i] == c[i] {
+        if g.cell_volumes[i] == v[i] && g.cell_centres[i] == V3::from(c[i]) {
             bit_identical += 1;
         }
     }

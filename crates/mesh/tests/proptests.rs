@@ -47,7 +47,7 @@ proptest! {
         for c in 0..m0.n_cells {
             let v = det * g0.cell_volumes[c];
             prop_assert!((g1.cell_volumes[c] - v).abs() <= 1e-11 * v, "cell {}", c);
-            let expected = map(g0.cell_centres[c]);
+            let expected = map(g0.cell_centres[c].into());
             for (x, y) in g1.cell_centres[c].iter().zip(expected) {
                 prop_assert!((x - y).abs() <= 1e-12 * scale);
             }
@@ -80,7 +80,7 @@ proptest! {
             }
             let (i, j, k) = (idx(&xs, p0[0]).unwrap(), idx(&ys, p0[1]).unwrap(), idx(&zs, p0[2]).unwrap());
             let cell = (i + (xs.len() - 1) * (j + (ys.len() - 1) * k)) as u32;
-            prop_assert_eq!(loc.locate(map(p0)), Some(cell));
+            prop_assert_eq!(loc.locate(map(p0).into()), Some(cell));
         }
     }
 }

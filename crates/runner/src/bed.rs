@@ -1,6 +1,6 @@
 //! Measurements of a particle bed used by the references: bed height and mean voidage.
 
-use mesh::v3::{cross, dot, unit, V3};
+use mesh::v3::{unit, V3};
 use voidage::sphere_box::ball_volume;
 
 /// A packed bed measured from its particles in a vertical column of cross-section `area`.
@@ -53,20 +53,20 @@ impl Bed {
         let sauter = d3 / d2;
         // Two unit vectors across the column.
         let t = if axis[0].abs() < 0.9 {
-            [1.0, 0.0, 0.0]
+            V3::x()
         } else {
-            [0.0, 1.0, 0.0]
+            V3::y()
         };
-        let e1 = unit(cross(axis, t))?;
-        let e2 = cross(axis, e1);
+        let e1 = unit(axis.cross(&t))?;
+        let e2 = axis.cross(&e1);
         let bin = 2.0 * sauter;
         let mut tops: std::collections::HashMap<(i64, i64), f64> = Default::default();
         for (x, r) in positions.iter().zip(radii) {
             let key = (
-                (dot(*x, e1) / bin).floor() as i64,
-                (dot(*x, e2) / bin).floor() as i64,
+                ((*x).dot(&e1) / bin).floor() as i64,
+                ((*x).dot(&e2) / bin).floor() as i64,
             );
-            let top = dot(*x, axis) + r - floor;
+            let top = (*x).dot(&axis) + r - floor;
             let e = tops.entry(key).or_insert(f64::NEG_INFINITY);
             *e = e.max(top);
         }
@@ -100,13 +100,13 @@ mod tests {
         for k in 0..5 {
             for i in 0..10 {
                 for j in 0..10 {
-                    h.push([0.5 + i as f64, 0.5 + j as f64, 0.5 + k as f64]);
+                    h.push(V3::new(0.5 + i as f64, 0.5 + j as f64, 0.5 + k as f64));
                 }
             }
         }
         let r = vec![0.5; h.len()];
         let rho = vec![2.0; h.len()];
-        let bed = Bed::measure(&h, [0.0, 0.0, 1.0], &r, &rho, 0.0, 100.0).unwrap();
+        let bed = Bed::measure(&h, V3::z(), &r, &rho, 0.0, 100.0).unwrap();
         assert!((bed.height - 5.0).abs() < 1e-12);
         assert!((bed.voidage - (1.0 - std::f64::consts::PI / 6.0)).abs() < 1e-12);
         assert!((bed.sauter_diameter - 1.0).abs() < 1e-12);
@@ -123,59 +123,35 @@ mod tests {
         let mut x = vec![];
         for i in 0..20 {
             for j in 0..20 {
-                x.push([0.5 + i as f64, 0.5 + j as f64, 0.5]);
+                x.push(V3::new(0.5 + i as f64, 0.5 + j as f64, 0.5));
             }
         }
-        x.push([0.5, 0.5, 2.5]);
+        x.push(V3::new(0.5, 0.5, 2.5));
         let n = x.len();
-        let bed = Bed::measure(
-            &x,
-            [0.0, 0.0, 1.0],
-            &vec![0.5; n],
-            &vec![1.0; n],
-            0.0,
-            400.0,
-        )
-        .unwrap();
+        let bed = Bed::measure(&x, V3::z(), &vec![0.5; n], &vec![1.0; n], 0.0, 400.0).unwrap();
         assert!(
             (bed.height - (99.0 * 1.0 + 3.0) / 100.0).abs() < 1e-12,
             "{}",
             bed.height
         );
         // The same bed along −x: axis and floor follow.
-        let xr: Vec<[f64; 3]> = x.iter().map(|p| [-p[2], p[1], p[0]]).collect();
-        let b2 = Bed::measure(
-            &xr,
-            [-1.0, 0.0, 0.0],
-            &vec![0.5; n],
-            &vec![1.0; n],
-            0.0,
-            400.0,
-        )
-        .unwrap();
+        let xr: Vec<V3> = x.iter().map(|p| V3::new(-p[2], p[1], p[0])).collect();
+        let b2 = Bed::measure(&xr, -V3::x(), &vec![0.5; n], &vec![1.0; n], 0.0, 400.0).unwrap();
         assert!((b2.height - bed.height).abs() < 1e-12);
     }
 
     #[test]
     fn sauter_diameter_of_a_binary_mixture() {
         let r = [0.5, 1.0];
-        let bed = Bed::measure(
-            &[[0.0, 0.0, 1.0]; 2],
-            [0.0, 0.0, 1.0],
-            &r,
-            &[1.0, 1.0],
-            0.0,
-            1.0,
-        )
-        .unwrap();
+        let bed = Bed::measure(&[V3::z(); 2], V3::z(), &r, &[1.0, 1.0], 0.0, 1.0).unwrap();
         assert!((bed.sauter_diameter - (1.0 + 8.0) / (1.0 + 4.0)).abs() < 1e-12);
     }
 
     #[test]
     fn empty_or_degenerate_input_is_none() {
-        let z = [0.0, 0.0, 1.0];
+        let z = V3::z();
         assert!(Bed::measure(&[], z, &[], &[], 0.0, 1.0).is_none());
-        assert!(Bed::measure(&[[0.0; 3]], z, &[0.5], &[1.0], 0.0, 0.0).is_none());
-        assert!(Bed::measure(&[[0.0; 3]], z, &[0.5, 0.5], &[1.0], 0.0, 1.0).is_none());
+        assert!(Bed::measure(&[V3::zeros()], z, &[0.5], &[1.0], 0.0, 0.0).is_none());
+        assert!(Bed::measure(&[V3::zeros()], z, &[0.5, 0.5], &[1.0], 0.0, 1.0).is_none());
     }
 }

@@ -25,7 +25,7 @@ use crate::sample::Sample;
 use crate::validation::Check;
 use closures::input::{sphere_volume, DragInput};
 use couple::CouplerSettings;
-use mesh::v3::dot;
+
 use std::path::Path;
 
 /// The checks `spec` asks for, from `samples` (one per coupling step of length `dt_c`);
@@ -238,7 +238,7 @@ fn settling(
             0.0,
         )]);
     };
-    let g = dot(ph.gravity, ph.gravity).sqrt();
+    let g = ph.gravity.norm();
     let d = last.sauter_diameter;
     let rho_p = last.mean_density;
     let beta = |x: &DragInput| drag.closure.beta(x);

@@ -54,7 +54,7 @@ pub enum ValidationSpec {
     /// bed's buoyant weight per area.
     ErgunPackedBed {
         /// Unit vector along the column, pointing downstream (against gravity).
-        axis: [f64; 3],
+        axis: mesh::v3::V3,
         /// Inlet patch name.
         inlet: String,
         /// Outlet patch name.
@@ -103,7 +103,7 @@ impl ValidationSpec {
                     return Err(entry_err(path, "axis must be a non-zero vector"));
                 }
                 Ok(ValidationSpec::ErgunPackedBed {
-                    axis: [axis[0] / n, axis[1] / n, axis[2] / n],
+                    axis: mesh::v3::V3::new(axis[0] / n, axis[1] / n, axis[2] / n),
                     inlet: d
                         .word("inletPatch")
                         .map_err(|e| entry_err(path, e))?
@@ -202,7 +202,7 @@ mod tests {
                 outlet,
                 ..
             } => {
-                assert_eq!(axis, [0.0, 0.0, 1.0]);
+                assert_eq!(axis, mesh::v3::V3::z());
                 assert_eq!((inlet.as_str(), outlet.as_str()), ("inlet", "outlet"));
             }
             v => panic!("{v:?}"),

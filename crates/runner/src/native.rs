@@ -146,7 +146,7 @@ impl RunFluid for NativeFluid {
     fn inflow_velocity(&self, name: &str) -> Option<f64> {
         let g = self.fluid.geometry();
         patch_mean(g, name, self.fluid.u_boundary(), |u, face| {
-            -mesh::v3::dot(u, g.sf[face]) / g.mag_sf[face]
+            -u.dot(&g.sf[face]) / g.mag_sf[face]
         })
     }
 

@@ -25,7 +25,7 @@ use closures::model::ModelType;
 use couple::{Coupler, CouplerSettings, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
 use dem::Simulation;
 use liggghts_deck::Deck;
-use mesh::v3::{dot, unit, V3};
+use mesh::v3::{as_arrays, unit, V3};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -164,7 +164,7 @@ impl Column {
     fn of(mesh: &foam::PolyMesh, volume: f64, axis: V3) -> Column {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for p in &mesh.points {
-            let h = dot(*p, axis);
+            let h = V3::from(*p).dot(&axis);
             lo = lo.min(h);
             hi = hi.max(h);
         }
@@ -223,10 +223,10 @@ impl Observer {
         for i in 0..ps.len() {
             let r = ps.radius[i];
             let m = ps.density[i] * voidage::sphere_box::ball_volume(r);
-            ke += 0.5 * m * dot(ps.velocity[i], ps.velocity[i]);
-            axial += dot(ps.velocity[i], ax);
+            ke += 0.5 * m * ps.velocity[i].dot(&ps.velocity[i]);
+            axial += ps.velocity[i].dot(&ax);
         }
-        let force: f64 = step.forces.particles.iter().map(|c| dot(c.total, ax)).sum();
+        let force: f64 = step.forces.particles.iter().map(|c| c.total.dot(&ax)).sum();
         let p_mean = |name: &Option<String>| name.as_deref().and_then(|n| fluid.patch_pressure(n));
         let pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
             (Some(a), Some(b)) => self.rho * (a - b),
@@ -249,7 +249,7 @@ impl Observer {
             } else {
                 axial / ps.len() as f64
             },
-            first_axial_velocity: ps.velocity.first().map_or(0.0, |v| dot(*v, ax)),
+            first_axial_velocity: ps.velocity.first().map_or(0.0, |v| (*v).dot(&ax)),
             fluid_force_axial: force,
             particle_volume: step.deposit.particle_volume,
             deposited_volume: step.deposit.deposited_volume,
@@ -293,12 +293,12 @@ fn write_time<P: ParticleSide, F: RunFluid>(
     let fluid_force: Vec<V3> = step.forces.particles.iter().map(|c| c.total).collect();
     vtk::write_vtp(
         &file,
-        ps.position,
+        as_arrays(ps.position),
         &[
             vtk::DataArray::int64("id", &ids),
             vtk::DataArray::scalar("radius", ps.radius),
-            vtk::DataArray::vector("velocity", ps.velocity),
-            vtk::DataArray::vector("fluidForce", &fluid_force),
+            vtk::DataArray::vector("velocity", as_arrays(ps.velocity)),
+            vtk::DataArray::vector("fluidForce", as_arrays(&fluid_force)),
         ],
     )?;
     vtp.push((
@@ -488,12 +488,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let spec = layout.validation.clone();
     let axis = match &spec {
         Some(ValidationSpec::ErgunPackedBed { axis, .. }) => *axis,
-        _ => unit([
-            -settings.physics.gravity[0],
-            -settings.physics.gravity[1],
-            -settings.physics.gravity[2],
-        ])
-        .unwrap_or([0.0, 0.0, 1.0]),
+        _ => unit(-settings.physics.gravity).unwrap_or(V3::z()),
     };
     let volume: f64 = coupler.voidage_mesh().geometry().cell_volumes.iter().sum();
     let (inlet, outlet) = match &spec {
@@ -505,7 +500,11 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let observer = Observer {
         column: Column::of(&mesh, volume, axis),
         rho: settings.physics.rho,
-        g: dot(settings.physics.gravity, settings.physics.gravity).sqrt(),
+        g: settings
+            .physics
+            .gravity
+            .dot(&settings.physics.gravity)
+            .sqrt(),
         inlet,
         outlet,
     };

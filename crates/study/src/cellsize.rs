@@ -32,7 +32,7 @@ use crate::steady::SteadyCriterion;
 use crate::template::Template;
 use closures::model::ModelType;
 use couple::CouplingConfig;
-use mesh::v3::{dot, unit};
+use mesh::v3::{unit, V3};
 use runner::bed::Bed;
 use runner::layout::CaseLayout;
 use runner::plot::{LinePlot, Series, Style};
@@ -242,7 +242,7 @@ fn summarise(
 ) -> Result<BedSummary, StudyError> {
     let l = template.lengths();
     let area = l[0] * l[1];
-    let axis = [0.0, 0.0, 1.0];
+    let axis = V3::z();
     let floor = bed
         .position
         .iter()
@@ -305,8 +305,8 @@ pub fn cellsize(
         _ => fv::Model::B,
     };
     let gvec = settings.physics.gravity;
-    let axis = unit([-gvec[0], -gvec[1], -gvec[2]]).unwrap_or([0.0, 0.0, 1.0]);
-    if dot(axis, [0.0, 0.0, 1.0]) < 1.0 - 1e-12 {
+    let axis = unit(-gvec).unwrap_or(V3::z());
+    if axis.dot(&V3::z()) < 1.0 - 1e-12 {
         return Err(StudyError::Setup {
             file: layout.cfd.join("constant/g"),
             message: "the study needs gravity along −z (the template's column axis is z)".into(),
@@ -326,7 +326,7 @@ pub fn cellsize(
     } else {
         0.0
     };
-    let summary = summarise(&bed, &template, fluid, dot(gvec, gvec).sqrt())?;
+    let summary = summarise(&bed, &template, fluid, gvec.dot(&gvec).sqrt())?;
     let u_mf = summary.u_mf_ergun.min(summary.u_mf_gidaspow);
     events(StudyEvent::Message(format!(
         "bed: {} particles, d10 {:.4e} m, d32 {:.4e} m, dmax {:.4e} m, height {:.4e} m, voidage {:.4}, U_mf {:.4} m/s (Ergun–Sauter {:.4}, Gidaspow {:.4})",

@@ -31,12 +31,12 @@ impl FrozenParticles {
         let n = bed.len();
         Ok(FrozenParticles {
             bed,
-            velocity: vec![[0.0; 3]; n],
+            velocity: vec![V3::zeros(); n],
             dt,
             steps: 0,
-            f_ext: vec![[0.0; 3]; n],
+            f_ext: vec![V3::zeros(); n],
             beta: vec![0.0; n],
-            u_f: vec![[0.0; 3]; n],
+            u_f: vec![V3::zeros(); n],
         })
     }
 
@@ -105,7 +105,7 @@ mod tests {
     fn bed() -> PackedBed {
         PackedBed {
             ids: vec![1, 2],
-            position: vec![[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]],
+            position: vec![V3::new(0.1, 0.2, 0.3), V3::new(0.4, 0.5, 0.6)],
             radius: vec![0.01, 0.02],
             density: vec![2500.0, 2500.0],
         }
@@ -114,12 +114,16 @@ mod tests {
     #[test]
     fn advancing_moves_nothing_and_counts_time() {
         let mut f = FrozenParticles::new(bed(), 1e-3).unwrap();
-        f.set_forces(&[[1.0, 2.0, 3.0]; 2], &[5.0, 6.0], &[[0.0, 0.0, 9.0]; 2])
-            .unwrap();
+        f.set_forces(
+            &[V3::new(1.0, 2.0, 3.0); 2],
+            &[5.0, 6.0],
+            &[V3::new(0.0, 0.0, 9.0); 2],
+        )
+        .unwrap();
         f.advance(250).unwrap();
         let s = f.state();
         assert_eq!(s.position, bed().position.as_slice());
-        assert_eq!(s.velocity, [[0.0; 3]; 2].as_slice());
+        assert_eq!(s.velocity, [V3::zeros(); 2].as_slice());
         assert!((f.time() - 0.25).abs() < 1e-15);
         assert_eq!(f.forces().1, [5.0, 6.0].as_slice());
     }
@@ -128,7 +132,7 @@ mod tests {
     fn wrong_lengths_and_time_steps_are_refused() {
         let mut f = FrozenParticles::new(bed(), 1e-3).unwrap();
         let e = f
-            .set_forces(&[[0.0; 3]; 3], &[0.0; 3], &[[0.0; 3]; 3])
+            .set_forces(&[V3::zeros(); 3], &[0.0; 3], &[V3::zeros(); 3])
             .unwrap_err();
         assert!(e.to_string().contains("frozen bed has 2"), "{e}");
         assert!(FrozenParticles::new(bed(), 0.0).is_err());

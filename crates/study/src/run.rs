@@ -26,7 +26,7 @@ use crate::steady::{SteadyCriterion, SteadyMonitor};
 use crate::template::Template;
 use couple::{Coupler, CouplerSettings, FluidSide, ParticleSide};
 use foam::{Item, Value, VolField};
-use mesh::v3::{dot, V3};
+use mesh::v3::V3;
 use runner::native::NativeFluid;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -188,11 +188,7 @@ impl RunContext<'_> {
         copy_case(self.cfd, &work, true)?;
         let mesh = self.template.write_case_mesh(&work, n)?;
         let ax = self.axis;
-        set_inlet_velocity(
-            &work,
-            self.inlet,
-            [velocity * ax[0], velocity * ax[1], velocity * ax[2]],
-        )?;
+        set_inlet_velocity(&work, self.inlet, velocity * ax)?;
 
         let mut fluid = NativeFluid::open(&work, self.model, true).map_err(fluid_err(&work))?;
         for patch in [self.inlet, self.outlet] {
@@ -233,9 +229,9 @@ impl RunContext<'_> {
             let state = particles.state();
             let (mut drag, mut force) = (0.0, 0.0);
             for (i, c) in step.forces.particles.iter().enumerate() {
-                let slip = mesh::v3::sub(c.u_f, state.velocity[i]);
-                drag += c.beta_fluid * dot(slip, ax);
-                force += dot(c.total, ax);
+                let slip = c.u_f - state.velocity[i];
+                drag += c.beta_fluid * slip.dot(&ax);
+                force += c.total.dot(&ax);
             }
             monitor.push(&[dp, drag, force]);
             let spread = voidage_spread(

@@ -1,8 +1,10 @@
 //! The study end to end on the binary bed (fast tier), the frozen side inside a coupler, and
 //! the native mesh against Debian's blockMesh (full tier).
 
+use approx::assert_abs_diff_eq;
 use couple::memory::MemoryFluid;
 use couple::{Coupler, CouplingConfig, ParticleSide};
+use mesh::v3::V3;
 use std::path::{Path, PathBuf};
 use study::frozen::FrozenParticles;
 use study::pack::PackedBed;
@@ -47,7 +49,7 @@ fn a_small_study_matches_gidaspow_on_the_measured_bed() {
     // reference module docs).
     let bed = &report.bed;
     assert_eq!(bed.particles, 5589);
-    assert!((bed.diameters.sauter - 1.0 / 2600.0).abs() < 0.01 / 2600.0);
+    assert_abs_diff_eq!(bed.diameters.sauter, 1.0 / 2600.0, epsilon = 0.01 / 2600.0);
     assert!(bed.u_mf_gidaspow < bed.u_mf_ergun);
     assert_eq!(report.rows.len(), 3);
     for r in &report.rows {
@@ -65,19 +67,19 @@ fn a_small_study_matches_gidaspow_on_the_measured_bed() {
         // Steady force balance: the force on the particles equals A·Δp (to 0.5 %).
         let dp = r.run.pressure_drop;
         assert!(
-            (r.force_per_area - dp).abs() < 5e-3 * dp,
+            approx::abs_diff_eq!(r.force_per_area, dp, epsilon = 5e-3 * dp),
             "{} vs {dp}",
             r.force_per_area
         );
         // Model A: the drag alone is about ε̄ of the total (the rest is −V_p ∇p).
         let share = r.run.drag / r.run.fluid_force;
         assert!(
-            (share - bed.voidage).abs() < 0.1,
+            approx::abs_diff_eq!(share, bed.voidage, epsilon = 0.1),
             "{share} vs {}",
             bed.voidage
         );
         // The grid asked for is the grid made (12 × 12 × 36 d32 box).
-        assert!((r.cell_size.over_sauter - r.target).abs() < 0.01 * r.target);
+        assert_abs_diff_eq!(r.cell_size.over_sauter, r.target, epsilon = 0.01 * r.target);
     }
     // One GCI triplet over the three grids.
     assert_eq!(report.gci.len(), 1);
@@ -100,15 +102,15 @@ fn a_frozen_bed_gives_the_same_exchange_every_step() {
     let bed = PackedBed {
         ids: vec![1, 2, 3],
         position: vec![
-            [2.0e-3, 2.0e-3, 5.0e-3],
-            [2.6e-3, 2.3e-3, 5.2e-3],
-            [1.2e-3, 3.0e-3, 7.0e-3],
+            V3::new(2.0e-3, 2.0e-3, 5.0e-3),
+            V3::new(2.6e-3, 2.3e-3, 5.2e-3),
+            V3::new(1.2e-3, 3.0e-3, 7.0e-3),
         ],
         radius: vec![2.5e-4, 1.25e-4, 2.5e-4],
         density: vec![2500.0; 3],
     };
     let mut particles = FrozenParticles::new(bed.clone(), 2e-6).unwrap();
-    let mut fluid = MemoryFluid::uniform(mesh.clone(), [0.0, 0.0, 0.1]);
+    let mut fluid = MemoryFluid::uniform(mesh.clone(), V3::new(0.0, 0.0, 0.1));
     let mut coupler = Coupler::new(&mesh, settings).unwrap();
     coupler
         .exchange(&particles.state(), &couple::FluidSide::state(&fluid))
@@ -171,7 +173,7 @@ fn the_native_mesh_equals_blockmesh() {
             }
             let (vt, vo) = (gt.cell_volumes[c], go.cell_volumes[c]);
             assert!(
-                (vt - vo).abs() <= 1e-12 * vo,
+                approx::abs_diff_eq!(vt, vo, epsilon = 1e-12 * vo),
                 "{n:?} cell {c}: volume {vt} vs {vo}"
             );
         }
@@ -185,7 +187,9 @@ fn the_native_mesh_equals_blockmesh() {
             let faces = |g: &mesh::MeshGeometry, m: &foam::PolyMesh| {
                 let mut v: Vec<(u32, [i64; 3])> = (po.start_face..po.start_face + po.n_faces)
                     .map(|f| {
-                        let q = g.face_centres[f].map(|x| (x / scale * 1e9).round() as i64);
+                        let q = g.face_centres[f]
+                            .map(|x| (x / scale * 1e9).round() as i64)
+                            .into();
                         (m.owner[f], q)
                     })
                     .collect();

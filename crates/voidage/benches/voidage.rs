@@ -28,7 +28,7 @@ fn points(seed: u64, n: usize) -> Vec<[f64; 3]> {
 
 struct Case {
     vm: VoidageMesh,
-    pos: Vec<[f64; 3]>,
+    pos: Vec<mesh::v3::V3>,
     h: f64,
 }
 
@@ -40,7 +40,7 @@ fn grid() -> &'static Case {
         assert!(vm.axis_grid().is_some());
         Case {
             vm,
-            pos: points(1, 200_000),
+            pos: mesh::v3::from_arrays(&points(1, 200_000)),
             h: 1.0 / n as f64,
         }
     })
@@ -56,7 +56,7 @@ fn rotated() -> &'static Case {
         assert!(vm.axis_grid().is_none());
         Case {
             vm,
-            pos: points(2, 50_000).into_iter().map(&f).collect(),
+            pos: points(2, 50_000).into_iter().map(|p| f(p).into()).collect(),
             h: 1.0 / n as f64,
         }
     })

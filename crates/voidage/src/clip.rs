@@ -8,12 +8,19 @@
 //! Only planes that cut the current piece's bounding box are applied.
 
 use mesh::tet_volume;
+use mesh::v3::V3;
 
-type Tet = [[f64; 3]; 4];
+type Tet = [V3; 4];
 
 /// Volume of the axis-aligned box `lo`..`hi` ∩ the tetrahedron `tet`, m³, signed like
 /// [`mesh::tet_volume`] (negative for a negatively oriented tet). `stack` is scratch space.
-pub fn box_tet_volume(lo: [f64; 3], hi: [f64; 3], tet: &Tet, stack: &mut Vec<Tet>) -> f64 {
+pub fn box_tet_volume(
+    lo: impl Into<V3>,
+    hi: impl Into<V3>,
+    tet: &Tet,
+    stack: &mut Vec<Tet>,
+) -> f64 {
+    let (lo, hi) = (lo.into(), hi.into());
     let full = tet_volume(tet);
     let sign = if full < 0.0 { -1.0 } else { 1.0 };
     let (tlo, thi) = bounds(tet);
@@ -30,14 +37,14 @@ pub fn box_tet_volume(lo: [f64; 3], hi: [f64; 3], tet: &Tet, stack: &mut Vec<Tet
         for (value, s) in [(lo[a], -1.0), (hi[a], 1.0)] {
             let cuts = (s < 0.0 && tlo[a] < value) || (s > 0.0 && thi[a] > value);
             if cuts {
-                clip(stack, |p: &[f64; 3]| s * (p[a] - value));
+                clip(stack, |p: &V3| s * (p[a] - value));
             }
         }
     }
     sign * stack.iter().map(|t| tet_volume(t).abs()).sum::<f64>()
 }
 
-fn bounds(t: &Tet) -> ([f64; 3], [f64; 3]) {
+fn bounds(t: &Tet) -> (V3, V3) {
     let mut lo = t[0];
     let mut hi = t[0];
     for p in &t[1..] {
@@ -50,7 +57,7 @@ fn bounds(t: &Tet) -> ([f64; 3], [f64; 3]) {
 }
 
 /// Replaces every tet of `stack` by its part where `f ≤ 0`.
-fn clip(stack: &mut Vec<Tet>, f: impl Fn(&[f64; 3]) -> f64) {
+fn clip(stack: &mut Vec<Tet>, f: impl Fn(&V3) -> f64) {
     let n = stack.len();
     for idx in 0..n {
         let t = stack[idx];
@@ -67,13 +74,13 @@ fn clip(stack: &mut Vec<Tet>, f: impl Fn(&[f64; 3]) -> f64) {
             }
         }
         // Point on edge i–j where f = 0.
-        let cut = |i: usize, j: usize| -> [f64; 3] {
+        let cut = |i: usize, j: usize| -> V3 {
             let s = d[i] / (d[i] - d[j]);
-            std::array::from_fn(|a| t[i][a] + s * (t[j][a] - t[i][a]))
+            V3::from_fn(|a, _| t[i][a] + s * (t[j][a] - t[i][a]))
         };
         match nk {
             4 => continue,
-            0 => stack[idx] = [[0.0; 3]; 4],
+            0 => stack[idx] = [V3::zeros(); 4],
             1 => {
                 let i = keep[0];
                 stack[idx] = [t[i], cut(i, drop[0]), cut(i, drop[1]), cut(i, drop[2])];
@@ -100,7 +107,7 @@ fn clip(stack: &mut Vec<Tet>, f: impl Fn(&[f64; 3]) -> f64) {
 
 /// Tet `k` (0..3) of the prism with triangles (p0, p1, p2) and (p3, p4, p5), pᵢ and pᵢ₊₃ joined
 /// by the side edges.
-fn prism_tet(p: &[[f64; 3]; 6], k: usize) -> Tet {
+fn prism_tet(p: &[V3; 6], k: usize) -> Tet {
     match k {
         0 => [p[0], p[1], p[2], p[3]],
         1 => [p[1], p[2], p[3], p[4]],

@@ -21,6 +21,8 @@
 //! The paper reports a maximum error of ≈2.5 % of the particle volume after correction (vs ≈20 %
 //! for φc). The map is continuous, so φ'' varies continuously with the particle position.
 
+use mesh::v3::V3;
+
 /// Khawaja's cubic coefficients (α, β, 1 − α − β) of eq. (14): φ' = α φ³ + β φ² + γ φ.
 pub const KHAWAJA_COEFFICIENTS: [f64; 3] = [-0.8457, 1.6625, 0.1832];
 
@@ -41,7 +43,8 @@ pub fn cube_axis_fraction(c: f64, r: f64, lo: f64, hi: f64) -> f64 {
 /// the axis-aligned box `lo`..`hi` (dimensionless): the product of the three
 /// [`cube_axis_fraction`]s.
 #[inline]
-pub fn cube_fraction(centre: [f64; 3], r: f64, lo: [f64; 3], hi: [f64; 3]) -> f64 {
+pub fn cube_fraction(centre: impl Into<V3>, r: f64, lo: impl Into<V3>, hi: impl Into<V3>) -> f64 {
+    let (centre, lo, hi) = (centre.into(), lo.into(), hi.into());
     (0..3)
         .map(|a| cube_axis_fraction(centre[a], r, lo[a], hi[a]))
         .product()

@@ -14,6 +14,8 @@
 //! Source: CFDEMcoupling's `dividedVoidFraction` model as described in `REFERENCE.md`; the radii
 //! are computed here from r₁ and r₂ (not the rounded constants).
 
+use mesh::v3::V3;
+
 /// Number of marker points.
 pub const DIVIDED_MARKERS: usize = 29;
 
@@ -31,21 +33,21 @@ pub fn divided_radii() -> (f64, f64) {
 }
 
 /// The 14 unit marker directions of one shell: 8 at (±½, ±½, ±1/√2), then ±x, ±y, ±z.
-pub fn divided_directions() -> [[f64; 3]; 14] {
+pub fn divided_directions() -> [V3; 14] {
     let h = std::f64::consts::FRAC_1_SQRT_2;
-    let mut d = [[0.0; 3]; 14];
+    let mut d = [V3::zeros(); 14];
     let mut n = 0;
     for sx in [-0.5, 0.5] {
         for sy in [-0.5, 0.5] {
             for sz in [-h, h] {
-                d[n] = [sx, sy, sz];
+                d[n] = V3::new(sx, sy, sz);
                 n += 1;
             }
         }
     }
-    for axis in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
+    for axis in [V3::x(), V3::y(), V3::z()] {
         for s in [-1.0, 1.0] {
-            d[n] = axis.map(|x: f64| s * x);
+            d[n] = s * axis;
             n += 1;
         }
     }
@@ -54,13 +56,13 @@ pub fn divided_directions() -> [[f64; 3]; 14] {
 
 /// The 29 marker offsets of a unit ball (multiply by R and add the centre): the centre, then the
 /// inner shell, then the outer shell.
-pub fn divided_offsets() -> [[f64; 3]; DIVIDED_MARKERS] {
+pub fn divided_offsets() -> [V3; DIVIDED_MARKERS] {
     let (ri, ro) = divided_radii();
     let dirs = divided_directions();
-    let mut p = [[0.0; 3]; DIVIDED_MARKERS];
+    let mut p = [V3::zeros(); DIVIDED_MARKERS];
     for (k, d) in dirs.iter().enumerate() {
-        p[1 + k] = d.map(|x| ri * x);
-        p[15 + k] = d.map(|x| ro * x);
+        p[1 + k] = ri * d;
+        p[15 + k] = ro * d;
     }
     p
 }

@@ -1,12 +1,13 @@
 //! Typed errors of the voidage crate.
 
 use crate::method::UnknownMethod;
+use mesh::v3::V3;
 
 /// What is wrong with one particle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ParticleProblem {
     /// A position coordinate is NaN or infinite.
-    NonFinitePosition([f64; 3]),
+    NonFinitePosition(V3),
     /// The radius is negative or NaN, or so large that its volume overflows.
     BadRadius(f64),
 }

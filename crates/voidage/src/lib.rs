@@ -24,7 +24,7 @@
 //! use voidage::{Method, ParticleSet, VoidageMesh};
 //! let mesh = mesh::build::uniform_box([0.0; 3], [3e-3; 3], [3, 3, 3]);
 //! let vm = VoidageMesh::new(&mesh)?;
-//! let pos = [[1.5e-3, 1.5e-3, 1.0e-3]];
+//! let pos = [mesh::v3::V3::new(1.5e-3, 1.5e-3, 1.0e-3)];
 //! let rad = [0.5e-3];
 //! let dep = vm.deposit(Method::Exact, &ParticleSet::new(&pos, &rad))?;
 //! assert!(dep.conservation_error() < 1e-12);

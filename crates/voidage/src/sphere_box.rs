@@ -34,6 +34,7 @@
 //! All computations are done on the unit ball (coordinates divided by R, volumes times R³), so
 //! radii from 1e-150 m to 1e100 m neither underflow nor overflow.
 
+use mesh::v3::V3;
 use std::f64::consts::PI;
 
 /// Volume of the unit ball, 4π/3.
@@ -219,7 +220,7 @@ enum BoxCase {
 /// Classifies the box `lo`..`hi` (unit-ball coordinates relative to the centre, lo ≤ hi) for
 /// the fast paths of the module docs.
 #[inline]
-fn box_case(lo: [f64; 3], hi: [f64; 3]) -> BoxCase {
+fn box_case(lo: V3, hi: V3) -> BoxCase {
     let mut near = 0.0;
     let mut far = 0.0;
     let mut contains_ball = true;
@@ -265,13 +266,19 @@ fn slabs_volume(sx: &Slab, sy: &Slab, sz: &Slab) -> f64 {
 ///
 /// Formula, fast paths and accuracy: module docs. Valid for any finite box (empty or inverted
 /// boxes give 0) and any r ≥ 0; the result lies in [0, min(box volume, ball volume)].
-pub fn sphere_box_volume(centre: [f64; 3], r: f64, lo: [f64; 3], hi: [f64; 3]) -> f64 {
+pub fn sphere_box_volume(
+    centre: impl Into<V3>,
+    r: f64,
+    lo: impl Into<V3>,
+    hi: impl Into<V3>,
+) -> f64 {
+    let (centre, lo, hi) = (centre.into(), lo.into(), hi.into());
     if !(r > 0.0) || (0..3).any(|a| !(hi[a] > lo[a])) {
         return 0.0;
     }
     let inv = 1.0 / r;
-    let l: [f64; 3] = std::array::from_fn(|a| (lo[a] - centre[a]) * inv);
-    let h: [f64; 3] = std::array::from_fn(|a| (hi[a] - centre[a]) * inv);
+    let l = V3::from_fn(|a, _| (lo[a] - centre[a]) * inv);
+    let h = V3::from_fn(|a, _| (hi[a] - centre[a]) * inv);
     let r3 = r * r * r;
     match box_case(l, h) {
         BoxCase::Outside => return 0.0,
@@ -346,8 +353,8 @@ pub fn sphere_grid_volumes(
             let (yl, yh) = (planes[1][j], planes[1][j + 1]);
             for i in 0..n[0] {
                 let (xl, xh) = (planes[0][i], planes[0][i + 1]);
-                let lo = [xl, yl, zl];
-                let hi = [xh, yh, zh];
+                let lo = V3::new(xl, yl, zl);
+                let hi = V3::new(xh, yh, zh);
                 let cell = i + n[0] * (j + n[1] * k);
                 match box_case(lo, hi) {
                     BoxCase::Outside => continue,

@@ -44,7 +44,7 @@
 //! Accuracy: absolute errors of a few ulps of R³; computed on the unit ball (coordinates
 //! relative to c divided by R), so any scale works.
 
-use crate::vec3::{cross, dot, norm, sub, to_unit, V3};
+use crate::vec3::{to_unit, V3};
 
 /// The signed solid angle of the triangle (a, b, c) seen from the origin, from the vertex
 /// lengths `l` and the triple product `det` = a·(b × c) (Van Oosterom & Strackee):
@@ -52,9 +52,9 @@ use crate::vec3::{cross, dot, norm, sub, to_unit, V3};
 #[inline]
 fn solid_angle(v: &[V3; 3], l: [f64; 3], det: f64) -> f64 {
     let den = l[0] * l[1] * l[2]
-        + dot(v[0], v[1]) * l[2]
-        + dot(v[0], v[2]) * l[1]
-        + dot(v[1], v[2]) * l[0];
+        + v[0].dot(&v[1]) * l[2]
+        + v[0].dot(&v[2]) * l[1]
+        + v[1].dot(&v[2]) * l[0];
     2.0 * det.atan2(den)
 }
 
@@ -63,18 +63,18 @@ fn solid_angle(v: &[V3; 3], l: [f64; 3], det: f64) -> f64 {
 /// unit normal, `d` the signed distance of the plane, `rho2` = 1 − d² > 0.
 #[inline]
 fn edge_terms(a: V3, b: V3, nh: V3, d: f64, rho2: f64) -> (f64, f64) {
-    let e = sub(b, a);
-    let le = norm(e);
+    let e = b - a;
+    let le = e.norm();
     if !(le > 0.0) {
         return (0.0, 0.0);
     }
-    let t = [e[0] / le, e[1] / le, e[2] / le];
-    let p = dot(a, cross(t, nh));
+    let t = V3::new(e[0] / le, e[1] / le, e[2] / le);
+    let p = a.dot(&t.cross(&nh));
     if p == 0.0 {
         return (0.0, 0.0);
     }
     let ap = p.abs();
-    let (ta, tb) = (dot(a, t), dot(b, t));
+    let (ta, tb) = (a.dot(&t), b.dot(&t));
     let mut ae = 0.0;
     let mut oe = 0.0;
     // Arc part over [x1, x2] (x1 < x2), r1, r2 the distances from the centre to the points
@@ -121,19 +121,19 @@ fn edge_terms(a: V3, b: V3, nh: V3, d: f64, rho2: f64) -> (f64, f64) {
 /// its contribution to vol(unit ball ∩ P) for a polyhedron P having it as a face with the normal
 /// (v₁ − v₀) × (v₂ − v₀) pointing out of P.
 pub(crate) fn triangle_flux_unit(v: &[V3; 3]) -> f64 {
-    let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
-    let nn = norm(n);
+    let n = (v[1] - v[0]).cross(&(v[2] - v[0]));
+    let nn = n.norm();
     if !(nn > 0.0) {
         return 0.0;
     }
-    let det = dot(v[0], cross(v[1], v[2]));
-    let l = [norm(v[0]), norm(v[1]), norm(v[2])];
+    let det = v[0].dot(&v[1].cross(&v[2]));
+    let l = [v[0].norm(), v[1].norm(), v[2].norm()];
     if l[0] <= 1.0 && l[1] <= 1.0 && l[2] <= 1.0 {
         return det / 6.0;
     }
     let inv = 1.0 / nn;
-    let nh = [n[0] * inv, n[1] * inv, n[2] * inv];
-    let d = dot(v[0], nh);
+    let nh = V3::new(n[0] * inv, n[1] * inv, n[2] * inv);
+    let d = v[0].dot(&nh);
     if d.abs() >= 1.0 {
         return solid_angle(v, l, det) / 3.0;
     }
@@ -156,16 +156,16 @@ pub(crate) const MAX_POLYGON: usize = 64;
 /// since the fan's inner edges cancel, with one edge term per polygon edge.
 pub(crate) fn polygon_flux_unit(v: &[V3], area_vec: V3) -> f64 {
     let n = v.len();
-    let area = norm(area_vec);
+    let area = area_vec.norm();
     if !(area > 0.0) || !(3..=MAX_POLYGON).contains(&n) {
         return 0.0;
     }
     let nh = area_vec.map(|x| x / area);
-    let d = v.iter().map(|p| dot(*p, nh)).sum::<f64>() / n as f64;
+    let d = v.iter().map(|p| (*p).dot(&nh)).sum::<f64>() / n as f64;
     let mut l = [0.0; MAX_POLYGON];
     let mut inside = true;
     for (li, p) in l.iter_mut().zip(v) {
-        *li = norm(*p);
+        *li = (*p).norm();
         inside &= *li <= 1.0;
     }
     if inside {
@@ -175,7 +175,7 @@ pub(crate) fn polygon_flux_unit(v: &[V3], area_vec: V3) -> f64 {
         let mut omega = 0.0;
         for i in 1..n - 1 {
             let t = [v[0], v[i], v[i + 1]];
-            let det = dot(t[0], cross(t[1], t[2]));
+            let det = t[0].dot(&t[1].cross(&t[2]));
             omega += solid_angle(&t, [l[0], l[i], l[i + 1]], det);
         }
         return omega / 3.0;
@@ -194,7 +194,8 @@ pub(crate) fn polygon_flux_unit(v: &[V3], area_vec: V3) -> f64 {
 /// `r` > 0), m³: its contribution to the volume of ball ∩ P for any closed polyhedron P having
 /// `tri` as a face with normal (v₁ − v₀) × (v₂ − v₀) pointing out of P (module docs). Odd under
 /// reversing the orientation.
-pub fn triangle_flux(centre: [f64; 3], r: f64, tri: &[[f64; 3]; 3]) -> f64 {
+pub fn triangle_flux(centre: impl Into<V3>, r: f64, tri: &[V3; 3]) -> f64 {
+    let centre = centre.into();
     if !(r > 0.0) {
         return 0.0;
     }
@@ -210,7 +211,8 @@ pub const TET_FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 
 /// Exact volume of the ball (centre `centre`, radius `r`) ∩ the tetrahedron `tet`, m³, signed
 /// like [`mesh::tet_volume`]: positive for a positively oriented tet
 /// ((b − a)·((c − a) × (d − a)) > 0), negative otherwise. Module docs for the method.
-pub fn sphere_tet_volume(centre: [f64; 3], r: f64, tet: &[[f64; 3]; 4]) -> f64 {
+pub fn sphere_tet_volume(centre: impl Into<V3>, r: f64, tet: &[V3; 4]) -> f64 {
+    let centre = centre.into();
     if !(r > 0.0) {
         return 0.0;
     }
@@ -229,7 +231,7 @@ pub fn sphere_tet_volume(centre: [f64; 3], r: f64, tet: &[[f64; 3]; 4]) -> f64 {
         return 0.0;
     }
     for p in &v {
-        inside &= dot(*p, *p) <= 1.0;
+        inside &= (*p).dot(p) <= 1.0;
     }
     if inside {
         return mesh::tet_volume(tet);
@@ -245,6 +247,7 @@ pub fn sphere_tet_volume(centre: [f64; 3], r: f64, tet: &[[f64; 3]; 4]) -> f64 {
 /// triangles `faces` (m), each oriented with its normal (v₁ − v₀) × (v₂ − v₀) pointing outwards,
 /// m³. The polyhedron may be non-convex; the faces must close (every edge shared by two faces
 /// with opposite directions), otherwise the result is meaningless.
-pub fn sphere_polyhedron_volume(centre: [f64; 3], r: f64, faces: &[[[f64; 3]; 3]]) -> f64 {
+pub fn sphere_polyhedron_volume(centre: impl Into<V3>, r: f64, faces: &[[V3; 3]]) -> f64 {
+    let centre = centre.into();
     faces.iter().map(|t| triangle_flux(centre, r, t)).sum()
 }

@@ -5,7 +5,10 @@
 
 mod common;
 
+use approx::assert_abs_diff_eq;
+use approx::assert_relative_eq;
 use common::*;
+use mesh::v3::V3;
 use std::f64::consts::PI;
 use voidage::*;
 
@@ -26,32 +29,60 @@ fn cap_half_quarter_octant() {
             lo[a] = c[a] + r - h;
             let cap = cap_volume(r, h);
             assert!(
-                rel(sphere_box_volume(c, r, lo, hi), cap, v) < 1e-14,
+                approx::relative_eq!(
+                    sphere_box_volume(c, r, lo, hi),
+                    cap,
+                    epsilon = 1e-14 * v,
+                    max_relative = 1e-14
+                ),
                 "cap h={h}"
             );
             hi[a] = c[a] - r + h;
             lo[a] = c[a] - big;
-            assert!(rel(sphere_box_volume(c, r, lo, hi), cap, v) < 1e-14);
+            assert_relative_eq!(
+                sphere_box_volume(c, r, lo, hi),
+                cap,
+                epsilon = 1e-14 * v,
+                max_relative = 1e-14
+            );
         }
     }
     // Half, quarter, octant through the centre.
     let half = sphere_box_volume(c, r, [c[0], -big, -big], [big; 3]);
     let quarter = sphere_box_volume(c, r, [c[0], c[1], -big], [big; 3]);
     let octant = sphere_box_volume(c, r, c, [big; 3]);
-    assert!(rel(half, v / 2.0, v) < 1e-15);
-    assert!(rel(quarter, v / 4.0, v) < 1e-15);
-    assert!(rel(octant, v / 8.0, v) < 1e-15);
-    assert!(rel(corner_volume(r, 0.0, 0.0, 0.0), v / 8.0, v) < 1e-15);
+    assert_relative_eq!(half, v / 2.0, epsilon = 1e-15 * v, max_relative = 1e-15);
+    assert_relative_eq!(quarter, v / 4.0, epsilon = 1e-15 * v, max_relative = 1e-15);
+    assert_relative_eq!(octant, v / 8.0, epsilon = 1e-15 * v, max_relative = 1e-15);
+    assert_relative_eq!(
+        corner_volume(r, 0.0, 0.0, 0.0),
+        v / 8.0,
+        epsilon = 1e-15 * v,
+        max_relative = 1e-15
+    );
     // Quarter cap G(0, 0, c) = π(R − c)²(2R + c)/12, every argument position and sign.
     for t in [-0.9, -0.3, 0.0, 0.4, 1.1] {
         let q = PI * (r - t) * (r - t) * (2.0 * r + t) / 12.0;
         for (a, b, cc) in [(t, 0.0, 0.0), (0.0, t, 0.0), (0.0, 0.0, t)] {
-            assert!(rel(corner_volume(r, a, b, cc), q, v) < 1e-14, "t={t}");
+            assert!(
+                approx::relative_eq!(
+                    corner_volume(r, a, b, cc),
+                    q,
+                    epsilon = 1e-14 * v,
+                    max_relative = 1e-14
+                ),
+                "t={t}"
+            );
         }
     }
     // Whole ball and beyond.
     assert_eq!(corner_volume(r, -r, -r, -r), v);
-    assert!(rel(corner_volume(r, -2.0 * r, -5.0, -r), v, v) < 1e-15);
+    assert_relative_eq!(
+        corner_volume(r, -2.0 * r, -5.0, -r),
+        v,
+        epsilon = 1e-15 * v,
+        max_relative = 1e-15
+    );
     assert_eq!(corner_volume(r, r, 0.0, 0.0), 0.0);
     assert_eq!(corner_volume(r, 0.8, 0.8, 0.8), 0.0);
 }
@@ -62,8 +93,8 @@ fn corner_values_match_quadrature_of_exact_cross_sections() {
     let mut rng = Rng::new(7);
     let mut worst = 0.0f64;
     for _ in 0..300 {
-        let lo: [f64; 3] = std::array::from_fn(|_| rng.uniform(-1.2, 1.0));
-        let hi: [f64; 3] = std::array::from_fn(|a| lo[a] + rng.uniform(0.01, 1.5));
+        let lo: V3 = V3::from_fn(|_, _| rng.uniform(-1.2, 1.0));
+        let hi: V3 = V3::from_fn(|a, _| lo[a] + rng.uniform(0.01, 1.5));
         let reference = ball_box_by_quadrature(1.0, lo, hi, &nodes);
         let exact = sphere_box_volume([0.0; 3], 1.0, lo, hi);
         worst = worst.max((exact - reference).abs());
@@ -84,7 +115,7 @@ fn sphere_box_matches_monte_carlo() {
             (0..3).map(|a| (p[a] - c[a]).powi(2)).sum::<f64>() < r * r
         });
         assert!(
-            (exact - mc).abs() <= 4.5 * se,
+            approx::abs_diff_eq!(exact, mc, epsilon = 4.5 * se),
             "exact {exact} mc {mc} ± {se}"
         );
     }
@@ -114,22 +145,22 @@ fn random_case(
     r: [f64; 2],
     lo: [f64; 2],
     size: [f64; 2],
-) -> ([f64; 3], f64, [f64; 3], [f64; 3]) {
-    let centre = std::array::from_fn(|_| rng.uniform(c[0], c[1]));
+) -> (V3, f64, V3, V3) {
+    let centre = V3::from_fn(|_, _| rng.uniform(c[0], c[1]));
     let radius = rng.uniform(r[0], r[1]);
-    let l: [f64; 3] = std::array::from_fn(|_| rng.uniform(lo[0], lo[1]));
-    let h = std::array::from_fn(|a| l[a] + rng.uniform(size[0], size[1]));
+    let l: V3 = V3::from_fn(|_, _| rng.uniform(lo[0], lo[1]));
+    let h = V3::from_fn(|a, _| l[a] + rng.uniform(size[0], size[1]));
     (centre, radius, l, h)
 }
 
 /// The 12 outward triangles of a box.
-fn box_triangles(lo: [f64; 3], hi: [f64; 3]) -> Vec<[[f64; 3]; 3]> {
+fn box_triangles(lo: V3, hi: V3) -> Vec<[V3; 3]> {
     let p = |i: usize, j: usize, k: usize| {
-        [
+        V3::new(
             if i == 0 { lo[0] } else { hi[0] },
             if j == 0 { lo[1] } else { hi[1] },
             if k == 0 { lo[2] } else { hi[2] },
-        ]
+        )
     };
     let quads = [
         [p(0, 0, 0), p(0, 1, 0), p(1, 1, 0), p(1, 0, 0)],
@@ -146,13 +177,13 @@ fn box_triangles(lo: [f64; 3], hi: [f64; 3]) -> Vec<[[f64; 3]; 3]> {
 }
 
 /// The 6 tets (Kuhn subdivision along the main diagonal) of a box, positively oriented.
-fn box_tets(lo: [f64; 3], hi: [f64; 3]) -> Vec<[[f64; 3]; 4]> {
+fn box_tets(lo: V3, hi: V3) -> Vec<[V3; 4]> {
     let p = |b: usize| {
-        [
+        V3::new(
             if b & 1 == 0 { lo[0] } else { hi[0] },
             if b & 2 == 0 { lo[1] } else { hi[1] },
             if b & 4 == 0 { lo[2] } else { hi[2] },
-        ]
+        )
     };
     let mut tets = vec![];
     for perm in [
@@ -186,11 +217,11 @@ fn tets_of_a_box_sum_to_the_box_kernel() {
         let tets = box_tets(lo, hi);
         let vol: f64 = tets.iter().map(mesh::tet_volume).sum();
         let bv: f64 = (0..3).map(|a| hi[a] - lo[a]).product();
-        assert!(rel(vol, bv, bv) < 1e-14);
+        assert_relative_eq!(vol, bv, epsilon = 1e-14 * bv, max_relative = 1e-14);
         let sum: f64 = tets.iter().map(|t| sphere_tet_volume(c, r, t)).sum();
         let reference = sphere_box_volume(c, r, lo, hi);
         assert!(
-            (sum - reference).abs() < 1e-13 * ball_volume(r),
+            approx::abs_diff_eq!(sum, reference, epsilon = 1e-13 * ball_volume(r)),
             "{sum} vs {reference}"
         );
     }
@@ -206,28 +237,28 @@ fn sphere_tet_matches_monte_carlo() {
         let r = rng.uniform(0.3, 1.0);
         let exact = sphere_tet_volume(c, r, &t);
         // Sample the tet's bounding box, count points in both tet and ball.
-        let lo = std::array::from_fn(|a| t.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min));
-        let hi = std::array::from_fn(|a| t.iter().map(|p| p[a]).fold(f64::NEG_INFINITY, f64::max));
+        let lo = V3::from_fn(|a, _| t.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min));
+        let hi = V3::from_fn(|a, _| t.iter().map(|p| p[a]).fold(f64::NEG_INFINITY, f64::max));
         let (mc, se) = monte_carlo(&mut rng, lo, hi, n, |p| {
             in_tet(&t, p) && (0..3).map(|a| (p[a] - c[a]).powi(2)).sum::<f64>() < r * r
         });
         assert!(
-            (exact - mc).abs() <= 4.5 * se,
+            approx::abs_diff_eq!(exact, mc, epsilon = 4.5 * se),
             "exact {exact} mc {mc} ± {se}"
         );
     }
 }
 
 /// A random positively oriented tet in [−1, 1]³.
-fn random_tet(rng: &mut Rng) -> [[f64; 3]; 4] {
-    let mut t: [[f64; 3]; 4] = std::array::from_fn(|_| rng.point([-1.0; 3], [1.0; 3]));
+fn random_tet(rng: &mut Rng) -> [V3; 4] {
+    let mut t: [V3; 4] = std::array::from_fn(|_| rng.point([-1.0; 3], [1.0; 3]));
     if mesh::tet_volume(&t) < 0.0 {
         t.swap(1, 2);
     }
     t
 }
 
-fn in_tet(t: &[[f64; 3]; 4], p: [f64; 3]) -> bool {
+fn in_tet(t: &[V3; 4], p: V3) -> bool {
     TET_FACES.iter().enumerate().all(|(opp, f)| {
         let mut q = *t;
         q[opp] = p;
@@ -245,25 +276,35 @@ fn sphere_tet_special_positions() {
         [-1.0, 0.0, -s],
         [0.0, 1.0, s],
         [0.0, -1.0, s],
-    ];
+    ]
+    .map(V3::from);
     if mesh::tet_volume(&t) < 0.0 {
         t.swap(0, 1);
     }
     let vol = mesh::tet_volume(&t);
-    let centroid = [0.0; 3];
+    let centroid = V3::zeros();
     // Inradius = 3V / total face area; face area of a regular tet of edge 2: √3.
     let r_in = 3.0 * vol / (4.0 * 3f64.sqrt());
     let v_in = ball_volume(r_in);
-    assert!(rel(sphere_tet_volume(centroid, r_in, &t), v_in, v_in) < 1e-14);
-    assert!(
-        rel(
-            sphere_tet_volume(centroid, 0.5 * r_in, &t),
-            ball_volume(0.5 * r_in),
-            1.0
-        ) < 1e-14
+    assert_relative_eq!(
+        sphere_tet_volume(centroid, r_in, &t),
+        v_in,
+        epsilon = 1e-14 * v_in,
+        max_relative = 1e-14
+    );
+    assert_relative_eq!(
+        sphere_tet_volume(centroid, 0.5 * r_in, &t),
+        ball_volume(0.5 * r_in),
+        epsilon = 1e-14 * 1.0,
+        max_relative = 1e-14
     );
     // A huge ball holds the tet; a far ball misses it.
-    assert!(rel(sphere_tet_volume(centroid, 1e6, &t), vol, vol) < 1e-15);
+    assert_relative_eq!(
+        sphere_tet_volume(centroid, 1e6, &t),
+        vol,
+        epsilon = 1e-15 * vol,
+        max_relative = 1e-15
+    );
     assert_eq!(sphere_tet_volume([10.0, 0.0, 0.0], 1.0, &t), 0.0);
     // A small ball at a vertex holds the vertex's solid-angle fraction of the ball; at an edge
     // midpoint the dihedral fraction; at a face centre half the ball.
@@ -271,22 +312,42 @@ fn sphere_tet_special_positions() {
     let v = ball_volume(r);
     // Solid angle at a vertex of a regular tet: spherical excess 3·acos(1/3) − π = acos(23/27).
     let omega_vertex = 3.0 * (1.0f64 / 3.0).acos() - PI;
-    assert!((omega_vertex - (23.0f64 / 27.0).acos()).abs() < 1e-15);
+    assert_abs_diff_eq!(omega_vertex, (23.0f64 / 27.0).acos(), epsilon = 1e-15);
     let at_vertex = sphere_tet_volume(t[0], r, &t);
     assert!(
-        rel(at_vertex, v * omega_vertex / (4.0 * PI), v) < 1e-13,
+        approx::relative_eq!(
+            at_vertex,
+            v * omega_vertex / (4.0 * PI),
+            epsilon = 1e-13 * v,
+            max_relative = 1e-13
+        ),
         "{at_vertex}"
     );
     let dihedral = (1.0f64 / 3.0).acos();
-    let mid: [f64; 3] = std::array::from_fn(|a| 0.5 * (t[0][a] + t[1][a]));
+    let mid: V3 = V3::from_fn(|a, _| 0.5 * (t[0][a] + t[1][a]));
     let at_edge = sphere_tet_volume(mid, r, &t);
-    assert!(rel(at_edge, v * dihedral / (2.0 * PI), v) < 1e-13);
-    let fc: [f64; 3] = std::array::from_fn(|a| (t[1][a] + t[2][a] + t[3][a]) / 3.0);
-    assert!(rel(sphere_tet_volume(fc, r, &t), v / 2.0, v) < 1e-13);
+    assert_relative_eq!(
+        at_edge,
+        v * dihedral / (2.0 * PI),
+        epsilon = 1e-13 * v,
+        max_relative = 1e-13
+    );
+    let fc: V3 = V3::from_fn(|a, _| (t[1][a] + t[2][a] + t[3][a]) / 3.0);
+    assert_relative_eq!(
+        sphere_tet_volume(fc, r, &t),
+        v / 2.0,
+        epsilon = 1e-13 * v,
+        max_relative = 1e-13
+    );
     // Negative orientation gives the negative volume.
     let mut neg = t;
     neg.swap(2, 3);
-    assert!(rel(sphere_tet_volume(fc, r, &neg), -v / 2.0, v) < 1e-13);
+    assert_relative_eq!(
+        sphere_tet_volume(fc, r, &neg),
+        -v / 2.0,
+        epsilon = 1e-13 * v,
+        max_relative = 1e-13
+    );
 }
 
 #[test]
@@ -298,10 +359,14 @@ fn sphere_tet_is_rotation_invariant() {
         let r = rng.uniform(0.1, 1.2);
         let axis = rng.point([-1.0; 3], [1.0; 3]);
         let m = mesh::build::rotation(axis, rng.uniform(0.0, 2.0 * PI));
-        let f = mesh::build::affine(m, [0.3, -2.0, 5.0]);
+        let affine = mesh::build::affine(m, [0.3, -2.0, 5.0]);
+        let f = |p: V3| V3::from(affine(p.into()));
         let a = sphere_tet_volume(c, r, &t);
-        let b = sphere_tet_volume(f(c), r, &t.map(&f));
-        assert!((a - b).abs() < 1e-13 * ball_volume(r), "{a} vs {b}");
+        let b = sphere_tet_volume(f(c), r, &t.map(f));
+        assert!(
+            approx::abs_diff_eq!(a, b, epsilon = 1e-13 * ball_volume(r)),
+            "{a} vs {b}"
+        );
     }
 }
 
@@ -356,7 +421,10 @@ fn tiny_and_huge_boxes() {
     let h = 1e-6;
     // Tiny box inside: its own volume to the last digits.
     let b = sphere_box_volume([0.0; 3], r, [0.3, 0.2, 0.1], [0.3 + h, 0.2 + h, 0.1 + h]);
-    assert!(rel(b, h * h * h, 0.0) < 1e-9, "{b:e}");
+    assert!(
+        approx::relative_eq!(b, h * h * h, epsilon = 0.0, max_relative = 1e-9),
+        "{b:e}"
+    );
     // Tiny box outside: exactly 0.
     assert_eq!(
         sphere_box_volume([0.0; 3], r, [1.0, 0.0, 0.0], [1.0 + h, h, h]),
@@ -370,9 +438,12 @@ fn tiny_and_huge_boxes() {
         let lo = [0.6 - 0.3 * h, 0.48 - 0.5 * h, 0.64 - 0.5 * h];
         let hi = lo.map(|x| x + h);
         let s = sphere_box_volume([0.0; 3], r, lo, hi);
-        let q = ball_box_by_quadrature(r, lo, hi, &nodes);
+        let q = ball_box_by_quadrature(r, lo.into(), hi.into(), &nodes);
         assert!(s > 0.1 * h * h * h && s < 0.9 * h * h * h, "h={h}: {s:e}");
-        assert!((s - q).abs() < 1e-14 * v, "h={h}: {s:e} vs {q:e}");
+        assert!(
+            approx::abs_diff_eq!(s, q, epsilon = 1e-14 * v),
+            "h={h}: {s:e} vs {q:e}"
+        );
     }
     // A box of 1e-6 R straddling the surface: its share stays within [0, h³].
     let s = sphere_box_volume(
@@ -390,14 +461,19 @@ fn tiny_and_huge_boxes() {
     );
     let c = [1000.0, 1000.0, 1000.0];
     let half = sphere_box_volume(c, tiny, [1000.0, 0.0, 0.0], [2000.0; 3]);
-    assert!(rel(half, ball_volume(tiny) / 2.0, 0.0) < 1e-9);
+    assert_relative_eq!(
+        half,
+        ball_volume(tiny) / 2.0,
+        epsilon = 0.0,
+        max_relative = 1e-9
+    );
     // Huge box (1e6 R) with the ball inside, cut by one face, at a corner.
     let big = 1e6;
     assert_eq!(sphere_box_volume([0.0; 3], r, [-big; 3], [big; 3]), v);
     let half = sphere_box_volume([0.0; 3], r, [0.0, -big, -big], [2.0 * big, big, big]);
-    assert!(rel(half, v / 2.0, v) < 1e-15);
+    assert_relative_eq!(half, v / 2.0, epsilon = 1e-15 * v, max_relative = 1e-15);
     let oct = sphere_box_volume([0.0; 3], r, [0.0; 3], [big; 3]);
-    assert!(rel(oct, v / 8.0, v) < 1e-15);
+    assert_relative_eq!(oct, v / 8.0, epsilon = 1e-15 * v, max_relative = 1e-15);
     // Huge ball (1e6 × the box) holding a unit box.
     assert_eq!(sphere_box_volume([0.0; 3], 1e6, [0.0; 3], [1.0; 3]), 1.0);
     // Degenerate input.
@@ -429,9 +505,9 @@ fn khawaja_table_2() {
         }
     }
     // Exact: 223/256 and 11/256 (caps of height R/4: π h²(3R − h)/3 / V = 11/256).
-    assert!((exact[0][0][0] - 223.0 / 256.0).abs() < 1e-14);
+    assert_abs_diff_eq!(exact[0][0][0], 223.0 / 256.0, epsilon = 1e-14);
     for (i, j, k) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
-        assert!((exact[i][j][k] - 11.0 / 256.0).abs() < 1e-14);
+        assert_abs_diff_eq!(exact[i][j][k], 11.0 / 256.0, epsilon = 1e-14);
     }
     for (i, j, k) in [(1, 1, 0), (1, 0, 1), (0, 1, 1), (1, 1, 1)] {
         assert!(
@@ -465,9 +541,9 @@ fn khawaja_table_2() {
     assert_eq!(round_to(corrected[2], 3), 0.003);
     assert_eq!(round_to(corrected[3], 3), 0.000);
     let mut all: Vec<f64> = cube.iter().flatten().flatten().copied().collect();
-    assert!((all.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+    assert_abs_diff_eq!(all.iter().sum::<f64>(), 1.0, epsilon = 1e-15);
     correct_and_renormalise(&mut all);
-    assert!((all.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+    assert_abs_diff_eq!(all.iter().sum::<f64>(), 1.0, epsilon = 1e-15);
     let n = |i: usize, j: usize, k: usize| all[i * 4 + j * 2 + k];
     let norm = [n(0, 0, 0), n(1, 0, 0), n(1, 1, 0), n(1, 1, 1)];
     assert_eq!(round_to(norm[0], 3), 0.854);
@@ -486,7 +562,7 @@ fn khawaja_table_2() {
 #[test]
 fn khawaja_polynomial_ends_and_monotone() {
     assert_eq!(khawaja_correction(0.0), 0.0);
-    assert!((khawaja_correction(1.0) - 1.0).abs() < 1e-15);
+    assert_abs_diff_eq!(khawaja_correction(1.0), 1.0, epsilon = 1e-15);
     let mut prev = 0.0;
     for k in 1..=1000 {
         let v = khawaja_correction(k as f64 / 1000.0);
@@ -535,8 +611,8 @@ fn khawaja_error_claims_by_sampling() {
 #[test]
 fn divided_markers() {
     let (r1, r2) = divided_shell_bounds();
-    assert!((r1.powi(3) - 1.0 / 29.0).abs() < 1e-16);
-    assert!((r2.powi(3) - 15.0 / 29.0).abs() < 1e-15);
+    assert_abs_diff_eq!(r1.powi(3), 1.0 / 29.0, epsilon = 1e-16);
+    assert_abs_diff_eq!(r2.powi(3), 15.0 / 29.0, epsilon = 1e-15);
     let (ri, ro) = divided_radii();
     assert_eq!(round_to(ri, 6), 0.627607);
     assert_eq!(round_to(ro, 6), 0.908528);
@@ -546,14 +622,14 @@ fn divided_markers() {
     let centroid = |a: f64, b: f64| {
         integrate(&nodes, a, b, |r| r * r * r) / integrate(&nodes, a, b, |r| r * r)
     };
-    assert!((centroid(r1, r2) - ri).abs() < 1e-14);
-    assert!((centroid(r2, 1.0) - ro).abs() < 1e-14);
+    assert_abs_diff_eq!(centroid(r1, r2), ri, epsilon = 1e-14);
+    assert_abs_diff_eq!(centroid(r2, 1.0), ro, epsilon = 1e-14);
     for d in divided_directions() {
-        assert!((d.iter().map(|x| x * x).sum::<f64>() - 1.0).abs() < 1e-15);
+        assert_abs_diff_eq!(d.iter().map(|x| x * x).sum::<f64>(), 1.0, epsilon = 1e-15);
     }
     let p = divided_offsets();
     assert_eq!(p.len(), DIVIDED_MARKERS);
-    assert_eq!(p[0], [0.0; 3]);
+    assert_eq!(p[0], V3::zeros());
     let radii: Vec<f64> = p
         .iter()
         .map(|q| q.iter().map(|x| x * x).sum::<f64>().sqrt())
@@ -603,14 +679,20 @@ fn box_tet_clipping_matches_box_overlaps() {
             .iter()
             .map(|t| box_tet_volume(blo, bhi, t, &mut stack))
             .sum();
-        assert!((clipped - overlap).abs() < 1e-14, "{clipped} vs {overlap}");
+        assert!(
+            approx::abs_diff_eq!(clipped, overlap, epsilon = 1e-14),
+            "{clipped} vs {overlap}"
+        );
     }
     // A tet against a box through its interior, vs Monte Carlo.
     let t = random_tet(&mut rng);
     let (lo, hi) = ([-0.3, -0.5, -0.2], [0.6, 0.4, 0.9]);
     let v = box_tet_volume(lo, hi, &t, &mut stack);
     let (mc, se) = monte_carlo(&mut rng, lo, hi, 200_000, |p| in_tet(&t, p));
-    assert!((v - mc).abs() < 4.5 * se, "{v} vs {mc} ± {se}");
+    assert!(
+        approx::abs_diff_eq!(v, mc, epsilon = 4.5 * se),
+        "{v} vs {mc} ± {se}"
+    );
     // Negative orientation gives the negative volume.
     let mut neg = t;
     neg.swap(0, 1);

@@ -4,8 +4,11 @@
 
 mod common;
 
+use approx::assert_abs_diff_eq;
+use approx::assert_relative_eq;
 use common::*;
 use mesh::build::{affine, hex_grid, map_points, rotation, uniform_box};
+use mesh::v3::V3;
 use std::f64::consts::PI;
 use voidage::*;
 
@@ -14,8 +17,10 @@ const NO_GRID: MeshOptions = MeshOptions {
 };
 
 /// Solid volume per cell of one particle.
-fn shares(vm: &VoidageMesh, method: Method, c: [f64; 3], r: f64) -> (Vec<f64>, f64) {
-    let d = vm.deposit(method, &ParticleSet::new(&[c], &[r])).unwrap();
+fn shares(vm: &VoidageMesh, method: Method, c: impl Into<V3>, r: f64) -> (Vec<f64>, f64) {
+    let d = vm
+        .deposit(method, &ParticleSet::new(&[c.into()], &[r]))
+        .unwrap();
     (d.solid, d.outside_volume)
 }
 
@@ -23,11 +28,12 @@ fn shares(vm: &VoidageMesh, method: Method, c: [f64; 3], r: f64) -> (Vec<f64>, f
 fn particles(
     rng: &mut Rng,
     n: usize,
-    lo: [f64; 3],
-    hi: [f64; 3],
+    lo: impl Into<V3>,
+    hi: impl Into<V3>,
     rmin: f64,
     rmax: f64,
-) -> (Vec<[f64; 3]>, Vec<f64>) {
+) -> (Vec<V3>, Vec<f64>) {
+    let (lo, hi) = (lo.into(), hi.into());
     let pos = (0..n).map(|_| rng.point(lo, hi)).collect();
     let rad = (0..n).map(|_| rng.uniform(rmin, rmax)).collect();
     (pos, rad)
@@ -52,7 +58,7 @@ fn method_names() {
 #[test]
 fn bad_particles_are_typed_errors() {
     let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [2, 2, 2])).unwrap();
-    let pos = [[0.5; 3], [f64::NAN, 0.5, 0.5], [0.5; 3]];
+    let pos = [[0.5; 3], [f64::NAN, 0.5, 0.5], [0.5; 3]].map(V3::from);
     let ids = [10, 11, 12];
     let set = ParticleSet {
         positions: &pos,
@@ -67,7 +73,7 @@ fn bad_particles_are_typed_errors() {
         }) => {}
         other => panic!("{other:?}"),
     }
-    let pos = [[0.5; 3], [0.5; 3], [0.5; 3]];
+    let pos = [V3::repeat(0.5); 3];
     let set = ParticleSet {
         positions: &pos,
         ..set
@@ -107,7 +113,7 @@ fn bad_particles_are_typed_errors() {
             ..
         })
     ));
-    let far = [[f64::INFINITY, 0.0, 0.0]];
+    let far = [V3::new(f64::INFINITY, 0.0, 0.0)];
     assert!(vm
         .deposit(Method::Centre, &ParticleSet::new(&far, &[0.1]))
         .is_err());
@@ -155,19 +161,28 @@ fn conservation_every_method() {
             assert_eq!(vm.axis_grid().is_some(), name == "grid");
             for m in Method::ALL {
                 let d = vm.deposit(m, &ParticleSet::new(&pos, &rad)).unwrap();
-                assert!(rel(d.particle_volume, vol, vol) < 1e-14);
+                assert_relative_eq!(
+                    d.particle_volume,
+                    vol,
+                    epsilon = 1e-14 * vol,
+                    max_relative = 1e-14
+                );
                 assert!(d.conservation_error() < 1e-12, "{name} {m}");
                 assert!(d.solid.iter().all(|&s| s >= 0.0));
                 assert!(d.particles_outside > 0);
                 assert!(!m.is_continuous() || d.particles_partly_outside > 0);
                 match m {
                     Method::Exact => assert!(
-                        (d.outside_volume - exact_outside).abs() < 1e-12 * vol,
+                        approx::abs_diff_eq!(
+                            d.outside_volume,
+                            exact_outside,
+                            epsilon = 1e-12 * vol
+                        ),
                         "{name}: {} vs {exact_outside}",
                         d.outside_volume
                     ),
                     Method::Cube => {
-                        assert!((d.outside_volume - cube_outside).abs() < 1e-12 * vol)
+                        assert_abs_diff_eq!(d.outside_volume, cube_outside, epsilon = 1e-12 * vol)
                     }
                     _ => {}
                 }
@@ -176,12 +191,12 @@ fn conservation_every_method() {
         // The rotated mesh with the rotated particles: exact is rotation-invariant.
         let vm = VoidageMesh::new(&rotated).unwrap();
         assert!(vm.axis_grid().is_none());
-        let rpos: Vec<[f64; 3]> = pos.iter().map(|&p| rot(p)).collect();
+        let rpos: Vec<V3> = pos.iter().map(|&p| V3::from(rot(p.into()))).collect();
         for m in Method::ALL {
             let d = vm.deposit(m, &ParticleSet::new(&rpos, &rad)).unwrap();
             assert!(d.conservation_error() < 1e-12, "rotated {m}");
             if m == Method::Exact {
-                assert!((d.outside_volume - exact_outside).abs() < 1e-12 * vol);
+                assert_abs_diff_eq!(d.outside_volume, exact_outside, epsilon = 1e-12 * vol);
             }
         }
     }
@@ -211,16 +226,19 @@ fn exact_shares_match_kernels_cell_by_cell() {
             let lo = [g.planes(0)[i], g.planes(1)[j], g.planes(2)[k]];
             let hi = [g.planes(0)[i + 1], g.planes(1)[j + 1], g.planes(2)[k + 1]];
             let single = sphere_box_volume(c, r, lo, hi);
-            assert!((a[cell] - single).abs() < 1e-13 * v, "grid cell {cell}");
+            assert!(
+                approx::abs_diff_eq!(a[cell], single, epsilon = 1e-13 * v),
+                "grid cell {cell}"
+            );
             let by_tets = tet_sum(&general, cell, c, r);
             assert!(
-                (b[cell] - by_tets).abs() < 1e-13 * v,
+                approx::abs_diff_eq!(b[cell], by_tets, epsilon = 1e-13 * v),
                 "general cell {cell} {} {} {} c={c:?} r={r}",
                 b[cell],
                 by_tets,
                 a[cell]
             );
-            assert!((a[cell] - b[cell]).abs() < 1e-13 * v);
+            assert_abs_diff_eq!(a[cell], b[cell], epsilon = 1e-13 * v);
         }
     }
 }
@@ -267,12 +285,15 @@ fn exact_is_invariant_under_rotation_of_mesh_and_particles() {
             let c = rng.point([-0.2; 3], [1.2; 3]);
             let r = rng.uniform(0.05, 0.5);
             let (a, oa) = shares(&grid, Method::Exact, c, r);
-            let (b, ob) = shares(&rotated, Method::Exact, f(c), r);
+            let (b, ob) = shares(&rotated, Method::Exact, f(c.into()), r);
             let v = ball_volume(r);
             for (x, y) in a.iter().zip(&b) {
-                assert!((x - y).abs() < 1e-12 * v, "{x} vs {y}");
+                assert!(
+                    approx::abs_diff_eq!(x, y, epsilon = 1e-12 * v),
+                    "{x} vs {y}"
+                );
             }
-            assert!((oa - ob).abs() < 1e-12 * v);
+            assert_abs_diff_eq!(oa, ob, epsilon = 1e-12 * v);
         }
     }
 }
@@ -296,7 +317,7 @@ fn exact_on_sheared_mesh_matches_monte_carlo() {
         ([0.35, 0.3, 0.35], 0.2),
         ([1.2, 0.2, 0.1], 0.4),
     ] {
-        check_exact_against_monte_carlo(&vm, &mut rng, c, r, n);
+        check_exact_against_monte_carlo(&vm, &mut rng, c.into(), r, n);
     }
 }
 
@@ -319,7 +340,10 @@ fn symmetric_positions_give_mirrored_shares() {
                 for (cell, &x) in a.iter().enumerate() {
                     let (i, rest) = (cell % nx, cell / nx);
                     let y = b[(nx - 1 - i) + nx * rest];
-                    assert!((x - y).abs() < 1e-13 * ball_volume(r), "{method} {x} {y}");
+                    assert!(
+                        approx::abs_diff_eq!(x, y, epsilon = 1e-13 * ball_volume(r)),
+                        "{method} {x} {y}"
+                    );
                 }
             }
         }
@@ -360,7 +384,7 @@ fn continuity_across_a_face() {
                 let d = 1e-9;
                 let across = jump(1.0 - d, 1.0 + d);
                 match method {
-                    Method::Centre => assert!((across - v).abs() < 1e-12 * v),
+                    Method::Centre => assert_abs_diff_eq!(across, v, epsilon = 1e-12 * v),
                     Method::Divided => {
                         let k = across / (v / 29.0);
                         assert!(k > 0.5 && (k - k.round()).abs() < 1e-9, "{k}");
@@ -411,9 +435,17 @@ fn cells_smaller_than_particles() {
                 let [i, j, k] = g.ijk(cell as u32);
                 let clo = [i as f64 * h, j as f64 * h, k as f64 * h];
                 let chi = clo.map(|x| x + h);
-                assert!((e[cell] - sphere_box_volume(c, r, clo, chi)).abs() < 1e-13 * v);
-                assert!((eg[cell] - e[cell]).abs() < 1e-12 * v);
-                assert!((q[cell] - v * cube_fraction(c, r, clo, chi)).abs() < 1e-14 * v);
+                assert_abs_diff_eq!(
+                    e[cell],
+                    sphere_box_volume(c, r, clo, chi),
+                    epsilon = 1e-13 * v
+                );
+                assert_abs_diff_eq!(eg[cell], e[cell], epsilon = 1e-12 * v);
+                assert_abs_diff_eq!(
+                    q[cell],
+                    v * cube_fraction(c, r, clo, chi),
+                    epsilon = 1e-14 * v
+                );
             }
         }
     }
@@ -435,7 +467,10 @@ fn exact_matches_monte_carlo_on_grid() {
         let (mc, se) = monte_carlo(&mut rng, lo, hi, 100_000, |p| {
             (0..3).map(|a| (p[a] - c[a]).powi(2)).sum::<f64>() < r * r
         });
-        assert!((x - mc).abs() < 4.5 * se, "cell {cell}: {x} vs {mc} ± {se}");
+        assert!(
+            approx::abs_diff_eq!(x, mc, epsilon = 4.5 * se),
+            "cell {cell}: {x} vs {mc} ± {se}"
+        );
     }
 }
 
@@ -449,7 +484,7 @@ fn divided_markers_outside_go_to_the_centre_cell() {
         let r = 0.2;
         let (s, out) = shares(&vm, Method::Divided, [0.05, 0.25, 0.25], r);
         assert_eq!(out, 0.0);
-        assert!((s[0] - ball_volume(r)).abs() < 1e-15);
+        assert_abs_diff_eq!(s[0], ball_volume(r), epsilon = 1e-15);
         // Centre outside: everything outside.
         let (s, out) = shares(&vm, Method::Divided, [-0.01, 0.25, 0.25], r);
         assert_eq!(out, ball_volume(r));
@@ -464,7 +499,10 @@ fn divided_markers_outside_go_to_the_centre_cell() {
             .iter()
             .map(|&rr| 1 + if 0.5 * rr > 0.3 { 4 } else { 0 })
             .sum::<usize>();
-        assert!((k - expected as f64).abs() < 1e-12, "{k} vs {expected}");
+        assert!(
+            approx::abs_diff_eq!(k, expected as f64, epsilon = 1e-12),
+            "{k} vs {expected}"
+        );
     }
 }
 
@@ -512,7 +550,7 @@ fn hints_threads_and_clipping() {
     let mut n = 0;
     for (cell, &e) in free.epsilon.iter().enumerate() {
         let v = vm.cell_volumes()[cell];
-        assert!((e - (1.0 - d.solid[cell] / v)).abs() < 1e-15);
+        assert_abs_diff_eq!(e, (1.0 - d.solid[cell] / v), epsilon = 1e-15);
         if e < alpha {
             expect += (alpha - e) * v;
             n += 1;
@@ -523,7 +561,11 @@ fn hints_threads_and_clipping() {
     }
     assert!(n > 0);
     assert_eq!(clipped.clipped_cells, n);
-    assert!((clipped.clipped_volume - expect).abs() < 1e-15 * expect.max(1e-300));
+    assert_abs_diff_eq!(
+        clipped.clipped_volume,
+        expect,
+        epsilon = 1e-15 * expect.max(1e-300)
+    );
     // Solid kept + clipped = deposited.
     let kept: f64 = clipped
         .epsilon
@@ -531,7 +573,12 @@ fn hints_threads_and_clipping() {
         .zip(vm.cell_volumes())
         .map(|(e, v)| (1.0 - e) * v)
         .sum();
-    assert!(rel(kept + clipped.clipped_volume, d.deposited_volume, 1.0) < 1e-12);
+    assert_relative_eq!(
+        kept + clipped.clipped_volume,
+        d.deposited_volume,
+        epsilon = 1e-12 * 1.0,
+        max_relative = 1e-12
+    );
 }
 
 /// Particles whose centre lies outside the mesh still deposit the part of their ball inside
@@ -547,11 +594,19 @@ fn centre_outside_general_mesh() {
     let rot = affine(rotation([0.0, 0.0, 1.0], 0.3), [0.0; 3]);
     let c = rot([-0.1, 0.5, 0.5]);
     let r = 0.25;
-    assert!(vm.locator().locate(c).is_none());
+    assert!(vm.locator().locate(c.into()).is_none());
     let (s, out) = shares(&vm, Method::Exact, c, r);
     let inside = sphere_box_volume(unrotate(c), r, [0.0; 3], [1.0; 3]);
-    assert!((s.iter().sum::<f64>() - inside).abs() < 1e-13 * ball_volume(r));
-    assert!((out - (ball_volume(r) - inside)).abs() < 1e-13 * ball_volume(r));
+    assert_abs_diff_eq!(
+        s.iter().sum::<f64>(),
+        inside,
+        epsilon = 1e-13 * ball_volume(r)
+    );
+    assert_abs_diff_eq!(
+        out,
+        (ball_volume(r) - inside),
+        epsilon = 1e-13 * ball_volume(r)
+    );
     let (s, _) = shares(&vm, Method::Centre, c, r);
     assert!(s.iter().all(|&x| x == 0.0));
 }
@@ -580,11 +635,11 @@ fn warped_faces_match_tets() {
         for (cell, &x) in s.iter().enumerate() {
             let by_tets = tet_sum(&vm, cell, c, r);
             assert!(
-                (x - by_tets).abs() < 1e-13 * v,
+                approx::abs_diff_eq!(x, by_tets, epsilon = 1e-13 * v),
                 "cell {cell}: {x} vs {by_tets}"
             );
         }
         let inside = sphere_box_volume(c, r, [0.0; 3], [1.0; 3]);
-        assert!((out - (v - inside)).abs() < 1e-13 * v);
+        assert_abs_diff_eq!(out, (v - inside), epsilon = 1e-13 * v);
     }
 }

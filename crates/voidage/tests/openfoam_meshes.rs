@@ -5,7 +5,9 @@
 
 mod common;
 
+use approx::assert_abs_diff_eq;
 use common::*;
+use mesh::v3::V3;
 use voidage::*;
 
 fn load(case: &str) -> VoidageMesh {
@@ -17,15 +19,15 @@ fn load(case: &str) -> VoidageMesh {
 }
 
 /// Random particles around the mesh bounds, radii from 0.2 to 3 mean cell sizes.
-fn particles(vm: &VoidageMesh, rng: &mut Rng, n: usize) -> (Vec<[f64; 3]>, Vec<f64>) {
+fn particles(vm: &VoidageMesh, rng: &mut Rng, n: usize) -> (Vec<V3>, Vec<f64>) {
     let b = vm.geometry().bounds;
     let h = (vm.geometry().total_volume() / vm.n_cells() as f64).cbrt();
     let pos = (0..n)
         .map(|_| {
             let ext = b.extent();
             rng.point(
-                std::array::from_fn(|a| b.min[a] - 0.1 * ext[a]),
-                std::array::from_fn(|a| b.max[a] + 0.1 * ext[a]),
+                V3::from_fn(|a, _| b.min[a] - 0.1 * ext[a]),
+                V3::from_fn(|a, _| b.max[a] + 0.1 * ext[a]),
             )
         })
         .collect();
@@ -48,12 +50,12 @@ fn exact_shares_equal_tet_sums() {
             for (cell, &x) in d.solid.iter().enumerate() {
                 let by_tets = tet_sum(&vm, cell, c, r);
                 assert!(
-                    (x - by_tets).abs() < 1e-12 * v,
+                    approx::abs_diff_eq!(x, by_tets, epsilon = 1e-12 * v),
                     "{case} cell {cell}: {x} vs {by_tets}"
                 );
                 sum += by_tets;
             }
-            assert!((d.outside_volume - (v - sum)).abs() < 1e-12 * v);
+            assert_abs_diff_eq!(d.outside_volume, (v - sum), epsilon = 1e-12 * v);
         }
     }
 }
@@ -64,7 +66,7 @@ fn whole_cells_and_whole_mesh_get_openfoam_volumes() {
         let vm = load(case);
         let g = vm.geometry();
         let b = g.bounds;
-        let c: [f64; 3] = std::array::from_fn(|a| 0.5 * (b.min[a] + b.max[a]));
+        let c: V3 = V3::from_fn(|a, _| 0.5 * (b.min[a] + b.max[a]));
         let diag = b.extent().iter().map(|x| x * x).sum::<f64>().sqrt();
         // A ball holding the whole mesh: every cell full, the rest outside.
         let r = diag;
@@ -75,7 +77,11 @@ fn whole_cells_and_whole_mesh_get_openfoam_volumes() {
             assert_eq!(x, v);
         }
         let total = g.total_volume();
-        assert!((d.outside_volume - (ball_volume(r) - total)).abs() < 1e-14 * ball_volume(r));
+        assert_abs_diff_eq!(
+            d.outside_volume,
+            (ball_volume(r) - total),
+            epsilon = 1e-14 * ball_volume(r)
+        );
         // A ball just larger than one cell, around its centre: the cell's OpenFOAM volume.
         let cell = vm.n_cells() / 2;
         let cc = g.cell_centres[cell];

@@ -5,15 +5,18 @@
 
 mod common;
 
+use approx::assert_abs_diff_eq;
+use approx::assert_relative_eq;
 use common::*;
 use mesh::build::{affine, map_points, rotation, uniform_box};
+use mesh::v3::V3;
 use voidage::*;
 
 const NO_GRID: MeshOptions = MeshOptions {
     axis_aligned_fast_path: false,
 };
 
-fn cloud(seed: u64, n: usize) -> (Vec<[f64; 3]>, Vec<f64>) {
+fn cloud(seed: u64, n: usize) -> (Vec<V3>, Vec<f64>) {
     let mut rng = Rng::new(seed);
     // Centres up to one radius beyond the unit box, so some particles are partly outside.
     let pos = (0..n).map(|_| rng.point([-0.1; 3], [1.1; 3])).collect();
@@ -54,7 +57,11 @@ fn shares_add_up_to_the_deposit_bit_for_bit() {
                 .map(|i| ball_volume(rad[i]) - sh.inside_volume(i))
                 .sum();
             assert!(
-                (outside - dep.outside_volume).abs() <= 1e-12 * dep.particle_volume,
+                approx::abs_diff_eq!(
+                    outside,
+                    dep.outside_volume,
+                    epsilon = 1e-12 * dep.particle_volume
+                ),
                 "{m}: {outside} vs {}",
                 dep.outside_volume
             );
@@ -116,7 +123,7 @@ fn many_batches_sum_in_particle_order_with_any_thread_count() {
         }
         assert_eq!(solid, dep.solid, "{m}: serial sum in particle order");
         assert!(
-            (dep.particle_volume - volume).abs() <= 1e-13 * volume,
+            approx::abs_diff_eq!(dep.particle_volume, volume, epsilon = 1e-13 * volume),
             "{m}"
         );
         for threads in [1, 3] {
@@ -165,7 +172,7 @@ fn each_particle_matches_a_deposit_of_it_alone() {
 #[test]
 fn exact_grid_shares_are_ball_box_volumes() {
     let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [4, 4, 4])).unwrap();
-    let c = [0.26, 0.49, 0.52];
+    let c = V3::new(0.26, 0.49, 0.52);
     let r = 0.3;
     let (sh, _) = vm
         .shares(Method::Exact, &ParticleSet::new(&[c], &[r]))
@@ -177,11 +184,11 @@ fn exact_grid_shares_are_ball_box_volumes() {
     for (&cell, &v) in cells.iter().zip(vols) {
         let [i, j, k] = g.ijk(cell);
         let lo = [i, j, k].map(|n| n as f64 * 0.25);
-        let rel_lo = std::array::from_fn(|a| lo[a] - c[a]);
-        let rel_hi = std::array::from_fn(|a| lo[a] + 0.25 - c[a]);
+        let rel_lo = V3::from_fn(|a, _| lo[a] - c[a]);
+        let rel_hi = V3::from_fn(|a, _| lo[a] + 0.25 - c[a]);
         let reference = ball_box_by_quadrature(r, rel_lo, rel_hi, &nodes);
         assert!(
-            (v - reference).abs() < 1e-13,
+            approx::abs_diff_eq!(v, reference, epsilon = 1e-13),
             "cell {cell}: {v} vs {reference}"
         );
     }
@@ -194,7 +201,7 @@ fn divided_shares_are_multiples_of_a_29th() {
     // whole number of markers of V/29.
     let r = 0.2;
     let (sh, dep) = vm
-        .shares(Method::Divided, &ParticleSet::new(&[[0.5; 3]], &[r]))
+        .shares(Method::Divided, &ParticleSet::new(&[V3::repeat(0.5)], &[r]))
         .unwrap();
     let each = ball_volume(r) / 29.0;
     let (_, vols) = sh.of(0);
@@ -202,16 +209,16 @@ fn divided_shares_are_multiples_of_a_29th() {
     let total: f64 = vols.iter().sum();
     for &v in vols {
         let k = v / each;
-        assert!((k - k.round()).abs() < 1e-12, "{k}");
+        assert!(approx::abs_diff_eq!(k, k.round(), epsilon = 1e-12), "{k}");
     }
-    assert!((total - ball_volume(r)).abs() < 1e-15);
+    assert_abs_diff_eq!(total, ball_volume(r), epsilon = 1e-15);
     assert_eq!(dep.outside_volume, 0.0);
 }
 
 #[test]
 fn particles_outside_have_no_shares() {
     let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [2, 2, 2])).unwrap();
-    let pos = [[0.5; 3], [3.0, 0.5, 0.5], [0.5; 3]];
+    let pos = [[0.5; 3], [3.0, 0.5, 0.5], [0.5; 3]].map(V3::from);
     let rad = [0.1, 0.1, 0.0];
     for m in Method::ALL {
         let (sh, dep) = vm.shares(m, &ParticleSet::new(&pos, &rad)).unwrap();
@@ -219,6 +226,11 @@ fn particles_outside_have_no_shares() {
         assert!(sh.of(1).0.is_empty(), "{m}");
         assert!(sh.of(2).0.is_empty(), "{m}: zero radius");
         assert_eq!(dep.particles_outside, 1);
-        assert!(rel(dep.outside_volume, ball_volume(0.1), 0.0) < 1e-15);
+        assert_relative_eq!(
+            dep.outside_volume,
+            ball_volume(0.1),
+            epsilon = 0.0,
+            max_relative = 1e-15
+        );
     }
 }

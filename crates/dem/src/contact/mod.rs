@@ -13,7 +13,7 @@ pub mod rolling;
 pub mod sjkr;
 pub mod tangential;
 
-use mesh::v3::{self, V3};
+use mesh::v3::V3;
 
 use crate::material::PairCoeffs;
 
@@ -105,14 +105,14 @@ pub fn contact_force(
     } else {
         inp.radj - 0.5 * inp.deltan
     };
-    let vn = v3::dot(inp.vrel, n);
-    let vt = v3::sub(inp.vrel, v3::scale(vn, n));
+    let vn = inp.vrel.dot(&n);
+    let vt = inp.vrel - (vn * n);
     let wr = if inp.is_wall {
-        v3::scale(cri, inp.omega_i)
+        cri * inp.omega_i
     } else {
-        v3::add(v3::scale(cri, inp.omega_i), v3::scale(crj, inp.omega_j))
+        (cri * inp.omega_i) + (crj * inp.omega_j)
     };
-    let vtr = v3::add(vt, v3::cross(n, wr));
+    let vtr = vt + n.cross(&wr);
 
     let k = hertz::hertz_coeffs(
         inp.deltan,
@@ -147,18 +147,18 @@ pub fn contact_force(
         dt,
         update_history,
     );
-    let tor = v3::cross(n, ft);
+    let tor = n.cross(&ft);
     let mut out = ContactOutput {
-        force: v3::add(v3::scale(fn_total, n), ft),
-        torque_i: v3::scale(-cri, tor),
-        torque_j: v3::scale(-crj, tor),
+        force: ((fn_total * n) + ft),
+        torque_i: (-cri * tor),
+        torque_j: (-crj * tor),
     };
     if let Some(rolling) = model.rolling {
         // LIGGGHTS uses ωᵢ − ωⱼ between particles and cᵢωᵢ/r at a wall.
         let w = if inp.is_wall {
-            v3::scale(cri / inp.r, inp.omega_i)
+            cri / inp.r * inp.omega_i
         } else {
-            v3::sub(inp.omega_i, inp.omega_j)
+            inp.omega_i - inp.omega_j
         };
         let t = match rolling {
             RollingModel::Cdt => {
@@ -176,8 +176,8 @@ pub fn contact_force(
                 update_history,
             ),
         };
-        out.torque_i = v3::sub(out.torque_i, t);
-        out.torque_j = v3::add(out.torque_j, t);
+        out.torque_i -= t;
+        out.torque_j += t;
     }
     out
 }

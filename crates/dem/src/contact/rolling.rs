@@ -7,18 +7,18 @@
 //! w is the relative angular velocity (ωᵢ − ωⱼ between particles; LIGGGHTS's cᵢωᵢ/r at a wall).
 //! The component of T along the normal (torsion) is removed.
 
-use mesh::v3::{self, V3};
+use mesh::v3::V3;
 
 /// `cdt`: T = μᵣ Fₑ R* ŵ with Fₑ = kₙδ the elastic normal force (N), ŵ = w/|w|, the normal
 /// component removed; zero when w = 0. Units: N·m.
 #[inline]
 pub fn cdt_torque(mu_r: f64, f_elastic: f64, reff: f64, w: V3, n: V3) -> V3 {
-    let wmag = v3::mag(w);
+    let wmag = w.norm();
     if wmag <= 0.0 {
-        return [0.0; 3];
+        return V3::zeros();
     }
-    let t = v3::scale(mu_r * f_elastic * reff / wmag, w);
-    v3::sub(t, v3::scale(v3::dot(t, n), n))
+    let t = mu_r * f_elastic * reff / wmag * w;
+    t - (t.dot(&n) * n)
 }
 
 /// `epsd2`: T ← T_old + kᵣ wₜ dt with kᵣ = kₜR*² (kₜ the Hertz–Mindlin tangential stiffness,
@@ -37,13 +37,13 @@ pub fn epsd2_torque(
     dt: f64,
     update_history: bool,
 ) -> V3 {
-    let wt = v3::sub(w, v3::scale(v3::dot(w, n), n));
+    let wt = w - (w.dot(&n) * n);
     let kr = kt * reff * reff;
-    let mut t = v3::add(*roll, v3::scale(dt * kr, wt));
-    let tmag = v3::mag(t);
+    let mut t = *roll + (dt * kr * wt);
+    let tmag = t.norm();
     let tmax = fn_.abs() * reff * mu_r;
     if tmag > tmax {
-        t = v3::scale(tmax / tmag, t);
+        t = tmax / tmag * t;
     }
     if update_history {
         *roll = t;
@@ -57,19 +57,29 @@ mod tests {
 
     #[test]
     fn cdt_is_constant_in_magnitude_and_tangential() {
-        let n = [0.0, 0.0, 1.0];
-        let t = cdt_torque(0.1, 2.0, 0.5, [3.0, 0.0, 4.0], n);
+        let n = V3::new(0.0, 0.0, 1.0);
+        let t = cdt_torque(0.1, 2.0, 0.5, V3::new(3.0, 0.0, 4.0), n);
         // μᵣFR* = 0.1; ŵ = (0.6, 0, 0.8); normal part removed → (0.06, 0, 0)
         assert!((t[0] - 0.06).abs() < 1e-15 && t[1] == 0.0 && t[2].abs() < 1e-15);
-        assert_eq!(cdt_torque(0.1, 2.0, 0.5, [0.0; 3], n), [0.0; 3]);
+        assert_eq!(cdt_torque(0.1, 2.0, 0.5, V3::zeros(), n), V3::zeros());
     }
 
     #[test]
     fn epsd2_spring_then_cap() {
-        let n = [0.0, 0.0, 1.0];
-        let mut h = [0.0; 3];
+        let n = V3::new(0.0, 0.0, 1.0);
+        let mut h = V3::zeros();
         // kr = 100·0.01 = 1 N·m; w = 2 rad/s for dt 1e-3: T = 2e-3 N·m (below cap 0.01)
-        let t = epsd2_torque(&mut h, 0.1, 1.0, 100.0, 0.1, [2.0, 0.0, 0.0], n, 1e-3, true);
+        let t = epsd2_torque(
+            &mut h,
+            0.1,
+            1.0,
+            100.0,
+            0.1,
+            V3::new(2.0, 0.0, 0.0),
+            n,
+            1e-3,
+            true,
+        );
         assert!((t[0] - 2e-3).abs() < 1e-15 && h == t);
         let t = epsd2_torque(
             &mut h,
@@ -77,7 +87,7 @@ mod tests {
             1.0,
             100.0,
             0.1,
-            [2.0, 0.0, 0.0],
+            V3::new(2.0, 0.0, 0.0),
             n,
             1e-3,
             true,

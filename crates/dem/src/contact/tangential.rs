@@ -8,7 +8,7 @@
 //! Cundall–Strack history model in the form LIGGGHTS 3.x uses (`tangential_model_history`,
 //! Fₙ there being the normal contact force with damping but without cohesion).
 
-use mesh::v3::{self, V3};
+use mesh::v3::V3;
 
 /// Tangential force on i (N); updates the displacement history `shear` (m) when
 /// `update_history`. `kt` (N/m), `gamma_t` (kg/s), `ft_max` = μ|Fₙ| (N), `dt` (s).
@@ -26,24 +26,24 @@ pub fn history_force(
 ) -> V3 {
     let mut s = *shear;
     if update_history {
-        s = v3::add(s, v3::scale(dt, vtr));
-        let rsht = v3::dot(s, n);
-        s = v3::sub(s, v3::scale(rsht, n));
+        s += dt * vtr;
+        let rsht = s.dot(&n);
+        s -= rsht * n;
     }
-    let shrmag = v3::mag(s);
-    let mut ft = v3::scale(-kt, s);
+    let shrmag = s.norm();
+    let mut ft = -kt * s;
     let ft_shear = kt * shrmag;
     if ft_shear > ft_max {
         if shrmag != 0.0 {
-            ft = v3::scale(ft_max / ft_shear, ft);
+            ft = ft_max / ft_shear * ft;
             if update_history {
-                s = v3::scale(-1.0 / kt, ft);
+                s = -1.0 / kt * ft;
             }
         } else {
-            ft = [0.0; 3];
+            ft = V3::zeros();
         }
     } else {
-        ft = v3::sub(ft, v3::scale(gamma_t, vtr));
+        ft -= gamma_t * vtr;
     }
     if update_history {
         *shear = s;
@@ -59,16 +59,34 @@ mod tests {
     fn spring_sticks_then_caps_at_coulomb() {
         // kt = 100 N/m, vtr = 1 m/s along x for dt = 1 ms: ξ = 1 mm, F = −0.1 N (stick, no
         // damping); with μFn = 0.05 N the force is capped and ξ reset to 0.5 mm.
-        let n = [0.0, 0.0, 1.0];
-        let mut s = [0.0; 3];
-        let f = history_force(&mut s, n, [1.0, 0.0, 0.0], 100.0, 0.0, 1.0, 1e-3, true);
+        let n = V3::new(0.0, 0.0, 1.0);
+        let mut s = V3::zeros();
+        let f = history_force(
+            &mut s,
+            n,
+            V3::new(1.0, 0.0, 0.0),
+            100.0,
+            0.0,
+            1.0,
+            1e-3,
+            true,
+        );
         assert!((f[0] + 0.1).abs() < 1e-15 && (s[0] - 1e-3).abs() < 1e-18);
-        let mut s = [0.0; 3];
-        let f = history_force(&mut s, n, [1.0, 0.0, 0.0], 100.0, 0.0, 0.05, 1e-3, true);
+        let mut s = V3::zeros();
+        let f = history_force(
+            &mut s,
+            n,
+            V3::new(1.0, 0.0, 0.0),
+            100.0,
+            0.0,
+            0.05,
+            1e-3,
+            true,
+        );
         assert!((f[0] + 0.05).abs() < 1e-15 && (s[0] - 5e-4).abs() < 1e-18);
         // a normal component of the history is removed
-        let mut s = [0.0, 0.0, 1.0];
-        history_force(&mut s, n, [0.0; 3], 100.0, 0.0, 1.0, 1e-3, true);
-        assert_eq!(s, [0.0; 3]);
+        let mut s = V3::new(0.0, 0.0, 1.0);
+        history_force(&mut s, n, V3::zeros(), 100.0, 0.0, 1.0, 1e-3, true);
+        assert_eq!(s, V3::zeros());
     }
 }

@@ -35,8 +35,8 @@ fn parse_data(src: &str) -> Result<DataFile, (usize, String)> {
     let lines: Vec<&str> = src.lines().collect();
     let mut natoms = None;
     let mut ntypes = None;
-    let mut lo = [0.0; 3];
-    let mut hi = [0.0; 3];
+    let mut lo = V3::zeros();
+    let mut hi = V3::zeros();
     let num = |k: usize, w: &str| -> Result<f64, (usize, String)> {
         w.parse::<f64>()
             .map_err(|_| (k + 1, format!("`{w}` is not a number")))
@@ -123,9 +123,9 @@ fn parse_data(src: &str) -> Result<DataFile, (usize, String)> {
                 particles.push(NewParticle {
                     id: v[0] as u64,
                     atom_type: v[1] as u32,
-                    x: [v[4], v[5], v[6]],
-                    v: [0.0; 3],
-                    omega: [0.0; 3],
+                    x: V3::new(v[4], v[5], v[6]),
+                    v: V3::zeros(),
+                    omega: V3::zeros(),
                     radius: 0.5 * v[2],
                     density: v[3],
                 });
@@ -136,7 +136,10 @@ fn parse_data(src: &str) -> Result<DataFile, (usize, String)> {
                         format!("{} values: `id vx vy vz wx wy wz` expected", v.len()),
                     ));
                 }
-                velocities.insert(v[0] as u64, ([v[1], v[2], v[3]], [v[4], v[5], v[6]]));
+                velocities.insert(
+                    v[0] as u64,
+                    (V3::new(v[1], v[2], v[3]), V3::new(v[4], v[5], v[6])),
+                );
             }
             read += 1;
         }
@@ -235,7 +238,7 @@ Velocities
     fn reads_liggghts_and_round_trips() {
         let d = parse_data(LIGGGHTS).unwrap();
         assert_eq!(d.ntypes, 2);
-        assert_eq!(d.hi, [0.01; 3]);
+        assert_eq!(d.hi, V3::repeat(0.01));
         assert_eq!(d.particles[0].id, 2);
         assert_eq!(d.particles[0].atom_type, 2);
         assert_eq!(d.particles[0].radius, 5e-5);
@@ -243,7 +246,7 @@ Velocities
             d.particles[1].x[0],
             "5.0100000000000014e-03".parse::<f64>().unwrap()
         );
-        assert_eq!(d.particles[1].v, [0.1, 0.0, 0.0]);
+        assert_eq!(d.particles[1].v, V3::new(0.1, 0.0, 0.0));
         let mut p = Particles::default();
         for q in &d.particles {
             p.push(*q, 2).unwrap();

@@ -308,8 +308,8 @@ fn region(w: &[String]) -> Res<(String, Region)> {
             }
             (
                 Region::Block {
-                    lo: [v[0], v[2], v[4]],
-                    hi: [v[1], v[3], v[5]],
+                    lo: V3::new(v[0], v[2], v[4]),
+                    hi: V3::new(v[1], v[3], v[5]),
                 },
                 9,
             )
@@ -558,8 +558,8 @@ impl Exec<'_> {
                     &path,
                     &s.particles,
                     s.materials().ntypes(),
-                    bounds.lo,
-                    bounds.hi,
+                    bounds.lo.into(),
+                    bounds.hi.into(),
                     s.step(),
                 )
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -596,7 +596,7 @@ impl Exec<'_> {
         if word(w, 2, "style")? != "single" {
             return Err("only `create_atoms T single x y z [units box]` is supported".into());
         }
-        let x = [num(w, 3, "x")?, num(w, 4, "y")?, num(w, 5, "z")?];
+        let x = V3::new(num(w, 3, "x")?, num(w, 4, "y")?, num(w, 5, "z")?);
         match (
             w.get(6).map(String::as_str),
             w.get(7).map(String::as_str),
@@ -610,8 +610,8 @@ impl Exec<'_> {
             id: 0,
             atom_type: t,
             x,
-            v: [0.0; 3],
-            omega: [0.0; 3],
+            v: V3::zeros(),
+            omega: V3::zeros(),
             radius: 0.5,
             density: 1.0,
         };
@@ -687,7 +687,7 @@ impl Exec<'_> {
         if word(w, 1, "group")? != "all" || word(w, 2, "style")? != "set" || w.len() != 6 {
             return Err("only `velocity all set vx vy vz` is supported".into());
         }
-        let v = [num(w, 3, "vx")?, num(w, 4, "vy")?, num(w, 5, "vz")?];
+        let v = V3::new(num(w, 3, "vx")?, num(w, 4, "vy")?, num(w, 5, "vz")?);
         match &mut self.sim {
             Some(s) => {
                 s.particles.v.iter_mut().for_each(|x| *x = v);
@@ -742,7 +742,7 @@ impl Exec<'_> {
                 if m == 0.0 {
                     return Err("gravity direction is zero".into());
                 }
-                let gv = [g * d[0] / m, g * d[1] / m, g * d[2] / m];
+                let gv = V3::new(g * d[0] / m, g * d[1] / m, g * d[2] / m);
                 self.gravity_fix = Some(id.clone());
                 match &mut self.sim {
                     Some(s) => s.set_gravity(gv),
@@ -929,8 +929,8 @@ impl Exec<'_> {
     fn insert_pack(&self, id: &str, w: &[String]) -> Res<InsertPack> {
         let mut seed = None;
         let mut dist = None;
-        let mut velocity = [0.0; 3];
-        let mut omega = [0.0; 3];
+        let mut velocity = V3::zeros();
+        let mut omega = V3::zeros();
         let mut region = None;
         let mut target = None;
         let mut all_in = false;
@@ -959,11 +959,11 @@ impl Exec<'_> {
                     if word(w, k + 1, "`constant`")? != "constant" {
                         return Err(format!("{key}: only `constant` is supported"));
                     }
-                    let v = [
+                    let v = V3::new(
                         num(w, k + 2, key)?,
                         num(w, k + 3, key)?,
                         num(w, k + 4, key)?,
-                    ];
+                    );
                     if key == "vel" {
                         velocity = v;
                     } else {
@@ -1036,7 +1036,7 @@ impl Exec<'_> {
         if self.gravity_fix.as_deref() == Some(id) {
             self.gravity_fix = None;
             match &mut self.sim {
-                Some(s) => s.set_gravity([0.0; 3]),
+                Some(s) => s.set_gravity(V3::zeros()),
                 None => self.pending.gravity = None,
             }
             return Ok(());
@@ -1239,7 +1239,7 @@ impl Exec<'_> {
             pair_model: model,
             // LAMMPS's defaults for units si
             dt: p.dt.unwrap_or(1e-8),
-            gravity: p.gravity.as_ref().map(|g| g.1).unwrap_or([0.0; 3]),
+            gravity: p.gravity.as_ref().map(|g| g.1).unwrap_or(V3::zeros()),
             skin: p.skin.unwrap_or(0.001),
             sim_box,
         })?;
@@ -1265,7 +1265,7 @@ fn check_timestep(s: &mut Simulation, frac_r: f64, frac_h: f64) {
     let m = s.materials();
     let mut tr = f64::INFINITY;
     let mut th = f64::INFINITY;
-    let vmax = p.v.iter().map(|v| mesh::v3::mag(*v)).fold(0.0, f64::max);
+    let vmax = p.v.iter().map(|v| (*v).norm()).fold(0.0, f64::max);
     for i in 0..p.len() {
         let t = p.atom_type[i] as usize;
         tr = tr.min(rayleigh_time(

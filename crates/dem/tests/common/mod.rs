@@ -9,6 +9,7 @@ use dem::material::{MaterialInput, Materials};
 use dem::particles::NewParticle;
 use dem::walls::{Wall, WallShape};
 use dem::{SimBox, SimConfig, Simulation};
+use mesh::v3::V3;
 
 /// A simulation with one material (E, ν, e, μ), no walls, gravity `g`, time step `dt`.
 pub fn sim(e_mod: f64, nu: f64, e: f64, mu: f64, g: [f64; 3], dt: f64) -> Simulation {
@@ -21,26 +22,31 @@ pub fn sim(e_mod: f64, nu: f64, e: f64, mu: f64, g: [f64; 3], dt: f64) -> Simula
 }
 
 /// A simulation with the given materials and contact model.
-pub fn sim_with(input: MaterialInput, model: ContactModel, g: [f64; 3], dt: f64) -> Simulation {
+pub fn sim_with(
+    input: MaterialInput,
+    model: ContactModel,
+    g: impl Into<V3>,
+    dt: f64,
+) -> Simulation {
     Simulation::new(SimConfig {
         materials: Materials::new(&input).unwrap(),
         pair_model: model,
         dt,
-        gravity: g,
+        gravity: g.into(),
         skin: 1e-4,
-        sim_box: SimBox::fixed([-1.0; 3], [1.0; 3]),
+        sim_box: SimBox::fixed(V3::repeat(-1.0), V3::repeat(1.0)),
     })
     .unwrap()
 }
 
 /// A sphere of type 1.
-pub fn sphere(x: [f64; 3], v: [f64; 3], radius: f64, density: f64) -> NewParticle {
+pub fn sphere(x: impl Into<V3>, v: impl Into<V3>, radius: f64, density: f64) -> NewParticle {
     NewParticle {
         id: 0,
         atom_type: 1,
-        x,
-        v,
-        omega: [0.0; 3],
+        x: x.into(),
+        v: v.into(),
+        omega: V3::zeros(),
         radius,
         density,
     }

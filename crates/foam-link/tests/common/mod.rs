@@ -41,14 +41,14 @@ pub fn porous_cavity() -> (TestCase, Fields) {
     let vpick = |a: V3| {
         porous
             .iter()
-            .map(|&p| if p { a } else { [0.0; 3] })
+            .map(|&p| if p { a } else { V3::zeros() })
             .collect()
     };
     let fields = Fields {
         eps_block: pick(0.6, 1.0),
         ksl: pick(2000.0, 0.0),
-        us: vpick([0.05, 0.0, 0.0]),
-        f: vpick([0.0, -500.0, 0.0]),
+        us: vpick(V3::new(0.05, 0.0, 0.0)),
+        f: vpick(V3::new(0.0, -500.0, 0.0)),
     };
     (case, fields)
 }
@@ -85,8 +85,8 @@ pub fn run_prescribed(
 ) -> (Vec<V3>, Vec<f64>) {
     let run = case.duplicate();
     run.set_field("Ksl", FieldValues::Scalar(fields.ksl.clone()));
-    run.set_field("Us", FieldValues::Vector(fields.us.clone()));
-    run.set_field("f", FieldValues::Vector(fields.f.clone()));
+    run.set_field("Us", FieldValues::Vector(mesh::v3::to_arrays(&fields.us)));
+    run.set_field("f", FieldValues::Vector(mesh::v3::to_arrays(&fields.f)));
     run.edit(
         "system/controlDict",
         "endTime         0.2;",
@@ -113,7 +113,10 @@ pub fn run_prescribed(
     }
     let log = run.run(solver);
     assert!(log.contains("prescribed coupling fields read"), "{log}");
-    (run.vectors(END, "U"), run.scalars(END, "p"))
+    (
+        mesh::v3::from_arrays(&run.vectors(END, "U")),
+        run.scalars(END, "p"),
+    )
 }
 
 /// The native solver with the same blending (as `runner::native::NativeFluid`); U and p.
@@ -146,7 +149,11 @@ pub fn run_link(fluid: &mut foam_link::OpenFoamFluid, fields: &Fields) {
             .unwrap();
         fluid.advance_interval(STEPS as f64 * DT).unwrap();
     }
-    assert!((fluid.time() - 0.05).abs() < 1e-12, "time {}", fluid.time());
+    assert!(
+        approx::abs_diff_eq!(fluid.time(), 0.05, epsilon = 1e-12),
+        "time {}",
+        fluid.time()
+    );
 }
 
 /// max |a − b| / max |b| over all components.

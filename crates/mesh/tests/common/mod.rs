@@ -138,7 +138,7 @@ pub fn closed_surface_volume_centroid(tris: &[[[f64; 3]; 3]]) -> (f64, [f64; 3])
 
 /// The boundary triangles of cell `cell`: each face fanned from the given face apex, oriented
 /// out of the cell.
-pub fn cell_surface(mesh: &PolyMesh, apex: &[[f64; 3]], cell: Label) -> Vec<[[f64; 3]; 3]> {
+pub fn cell_surface(mesh: &PolyMesh, apex: &[mesh::v3::V3], cell: Label) -> Vec<[[f64; 3]; 3]> {
     let mut tris = Vec::new();
     for (f, face) in mesh.faces.iter().enumerate() {
         let own = mesh.owner[f] == cell;
@@ -150,11 +150,8 @@ pub fn cell_surface(mesh: &PolyMesh, apex: &[[f64; 3]], cell: Label) -> Vec<[[f6
         for i in 0..n {
             let p = mesh.points[face[i] as usize];
             let q = mesh.points[face[(i + 1) % n] as usize];
-            tris.push(if own {
-                [apex[f], p, q]
-            } else {
-                [apex[f], q, p]
-            });
+            let a = apex[f].into();
+            tris.push(if own { [a, p, q] } else { [a, q, p] });
         }
     }
     tris

@@ -2,6 +2,7 @@
 //! bars, Gauss–Legendre quadrature, and the circle ∩ rectangle area by chord integration.
 #![allow(dead_code)]
 
+use mesh::v3::V3;
 use std::f64::consts::PI;
 
 /// xoshiro256** (Blackman & Vigna), seeded by SplitMix64: reproducible random numbers.
@@ -39,8 +40,9 @@ impl Rng {
     pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.unit()
     }
-    pub fn point(&mut self, lo: [f64; 3], hi: [f64; 3]) -> [f64; 3] {
-        std::array::from_fn(|a| self.uniform(lo[a], hi[a]))
+    pub fn point(&mut self, lo: impl Into<V3>, hi: impl Into<V3>) -> V3 {
+        let (lo, hi) = (lo.into(), hi.into());
+        V3::from_fn(|a, _| self.uniform(lo[a], hi[a]))
     }
 }
 
@@ -48,11 +50,12 @@ impl Rng {
 /// (estimate, standard error) from the binomial variance.
 pub fn monte_carlo(
     rng: &mut Rng,
-    lo: [f64; 3],
-    hi: [f64; 3],
+    lo: impl Into<V3>,
+    hi: impl Into<V3>,
     n: usize,
-    inside: impl Fn([f64; 3]) -> bool,
+    inside: impl Fn(V3) -> bool,
 ) -> (f64, f64) {
+    let (lo, hi) = (lo.into(), hi.into());
     let vol: f64 = (0..3).map(|a| hi[a] - lo[a]).product();
     let hits = (0..n).filter(|_| inside(rng.point(lo, hi))).count();
     let p = hits as f64 / n as f64;
@@ -153,7 +156,7 @@ pub fn disk_rect_area(rho: f64, x0: f64, x1: f64, y0: f64, y1: f64) -> f64 {
 /// Volume of the ball (centre 0, radius r) ∩ box by Gauss–Legendre quadrature over z of the
 /// cross-section areas [`disk_rect_area`], split at every z where the cross-section changes
 /// form (the disk radius passes a rectangle corner or edge line).
-pub fn ball_box_by_quadrature(r: f64, lo: [f64; 3], hi: [f64; 3], nodes: &[(f64, f64)]) -> f64 {
+pub fn ball_box_by_quadrature(r: f64, lo: V3, hi: V3, nodes: &[(f64, f64)]) -> f64 {
     let (za, zb) = (lo[2].max(-r), hi[2].min(r));
     if zb <= za {
         return 0.0;
@@ -202,7 +205,7 @@ pub fn round_to(x: f64, d: i32) -> f64 {
 pub fn check_exact_against_monte_carlo(
     vm: &voidage::VoidageMesh,
     rng: &mut Rng,
-    c: [f64; 3],
+    c: V3,
     r: f64,
     n: usize,
 ) {
@@ -229,7 +232,7 @@ pub fn check_exact_against_monte_carlo(
         let q = p.clamp(0.5 / n as f64, 1.0 - 0.5 / n as f64);
         let se = v * (q * (1.0 - q) / n as f64).sqrt();
         assert!(
-            (exact - p * v).abs() <= 4.5 * se,
+            approx::abs_diff_eq!(exact, p * v, epsilon = 4.5 * se),
             "cell {cell}: {exact} vs {}",
             p * v
         );
@@ -238,7 +241,7 @@ pub fn check_exact_against_monte_carlo(
 
 /// Σ ball ∩ tet over the tets of `cell` in the mesh's tet decomposition: the exact share of
 /// the cell by the tet kernel alone.
-pub fn tet_sum(vm: &voidage::VoidageMesh, cell: usize, c: [f64; 3], r: f64) -> f64 {
+pub fn tet_sum(vm: &voidage::VoidageMesh, cell: usize, c: V3, r: f64) -> f64 {
     vm.locator()
         .tets()
         .cell_tets(cell as u32)
