@@ -215,6 +215,11 @@ fn dem_runs_a_liggghts_deck_as_liggghts_would() {
     let e = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(e.contains("in.bad:2:") && e.contains("pour"), "{e}");
+    // A missing deck is named, its OS error said once.
+    let o = foamgrain(&["dem", "in.missing"], dir.path());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && e.contains("in.missing"), "{e}");
+    assert_eq!(e.matches("No such file").count(), 1, "{e}");
     // An unknown LIGGGHTS option is refused with the supported ones.
     let o = foamgrain(&["dem", "in.pour", "-sf", "gpu"], dir.path());
     assert!(String::from_utf8_lossy(&o.stderr).contains("-in, -var"));

@@ -66,12 +66,12 @@ pub enum DeckError {
         message: String,
     },
     /// The deck file cannot be read.
-    #[error("cannot read deck {file}: {source}")]
+    #[error("cannot read deck {file}: {error}")]
     Io {
         /// The file.
         file: PathBuf,
-        /// The OS error.
-        source: std::io::Error,
+        /// The OS error (in the message, not a `source`: front ends print the chain).
+        error: std::io::Error,
     },
 }
 
@@ -133,9 +133,9 @@ impl Deck {
         vars: &[(String, String)],
     ) -> Result<Deck, DeckError> {
         let path = path.as_ref();
-        let src = std::fs::read_to_string(path).map_err(|source| DeckError::Io {
+        let src = std::fs::read_to_string(path).map_err(|error| DeckError::Io {
             file: path.to_path_buf(),
-            source,
+            error,
         })?;
         Deck::parse(&src, path, vars)
     }
