@@ -16,7 +16,7 @@
 //! | `regionModel` | `allRegion` | — |
 //! | `smoothingModel` | `off` | — |
 //! | `averagingModel` | `dense` (`dilute` with a warning) | Us is β-weighted (ADR 0004) |
-//! | `dataExchangeModel` | `twoWayMPI`, `twoWayFiles`, `oneWayVTK`, `twoWayM2M`, `noDataExchange` | recorded |
+//! | `dataExchangeModel` | `twoWayMPI`, `twoWayFiles`, `oneWayVTK`, `twoWayM2M`, `noDataExchange` | recorded; its Props' `liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
 //! | `IOModel`, `probeModel`, `clockModel`, `turbulenceModelType`, `checkPeriodicCells` | any | ignored |
 //!
 //! In a force model's Props, `interpolation true` selects the smooth interpolation
@@ -28,7 +28,8 @@
 //! understood; a field name other than CFDEM's default is an error, since foamgrain reads the
 //! standard names. Any other key, an unknown model name or an unsupported value is a
 //! [`CoupleError::Config`] naming the file and the key; `<name>Props` dictionaries of models
-//! that are not selected are ignored, as CFDEM does. Settings that are accepted but change
+//! that are not selected are ignored, as CFDEM does. A Props dictionary may be given under an
+//! OpenFOAM pattern key (`"(twoWayMPIProps|M2MProps)"`): it applies to every name it matches. Settings that are accepted but change
 //! nothing in foamgrain are listed in [`CouplingConfig::warnings`].
 
 use crate::error::CoupleError;
@@ -106,6 +107,9 @@ pub struct CouplingConfig {
     pub momentum: MomentumCoupling,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
+    /// `<dataExchangeModel>Props/liggghtsPath`: the coupled LIGGGHTS deck, relative to the
+    /// OpenFOAM case directory as CFDEM resolves it (`../DEM/in.liggghts_run`), if given.
+    pub liggghts_path: Option<PathBuf>,
     /// Accepted settings without effect in foamgrain, one sentence each naming the key.
     pub warnings: Vec<String>,
 }
@@ -245,10 +249,12 @@ impl Reader<'_> {
             .collect()
     }
 
-    /// The `<name>Props` dictionary (empty if absent).
+    /// The `<name>Props` dictionary (empty if absent), found as OpenFOAM finds a keyword: the
+    /// exact key first, then a quoted pattern key matching it, the last one written winning
+    /// (CFDEM's tutorials write `"(twoWayMPIProps|M2MProps)" { … }`).
     fn props(&self, top: &Dict, name: &str) -> Result<Dict, CoupleError> {
         let key = format!("{name}Props");
-        match top.get(&key) {
+        match top.resolve(&key, &[]).map(|e| &e.value) {
             None => Ok(Dict::new()),
             Some(Value::Dict(d)) => Ok(d.clone()),
             Some(Value::Stream(_)) => Err(self.err(&key, "expected a dictionary")),
@@ -334,7 +340,20 @@ impl CouplingConfig {
             }
             None => "twoWayMPI".to_string(),
         };
-        for key in top.keys() {
+        let exchange_props = r.props(top, &data_exchange)?;
+        let liggghts_path = match exchange_props.contains("liggghtsPath") {
+            true => {
+                let key = format!("{data_exchange}Props/liggghtsPath");
+                Some(PathBuf::from(r.word(
+                    &exchange_props,
+                    "liggghtsPath",
+                    &key,
+                )?))
+            }
+            false => None,
+        };
+        for e in top.entries() {
+            let key = e.keyword.as_str();
             let known = [
                 "modelType",
                 "couplingInterval",
@@ -348,7 +367,9 @@ impl CouplingConfig {
                 "averagingModel",
                 "dataExchangeModel",
             ];
-            if !(known.contains(&key) || IGNORED_KEYS.contains(&key) || key.ends_with("Props")) {
+            // a pattern key is the Props of whichever models it matches
+            let props = key.ends_with("Props") || e.pattern;
+            if !(known.contains(&key) || IGNORED_KEYS.contains(&key) || props) {
                 return Err(r.err(key, "unknown or unsupported key"));
             }
         }
@@ -360,6 +381,7 @@ impl CouplingConfig {
             forces,
             momentum,
             data_exchange,
+            liggghts_path,
             warnings: r.warnings,
         })
     }

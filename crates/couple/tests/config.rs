@@ -196,3 +196,37 @@ fn missing_file_is_named() {
         .to_string();
     assert!(e.contains("/nonexistent/couplingProperties"), "{e}");
 }
+
+/// CFDEM's tutorials give Props under OpenFOAM pattern keys and name the coupled deck there.
+#[test]
+fn pattern_props_and_the_named_deck() {
+    let text = format!(
+        "{BASE}dataExchangeModel twoWayMPI;\n\
+         \"(twoWayMPIProps|M2MProps)\" {{ liggghtsPath \"../DEM/in.liggghts_resume\"; }}\n\
+         \"(engineProps|turboEngineProps)\" {{ treeSearch true; }}\n"
+    );
+    let c = read(&text).unwrap();
+    assert_eq!(c.data_exchange, "twoWayMPI");
+    assert_eq!(
+        c.liggghts_path.as_deref(),
+        Some(std::path::Path::new("../DEM/in.liggghts_resume"))
+    );
+    // a pattern Props applies to the drag law it matches: its keys are checked
+    let bad = text.replace(
+        "GidaspowDragProps { switchingVoidfraction 0.7; interpolation true; }",
+        "\"(GidaspowDrag|KochHillDrag)Props\" { interpolation true; bogus 1; }",
+    );
+    let e = read(&bad).unwrap_err();
+    assert!(e.contains("GidaspowDragProps/bogus"), "{e}");
+    // an exact key wins over a pattern
+    let both = text.replace(
+        "dataExchangeModel twoWayMPI;",
+        "dataExchangeModel twoWayMPI;\ntwoWayMPIProps { liggghtsPath \"../DEM/in.exact\"; }",
+    );
+    assert_eq!(
+        read(&both).unwrap().liggghts_path.as_deref(),
+        Some(std::path::Path::new("../DEM/in.exact"))
+    );
+    // without a liggghtsPath the default deck applies
+    assert_eq!(read(BASE).unwrap().liggghts_path, None);
+}

@@ -19,6 +19,9 @@ pub enum LayoutError {
     /// A dictionary failed to parse.
     #[error(transparent)]
     Foam(#[from] foam::FoamError),
+    /// `couplingProperties` is invalid.
+    #[error(transparent)]
+    Coupling(#[from] couple::CoupleError),
     /// A dictionary entry is missing or has the wrong type or value.
     #[error("{path}: {msg}")]
     Entry {
@@ -40,7 +43,8 @@ pub struct CaseLayout {
     pub dem: PathBuf,
     /// `DEM/in.liggghts_init` if present: the deck that prepares the particles (packing).
     pub init_deck: Option<PathBuf>,
-    /// `DEM/in.liggghts_run`: the coupled deck.
+    /// The coupled deck: the one couplingProperties names (`<dataExchangeModel>Props/liggghtsPath`,
+    /// relative to `CASE/CFD`), else `DEM/in.liggghts_run`.
     pub run_deck: PathBuf,
     /// What `CASE/validationDict` asks for (`None` if the case has no such file).
     pub validation: Option<ValidationSpec>,
@@ -129,6 +133,25 @@ impl ValidationSpec {
     }
 }
 
+/// `path` with `.` and `dir/..` pairs removed, without touching the file system
+/// (`CASE/CFD/../DEM/in.liggghts_run` → `CASE/DEM/in.liggghts_run`).
+fn lexically_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other.as_os_str()),
+        }
+    }
+    out
+}
+
 impl CaseLayout {
     /// Finds the parts of the case at `root`.
     pub fn open(root: &Path) -> Result<CaseLayout, LayoutError> {
@@ -153,11 +176,20 @@ impl CaseLayout {
                 what: "couplingProperties",
             });
         }
-        let run_deck = dem.join("in.liggghts_run");
+        // CFDEM names the coupled deck in couplingProperties (`twoWayMPIProps/liggghtsPath`,
+        // relative to the CFD case); without it, DEM/in.liggghts_run.
+        let named = couple::CouplingConfig::read(&coupling)?.liggghts_path;
+        let (run_deck, what) = match &named {
+            Some(p) => (
+                lexically_normal(&cfd.join(p)),
+                "the coupled LIGGGHTS deck that couplingProperties names (liggghtsPath)",
+            ),
+            None => (dem.join("in.liggghts_run"), "the coupled LIGGGHTS deck"),
+        };
         if !run_deck.is_file() {
             return Err(LayoutError::Missing {
                 path: run_deck,
-                what: "the coupled LIGGGHTS deck",
+                what,
             });
         }
         let init = dem.join("in.liggghts_init");
@@ -224,6 +256,29 @@ mod tests {
         std::fs::create_dir_all(dir.path().join("DEM")).unwrap();
         let err = CaseLayout::open(dir.path()).unwrap_err().to_string();
         assert!(err.contains("couplingProperties"), "{err}");
+    }
+
+    #[test]
+    fn the_deck_couplingproperties_names_is_the_run_deck() {
+        let dir = tempfile::tempdir().unwrap();
+        let case = dir.path().join("case");
+        testkit::copy_inputs(&repo().join("openfoam-cases/settling"), &case);
+        let cp = case.join("CFD/constant/couplingProperties");
+        let text = std::fs::read_to_string(&cp).unwrap();
+        // CFDEM's form: the Props under a pattern key, naming the deck
+        assert!(text.contains("twoWayMPIProps") && text.contains("../DEM/in.liggghts_run"));
+        let text = text
+            .replace("twoWayMPIProps", "\"(twoWayMPIProps|M2MProps)\"")
+            .replace("../DEM/in.liggghts_run", "../DEM/in.resume");
+        std::fs::write(&cp, text).unwrap();
+        let err = CaseLayout::open(&case).unwrap_err().to_string();
+        assert!(
+            err.contains("DEM/in.resume") && err.contains("liggghtsPath") && !err.contains(".."),
+            "{err}"
+        );
+        std::fs::rename(case.join("DEM/in.liggghts_run"), case.join("DEM/in.resume")).unwrap();
+        let l = CaseLayout::open(&case).unwrap();
+        assert_eq!(l.run_deck, case.join("DEM/in.resume"));
     }
 
     #[test]
