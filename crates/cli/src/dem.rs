@@ -17,7 +17,7 @@ pub struct DemArgs {
     /// `-screen none|FILE` (default: this terminal); and `--threads N`, the native DEM's worker
     /// threads (default: all cores; results are deterministic for a given count).
     #[arg(
-        value_name = "DECK | -in DECK | -var NAME VALUE | -log FILE | -screen FILE | --threads N",
+        value_name = "DECK [-var NAME VALUE]… [-log FILE] [-screen FILE] [--threads N]",
         required = true,
         allow_hyphen_values = true,
         trailing_var_arg = true
