@@ -63,3 +63,17 @@ pub fn set_threads(n: Option<usize>, flag: &str) -> anyhow::Result<()> {
         .build_global()
         .map_err(|e| anyhow::anyhow!("setting the thread count: {e}"))
 }
+
+/// A progress bar drawn on stderr with `template` (indicatif's syntax), or `None` when stderr is
+/// not a terminal (logs and pipes get plain lines instead).
+pub fn progress_bar(len: u64, template: &str) -> Option<indicatif::ProgressBar> {
+    use std::io::IsTerminal;
+    std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(len);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    })
+}

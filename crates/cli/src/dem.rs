@@ -4,8 +4,8 @@
 
 use anyhow::{bail, Context};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::{IsTerminal, Write};
+use indicatif::ProgressBar;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -159,17 +159,13 @@ pub fn run(a: &DemArgs) -> anyhow::Result<()> {
             std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?,
         ))),
     };
-    let tty = opts.screen == Screen::Terminal && std::io::stderr().is_terminal();
-    let bar = tty.then(|| {
-        let b = ProgressBar::new(1);
-        b.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:30} step {pos}/{len} {msg} (ETA {eta})",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let bar = match opts.screen {
+        Screen::Terminal => crate::args::progress_bar(
+            1,
+            "{spinner} [{elapsed_precise}] {bar:30} step {pos}/{len} {msg} (ETA {eta})",
+        ),
+        _ => None,
+    };
     let mut out = Output { screen, log, bar };
     out.line(&format!(
         "foamgrain dem {} (native DEM, {} threads): {}",

@@ -2,10 +2,8 @@
 
 use anyhow::{bail, Context};
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
 use runner::run::{Event, RunOptions};
 use runner::validation::summary;
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -96,17 +94,10 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
         })
         .context("installing the Ctrl-C handler")?;
     }
-    let tty = std::io::stderr().is_terminal();
-    let bar = tty.then(|| {
-        let b = ProgressBar::new(1000);
-        b.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:30} t = {msg} (ETA {eta})",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let bar = crate::args::progress_bar(
+        1000,
+        "{spinner} [{elapsed_precise}] {bar:30} t = {msg} (ETA {eta})",
+    );
     let mut last_log = std::time::Instant::now();
     let mut on_event = |e: Event| match e {
         Event::Message(m) => match &bar {
