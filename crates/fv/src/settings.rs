@@ -123,13 +123,10 @@ fn dimensioned(d: &Dict, file: &Path, key: &str) -> Result<Option<f64>> {
 }
 
 /// The words of the scheme for `key` in the sub-dictionary `sub` of fvSchemes (its own entry,
-/// else `default`), with the dotted key that supplied them (for error messages).
-fn scheme_words<'a>(
-    d: &'a Dict,
-    file: &Path,
-    sub: &str,
-    key: &str,
-) -> Result<(Vec<&'a str>, String)> {
+/// else `default`), numbers written as words (`Gauss limitedLinearV 1` is three words, so an
+/// unsupported scheme is named whole), with the dotted key that supplied them (for error
+/// messages).
+fn scheme_words(d: &Dict, file: &Path, sub: &str, key: &str) -> Result<(Vec<String>, String)> {
     let s = d.dict(sub).map_err(|e| err(file, sub, e.0))?;
     let (stream, used) = match s.stream(key) {
         Ok(st) => (st, format!("{sub}.{key}")),
@@ -141,9 +138,19 @@ fn scheme_words<'a>(
     };
     let words = stream
         .iter()
-        .map(|i| {
-            i.as_word()
-                .ok_or_else(|| err(file, &used, "expected scheme words"))
+        .map(|i| match i {
+            Item::Label(l) => Ok(l.to_string()),
+            Item::Scalar(x) => Ok(x.to_string()),
+            _ => i.as_word().map(str::to_owned).ok_or_else(|| {
+                err(
+                    file,
+                    &used,
+                    format!(
+                        "expected a scheme (words and numbers, e.g. `Gauss linear`), found a {}",
+                        i.kind()
+                    ),
+                )
+            }),
         })
         .collect::<Result<Vec<_>>>()?;
     Ok((words, used))
@@ -328,6 +335,7 @@ impl Settings {
             }
         };
         let (conv, conv_key) = scheme_words(&sch, &sch_file, "divSchemes", "div(phi,U)")?;
+        let conv: Vec<&str> = conv.iter().map(String::as_str).collect();
         let convection = match conv.as_slice() {
             ["Gauss", "linear"] => Convection::Linear,
             ["Gauss", "upwind"] => Convection::Upwind,
@@ -351,6 +359,7 @@ impl Settings {
             "laplacian((1|A(U)),p)",
         ] {
             let (lap, lap_key) = scheme_words(&sch, &sch_file, "laplacianSchemes", key)?;
+            let lap: Vec<&str> = lap.iter().map(String::as_str).collect();
             let this = match lap.as_slice() {
                 ["Gauss", "linear", "corrected"] => SnGrad::Corrected,
                 ["Gauss", "linear", "uncorrected"] => SnGrad::Uncorrected,

@@ -264,6 +264,37 @@ fn unsupported_settings_are_refused_naming_file_and_key() {
     }
 }
 
+/// A scheme with a number in it (CFDEM's tutorials write `Gauss limitedLinearV 1`) is named
+/// whole with the supported ones, not refused as "not words".
+#[test]
+fn an_unsupported_convection_scheme_is_named_with_the_supported_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    testkit::copy_dir(&testkit::fixture("fv/cavity-re10"), dir.path());
+    let path = dir.path().join("system/fvSchemes");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let from = "div(phi,U)      Gauss linear;";
+    assert!(text.contains(from));
+    for (to, named) in [
+        (
+            "div(phi,U) Gauss limitedLinearV 1;",
+            "`Gauss limitedLinearV 1`",
+        ),
+        (
+            "div(phi,U) Gauss linearUpwind grad(U);",
+            "`Gauss linearUpwind grad(U)`",
+        ),
+    ] {
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        let message = fv::Fluid::from_case(dir.path()).err().unwrap().to_string();
+        assert!(
+            message.contains(named)
+                && message.contains("Gauss linear, Gauss upwind")
+                && message.contains("div(phi,U)"),
+            "{message}"
+        );
+    }
+}
+
 /// The fvSchemes entry of the explicit stress term of pisoFoam's laminar model must be
 /// `Gauss linear` too when `constant/turbulenceProperties` asks for it.
 #[test]
