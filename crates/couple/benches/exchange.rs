@@ -100,6 +100,7 @@ fn physics() -> Physics {
             grad_p: Some(Interpolation::Smooth),
             viscous: Some(Interpolation::Smooth),
             archimedes: true,
+            no_drag: None,
         },
         implicit_couple: true,
     }

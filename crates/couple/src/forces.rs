@@ -10,6 +10,8 @@
 //!   `treatForceExplicit` is on, or nothing with `treatForceDEM`; the model's explicitly
 //!   coupled part (Bfull's pressure and viscous forces) always goes into `f`.
 //!
+//! With `noDrag` the fluid's share (and with `noDEMForce` the particle's) is zero.
+//!
 //! A particle outside the mesh feels no fluid force and gives nothing to the fluid; it is
 //! counted. Units: SI, kinematic p (ADR 0004).
 
@@ -310,14 +312,28 @@ impl<'a> Kernel<'a> {
         } else {
             (0.0, V3::zeros())
         };
-        Some(ParticleCoupling {
+        let mut c = ParticleCoupling {
             beta_dem,
             u_f,
             f_ext,
             total: f.total(),
             beta_fluid,
             f_fluid: (f.explicit_coupled + drag_to_f),
-        })
+        };
+        if let Some(no_drag) = ph.forces.no_drag {
+            // CFDEM's noDrag: the fluid loses the particles' reaction unless keepCFDForce, the
+            // particles their fluid force with noDEMForce.
+            if !no_drag.keep_cfd_force {
+                c.beta_fluid = 0.0;
+                c.f_fluid = V3::zeros();
+            }
+            if no_drag.no_dem_force {
+                c.beta_dem = 0.0;
+                c.f_ext = V3::zeros();
+                c.total = V3::zeros();
+            }
+        }
+        Some(c)
     }
 }
 

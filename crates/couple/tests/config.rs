@@ -230,3 +230,179 @@ fn pattern_props_and_the_named_deck() {
     // without a liggghtsPath the default deck applies
     assert_eq!(read(BASE).unwrap().liggghts_path, None);
 }
+
+/// The vocabulary of CFDEM's tutorials beyond the forces (our own text using the same
+/// constructs): auxiliary force models, clock, IO, flags, Props keys without effect.
+const CFDEM_VOCABULARY: &str = r#"
+FoamFile { version 2.0; format ascii; class dictionary; object couplingProperties; }
+debug false;
+solveFlow off;
+useDDTvoidfraction b;
+syncMode false;
+modelType "A";
+couplingInterval 20;
+voidFractionModel divided;
+locateModel engine;
+meshMotionModel noMeshMotion;
+regionModel allRegion;
+IOModel basicIO;
+probeModel off;
+dataExchangeModel twoWayMPI;
+averagingModel dense;
+clockModel standardClock;
+smoothingModel off;
+forceModels ( BeetstraDrag gradPForce Archimedes fieldStore particleCellVolume volWeightedAverage noDrag );
+momCoupleModels ( implicitCouple );
+turbulenceModelType turbulenceProperties;
+BeetstraDragProps { velFieldName "U"; rhoParticle 1500.; interpolation true; }
+fieldStoreProps { scalarFieldNames ( ); vectorFieldNames ( "U" ); }
+particleCellVolumeProps { upperThreshold 0.999; lowerThreshold 0.; verbose true; writeToFile true; }
+volWeightedAverageProps { scalarFieldNames ( voidfraction ddtVoidfraction ); vectorFieldNames ( ); upperThreshold 2; lowerThreshold 0; useVolumeFraction true; }
+noDragProps { noDEMForce true; }
+"#;
+
+#[test]
+fn cfdem_auxiliary_models_and_flags() {
+    let c = read(CFDEM_VOCABULARY).unwrap();
+    assert!(!c.solve_flow);
+    assert!(c.ddt_voidage);
+    assert!(c.monitors.clock && c.monitors.basic_io);
+    let fs = c.monitors.field_store.as_ref().unwrap();
+    assert!(fs.scalar_fields.is_empty());
+    assert_eq!(fs.vector_fields, ["U"]);
+    let pcv = c.monitors.particle_cell_volume.as_ref().unwrap();
+    assert_eq!((pcv.lower, pcv.upper), (0.0, 0.999));
+    assert!(pcv.verbose && pcv.write_to_file);
+    let vwa = c.monitors.vol_weighted_average.as_ref().unwrap();
+    assert_eq!(vwa.scalar_fields, ["voidfraction", "ddtVoidfraction"]);
+    assert!(vwa.use_volume_fraction && !vwa.verbose && !vwa.write_to_file);
+    assert_eq!((vwa.lower, vwa.upper, vwa.start_time), (0.0, 2.0, 0.0));
+    let nd = c.forces.no_drag.unwrap();
+    assert!(nd.no_dem_force && !nd.keep_cfd_force);
+    assert_eq!(c.forces.drag.unwrap().closure.law, DragLaw::Beetstra);
+    // rhoParticle is read by no drag law: accepted with one warning naming it
+    assert_eq!(c.warnings.len(), 1, "{:?}", c.warnings);
+    assert!(c.warnings[0].contains("BeetstraDragProps/rhoParticle"));
+
+    // CFDEM's defaults: particleCellVolume's thresholds, solveFlow on, clock off
+    let plain = CFDEM_VOCABULARY
+        .replace("upperThreshold 0.999; lowerThreshold 0.; ", "")
+        .replace("solveFlow off;", "")
+        .replace("clockModel standardClock;", "clockModel off;")
+        .replace("useDDTvoidfraction b;", "useDDTvoidfraction off;");
+    let c = read(&plain).unwrap();
+    let pcv = c.monitors.particle_cell_volume.unwrap();
+    assert_eq!((pcv.lower, pcv.upper), (-0.01, 1.01));
+    assert!(c.solve_flow && !c.monitors.clock && !c.ddt_voidage);
+}
+
+#[test]
+fn cfdem_vocabulary_errors_name_the_key() {
+    let fails = |from: &str, to: &str, expect: &[&str]| {
+        assert!(CFDEM_VOCABULARY.contains(from), "{from}");
+        let e = read(&CFDEM_VOCABULARY.replace(from, to)).unwrap_err();
+        for x in expect {
+            assert!(e.contains(x), "`{x}` missing in: {e}");
+        }
+    };
+    fails(
+        "vectorFieldNames ( \"U\" )",
+        "vectorFieldNames ( \"Uf\" )",
+        &["fieldStoreProps/vectorFieldNames", "Uf", "Us"],
+    );
+    fails(
+        "volWeightedAverage noDrag )",
+        "noDrag volWeightedAverage viscForce )",
+        &["forceModels", "viscForce", "after `noDrag`"],
+    );
+    fails(
+        "useDDTvoidfraction b;",
+        "useDDTvoidfraction a;",
+        &["useDDTvoidfraction", "`a`", "off"],
+    );
+    fails(
+        "clockModel standardClock;",
+        "clockModel fancyClock;",
+        &["clockModel", "fancyClock", "standardClock"],
+    );
+    fails(
+        "IOModel basicIO;",
+        "IOModel rawIO;",
+        &["IOModel", "rawIO", "basicIO"],
+    );
+    fails(
+        "noDEMForce true;",
+        "noDEMForce true; bogus 1;",
+        &["noDragProps/bogus"],
+    );
+    fails(
+        "upperThreshold 2; lowerThreshold 0;",
+        "upperThreshold 2;",
+        &["volWeightedAverageProps/lowerThreshold"],
+    );
+    fails(
+        "Archimedes fieldStore",
+        "Archimedes RongDrag fieldStore",
+        &["RongDrag", "not supported"],
+    );
+    fails("debug false;", "debug maybe;", &["debug", "switch"]);
+}
+
+#[test]
+fn cfdem_flags_that_do_nothing_here_warn() {
+    let c = read(
+        &CFDEM_VOCABULARY
+            .replace("debug false;", "debug true;")
+            .replace("probeModel off;", "probeModel particleProbe;"),
+    )
+    .unwrap();
+    assert_eq!(c.warnings.len(), 3, "{:?}", c.warnings);
+    assert!(c.warnings.iter().any(|w| w.contains("debug on")));
+    assert!(c
+        .warnings
+        .iter()
+        .any(|w| w.contains("probeModel particleProbe")));
+}
+
+/// CFDEM keeps the fluid density in the field `0/rho`; transportProperties' `rho` wins.
+#[test]
+fn density_from_the_rho_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path();
+    std::fs::create_dir_all(case.join("constant")).unwrap();
+    std::fs::create_dir_all(case.join("0")).unwrap();
+    let header = "FoamFile { version 2.0; format ascii; class dictionary; object x; }\n";
+    std::fs::write(
+        case.join("constant/transportProperties"),
+        format!("{header}transportModel Newtonian;\nnu [0 2 -1 0 0 0 0] 1.488e-05;\n"),
+    )
+    .unwrap();
+    let e = read_transport(case).unwrap_err().to_string();
+    assert!(e.contains("rho") && e.contains("0/rho"), "{e}");
+    let rho_field = |internal: &str| {
+        std::fs::write(
+            case.join("0/rho"),
+            format!(
+                "{header}dimensions [1 -3 0 0 0 0 0];\ninternalField {internal};\n\
+                 boundaryField {{ wall {{ type zeroGradient; }} }}\n"
+            ),
+        )
+        .unwrap();
+    };
+    rho_field("uniform 1.13");
+    assert_eq!(read_transport(case).unwrap(), (1.13, 1.488e-5));
+    rho_field("nonuniform List<scalar> 3(2.5 2.5 2.5)");
+    assert_eq!(read_transport(case).unwrap(), (2.5, 1.488e-5));
+    rho_field("nonuniform List<scalar> 3(2.5 2.5 2.6)");
+    let e = read_transport(case).unwrap_err().to_string();
+    assert!(e.contains("0/rho") && e.contains("varies"), "{e}");
+    rho_field("uniform -1");
+    let e = read_transport(case).unwrap_err().to_string();
+    assert!(e.contains("internalField") && e.contains("positive"), "{e}");
+    std::fs::write(
+        case.join("constant/transportProperties"),
+        format!("{header}nu 1e-5;\nrho rho [1 -3 0 0 0 0 0] 7;\n"),
+    )
+    .unwrap();
+    assert_eq!(read_transport(case).unwrap(), (7.0, 1e-5));
+}

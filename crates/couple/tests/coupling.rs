@@ -43,6 +43,7 @@ fn physics(law: DragLaw, model: ModelType, implicit_dem: bool, explicit_fluid: b
             grad_p: None,
             viscous: None,
             archimedes: true,
+            no_drag: None,
         },
         implicit_couple: true,
     }

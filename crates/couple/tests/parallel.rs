@@ -215,6 +215,7 @@ fn physics(rules: [Interpolation; 3], model: ModelType, law: DragLaw) -> Physics
             grad_p: Some(rules[1]),
             viscous: Some(rules[2]),
             archimedes: true,
+            no_drag: None,
         },
         implicit_couple: true,
     }

@@ -2,22 +2,22 @@
 //!
 //! CFDEMcoupling selects a model per family by name (`voidFractionModel divided;`) and reads
 //! its parameters from a `<name>Props` sub-dictionary; `forceModels` and `momCoupleModels` are
-//! lists of names. [`CouplingConfig::read`] maps those names onto foamgrain's:
+//! lists of names. [`CouplingConfig::read`] maps those names onto foamgrain's. Every family's
+//! names, and whether each acts, is accepted as it is, warns or is refused, are one table per
+//! family in [`registry`]; this module reads the keys:
 //!
-//! | CFDEM keyword | accepted values | foamgrain |
-//! |---|---|---|
-//! | `modelType` | `A`, `B`, `Bfull` | [`closures::model::ModelType`] |
-//! | `couplingInterval` | integer ≥ 1 | DEM steps per coupling step |
-//! | `voidFractionModel` | `centre`, `divided`, and our `cube`, `correctedCube`, `exact` | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor |
-//! | `forceModels` | one drag law of [`closures::DRAG_LAW_NAMES`], `gradPForce`, `viscForce`, `Archimedes` | [`Forces`] |
-//! | `momCoupleModels` | `implicitCouple`, `explicitCouple` | [`MomentumCoupling`] |
-//! | `locateModel` | `engine`, `engineIB`, `standard`, `turboEngine`, `turboEngineM2M`, `engineSearchMany2Many` | ignored: foamgrain's locator finds the same cells |
-//! | `meshMotionModel` | `noMeshMotion` | — |
-//! | `regionModel` | `allRegion` | — |
-//! | `smoothingModel` | `off` | — |
-//! | `averagingModel` | `dense` (`dilute` with a warning) | Us is β-weighted (ADR 0004) |
-//! | `dataExchangeModel` | `twoWayMPI`, `twoWayFiles`, `oneWayVTK`, `twoWayM2M`, `noDataExchange` | recorded; its Props' `liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
-//! | `IOModel`, `probeModel`, `clockModel`, `turbulenceModelType`, `checkPeriodicCells` | any | ignored |
+//! | CFDEM keyword | foamgrain |
+//! |---|---|
+//! | `modelType` `A`, `B`, `Bfull` | [`closures::model::ModelType`] |
+//! | `couplingInterval` (integer ≥ 1) | DEM steps per coupling step |
+//! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor |
+//! | `forceModels` (one drag law of [`closures::DRAG_LAW_NAMES`], [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
+//! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
+//! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
+//! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
+//! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
+//! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
+//! | `debug`, `syncMode`, `checkPeriodicCells`, `turbulenceModelType` | accepted; `debug on` warns (no debug output) |
 //!
 //! In a force model's Props, `interpolation true` selects the smooth interpolation
 //! ([`crate::Interpolation::Smooth`]; CFDEM interpolates trilinearly, foamgrain averages over the
@@ -29,15 +29,25 @@
 //! standard names. Any other key, an unknown model name or an unsupported value is a
 //! [`CoupleError::Config`] naming the file and the key; `<name>Props` dictionaries of models
 //! that are not selected are ignored, as CFDEM does. A Props dictionary may be given under an
-//! OpenFOAM pattern key (`"(twoWayMPIProps|M2MProps)"`): it applies to every name it matches. Settings that are accepted but change
-//! nothing in foamgrain are listed in [`CouplingConfig::warnings`].
+//! OpenFOAM pattern key (`"(twoWayMPIProps|M2MProps)"`): it applies to every name it matches.
+//! Settings that are accepted but change nothing in foamgrain are listed, one sentence each,
+//! in [`CouplingConfig::warnings`].
+
+mod forces;
+pub mod monitors;
+pub mod registry;
+mod transport;
+
+pub use monitors::Monitors;
+pub use transport::{read_gravity, read_transport};
 
 use crate::error::CoupleError;
 use crate::interpolate::Interpolation;
 use closures::model::ModelType;
-use closures::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR, DRAG_LAW_NAMES};
+use closures::DragClosure;
 use foam::{Dict, Item, Value};
 use mesh::v3::V3;
+use registry::Support;
 use std::path::{Path, PathBuf};
 use voidage::Method;
 
@@ -57,6 +67,16 @@ pub struct DragSettings {
     pub dem_only: bool,
 }
 
+/// CFDEM's `noDrag`: removes the fluid forces of the force models (foamgrain requires it last
+/// in `forceModels`, so it applies to all of them, as CFDEM's does to those listed before it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct NoDrag {
+    /// `noDEMForce`: the particles get no fluid force either (default false: they keep it).
+    pub no_dem_force: bool,
+    /// `keepCFDForce`: the fluid keeps the particles' reaction (default false: it gets none).
+    pub keep_cfd_force: bool,
+}
+
 /// Which forces act (other than drag), with their interpolation.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Forces {
@@ -68,8 +88,9 @@ pub struct Forces {
     pub viscous: Option<Interpolation>,
     /// `Archimedes`: −ρ V_p g.
     pub archimedes: bool,
+    /// `noDrag`, if listed.
+    pub no_drag: Option<NoDrag>,
 }
-
 /// `momCoupleModels`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct MomentumCoupling {
@@ -105,6 +126,15 @@ pub struct CouplingConfig {
     pub forces: Forces,
     /// `momCoupleModels`.
     pub momentum: MomentumCoupling,
+    /// The observing models: `fieldStore`, `particleCellVolume`, `volWeightedAverage`,
+    /// `clockModel standardClock`, `IOModel basicIO`.
+    pub monitors: Monitors,
+    /// `solveFlow` (default true): when off the fluid is not solved (U and p stay as read) while
+    /// the particles, the voidage and the exchange fields go on.
+    pub solve_flow: bool,
+    /// `useDDTvoidfraction`: `b` puts ∂ε/∂t into the continuity equation, `off` leaves it out.
+    /// Without the key foamgrain keeps it (true; CFDEM's default is `off`).
+    pub ddt_voidage: bool,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
     /// `<dataExchangeModel>Props/liggghtsPath`: the coupled LIGGGHTS deck, relative to the
@@ -134,31 +164,8 @@ const VOIDAGE_UNSUPPORTED: [(&str, &str); 5] = [
     ("dividedSmooth", "divided or exact"),
 ];
 
-const LOCATE_NAMES: [&str; 6] = [
-    "engine",
-    "engineIB",
-    "standard",
-    "turboEngine",
-    "turboEngineM2M",
-    "engineSearchMany2Many",
-];
-
-const DATA_EXCHANGE_NAMES: [&str; 5] = [
-    "twoWayMPI",
-    "twoWayFiles",
-    "oneWayVTK",
-    "twoWayM2M",
-    "noDataExchange",
-];
-
-/// Top-level keys read for their value; every other key must be a `…Props` dictionary.
-const IGNORED_KEYS: [&str; 5] = [
-    "IOModel",
-    "probeModel",
-    "clockModel",
-    "turbulenceModelType",
-    "checkPeriodicCells",
-];
+/// Top-level keys that name nothing foamgrain needs: read, never acted on.
+const ACCEPTED_KEYS: [&str; 3] = ["syncMode", "checkPeriodicCells", "turbulenceModelType"];
 
 /// Standard field names of CFDEM's Props `…FieldName` keys.
 const FIELD_NAMES: [(&str, &str); 12] = [
@@ -182,13 +189,26 @@ struct Reader<'a> {
     warnings: Vec<String>,
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
+    fn new(file: &'a Path) -> Reader<'a> {
+        Reader {
+            file,
+            warnings: Vec::new(),
+        }
+    }
+
     fn err(&self, key: &str, message: impl Into<String>) -> CoupleError {
         CoupleError::Config {
             file: self.file.to_path_buf(),
             key: key.to_string(),
             message: message.into(),
         }
+    }
+
+    /// Records a warning, prefixed with the file.
+    fn warn(&mut self, message: String) {
+        self.warnings
+            .push(format!("{}: {message}", self.file.display()));
     }
 
     /// The single word (or quoted string) of entry `key`.
@@ -231,20 +251,33 @@ impl Reader<'_> {
         d.switch(key).map_err(|e| self.err(path, e.to_string()))
     }
 
+    /// The switch `key` if present.
+    fn opt_switch(&self, d: &Dict, key: &str, path: &str) -> Result<Option<bool>, CoupleError> {
+        match d.contains(key) {
+            true => self.switch(d, key, path).map(Some),
+            false => Ok(None),
+        }
+    }
+
     /// A list of words (`forceModels ( a b c );`).
     fn word_list(&self, d: &Dict, key: &str) -> Result<Vec<String>, CoupleError> {
-        let stream = d.stream(key).map_err(|e| self.err(key, e.to_string()))?;
+        self.word_list_at(d, key, key)
+    }
+
+    /// A list of words or strings of entry `key`, named `path` in errors.
+    fn word_list_at(&self, d: &Dict, key: &str, path: &str) -> Result<Vec<String>, CoupleError> {
+        let stream = d.stream(key).map_err(|e| self.err(path, e.to_string()))?;
         let items = match stream {
             [Item::List(items)] => items,
             [Item::Label(_), Item::List(items)] => items,
-            _ => return Err(self.err(key, "expected a list of names `( name … )`")),
+            _ => return Err(self.err(path, "expected a list of names `( name … )`")),
         };
         items
             .iter()
             .map(|i| {
                 i.as_word()
                     .map(str::to_string)
-                    .ok_or_else(|| self.err(key, format!("expected a name, found a {}", i.kind())))
+                    .ok_or_else(|| self.err(path, format!("expected a name, found a {}", i.kind())))
             })
             .collect()
     }
@@ -294,6 +327,32 @@ impl Reader<'_> {
             Interpolation::Cell
         })
     }
+
+    /// Applies a family's table to `name` (given under `key`): `Ok(true)` when it acts,
+    /// `Ok(false)` when accepted without action (a warning is recorded for [`Support::Warn`]),
+    /// an error for a refused or unknown name.
+    fn select(
+        &mut self,
+        family: &registry::Family,
+        key: &str,
+        name: &str,
+    ) -> Result<bool, CoupleError> {
+        match family.support(name) {
+            Some(Support::Acts) => Ok(true),
+            Some(Support::Same) => Ok(false),
+            Some(Support::Warn(why)) => {
+                self.warn(format!("{key} {name}: {why}"));
+                Ok(false)
+            }
+            Some(Support::Refuse(instead)) => {
+                Err(self.err(key, format!("`{name}` is not supported ({instead})")))
+            }
+            None => Err(self.err(
+                key,
+                format!("unknown model `{name}`; valid: {}", family.valid_names()),
+            )),
+        }
+    }
 }
 
 impl CouplingConfig {
@@ -310,10 +369,7 @@ impl CouplingConfig {
 
     /// The configuration held by `top`, the body of the file `file` (named in errors).
     pub fn from_dict(top: &Dict, file: &Path) -> Result<CouplingConfig, CoupleError> {
-        let mut r = Reader {
-            file,
-            warnings: Vec::new(),
-        };
+        let mut r = Reader::new(file);
         let model_name = r.word(top, "modelType", "modelType")?;
         let model =
             ModelType::from_name(model_name).map_err(|e| r.err("modelType", e.to_string()))?;
@@ -324,22 +380,46 @@ impl CouplingConfig {
             return Err(r.err("couplingInterval", format!("{interval} is not ≥ 1")));
         }
         let voidage = read_voidage(&r, top)?;
-        let forces = read_forces(&mut r, top)?;
-        let momentum = read_momentum(&r, top)?;
-        check_fixed_models(&mut r, top)?;
-        let data_exchange = match r.opt_word(top, "dataExchangeModel", "dataExchangeModel")? {
-            Some(w) if DATA_EXCHANGE_NAMES.contains(&w) => w.to_string(),
-            Some(w) => {
+        let mut monitors = Monitors::default();
+        let forces = forces::read_forces(&mut r, top, &mut monitors)?;
+        let momentum = read_momentum(&mut r, top)?;
+        let mut data_exchange = "twoWayMPI".to_string();
+        for family in &registry::SINGLE_NAME {
+            let key = family.key;
+            let Some(name) = r.opt_word(top, key, key)? else {
+                continue;
+            };
+            let acts = r.select(family, key, name)?;
+            match key {
+                "IOModel" => monitors.basic_io = acts,
+                "dataExchangeModel" => data_exchange = name.to_string(),
+                _ => {}
+            }
+        }
+        if let Some(name) = r.opt_word(top, "clockModel", "clockModel")? {
+            monitors.clock = r.select(&registry::CLOCK, "clockModel", name)?;
+        }
+        let solve_flow = r.opt_switch(top, "solveFlow", "solveFlow")?.unwrap_or(true);
+        let ddt_voidage = match r.opt_word(top, "useDDTvoidfraction", "useDDTvoidfraction")? {
+            None | Some("b") => true,
+            Some("off") => false,
+            Some("a") => {
                 return Err(r.err(
-                    "dataExchangeModel",
-                    format!(
-                        "unknown model `{w}`; valid: {}",
-                        DATA_EXCHANGE_NAMES.join(", ")
-                    ),
+                    "useDDTvoidfraction",
+                    "`a` (∂ε/∂t as ∇·(Us (1 − ε))) is not supported; use `b` (the time \
+                     derivative of the voidage) or `off`",
                 ))
             }
-            None => "twoWayMPI".to_string(),
+            Some(w) => {
+                return Err(r.err(
+                    "useDDTvoidfraction",
+                    format!("unknown choice `{w}`; valid: a, b, off"),
+                ))
+            }
         };
+        if r.opt_switch(top, "debug", "debug")? == Some(true) {
+            r.warn("debug on: foamgrain writes no CFDEM debug output".into());
+        }
         let exchange_props = r.props(top, &data_exchange)?;
         let liggghts_path = match exchange_props.contains("liggghtsPath") {
             true => {
@@ -360,16 +440,15 @@ impl CouplingConfig {
                 "voidFractionModel",
                 "forceModels",
                 "momCoupleModels",
-                "locateModel",
-                "meshMotionModel",
-                "regionModel",
-                "smoothingModel",
-                "averagingModel",
-                "dataExchangeModel",
+                "clockModel",
+                "solveFlow",
+                "useDDTvoidfraction",
+                "debug",
             ];
+            let family = registry::SINGLE_NAME.iter().any(|f| f.key == key);
             // a pattern key is the Props of whichever models it matches
             let props = key.ends_with("Props") || e.pattern;
-            if !(known.contains(&key) || IGNORED_KEYS.contains(&key) || props) {
+            if !(known.contains(&key) || family || ACCEPTED_KEYS.contains(&key) || props) {
                 return Err(r.err(key, "unknown or unsupported key"));
             }
         }
@@ -380,6 +459,9 @@ impl CouplingConfig {
             voidage,
             forces,
             momentum,
+            monitors,
+            solve_flow,
+            ddt_voidage,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,
@@ -435,116 +517,14 @@ fn read_voidage(r: &Reader<'_>, top: &Dict) -> Result<VoidageSettings, CoupleErr
     Ok(VoidageSettings { method, alpha_min })
 }
 
-/// The non-drag force models foamgrain implements.
-const OTHER_FORCES: [&str; 3] = ["gradPForce", "viscForce", "Archimedes"];
-
-/// CFDEM force models foamgrain does not implement (a clear error rather than "unknown").
-const FORCES_UNSUPPORTED: [&str; 6] = [
-    "virtualMassForce",
-    "MeiLift",
-    "SaffmanLift",
-    "ArchimedesIB",
-    "ShirgaonkarIB",
-    "noDrag",
-];
-
-fn read_forces(r: &mut Reader<'_>, top: &Dict) -> Result<Forces, CoupleError> {
-    let names = r.word_list(top, "forceModels")?;
-    let mut forces = Forces::default();
-    for name in &names {
-        let dict = format!("{name}Props");
-        let props = r.props(top, name)?;
-        if let Ok(law) = DragLaw::from_name(name) {
-            if forces.drag.is_some() {
-                return Err(r.err("forceModels", format!("a second drag law `{name}`")));
-            }
-            let mut known = vec![
-                "interpolation",
-                "implForceDEM",
-                "treatForceExplicit",
-                "treatForceDEM",
-                "verbose",
-            ];
-            if matches!(law, DragLaw::Gidaspow { .. }) {
-                known.extend(["switchingVoidfraction", "phi"]);
-            }
-            r.check_props(&props, &dict, &known)?;
-            if props.contains("phi") {
-                // CFDEM's GidaspowDragProps carry the sphericity `phi`; spheres have 1, and
-                // only spheres are supported.
-                let key = format!("{dict}/phi");
-                let phi = r.number(&props, "phi", &key)?;
-                if phi != 1.0 {
-                    return Err(r.err(
-                        &key,
-                        format!("sphericity {phi}: only spheres (phi 1) are supported"),
-                    ));
-                }
-            }
-            let mut law = law;
-            if props.contains("switchingVoidfraction") {
-                let key = format!("{dict}/switchingVoidfraction");
-                law = DragLaw::Gidaspow {
-                    switch_voidage: r.number(&props, "switchingVoidfraction", &key)?,
-                };
-            }
-            let closure = DragClosure::new(law, DEFAULT_VOIDAGE_FLOOR)
-                .map_err(|e| r.err(&dict, e.to_string()))?;
-            let flag = |key: &str| -> Result<bool, CoupleError> {
-                match props.contains(key) {
-                    true => r.switch(&props, key, &format!("{dict}/{key}")),
-                    false => Ok(false),
-                }
-            };
-            let settings = DragSettings {
-                closure,
-                interpolation: r.interpolation(&props, &dict)?,
-                implicit_dem: flag("implForceDEM")?,
-                explicit_fluid: flag("treatForceExplicit")?,
-                dem_only: flag("treatForceDEM")?,
-            };
-            forces.drag = Some(settings);
-            continue;
-        }
-        match name.as_str() {
-            "gradPForce" | "viscForce" => {
-                r.check_props(
-                    &props,
-                    &dict,
-                    &["interpolation", "verbose", "treatForceExplicit"],
-                )?;
-                let interp = r.interpolation(&props, &dict)?;
-                if name == "gradPForce" {
-                    forces.grad_p = Some(interp);
-                } else {
-                    forces.viscous = Some(interp);
-                }
-            }
-            "Archimedes" => {
-                r.check_props(&props, &dict, &["verbose", "treatForceDEM"])?;
-                forces.archimedes = true;
-            }
-            _ if FORCES_UNSUPPORTED.contains(&name.as_str()) => {
-                return Err(r.err("forceModels", format!("`{name}` is not supported")));
-            }
-            _ => {
-                let mut valid: Vec<&str> = DRAG_LAW_NAMES.iter().map(|(n, _)| *n).collect();
-                valid.extend(OTHER_FORCES);
-                return Err(r.err(
-                    "forceModels",
-                    format!("unknown force model `{name}`; valid: {}", valid.join(", ")),
-                ));
-            }
-        }
-    }
-    Ok(forces)
-}
-
-fn read_momentum(r: &Reader<'_>, top: &Dict) -> Result<MomentumCoupling, CoupleError> {
+fn read_momentum(r: &mut Reader<'_>, top: &Dict) -> Result<MomentumCoupling, CoupleError> {
     let mut m = MomentumCoupling::default();
     for name in r.word_list(top, "momCoupleModels")? {
         let dict = format!("{name}Props");
         let props = r.props(top, &name)?;
+        if !r.select(&registry::MOM_COUPLE, "momCoupleModels", &name)? {
+            continue;
+        }
         match name.as_str() {
             "implicitCouple" => {
                 r.check_props(&props, &dict, &["KslLimit", "verbose"])?;
@@ -562,88 +542,10 @@ fn read_momentum(r: &Reader<'_>, top: &Dict) -> Result<MomentumCoupling, CoupleE
                 r.check_props(&props, &dict, &["verbose"])?;
                 m.explicit = true;
             }
-            "off" | "noCouple" => {}
-            _ => {
-                return Err(r.err(
-                    "momCoupleModels",
-                    format!("unknown model `{name}`; valid: implicitCouple, explicitCouple, off"),
-                ))
-            }
+            _ => unreachable!("every acting name of MOM_COUPLE is matched above"),
         }
     }
     Ok(m)
-}
-
-/// Model families with one supported choice (or a harmless set).
-fn check_fixed_models(r: &mut Reader<'_>, top: &Dict) -> Result<(), CoupleError> {
-    let fixed: [(&str, &[&str]); 4] = [
-        ("meshMotionModel", &["noMeshMotion"]),
-        ("regionModel", &["allRegion"]),
-        ("smoothingModel", &["off", "noSmoothing"]),
-        ("locateModel", &LOCATE_NAMES),
-    ];
-    for (key, valid) in fixed {
-        if let Some(w) = r.opt_word(top, key, key)? {
-            if !valid.contains(&w) {
-                return Err(r.err(
-                    key,
-                    format!("`{w}` is not supported; valid: {}", valid.join(", ")),
-                ));
-            }
-        }
-    }
-    match r.opt_word(top, "averagingModel", "averagingModel")? {
-        None | Some("dense") => {}
-        Some("dilute") => r.warnings.push(format!(
-            "{}: averagingModel dilute: foamgrain's Us is always the β-weighted average of \
-             the particle velocities (dense)",
-            r.file.display()
-        )),
-        Some(w) => {
-            return Err(r.err(
-                "averagingModel",
-                format!("unknown model `{w}`; valid: dense, dilute"),
-            ))
-        }
-    }
-    Ok(())
-}
-
-/// Fluid density ρ (kg/m³) and kinematic viscosity ν (m²/s) from
-/// `constant/transportProperties` of `case`: the last number of the `rho` and `nu` entries
-/// (plain `nu 1e-5;` or with dimensions `nu [0 2 -1 0 0 0 0] 1e-5;` or the old
-/// `nu nu [0 2 -1 0 0 0 0] 1e-5;`). Both must be present and > 0.
-pub fn read_transport(case: &Path) -> Result<(f64, f64), CoupleError> {
-    let file = case.join("constant").join("transportProperties");
-    let d = foam::parse_file(&file)?.body;
-    let r = Reader {
-        file: &file,
-        warnings: Vec::new(),
-    };
-    let get = |key: &str| -> Result<f64, CoupleError> {
-        let s = d.stream(key).map_err(|e| r.err(key, e.to_string()))?;
-        match s.last().and_then(Item::as_f64) {
-            Some(x) if x.is_finite() && x > 0.0 => Ok(x),
-            _ => Err(r.err(key, "expected a positive number")),
-        }
-    };
-    Ok((get("rho")?, get("nu")?))
-}
-
-/// Gravity g (m/s²) from `constant/g` (`value (gx gy gz);`), or `None` without the file.
-pub fn read_gravity(case: &Path) -> Result<Option<V3>, CoupleError> {
-    let file = case.join("constant").join("g");
-    if !file.exists() {
-        return Ok(None);
-    }
-    let d = foam::parse_file(&file)?.body;
-    let r = Reader {
-        file: &file,
-        warnings: Vec::new(),
-    };
-    d.vector("value")
-        .map(|g| Some(V3::from(g)))
-        .map_err(|e| r.err("value", e.to_string()))
 }
 
 impl CouplingConfig {
