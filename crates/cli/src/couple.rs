@@ -131,11 +131,7 @@ fn deck_time_step(case: &Path) -> anyhow::Result<f64> {
     }
 }
 
-/// A time directory name: the time with 12 significant digits, in shortest form.
-pub fn time_name(t: f64) -> String {
-    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
-    format!("{rounded}")
-}
+pub use couple::output::time_name;
 
 fn write_forces(
     case: &Case,

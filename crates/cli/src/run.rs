@@ -115,14 +115,17 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
                 b.set_length(steps);
                 b.set_position(step);
                 b.set_message(format!(
-                    "{time:.5} / {end} s, Δp {:.2} Pa",
-                    sample.pressure_drop
+                    "{time:.5} / {end} s, Δp {} Pa",
+                    measured(sample.pressure_drop, 2)
                 ));
             } else if step == steps || last_log.elapsed().as_secs_f64() >= 5.0 {
                 last_log = std::time::Instant::now();
                 eprintln!(
-                    "step {step}/{steps}: t = {time:.6} s, inlet {:.5} m/s, Δp {:.3} Pa, bed {:.5} m, KE {:.3e} J",
-                    sample.inlet_velocity, sample.pressure_drop, sample.bed_height, sample.kinetic_energy
+                    "step {step}/{steps}: t = {time:.6} s, inlet {} m/s, Δp {} Pa, bed {} m, KE {:.3e} J",
+                    measured(sample.inlet_velocity, 5),
+                    measured(sample.pressure_drop, 3),
+                    measured(sample.bed_height, 5),
+                    sample.kinetic_energy
                 );
             }
         }
@@ -166,4 +169,9 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// A measured quantity with `digits` decimals, or `—` when it was not measured.
+fn measured(x: Option<f64>, digits: usize) -> String {
+    x.map_or("—".to_owned(), |x| format!("{x:.digits$}"))
 }

@@ -15,7 +15,9 @@
 //! * [`sides`]: the two traits and the data they exchange; [`memory`]: in-memory test doubles;
 //! * [`replay`]: a particle side replaying LIGGGHTS dumps (one-way coupling);
 //! * [`frozen`]: a fluid side holding U and p read from a case time directory;
-//! * [`timestep`]: DEM/CFD time-step and coupling-interval advice.
+//! * [`timestep`]: DEM/CFD time-step and coupling-interval advice;
+//! * [`monitor`]: the values of CFDEM's observing models (`particleCellVolume`,
+//!   `volWeightedAverage`); [`output`]: cell fields into time directories.
 //!
 //! Invariant: what the particles receive equals what the fluid loses — Σ_c V_c Ksl_c (U_c −
 //! Us_c) = Σ_p β_p (u_f − v_p) with the smooth interpolation and Σ_c V_c f_c = −Σ_p F_p, to
@@ -41,6 +43,7 @@ pub mod forces;
 pub mod frozen;
 pub mod interpolate;
 pub mod memory;
+pub mod monitor;
 pub mod output;
 pub mod replay;
 pub mod sides;

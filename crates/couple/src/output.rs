@@ -43,14 +43,36 @@ pub fn write_fields(
         ),
     ];
     for (name, dims, values) in fields {
-        let field = VolField::new(
-            name,
-            time,
-            dims,
-            values,
-            default_boundary(&mesh.boundary, "zeroGradient", None),
-        );
-        field.write(&dir.join(name), format)?;
+        write_cell_field(dir, time, mesh, name, dims, values, format)?;
     }
     Ok(())
+}
+
+/// Writes one cell field `name` (dimensions `dims`, OpenFOAM's 7 exponents) with
+/// `zeroGradient` boundaries into the existing time directory `dir`, atomically.
+pub fn write_cell_field(
+    dir: &Path,
+    time: &str,
+    mesh: &PolyMesh,
+    name: &str,
+    dims: [i32; 7],
+    values: FieldValues,
+    format: Format,
+) -> Result<(), CoupleError> {
+    let field = VolField::new(
+        name,
+        time,
+        dims,
+        values,
+        default_boundary(&mesh.boundary, "zeroGradient", None),
+    );
+    field.write(&dir.join(name), format)?;
+    Ok(())
+}
+
+/// OpenFOAM's name of the time directory for `t` seconds: 12 significant digits, shortest form
+/// (`0.1`, `0.0005`).
+pub fn time_name(t: f64) -> String {
+    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
+    format!("{rounded}")
 }

@@ -201,6 +201,12 @@ impl Fluid {
         self.time
     }
 
+    /// Moves the clock on by `dt` seconds without solving: U, p and φ stay as they are
+    /// (CFDEM's `solveFlow off`, where the particles and the voidage go on over a fixed flow).
+    pub fn hold(&mut self, dt: f64) {
+        self.time += dt;
+    }
+
     /// Number of steps taken.
     pub fn time_index(&self) -> usize {
         self.time_index

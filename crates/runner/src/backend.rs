@@ -124,7 +124,9 @@ pub(crate) fn run_pair(
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
     let layout = ctx.layout;
-    let native_fluid = || NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid);
+    let (ddt, solve) = (ctx.ddt_voidage, ctx.solve_flow);
+    let native_fluid =
+        || NativeFluid::open(&layout.cfd, model, ddt, solve).map_err(RunError::Fluid);
     match (fluid, dem) {
         (FluidBackend::Native, DemBackend::Native) => {
             let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
@@ -194,7 +196,8 @@ mod mpi_pair {
             #[cfg(feature = "liggghts")]
             (FluidBackend::Native, DemBackend::Liggghts) => {
                 let dem = open_liggghts(&world, layout)?;
-                let fluid = NativeFluid::open(&layout.cfd, model, true).map_err(RunError::Fluid)?;
+                let fluid = NativeFluid::open(&layout.cfd, model, ctx.ddt_voidage, ctx.solve_flow)
+                    .map_err(RunError::Fluid)?;
                 couple_loop(ctx, dem, fluid, events)
             }
             #[cfg(feature = "mpi")]

@@ -68,10 +68,12 @@ pub fn plateau_ends(samples: &[Sample], min_len: usize) -> Vec<Sample> {
     let mut start = 0;
     for (i, s) in samples.iter().enumerate() {
         let last = i + 1 == samples.len();
-        let changes = !last && {
-            let n = samples[i + 1].inlet_velocity;
-            (n - s.inlet_velocity).abs() > 1e-9 * s.inlet_velocity.abs().max(n.abs())
-        };
+        let changes = !last
+            && match (s.inlet_velocity, samples[i + 1].inlet_velocity) {
+                (Some(a), Some(n)) => (n - a).abs() > 1e-9 * a.abs().max(n.abs()),
+                (None, None) => false,
+                _ => true,
+            };
         if last || changes {
             let run = &samples[start..=i];
             if run.len() >= min_len {
@@ -86,7 +88,9 @@ pub fn plateau_ends(samples: &[Sample], min_len: usize) -> Vec<Sample> {
 /// The mean of the plateau quantities over `run` (time: the last one's).
 fn mean_of(run: &[Sample]) -> Sample {
     let k = run.len() as f64;
-    let avg = |f: fn(&Sample) -> f64| run.iter().map(f).sum::<f64>() / k;
+    // a quantity missing from one sample is missing from the mean
+    let avg =
+        |f: fn(&Sample) -> Option<f64>| run.iter().map(f).sum::<Option<f64>>().map(|sum| sum / k);
     Sample {
         time: run[run.len() - 1].time,
         inlet_velocity: avg(|s| s.inlet_velocity),
@@ -115,24 +119,29 @@ fn ergun(
     let Some(first) = samples.first() else {
         return Ok(vec![Check::new("samples recorded", 0.0, 1.0, "", 0.0)]);
     };
-    let (l0, e0, d0) = (first.bed_height, first.bed_voidage, first.sauter_diameter);
-    let weight = first.weight_per_area;
+    // an unmeasured quantity is NaN here, so every check built on it fails
+    let v = |x: Option<f64>| x.unwrap_or(f64::NAN);
+    let (l0, e0, d0) = (
+        v(first.bed_height),
+        v(first.bed_voidage),
+        v(first.sauter_diameter),
+    );
+    let weight = v(first.weight_per_area);
     let u_mf = ergun_velocity_for(weight, l0, e0, d0, mu, ph.rho);
     let ends = plateau_ends(samples, MIN_PLATEAU);
     let mut below = 0;
     for s in &ends {
-        let u = s.inlet_velocity;
+        let u = v(s.inlet_velocity);
+        let (height, voidage) = (v(s.bed_height), v(s.bed_voidage));
         if u <= 0.8 * u_mf {
             below += 1;
             let reference =
-                ergun_pressure_gradient(u, s.bed_voidage, s.sauter_diameter, mu, ph.rho)
-                    * s.bed_height;
+                ergun_pressure_gradient(u, voidage, v(s.sauter_diameter), mu, ph.rho) * height;
             checks.push(Check::new(
                 &format!(
-                    "pressure drop at u = {u:.4} m/s vs Ergun (L = {:.5} m, ε = {:.4})",
-                    s.bed_height, s.bed_voidage
+                    "pressure drop at u = {u:.4} m/s vs Ergun (L = {height:.5} m, ε = {voidage:.4})"
                 ),
-                s.pressure_drop,
+                v(s.pressure_drop),
                 reference,
                 "Pa",
                 tol_dp,
@@ -142,8 +151,8 @@ fn ergun(
                 &format!(
                     "fluidised plateau: pressure drop at u = {u:.4} m/s vs bed weight per area"
                 ),
-                s.pressure_drop,
-                s.weight_per_area,
+                v(s.pressure_drop),
+                v(s.weight_per_area),
                 "Pa",
                 tol_plateau,
             ));
@@ -160,7 +169,7 @@ fn ergun(
     }
     let u_max = samples
         .iter()
-        .map(|s| s.inlet_velocity)
+        .filter_map(|s| s.inlet_velocity)
         .fold(0.0f64, f64::max)
         .max(u_mf);
     let curve: Vec<(f64, f64)> = (0..=100)
@@ -189,7 +198,7 @@ fn ergun(
                 name: "plateau means (checked)".into(),
                 points: ends
                     .iter()
-                    .map(|s| (s.inlet_velocity, s.pressure_drop))
+                    .filter_map(|s| Some((s.inlet_velocity?, s.pressure_drop?)))
                     .collect(),
                 style: Style::Points,
             },
@@ -197,7 +206,7 @@ fn ergun(
                 name: "simulated, every coupling step".into(),
                 points: samples
                     .iter()
-                    .map(|s| (s.inlet_velocity, s.pressure_drop))
+                    .filter_map(|s| Some((s.inlet_velocity?, s.pressure_drop?)))
                     .collect(),
                 style: Style::Points,
             },
@@ -210,7 +219,10 @@ fn ergun(
         y_label: "pressure drop (Pa)".into(),
         series: vec![Series {
             name: "simulated".into(),
-            points: samples.iter().map(|s| (s.time, s.pressure_drop)).collect(),
+            points: samples
+                .iter()
+                .filter_map(|s| Some((s.time, s.pressure_drop?)))
+                .collect(),
             style: Style::Line,
         }],
     }
@@ -239,8 +251,8 @@ fn settling(
         )]);
     };
     let g = ph.gravity.norm();
-    let d = last.sauter_diameter;
-    let rho_p = last.mean_density;
+    let d = last.sauter_diameter.unwrap_or(f64::NAN);
+    let rho_p = last.mean_density.unwrap_or(f64::NAN);
     let beta = |x: &DragInput| drag.closure.beta(x);
     let t_end = last.time;
     let ode = settling_speed_history_with(&beta, d, rho_p, ph.rho, ph.nu, g, dt_c, t_end);
@@ -307,7 +319,7 @@ mod tests {
     fn plateau_ends_are_the_last_sample_of_each_velocity() {
         let mk = |t: f64, u: f64| Sample {
             time: t,
-            inlet_velocity: u,
+            inlet_velocity: Some(u),
             ..Sample::default()
         };
         let s = [
@@ -325,11 +337,11 @@ mod tests {
         // The second half is averaged.
         let mut p: Vec<Sample> = (0..6).map(|i| mk(i as f64, 0.01)).collect();
         for (i, x) in p.iter_mut().enumerate() {
-            x.pressure_drop = i as f64;
+            x.pressure_drop = Some(i as f64);
         }
         let e = plateau_ends(&p, 3);
         assert_eq!(e.len(), 1);
-        assert_eq!(e[0].pressure_drop, (3.0 + 4.0 + 5.0) / 3.0);
+        assert_eq!(e[0].pressure_drop, Some((3.0 + 4.0 + 5.0) / 3.0));
         assert_eq!(e[0].time, 5.0);
         assert!(plateau_ends(&[], 1).is_empty());
     }

@@ -10,7 +10,9 @@ pub mod fluid;
 #[cfg(feature = "mpi")]
 pub mod foam_fluid;
 pub mod layout;
+mod monitors;
 pub mod native;
+pub mod patches;
 pub mod plot;
 pub mod reference;
 pub mod run;

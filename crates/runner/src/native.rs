@@ -27,12 +27,20 @@ pub struct NativeFluid {
     /// The ε the solver saw last (the "previous" field of the next step).
     eps_last: Vec<f64>,
     steps_done: u64,
+    /// `solveFlow`: false holds U and p while the clock moves.
+    solve_flow: bool,
 }
 
 impl NativeFluid {
-    /// Reads the OpenFOAM case `cfd` (mesh, settings, start fields), with the model and the
-    /// ∂ε/∂t switch given.
-    pub fn open(cfd: &Path, model: fv::Model, ddt_voidage: bool) -> Result<NativeFluid, SideError> {
+    /// Reads the OpenFOAM case `cfd` (mesh, settings, start fields), with the model, the
+    /// ∂ε/∂t switch and whether the flow is solved (`solveFlow`; when false the clock moves
+    /// and U, p stay as read).
+    pub fn open(
+        cfd: &Path,
+        model: fv::Model,
+        ddt_voidage: bool,
+        solve_flow: bool,
+    ) -> Result<NativeFluid, SideError> {
         let mut fluid = Fluid::from_case(cfd)?;
         fluid.model = model;
         fluid.ddt_voidage = ddt_voidage;
@@ -48,6 +56,7 @@ impl NativeFluid {
             eps_new: vec![1.0; n],
             eps_last: vec![1.0; n],
             steps_done: 0,
+            solve_flow,
         })
     }
 
@@ -85,6 +94,10 @@ impl FluidSide for NativeFluid {
         let base = self.fluid.settings.delta_t;
         let n = (dt / base).round().max(1.0) as u64;
         let h = dt / n as f64;
+        if !self.solve_flow {
+            self.fluid.hold(dt);
+            return Ok(());
+        }
         let mut eps = Vec::new();
         for k in 1..=n {
             blend_scalar(

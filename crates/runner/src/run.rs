@@ -18,6 +18,7 @@ use crate::backend::{DemBackend, FluidBackend};
 use crate::checks;
 use crate::fluid::RunFluid;
 use crate::layout::{CaseLayout, LayoutError, ValidationSpec};
+use crate::monitors::{RunMonitors, StepFields};
 use crate::sample::{write_csv, Sample};
 use crate::timed::Timed;
 use crate::validation::{write_json, Check};
@@ -111,7 +112,7 @@ pub enum Event {
         /// Steps in total.
         steps: u64,
         /// The step's integrals.
-        sample: Sample,
+        sample: Box<Sample>,
     },
 }
 
@@ -229,20 +230,16 @@ impl Observer {
         let force: f64 = step.forces.particles.iter().map(|c| c.total.dot(&ax)).sum();
         let p_mean = |name: &Option<String>| name.as_deref().and_then(|n| fluid.patch_pressure(n));
         let pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
-            (Some(a), Some(b)) => self.rho * (a - b),
-            _ => 0.0,
+            (Some(a), Some(b)) => Some(self.rho * (a - b)),
+            _ => None,
         };
-        let inlet_velocity = self
-            .inlet
-            .as_deref()
-            .and_then(|n| fluid.inflow_velocity(n))
-            .unwrap_or(0.0);
+        let inlet_velocity = self.inlet.as_deref().and_then(|n| fluid.inflow_velocity(n));
         Sample {
             time,
             inlet_velocity,
             pressure_drop,
-            bed_height: bed.map_or(0.0, |b| b.height),
-            bed_voidage: bed.map_or(1.0, |b| b.voidage),
+            bed_height: bed.map(|b| b.height),
+            bed_voidage: bed.map(|b| b.voidage),
             kinetic_energy: ke,
             mean_axial_velocity: if ps.is_empty() {
                 0.0
@@ -257,11 +254,9 @@ impl Observer {
             clipped_volume: step.voidage.clipped_volume,
             min_voidage: step.voidage.min_epsilon,
             particles: ps.len(),
-            sauter_diameter: bed.map_or(0.0, |b| b.sauter_diameter),
-            mean_density: bed.map_or(0.0, |b| b.mass / b.solid_volume),
-            weight_per_area: bed.map_or(0.0, |b| {
-                b.weight_per_area(self.rho, self.g, self.column.area)
-            }),
+            sauter_diameter: bed.map(|b| b.sauter_diameter),
+            mean_density: bed.map(|b| b.mass / b.solid_volume),
+            weight_per_area: bed.map(|b| b.weight_per_area(self.rho, self.g, self.column.area)),
         }
     }
 }
@@ -281,7 +276,7 @@ fn write_time<P: ParticleSide, F: RunFluid>(
     dem: &P,
     step: &CouplingStep,
     vtp: &mut Vec<(f64, PathBuf)>,
-) -> Result<(), RunError> {
+) -> Result<String, RunError> {
     let name = fluid
         .write_time(&layout.cfd, mesh, step)
         .map_err(RunError::Fluid)?;
@@ -306,7 +301,7 @@ fn write_time<P: ParticleSide, F: RunFluid>(
         PathBuf::from(file.file_name().unwrap_or_default()),
     ));
     vtk::write_pvd(pdir.join("particles.pvd"), vtp)?;
-    Ok(())
+    Ok(name)
 }
 
 /// Runs the case at `case` (CFDEM layout) natively. `stop` is polled after every coupling step;
@@ -382,11 +377,25 @@ pub fn run(
             "is not coupled: it needs `fix ... couple/cfd couple_every N ...`".into(),
         )
     })?;
-    if deck_coupling.couple_every != config.coupling_interval {
+    if deck_coupling.couple_every != config.coupling_interval
+        && opts.dem != DemBackend::LiggghtsFile
+    {
+        // CFDEM's twoWayMPI exchanges every couplingInterval DEM steps whatever the deck's
+        // couple_every says; only LIGGGHTS's file coupling is driven by couple_every.
+        events(Event::Message(format!(
+            "warning: {}: couple_every {} differs from couplingInterval {} in {}; the coupling \
+             interval is couplingInterval (as CFDEM's twoWayMPI)",
+            layout.run_deck.display(),
+            deck_coupling.couple_every,
+            config.coupling_interval,
+            config.file.display()
+        )));
+    } else if deck_coupling.couple_every != config.coupling_interval {
         return Err(setup_err(
             &layout.run_deck,
             format!(
-                "couple_every {} differs from couplingInterval {} in {}",
+                "couple_every {} differs from couplingInterval {} in {} (LIGGGHTS's file \
+                 coupling exchanges every couple_every steps: make them equal)",
                 deck_coupling.couple_every,
                 config.coupling_interval,
                 config.file.display()
@@ -399,12 +408,21 @@ pub fn run(
     };
     let fluid_settings = fv::settings::Settings::read(&foam::Case::open(&layout.cfd)?)
         .map_err(|e| RunError::Fluid(Box::new(e)))?;
+    if !config.solve_flow && opts.fluid != FluidBackend::Native {
+        return Err(setup_err(
+            &config.file,
+            "solveFlow off runs on the native fluid only (--fluid native)".into(),
+        ));
+    }
     let ctx = LoopContext {
         layout: &layout,
         settings,
         fluid_settings,
         coupling_interval: config.coupling_interval,
         model_name: config.model.name(),
+        monitors: config.monitors.clone(),
+        solve_flow: config.solve_flow,
+        ddt_voidage: config.ddt_voidage,
         opts,
         stop,
         init_seconds,
@@ -425,6 +443,12 @@ pub(crate) struct LoopContext<'a> {
     pub(crate) fluid_settings: fv::settings::Settings,
     pub(crate) coupling_interval: u64,
     pub(crate) model_name: &'static str,
+    /// CFDEM's observing models.
+    pub(crate) monitors: couple::config::Monitors,
+    /// `solveFlow`.
+    pub(crate) solve_flow: bool,
+    /// `useDDTvoidfraction`.
+    pub(crate) ddt_voidage: bool,
     pub(crate) opts: &'a RunOptions,
     pub(crate) stop: &'a AtomicBool,
     pub(crate) init_seconds: f64,
@@ -443,9 +467,11 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         fluid_settings,
         coupling_interval,
         model_name,
+        monitors,
         opts,
         stop,
         init_seconds,
+        ..
     } = ctx;
     let mesh = fluid.mesh().clone();
     let cfd_dt = fluid_settings.delta_t;
@@ -495,7 +521,19 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         Some(ValidationSpec::ErgunPackedBed { inlet, outlet, .. }) => {
             (Some(inlet.clone()), Some(outlet.clone()))
         }
-        _ => (None, None),
+        _ => {
+            // without a validationDict, the patches the start fields make inlet and outlet
+            let found = crate::patches::find(&layout.cfd, &couple::output::time_name(start), &mesh);
+            for note in &found.notes {
+                events(Event::Message(format!("monitoring: {note}")));
+            }
+            if let (Some(i), Some(o)) = (&found.inlet, &found.outlet) {
+                events(Event::Message(format!(
+                    "monitoring: Δp between the inlet `{i}` and the outlet `{o}`"
+                )));
+            }
+            (found.inlet, found.outlet)
+        }
     };
     let observer = Observer {
         column: Column::of(&mesh, volume, axis),
@@ -516,16 +554,52 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let mut output_seconds = 0.0;
     let mut stopped = false;
     let t_loop = Instant::now();
+    let start_name = couple::output::time_name(start);
+    let mut monitors = RunMonitors::new(&monitors, &layout.cfd, &start_name);
+    let cell_volumes = coupler.voidage_mesh().geometry().cell_volumes.clone();
+    let mut eps_before = coupler.voidage().to_vec();
+    let mut ddt_eps = vec![0.0; mesh.n_cells];
     for k in 1..=steps {
         let step = coupler.step(&mut dem, &mut fluid)?;
         let time = fluid.inner.time();
         let sample = observer.sample(time, &fluid.inner, &dem, &step);
         samples.push(sample);
         let stop_now = stop.load(Ordering::SeqCst);
-        if k % write_every == 0 || k == steps || stop_now {
+        let write_now = k % write_every == 0 || k == steps || stop_now;
+        if !monitors.is_empty() {
+            let eps = &step.voidage.epsilon;
+            if monitors.needs_ddt {
+                for c in 0..eps.len() {
+                    ddt_eps[c] = (eps[c] - eps_before[c]) / dt_c;
+                }
+                eps_before.clone_from(eps);
+            }
+            let fields = StepFields {
+                eps,
+                ddt_eps: &ddt_eps,
+                fluid: fluid.inner.state(),
+                step: &step,
+                rho: settings.physics.rho,
+            };
+            for line in monitors.observe(time, &cell_volumes, &fields) {
+                events(Event::Message(line));
+            }
+        }
+        if write_now {
             let t = Instant::now();
-            write_time(layout, &mut fluid.inner, &mesh, &dem, &step, &mut vtp)?;
+            let name = write_time(layout, &mut fluid.inner, &mesh, &dem, &step, &mut vtp)?;
             write_csv(&csv, &samples).map_err(io_err(&csv))?;
+            if !monitors.is_empty() {
+                let fields = StepFields {
+                    eps: &step.voidage.epsilon,
+                    ddt_eps: &ddt_eps,
+                    fluid: fluid.inner.state(),
+                    step: &step,
+                    rho: settings.physics.rho,
+                };
+                let dir = layout.cfd.join(&name);
+                monitors.write_time(&dir, &name, &mesh, &fields, &dem.state())?;
+            }
             output_seconds += t.elapsed().as_secs_f64();
         }
         events(Event::Step {
@@ -533,7 +607,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             end,
             step: k,
             steps,
-            sample,
+            sample: Box::new(sample),
         });
         coupler.recycle(step);
         if stop_now && k < steps {
@@ -549,6 +623,21 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     }
     fluid.inner.finish().map_err(RunError::Fluid)?;
     let loop_seconds = t_loop.elapsed().as_secs_f64();
+    monitors.write_logs()?;
+    let n_steps = samples.len() as u64;
+    let coupling_seconds = (loop_seconds - dem.seconds - fluid.seconds - output_seconds).max(0.0);
+    let sections = [
+        ("Global", loop_seconds, 1),
+        ("DEM", dem.seconds, n_steps),
+        ("Flow", fluid.seconds, n_steps),
+        ("Coupling", coupling_seconds, n_steps),
+        ("Output", output_seconds, n_steps),
+    ];
+    if let Some(lines) = monitors.clock(&layout.cfd, &sections)? {
+        for line in lines {
+            events(Event::Message(line));
+        }
+    }
 
     let mut checks = Vec::new();
     if !stopped {

@@ -3,19 +3,21 @@
 use serde::Serialize;
 use std::path::Path;
 
-/// What a run records after every coupling step (SI units; Pa for pressures).
+/// What a run records after every coupling step (SI units; Pa for pressures). A quantity that
+/// could not be measured (no inlet or outlet patch found, no particles for a bed) is `None`,
+/// an empty cell in the CSV, never 0.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Sample {
     /// Simulated time at the end of the step, s.
     pub time: f64,
-    /// Mean inflow velocity through the inlet patch, −Σ(U_b·S_f)/Σ|S_f|, m/s (0 without one).
-    pub inlet_velocity: f64,
+    /// Mean inflow velocity through the inlet patch, −Σ(U_b·S_f)/Σ|S_f|, m/s.
+    pub inlet_velocity: Option<f64>,
     /// Area-averaged pressure on the inlet minus the outlet, ρ·(p_in − p_out), Pa.
-    pub pressure_drop: f64,
+    pub pressure_drop: Option<f64>,
     /// Bed height above the floor along the column axis, m.
-    pub bed_height: f64,
+    pub bed_height: Option<f64>,
     /// Mean voidage of the bed, 1 − V_p/(A·L).
-    pub bed_voidage: f64,
+    pub bed_voidage: Option<f64>,
     /// Translational kinetic energy of the particles, J.
     pub kinetic_energy: f64,
     /// Mean particle velocity along the column axis, m/s.
@@ -37,11 +39,11 @@ pub struct Sample {
     /// Number of particles.
     pub particles: usize,
     /// Sauter mean diameter of the particles, m.
-    pub sauter_diameter: f64,
+    pub sauter_diameter: Option<f64>,
     /// Mean particle density (mass / volume), kg/m³.
-    pub mean_density: f64,
+    pub mean_density: Option<f64>,
     /// Buoyant weight of the particles per column cross-section, (m − ρ V) g / A, Pa.
-    pub weight_per_area: f64,
+    pub weight_per_area: Option<f64>,
 }
 
 const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area";
@@ -54,15 +56,17 @@ pub fn write_csv(path: &Path, samples: &[Sample]) -> std::io::Result<()> {
     atomic_write::write_atomically(path, |w| {
         use std::io::Write;
         writeln!(w, "{HEADER}")?;
+        // an unmeasured quantity is an empty cell
+        let o = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:?}"));
         for s in samples {
             writeln!(
                 w,
-                "{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{:?},{:?},{:?}",
+                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{}",
                 s.time,
-                s.inlet_velocity,
-                s.pressure_drop,
-                s.bed_height,
-                s.bed_voidage,
+                o(s.inlet_velocity),
+                o(s.pressure_drop),
+                o(s.bed_height),
+                o(s.bed_voidage),
                 s.kinetic_energy,
                 s.mean_axial_velocity,
                 s.first_axial_velocity,
@@ -73,9 +77,9 @@ pub fn write_csv(path: &Path, samples: &[Sample]) -> std::io::Result<()> {
                 s.clipped_volume,
                 s.min_voidage,
                 s.particles,
-                s.sauter_diameter,
-                s.mean_density,
-                s.weight_per_area
+                o(s.sauter_diameter),
+                o(s.mean_density),
+                o(s.weight_per_area)
             )?;
         }
         Ok(())
@@ -92,7 +96,7 @@ mod tests {
         let p = dir.path().join("post/integrals.csv");
         let s = Sample {
             time: 0.1,
-            pressure_drop: 23.25,
+            pressure_drop: Some(23.25),
             particles: 7,
             ..Sample::default()
         };
@@ -107,5 +111,8 @@ mod tests {
         assert_eq!(at("time").parse::<f64>().unwrap(), 0.1);
         assert_eq!(at("pressure_drop").parse::<f64>().unwrap(), 23.25);
         assert_eq!(at("particles"), "7");
+        // not measured: empty, not 0
+        assert_eq!(at("inlet_velocity"), "");
+        assert_eq!(at("bed_height"), "");
     }
 }

@@ -190,7 +190,8 @@ impl RunContext<'_> {
         let ax = self.axis;
         set_inlet_velocity(&work, self.inlet, velocity * ax)?;
 
-        let mut fluid = NativeFluid::open(&work, self.model, true).map_err(fluid_err(&work))?;
+        let mut fluid =
+            NativeFluid::open(&work, self.model, true, true).map_err(fluid_err(&work))?;
         for patch in [self.inlet, self.outlet] {
             if !fluid
                 .fluid()

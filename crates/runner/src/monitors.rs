@@ -1,0 +1,425 @@
+//! CFDEM's observing models during a run ([`couple::config::Monitors`]), writing what CFDEM
+//! writes, under the OpenFOAM case `CFD/` as CFDEM's solvers (which run there) do:
+//! * `particleCellVolume`: each coupling step, the particle volume in the cells whose ε lies
+//!   between the thresholds, those cells' volume, the mean solid fraction and ε's range — in
+//!   the log (`verbose`) and `postProcessing/particleCellVolume/<start>/particleCellVolume.txt`
+//!   (`writeToFile`); the uniform fields `particleCellVolume` and `cellVolume` at write times;
+//! * `volWeightedAverage`: each coupling step, the volume-weighted average of each named field,
+//!   in the log and `postProcessing/volWeightedAverage/<start>/volWeightedAverage.txt`; the
+//!   uniform fields `volAverage_<name>` at write times;
+//! * `fieldStore`: `stored_<name>` copies of the named fields at write times;
+//! * `IOModel basicIO`: `<time>/lagrangian/particleCloud/{positions, v, r}` at write times,
+//!   the particles inside the mesh;
+//! * `clockModel standardClock`: the timing table at the end, in the log and
+//!   `clockData/timeEval.txt`.
+//!
+//! A value that cannot be computed (no cell between the thresholds) is left empty in the text
+//! files, never written as a number. The text files are rewritten whole (atomically) at each
+//! write time and at the end.
+
+use crate::run::RunError;
+use couple::config::monitors::{ParticleCellVolume, VolWeightedAverage};
+use couple::config::Monitors;
+use couple::monitor::{particle_cell_volume, vol_weighted_scalar, vol_weighted_vector};
+use couple::output::write_cell_field;
+use couple::{CouplingStep, FluidState, ParticleState};
+use foam::{FieldValues, Format, PolyMesh};
+use mesh::v3::V3;
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The cell fields of one coupling step, by CFDEM's names.
+pub(crate) struct StepFields<'a> {
+    /// ε after the step.
+    pub eps: &'a [f64],
+    /// (ε − ε_before)/Δt_c, 1/s.
+    pub ddt_eps: &'a [f64],
+    /// The fluid's U and p.
+    pub fluid: FluidState<'a>,
+    /// The exchange fields.
+    pub step: &'a CouplingStep,
+    /// Fluid density ρ.
+    pub rho: f64,
+}
+
+enum Field<'a> {
+    Scalar(std::borrow::Cow<'a, [f64]>),
+    Vector(&'a [V3]),
+}
+
+impl<'a> StepFields<'a> {
+    fn get(&self, name: &str) -> Field<'a> {
+        use std::borrow::Cow::{Borrowed, Owned};
+        match name {
+            "voidfraction" => Field::Scalar(Borrowed(self.eps)),
+            "ddtVoidfraction" => Field::Scalar(Borrowed(self.ddt_eps)),
+            "p" => Field::Scalar(Borrowed(self.fluid.p)),
+            "Ksl" => Field::Scalar(Borrowed(&self.step.exchange.ksl)),
+            "rho" => Field::Scalar(Owned(vec![self.rho; self.eps.len()])),
+            "U" => Field::Vector(self.fluid.u),
+            "Us" => Field::Vector(&self.step.exchange.us),
+            "f" => Field::Vector(&self.step.exchange.f),
+            // the config refuses other names (monitors::SCALAR_FIELDS, VECTOR_FIELDS)
+            other => unreachable!("field `{other}` passed couplingProperties' check"),
+        }
+    }
+}
+
+/// OpenFOAM's dimensions of the fields a monitor may name.
+fn dimensions(name: &str) -> [i32; 7] {
+    match name {
+        "ddtVoidfraction" => [0, 0, -1, 0, 0, 0, 0],
+        "p" => [0, 2, -2, 0, 0, 0, 0],
+        "Ksl" => [1, -3, -1, 0, 0, 0, 0],
+        "rho" => [1, -3, 0, 0, 0, 0, 0],
+        "U" | "Us" => [0, 1, -1, 0, 0, 0, 0],
+        "f" => [1, -2, -2, 0, 0, 0, 0],
+        _ => [0; 7],
+    }
+}
+
+/// A text file kept in memory and rewritten whole.
+struct TextLog {
+    path: PathBuf,
+    text: String,
+}
+
+impl TextLog {
+    fn write(&self) -> Result<(), RunError> {
+        let io = |source| RunError::Io {
+            path: self.path.clone(),
+            source,
+        };
+        if let Some(dir) = self.path.parent() {
+            std::fs::create_dir_all(dir).map_err(io)?;
+        }
+        atomic_write::write_atomically(&self.path, |w| w.write_all(self.text.as_bytes()))
+            .map_err(io)
+    }
+}
+
+/// The last values, written into fields at the write times.
+#[derive(Default)]
+struct Last {
+    cell_volume: Option<(f64, f64)>,
+    averages: Vec<(String, Option<FieldValuesOne>)>,
+}
+
+#[derive(Clone, Copy)]
+enum FieldValuesOne {
+    Scalar(f64),
+    Vector(V3),
+}
+
+/// The observing models of one run.
+pub(crate) struct RunMonitors {
+    cfg: Monitors,
+    pcv_log: Option<TextLog>,
+    vwa_log: Option<TextLog>,
+    last: Last,
+    /// ε before the current step (kept only when `ddtVoidfraction` is observed).
+    pub(crate) needs_ddt: bool,
+}
+
+/// `v` as text, or nothing when not measured.
+fn opt(v: Option<f64>) -> String {
+    v.map_or(String::new(), |x| format!("{x}"))
+}
+
+impl RunMonitors {
+    /// The monitors of `cfg` for the case `cfd`, starting at the time named `start`.
+    pub(crate) fn new(cfg: &Monitors, cfd: &Path, start: &str) -> RunMonitors {
+        let log = |name: &str, header: &str| TextLog {
+            path: cfd
+                .join("postProcessing")
+                .join(name)
+                .join(start)
+                .join(format!("{name}.txt")),
+            text: header.to_owned(),
+        };
+        let pcv_log = cfg
+            .particle_cell_volume
+            .as_ref()
+            .filter(|m| m.write_to_file)
+            .map(|_| {
+                log(
+                    "particleCellVolume",
+                    "# time | total particle volume in cells | total volume of cells with \
+                     particles | average volume fraction | min(voidfraction) | \
+                     max(voidfraction)\n",
+                )
+            });
+        let vwa_log = cfg
+            .vol_weighted_average
+            .as_ref()
+            .filter(|m| m.write_to_file)
+            .map(|m| {
+                let names: Vec<&str> = m
+                    .scalar_fields
+                    .iter()
+                    .chain(&m.vector_fields)
+                    .map(String::as_str)
+                    .collect();
+                log(
+                    "volWeightedAverage",
+                    &format!("# time | {}\n", names.join(" | ")),
+                )
+            });
+        let needs_ddt = cfg
+            .field_store
+            .iter()
+            .any(|s| s.scalar_fields.iter().any(|n| n == "ddtVoidfraction"))
+            || cfg
+                .vol_weighted_average
+                .iter()
+                .any(|s| s.scalar_fields.iter().any(|n| n == "ddtVoidfraction"));
+        RunMonitors {
+            cfg: cfg.clone(),
+            pcv_log,
+            vwa_log,
+            last: Last::default(),
+            needs_ddt,
+        }
+    }
+
+    /// True when nothing is observed.
+    pub(crate) fn is_empty(&self) -> bool {
+        let c = &self.cfg;
+        c.field_store.is_none()
+            && c.particle_cell_volume.is_none()
+            && c.vol_weighted_average.is_none()
+            && !c.clock
+            && !c.basic_io
+    }
+
+    /// Observes one coupling step at `time`; returns the log lines (`verbose`).
+    pub(crate) fn observe(
+        &mut self,
+        time: f64,
+        volumes: &[f64],
+        f: &StepFields<'_>,
+    ) -> Vec<String> {
+        let mut lines = Vec::new();
+        if let Some(m) = self.cfg.particle_cell_volume.clone() {
+            self.cell_volume(&m, time, volumes, f, &mut lines);
+        }
+        if let Some(m) = self.cfg.vol_weighted_average.clone() {
+            self.averages(&m, time, volumes, f, &mut lines);
+        }
+        lines
+    }
+
+    fn cell_volume(
+        &mut self,
+        m: &ParticleCellVolume,
+        time: f64,
+        volumes: &[f64],
+        f: &StepFields<'_>,
+        lines: &mut Vec<String>,
+    ) {
+        if time < m.start_time {
+            return;
+        }
+        let s = particle_cell_volume(f.eps, volumes, m.lower, m.upper);
+        self.last.cell_volume = Some((s.particle_volume, s.cell_volume));
+        if m.verbose {
+            lines.push(format!(
+                "particleCellVolume: particle volume {} in the cells with {} < voidfraction < {} \
+                 (volume {}), average volume fraction {}, voidfraction from {} to {}",
+                s.particle_volume,
+                m.lower,
+                m.upper,
+                s.cell_volume,
+                opt(s.average_fraction()),
+                opt(s.min),
+                opt(s.max)
+            ));
+        }
+        if let Some(log) = &mut self.pcv_log {
+            let _ = writeln!(
+                log.text,
+                "{time} {} {} {} {} {}",
+                s.particle_volume,
+                s.cell_volume,
+                opt(s.average_fraction()),
+                opt(s.min),
+                opt(s.max)
+            );
+        }
+    }
+
+    fn averages(
+        &mut self,
+        m: &VolWeightedAverage,
+        time: f64,
+        volumes: &[f64],
+        f: &StepFields<'_>,
+        lines: &mut Vec<String>,
+    ) {
+        if time < m.start_time {
+            return;
+        }
+        let weights = m.use_volume_fraction.then_some(f.eps);
+        let mut row = format!("{time}");
+        self.last.averages.clear();
+        for name in m.scalar_fields.iter().chain(&m.vector_fields) {
+            let (text, value) = match f.get(name) {
+                Field::Scalar(phi) => {
+                    let a = vol_weighted_scalar(&phi, volumes, weights, m.lower, m.upper);
+                    (opt(a.average), a.average.map(FieldValuesOne::Scalar))
+                }
+                Field::Vector(phi) => {
+                    let a = vol_weighted_vector(phi, volumes, weights, m.lower, m.upper);
+                    let text = a
+                        .average
+                        .map_or(String::new(), |v| format!("({} {} {})", v.x, v.y, v.z));
+                    (text, a.average.map(FieldValuesOne::Vector))
+                }
+            };
+            if m.verbose {
+                lines.push(format!(
+                    "volWeightedAverage: {name} = {text} over the cells with {} < {name} < {}",
+                    m.lower, m.upper
+                ));
+            }
+            let _ = write!(row, " {text}");
+            self.last.averages.push((name.clone(), value));
+        }
+        if let Some(log) = &mut self.vwa_log {
+            log.text.push_str(&row);
+            log.text.push('\n');
+        }
+    }
+
+    /// Writes the monitors' fields into the time directory `dir` (named `time`), the
+    /// particles (`basicIO`), and rewrites the text files.
+    pub(crate) fn write_time(
+        &self,
+        dir: &Path,
+        time: &str,
+        mesh: &PolyMesh,
+        f: &StepFields<'_>,
+        particles: &ParticleState<'_>,
+    ) -> Result<(), RunError> {
+        let n = mesh.n_cells;
+        let fmt = Format::Ascii;
+        let uniform = |x: f64| FieldValues::Scalar(vec![x; n]);
+        if let Some(store) = &self.cfg.field_store {
+            for name in store.scalar_fields.iter().chain(&store.vector_fields) {
+                let values = match f.get(name) {
+                    Field::Scalar(phi) => FieldValues::Scalar(phi.into_owned()),
+                    Field::Vector(phi) => FieldValues::Vector(mesh::v3::to_arrays(phi)),
+                };
+                let stored = format!("stored_{name}");
+                write_cell_field(dir, time, mesh, &stored, dimensions(name), values, fmt)?;
+            }
+        }
+        if let Some((particle, cells)) = self.last.cell_volume {
+            for (name, v) in [("particleCellVolume", particle), ("cellVolume", cells)] {
+                write_cell_field(
+                    dir,
+                    time,
+                    mesh,
+                    name,
+                    [0, 3, 0, 0, 0, 0, 0],
+                    uniform(v),
+                    fmt,
+                )?;
+            }
+        }
+        for (name, value) in &self.last.averages {
+            // an average over no cell is not written as a number: the field is left out
+            let Some(value) = value else { continue };
+            let values = match value {
+                FieldValuesOne::Scalar(x) => uniform(*x),
+                FieldValuesOne::Vector(v) => FieldValues::Vector(vec![[v.x, v.y, v.z]; n]),
+            };
+            let field = format!("volAverage_{name}");
+            write_cell_field(dir, time, mesh, &field, dimensions(name), values, fmt)?;
+        }
+        if self.cfg.basic_io {
+            write_basic_io(dir, f.step, particles)?;
+        }
+        self.write_logs()
+    }
+
+    /// Rewrites the text files.
+    pub(crate) fn write_logs(&self) -> Result<(), RunError> {
+        for log in self.pcv_log.iter().chain(&self.vwa_log) {
+            log.write()?;
+        }
+        Ok(())
+    }
+
+    /// `clockModel standardClock`: the timing table (`sections` of (name, seconds, runs)) in
+    /// `cfd/clockData/timeEval.txt`; returns its lines for the log. `None` when the clock is off.
+    pub(crate) fn clock(
+        &self,
+        cfd: &Path,
+        sections: &[(&str, f64, u64)],
+    ) -> Result<Option<Vec<String>>, RunError> {
+        if !self.cfg.clock {
+            return Ok(None);
+        }
+        let mut lines = vec![
+            "Measured time intervals in wall-clock seconds:".to_owned(),
+            "Name\tdeltaT\tnOfRuns".to_owned(),
+        ];
+        for (name, seconds, runs) in sections {
+            lines.push(format!("{name}\t{seconds:e}\t{runs}"));
+        }
+        let log = TextLog {
+            path: cfd.join("clockData").join("timeEval.txt"),
+            text: format!("Time Evaluation\n{}\n", lines.join("\n")),
+        };
+        log.write()?;
+        Ok(Some(lines))
+    }
+}
+
+/// CFDEM's basicIO: the particles inside the mesh as `positions` (OpenFOAM's pre-v1706
+/// `Cloud<passiveParticle>` form `(x y z) cell`), `v` and `r`, in
+/// `dir/lagrangian/particleCloud/`.
+fn write_basic_io(
+    dir: &Path,
+    step: &CouplingStep,
+    particles: &ParticleState<'_>,
+) -> Result<(), RunError> {
+    let out = dir.join("lagrangian").join("particleCloud");
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| RunError::Io { path, source }
+    };
+    std::fs::create_dir_all(&out).map_err(io(&out))?;
+    let inside: Vec<(usize, usize)> = (0..particles.len())
+        .filter_map(|i| step.placement.centre[i].map(|c| (i, c as usize)))
+        .collect();
+    let header = |class: &str, object: &str| {
+        format!(
+            "FoamFile\n{{\n    version 2.0;\n    format ascii;\n    class {class};\n    \
+             location \"{}\";\n    object {object};\n}}\n\n{}\n(\n",
+            dir.file_name()
+                .map(|s| s.to_string_lossy())
+                .unwrap_or_default(),
+            inside.len()
+        )
+    };
+    let mut positions = header("Cloud<passiveParticle>", "positions");
+    let mut v = header("vectorField", "v");
+    let mut r = header("scalarField", "r");
+    for &(i, cell) in &inside {
+        let x = particles.position[i];
+        let u = particles.velocity[i];
+        let _ = writeln!(positions, "({} {} {}) {cell}", x.x, x.y, x.z);
+        let _ = writeln!(v, "({} {} {})", u.x, u.y, u.z);
+        let _ = writeln!(r, "{}", particles.radius[i]);
+    }
+    for (name, mut text) in [("positions", positions), ("v", v), ("r", r)] {
+        text.push_str(")\n");
+        let path = out.join(name);
+        atomic_write::write_atomically(&path, |w| w.write_all(text.as_bytes()))
+            .map_err(io(&path))?;
+    }
+    Ok(())
+}
