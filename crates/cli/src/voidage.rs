@@ -21,8 +21,10 @@ pub struct VoidageArgs {
     #[command(flatten)]
     pub dump: DumpArgs,
     /// How a particle's volume is shared among cells: the cell of its centre (`centre`),
-    /// CFDEM's 29 marker points (`divided`), the circumscribing cube (`cube`), Khawaja's
-    /// corrected cube (`corrected-cube`) or the exact sphere ∩ cell volume (`exact`).
+    /// CFDEM's 29 marker points (`divided`), CFDEM's trilinear weights over the 8 nearest cell
+    /// centres (`trilinear`, grids of equal axis-aligned cells only), the circumscribing cube
+    /// (`cube`), Khawaja's corrected cube (`corrected-cube`) or the exact sphere ∩ cell volume
+    /// (`exact`).
     #[arg(long, value_parser = PossibleValuesParser::new(Method::ALL.map(|m| m.name()))
         .map(|s| s.parse::<Method>().expect("a possible value")))]
     pub method: Method,
@@ -90,6 +92,8 @@ pub fn run(a: &VoidageArgs) -> anyhow::Result<()> {
         .transpose()?;
     let vm =
         VoidageMesh::new(&mesh).with_context(|| format!("mesh of {}", case.root().display()))?;
+    vm.check_method(a.method)
+        .with_context(|| format!("mesh of {}", case.root().display()))?;
     let set = ParticleSet {
         positions: mesh::v3::as_vectors(&positions),
         radii: &radii,

@@ -13,7 +13,14 @@ use std::path::Path;
 use std::process::{Command, Output};
 use testkit::fixture;
 
-const METHODS: [&str; 5] = ["centre", "divided", "cube", "corrected-cube", "exact"];
+const METHODS: [&str; 6] = [
+    "centre",
+    "divided",
+    "trilinear",
+    "cube",
+    "corrected-cube",
+    "exact",
+];
 
 fn foamgrain(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_foamgrain"))
@@ -178,6 +185,21 @@ fn general_mesh_cavity_fixture() {
     let dump = dump.to_str().unwrap();
     let volume = n as f64 * 4.0 / 3.0 * PI * 0.002f64.powi(3);
     for method in METHODS {
+        if method == "trilinear" {
+            // Defined on grids of equal axis-aligned cells only: refused, naming the need,
+            // leaving the field of the previous method as it was.
+            let field = case.path().join("0/voidfraction");
+            let before = std::fs::read(&field).ok();
+            let o = foamgrain(&["voidage", "--case", dir, "--dump", dump, "--method", method]);
+            assert_eq!(o.status.code(), Some(1));
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(
+                err.contains("trilinear") && err.contains("equal axis-aligned box cells"),
+                "{err}"
+            );
+            assert_eq!(std::fs::read(&field).ok(), before);
+            continue;
+        }
         let v = json(&["voidage", "--case", dir, "--dump", dump, "--method", method]);
         assert_eq!(v["axis_aligned_grid"], false);
         let (dep, out) = (f(&v, "deposited_volume"), f(&v, "outside_volume"));

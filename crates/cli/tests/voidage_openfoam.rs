@@ -44,7 +44,15 @@ fn openfoam_integral_of_written_voidage_equals_deposited_volume() {
     run_ok(openfoam("blockMesh"), dir.path());
     let dump = fixture("liggghts/settle.txt");
     let box_volume = 0.02 * 0.02 * 0.03;
-    for method in ["centre", "divided", "cube", "corrected-cube", "exact"] {
+    let methods = [
+        "centre",
+        "divided",
+        "trilinear",
+        "cube",
+        "corrected-cube",
+        "exact",
+    ];
+    for method in methods {
         let out = Command::new(env!("CARGO_BIN_EXE_foamgrain"))
             .args(["voidage", "--case", ".", "--dump", dump.to_str().unwrap()])
             .args(["--method", method, "--json"])

@@ -88,6 +88,17 @@ fn our_extensions_and_gidaspow_switch() {
     );
 }
 
+#[test]
+fn cfdem_trilinear_with_its_alpha_min() {
+    let text = BASE.replace(
+        "voidFractionModel exact;",
+        "voidFractionModel trilinear; trilinearProps { alphaMin 0.3; }",
+    );
+    let c = read(&text).unwrap();
+    assert_eq!(c.voidage.method, Method::Trilinear);
+    assert_eq!(c.voidage.alpha_min, Some(0.3));
+}
+
 /// `text` with `from` replaced by `to` must fail with a message holding every `expect`.
 fn fails(from: &str, to: &str, expect: &[&str]) {
     assert!(BASE.contains(from), "{from}");

@@ -155,7 +155,8 @@ fn cell_sums_equal_particle_sums_for_every_method() {
             .iter()
             .map(|c| V3::new(c[1], -c[0], c[2] * c[2]))
             .collect();
-        for m in Method::ALL {
+        // Graded meshes: every method but trilinear (uniform grids only).
+        for m in Method::ANY_MESH {
             let p = place(&vm, m, &pos, &rad);
             let beta: Vec<f64> = rad.iter().map(|r| 1e3 * r).collect();
             let force: Vec<V3> = vel.iter().map(|v| V3::new(v[2], v[0], -v[1])).collect();

@@ -4,11 +4,16 @@
 //! Every particle's volume V = 4πr³/3 is either deposited into cells or counted as outside the
 //! mesh: per particle, outside = V − Σ deposited shares, so Σ cells + outside = Σ V up to the
 //! rounding of the sums. The outside volume of the exact method is the part of the ball beyond
-//! the mesh boundary (plus rounding, ≈1e-16·V per particle). Voidage ε = 1 − solid/cell volume,
+//! the mesh boundary (plus rounding, ≈1e-16·V per particle); that of `centre`, `divided` and
+//! `trilinear` the volume of the particles whose centre lies outside the mesh (they keep the rest
+//! of a ball beyond the boundary in cells). Voidage ε = 1 − solid/cell volume,
 //! unclipped unless `alpha_min` is given; the solid volume removed by clipping is reported.
 //!
 //! # Methods on axis-aligned grids ([`mesh::AxisGrid`])
 //! * `centre`, `divided`: the grid's half-open locate rule;
+//! * `trilinear` (only on grids of equal cells, whatever the [`MeshOptions`]): the 8 cells
+//!   around the centre by grid index, weights from OpenFOAM's cell centres
+//!   ([`crate::trilinear`]); a particle whose centre is in the mesh has all its volume in cells;
 //! * `cube`: per-axis overlaps of [c − r, c + r] with the grid intervals, multiplied;
 //! * `corrected-cube`: the same per-axis segments, extended by one virtual cell below the first
 //!   and above the last plane where the cube leaves the grid, so that the cube is tiled as if the
@@ -21,6 +26,7 @@
 //! # Methods on general meshes (any polyhedral cells)
 //! * `centre`, `divided`: [`mesh::Locator`] (markers are located starting from the centre's
 //!   cell);
+//! * `trilinear`: not defined ([`crate::VoidageError::UnsupportedMesh`]);
 //! * `exact`: the face-flux form of [`crate::sphere_poly`] over the fan triangles of each cell's
 //!   faces — the boundary of the cell's tets in [`mesh::TetDecomposition`], so the shares are
 //!   those of Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`]. A ball inside the kernel of
@@ -53,6 +59,7 @@ use crate::sphere_box::{
     ball_volume, cut_ball_unit, interval_dist2, sphere_grid_volumes, GridScratch,
 };
 use crate::sphere_poly::{polygon_flux_unit, triangle_flux_unit, MAX_POLYGON};
+use crate::trilinear::{check_grid, grid_trilinear};
 use crate::vec3::{to_unit, V3};
 use foam::{FaceList, Label, PolyMesh};
 use mesh::{Aabb, AxisGrid, Locator, LocatorOptions, MeshGeometry};
@@ -506,6 +513,17 @@ impl VoidageMesh {
         &self.geom.cell_volumes
     }
 
+    /// Whether `method` is defined on this mesh: every method is, except `trilinear` on a
+    /// mesh that is not a structured grid of equal axis-aligned cells
+    /// ([`crate::trilinear::check_grid`]; independent of [`MeshOptions`]). Deposits check it
+    /// first.
+    pub fn check_method(&self, method: Method) -> Result<(), VoidageError> {
+        match method {
+            Method::Trilinear => check_grid(self.locator.tets().axis_grid()).map(|_| ()),
+            _ => Ok(()),
+        }
+    }
+
     /// Deposits the particles' volumes with `method` (module docs), locating the centres
     /// without hints.
     pub fn deposit(
@@ -587,6 +605,7 @@ impl VoidageMesh {
         cells: &mut [Option<Label>],
         mut keep: Option<&mut CellShares>,
     ) -> Result<Deposit, VoidageError> {
+        self.check_method(method)?;
         particles.check()?;
         if cells.len() != particles.len() {
             return Err(VoidageError::LengthMismatch {
@@ -722,6 +741,11 @@ impl VoidageMesh {
                 None => b.v,
             },
             (Method::Divided, _) => self.divided(b, s, out),
+            (Method::Trilinear, _) => {
+                let g = self.locator.tets().axis_grid();
+                let g = g.expect("trilinear: the grid is checked before depositing");
+                grid_trilinear(g, &self.geom.cell_centres, b.c, b.cell, b.v, out)
+            }
             (Method::Exact, Some(g)) => grid_exact(g, b, s, out),
             (Method::Cube | Method::CorrectedCube, Some(g)) => grid_cube(g, b, corrected, s, out),
             (Method::Exact, None) => self.general_exact(b, s, out),

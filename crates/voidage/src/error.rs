@@ -1,6 +1,6 @@
 //! Typed errors of the voidage crate.
 
-use crate::method::UnknownMethod;
+use crate::method::{Method, UnknownMethod};
 use mesh::v3::V3;
 
 /// What is wrong with one particle.
@@ -60,4 +60,14 @@ pub enum VoidageError {
     /// An unknown method name.
     #[error(transparent)]
     UnknownMethod(#[from] UnknownMethod),
+    /// The method is not defined on this mesh (`trilinear` on a graded or unstructured mesh).
+    #[error("voidage method `{method}` needs {requirement}; {problem}")]
+    UnsupportedMesh {
+        /// The method.
+        method: Method,
+        /// What the method needs of a mesh.
+        requirement: &'static str,
+        /// What this mesh lacks.
+        problem: String,
+    },
 }

@@ -9,12 +9,15 @@
 //! * [`cube_fraction`], [`khawaja_correction`], [`correct_and_renormalise`]: the circumscribing
 //!   cube and Khawaja et al.'s (2012) corrected cube ([`cube`]);
 //! * [`divided_offsets`]: CFDEM's 29 "divided" marker points ([`divided`]);
+//! * [`trilinear_weights`], [`cfdem_lower_corner`]: CFDEM's trilinear weights over the 8 cell
+//!   centres around a particle and its choice of their lower corner ([`trilinear`]);
 //! * [`box_tet_volume`]: exact axis-aligned box ∩ tetrahedron by clipping ([`clip`]).
 //!
 //! # Models on a mesh
 //! [`VoidageMesh`] prepares an OpenFOAM [`foam::PolyMesh`] (geometry, [`mesh::Locator`],
 //! indexes) and deposits the volume of N particles ([`ParticleSet`]) into per-cell solid volume
-//! with a [`Method`] — `centre`, `divided`, `cube`, `corrected-cube` or `exact` — in parallel,
+//! with a [`Method`] — `centre`, `divided`, `trilinear` (uniform axis-aligned grids only),
+//! `cube`, `corrected-cube` or `exact` — in parallel,
 //! with every particle's volume either in a cell or counted outside the mesh ([`Deposit`]);
 //! [`VoidageMesh::voidage`] turns it into ε = 1 − solid / cell volume ([`Voidage`]), optionally
 //! clipped from below with the clipped volume reported. See the [`engine`] module docs for how
@@ -45,6 +48,7 @@ mod label_map;
 mod method;
 pub mod sphere_box;
 pub mod sphere_poly;
+pub mod trilinear;
 mod vec3;
 
 pub use clip::box_tet_volume;
@@ -65,3 +69,4 @@ pub use sphere_box::{
     ball_volume, cap_volume, corner_volume, sphere_box_volume, sphere_grid_volumes, GridScratch,
 };
 pub use sphere_poly::{sphere_polyhedron_volume, sphere_tet_volume, triangle_flux, TET_FACES};
+pub use trilinear::{cfdem_lower_corner, trilinear_weights, TRILINEAR_REQUIREMENT};

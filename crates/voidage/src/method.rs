@@ -12,6 +12,12 @@ pub enum Method {
     /// `divided` (CFDEM `divided`): 29 marker points of 1/29 of the volume each
     /// ([`crate::divided`]); markers outside the mesh go to the centre's cell. Jumps by V/29.
     Divided,
+    /// `trilinear` (CFDEM `trilinear`): the volume shared among the 8 cells whose centres
+    /// surround the particle centre with trilinear weights ([`crate::trilinear`]), as CFDEM
+    /// does at the mesh boundary. Only on structured grids of equal axis-aligned cells
+    /// (elsewhere [`crate::VoidageError::UnsupportedMesh`]). Continuous except in the cells
+    /// along the lower walls; independent of the particle size.
+    Trilinear,
     /// `cube`: the fraction of the circumscribing cube (side d) in each cell ([`crate::cube`]).
     /// Continuous; up to ≈20 % of the volume misplaced.
     Cube,
@@ -24,7 +30,18 @@ pub enum Method {
 
 impl Method {
     /// Every method, in the order of the CLI help.
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
+        Method::Centre,
+        Method::Divided,
+        Method::Trilinear,
+        Method::Cube,
+        Method::CorrectedCube,
+        Method::Exact,
+    ];
+
+    /// The methods defined on every mesh: all but `trilinear`, which needs a structured grid
+    /// of equal axis-aligned cells ([`crate::VoidageMesh::check_method`]).
+    pub const ANY_MESH: [Method; 5] = [
         Method::Centre,
         Method::Divided,
         Method::Cube,
@@ -37,6 +54,7 @@ impl Method {
         match self {
             Method::Centre => "centre",
             Method::Divided => "divided",
+            Method::Trilinear => "trilinear",
             Method::Cube => "cube",
             Method::CorrectedCube => "corrected-cube",
             Method::Exact => "exact",
@@ -48,11 +66,14 @@ impl Method {
         match self {
             Method::Centre => Some("centre"),
             Method::Divided => Some("divided"),
+            Method::Trilinear => Some("trilinear"),
             _ => None,
         }
     }
 
-    /// True for the methods whose cell shares vary continuously with the particle position.
+    /// True for the methods whose cell shares vary continuously with the particle position
+    /// everywhere (`trilinear` is continuous except near the lower walls, as CFDEM's corner
+    /// search makes it: [`crate::trilinear`]).
     pub fn is_continuous(self) -> bool {
         matches!(self, Method::Cube | Method::CorrectedCube | Method::Exact)
     }
@@ -85,12 +106,13 @@ impl std::error::Error for UnknownMethod {}
 impl FromStr for Method {
     type Err = UnknownMethod;
 
-    /// Accepts the names of [`Method::name`], CFDEM's spellings (`centre`, `divided`, also
-    /// with the `VoidFraction` suffix of its class names) and `center`.
+    /// Accepts the names of [`Method::name`], CFDEM's spellings (`centre`, `divided`,
+    /// `trilinear`, also with the `VoidFraction` suffix of its class names) and `center`.
     fn from_str(s: &str) -> Result<Method, UnknownMethod> {
         Ok(match s {
             "centre" | "center" | "centreVoidFraction" => Method::Centre,
             "divided" | "dividedVoidFraction" => Method::Divided,
+            "trilinear" | "trilinearVoidFraction" => Method::Trilinear,
             "cube" => Method::Cube,
             "corrected-cube" => Method::CorrectedCube,
             "exact" => Method::Exact,

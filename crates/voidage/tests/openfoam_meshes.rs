@@ -124,7 +124,7 @@ fn every_method_conserves_volume() {
         let vm = load(case);
         let mut rng = Rng::new(42);
         let (pos, rad) = particles(&vm, &mut rng, 300);
-        for m in Method::ALL {
+        for m in Method::ALL.into_iter().filter(|&m| defined_on(&vm, m)) {
             let d = vm.deposit(m, &ParticleSet::new(&pos, &rad)).unwrap();
             assert!(d.conservation_error() < 1e-12, "{case} {m}");
             assert!(d.solid.iter().all(|&s| s >= 0.0));

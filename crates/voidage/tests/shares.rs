@@ -42,7 +42,7 @@ fn shares_add_up_to_the_deposit_bit_for_bit() {
     let (pos, rad) = cloud(7, 3000);
     let set = ParticleSet::new(&pos, &rad);
     for vm in meshes() {
-        for m in Method::ALL {
+        for m in Method::ALL.into_iter().filter(|&m| defined_on(&vm, m)) {
             let (sh, dep) = vm.shares(m, &set).unwrap();
             let plain = vm.deposit(m, &set).unwrap();
             assert_eq!(dep, plain, "{m}");
@@ -141,7 +141,7 @@ fn many_batches_sum_in_particle_order_with_any_thread_count() {
 fn each_particle_matches_a_deposit_of_it_alone() {
     let (pos, rad) = cloud(11, 60);
     for vm in meshes() {
-        for m in Method::ALL {
+        for m in Method::ALL.into_iter().filter(|&m| defined_on(&vm, m)) {
             let (sh, _) = vm.shares(m, &ParticleSet::new(&pos, &rad)).unwrap();
             for i in 0..pos.len() {
                 let one = vm

@@ -145,9 +145,10 @@ pub struct CouplingConfig {
 }
 
 /// CFDEM's `voidFractionModel` names and ours.
-const VOIDAGE_NAMES: [(&str, Method); 7] = [
+const VOIDAGE_NAMES: [(&str, Method); 8] = [
     ("centre", Method::Centre),
     ("divided", Method::Divided),
+    ("trilinear", Method::Trilinear),
     ("cube", Method::Cube),
     ("correctedCube", Method::CorrectedCube),
     ("corrected-cube", Method::CorrectedCube),
@@ -156,11 +157,10 @@ const VOIDAGE_NAMES: [(&str, Method); 7] = [
 ];
 
 /// CFDEM's voidage models foamgrain does not implement, with the nearest of ours.
-const VOIDAGE_UNSUPPORTED: [(&str, &str); 5] = [
+const VOIDAGE_UNSUPPORTED: [(&str, &str); 4] = [
     ("bigParticle", "cube or exact"),
     ("GaussVoidFraction", "exact"),
     ("IBVoidFraction", "exact"),
-    ("trilinear", "exact"),
     ("dividedSmooth", "divided or exact"),
 ];
 

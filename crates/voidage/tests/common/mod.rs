@@ -46,6 +46,22 @@ impl Rng {
     }
 }
 
+/// Whether `m` is defined on `vm`: every method is, except `trilinear` on a mesh that is not a
+/// grid of equal axis-aligned cells, which must be refused with [`voidage::VoidageError::UnsupportedMesh`].
+pub fn defined_on(vm: &voidage::VoidageMesh, m: voidage::Method) -> bool {
+    match vm.check_method(m) {
+        Ok(()) => true,
+        Err(e) => {
+            assert_eq!(m, voidage::Method::Trilinear, "{e}");
+            assert!(
+                matches!(e, voidage::VoidageError::UnsupportedMesh { .. }),
+                "{e}"
+            );
+            false
+        }
+    }
+}
+
 /// A Monte Carlo estimate of vol{x ∈ box : inside(x)} with `n` uniform samples in the box:
 /// (estimate, standard error) from the binomial variance.
 pub fn monte_carlo(
