@@ -306,3 +306,77 @@ fn thermo_rows_come_at_liggghts_steps_and_do_not_change_the_physics() {
         ["Step", "Atoms", "KinEng", "CPU"]
     );
 }
+
+/// `units cgs` (cm, g, s, dyn): the same physics as SI with every input converted. A small
+/// pour (insertion, gravity, Hertz contacts with history, walls) in SI and in cgs ends in the
+/// same state, lengths ×100 and velocities ×100, to round-off; and E is bounded by LIGGGHTS's
+/// cgs limits (5e7 … 1e10 dyn/cm²), not the SI ones.
+#[test]
+fn cgs_units_are_si_scaled() {
+    // (length, velocity, density, pressure, acceleration) factors SI → cgs
+    let deck = |cgs: bool| {
+        let (l, d, p) = if cgs {
+            (100.0, 1e-3, 10.0)
+        } else {
+            (1.0, 1.0, 1.0)
+        };
+        format!(
+            "atom_style granular\natom_modify map array\nboundary f f f\nnewton off\n\
+             communicate single vel yes\nunits {units}\n\
+             region reg block {a} {b} {a} {b} 0 {h} units box\ncreate_box 1 reg\n\
+             neighbor {skin} bin\nneigh_modify delay 0\n\
+             fix m1 all property/global youngsModulus peratomtype {e}\n\
+             fix m2 all property/global poissonsRatio peratomtype 0.45\n\
+             fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3\n\
+             fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n\
+             pair_style gran model hertz tangential history\npair_coeff * *\n\
+             timestep 0.00001\nfix gravi all gravity {g} vector 0.0 0.0 -1.0\n\
+             fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0\n\
+             fix xwall all wall/gran model hertz tangential history primitive type 1 xplane {a}\n\
+             region ins block {a} {b} {a} {b} {z0} {h} units box\n\
+             fix pts1 all particletemplate/sphere 15485863 atom_type 1 density constant {rho} radius constant {r}\n\
+             fix pdd1 all particledistribution/discrete 15485867 1 pts1 1.0\n\
+             fix ins all insert/pack seed 32452843 distributiontemplate pdd1 vel constant 0. 0. {vz} \
+             insert_every once overlapcheck yes all_in yes particles_in_region 20 region ins\n\
+             fix integr all nve/sphere\nrun 3000\n",
+            units = if cgs { "cgs" } else { "si" },
+            a = -0.004 * l,
+            b = 0.004 * l,
+            h = 0.02 * l,
+            z0 = 0.002 * l,
+            skin = 0.0005 * l,
+            e = 5e6 * p,
+            g = 9.81 * l,
+            rho = 2000.0 * d,
+            r = 0.0005 * l,
+            vz = -0.5 * l,
+        )
+    };
+    let run = |src: String| {
+        let dir = tempfile::tempdir().unwrap();
+        let deck = Deck::parse(&src, Path::new("cgs.in"), &[]).unwrap();
+        Simulation::from_deck(&deck, dir.path()).unwrap()
+    };
+    let si = run(deck(false));
+    let cgs = run(deck(true));
+    assert_eq!(si.particles.len(), 20);
+    assert_eq!(cgs.particles.len(), 20);
+    // the pour has hit the floor: contacts acted (and amplify round-off: 7e-9 measured)
+    assert!(si.particles.x.iter().any(|x| x[2] < 0.0006));
+    let mut worst: f64 = 0.0;
+    for i in 0..20 {
+        let dx = (cgs.particles.x[i] - 100.0 * si.particles.x[i]).norm() / 0.05;
+        let dv = (cgs.particles.v[i] - 100.0 * si.particles.v[i]).norm() / 50.0;
+        worst = worst.max(dx).max(dv);
+    }
+    eprintln!("cgs vs SI × 100: largest difference {worst:e} of the radius / impact speed");
+    assert!(worst < 1e-6, "{worst:e}");
+    // LIGGGHTS's E bounds follow the unit system: 5e6 dyn/cm² is too soft in cgs
+    let soft = deck(true).replace(
+        "youngsModulus peratomtype 50000000",
+        "youngsModulus peratomtype 5000000",
+    );
+    let e = deck_error(&soft);
+    assert!(e.contains("5e7") && e.contains("CGS"), "{e}");
+    assert!(deck_error(&deck(true).replace("units cgs", "units lj")).contains("si, cgs"));
+}

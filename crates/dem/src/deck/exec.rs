@@ -1,7 +1,7 @@
 //! Executes a [`Deck`] on a [`Simulation`], command by command, as LIGGGHTS would.
 //!
 //! Supported (anything else is an error naming file, line and command):
-//! - set-up: `atom_style granular`, `atom_modify map array|hash`, `units si`, `boundary`
+//! - set-up: `atom_style granular`, `atom_modify map array|hash`, `units si|cgs`, `boundary`
 //!   (`f`, `m`, `s`; periodic is refused), `newton`, `communicate`/`comm_modify`,
 //!   `processors`, `region ID block|cylinder … [units box] [side in]`, `create_box N REGION`,
 //!   `read_data FILE`, `create_atoms T single x y z [units box]`, `set group all diameter D
@@ -69,6 +69,8 @@ struct Pending {
     dumps: Vec<DumpOutput>,
     soft: bool,
     hard: bool,
+    /// `units cgs` (default si).
+    cgs: bool,
 }
 
 /// What executing a deck reports as it goes, for a front end (`foamgrain dem` prints the
@@ -402,9 +404,15 @@ impl Exec<'_> {
                 }
             }
             "units" => {
-                if word(w, 1, "units")? != "si" {
-                    return Err("only `units si` is supported".into());
-                }
+                // granular physics is the same in any consistent unit system: cgs (cm, g, s,
+                // dyn) only moves LIGGGHTS's bounds on Young's modulus
+                self.pending.cgs = match word(w, 1, "units")? {
+                    "si" => false,
+                    "cgs" => true,
+                    other => {
+                        return Err(format!("`units {other}` is not supported (si, cgs)").into())
+                    }
+                };
             }
             "newton" | "communicate" | "comm_modify" | "processors" | "echo" | "log" | "print"
             | "compute_modify" => {}
@@ -1217,17 +1225,22 @@ impl Exec<'_> {
             rolling_friction: prop("coefficientRollingFriction", "peratomtypepair", rolling)?,
             cohesion_energy_density: prop("cohesionEnergyDensity", "peratomtypepair", cohesion)?,
         };
+        // LIGGGHTS's sanity bounds on E, in the deck's units (Pa, or dyn/cm² = 0.1 Pa for cgs)
+        let (soft, hard, units) = match p.cgs {
+            false => (5e6, 1e9, "SI"),
+            true => (5e7, 1e10, "CGS"),
+        };
         for (t, &e) in input.youngs_modulus.iter().enumerate() {
-            if e < 5e6 && !p.soft {
+            if e < soft && !p.soft {
                 return Err(format!(
-                    "youngsModulus {e} of type {} < 5e6 (LIGGGHTS's SI limit; `soft_particles yes` overrides)",
+                    "youngsModulus {e} of type {} < {soft:e} (LIGGGHTS's {units} limit; `soft_particles yes` overrides)",
                     t + 1
                 )
                 .into());
             }
-            if e > 1e9 && !p.hard {
+            if e > hard && !p.hard {
                 return Err(format!(
-                    "youngsModulus {e} of type {} > 1e9 (LIGGGHTS's SI limit; `hard_particles yes` overrides)",
+                    "youngsModulus {e} of type {} > {hard:e} (LIGGGHTS's {units} limit; `hard_particles yes` overrides)",
                     t + 1
                 )
                 .into());
