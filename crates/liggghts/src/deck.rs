@@ -12,7 +12,8 @@
 //! - trailing `run` commands are skipped (the coupler issues its own runs) and reported; a `run`
 //!   after `couple/cfd` that is followed by other commands cannot be replaced and is an error;
 //! - `include`, `jump`, `label` and `next` are refused (the checks could not see through them);
-//! - files named by `read_data` exist in the working directory.
+//! - files named by `read_data` and `read_restart` exist in the working directory;
+//! - a `processors Px Py Pz` grid matches the ranks LIGGGHTS gets ([`CouplingDeck::check_ranks`]).
 //!
 //! Lines are read with the deck language's reader ([`liggghts_deck`]: `&` continuations,
 //! comments, quotes, `-var` values and `variable` substitution).
@@ -81,6 +82,8 @@ pub struct CouplingDeck {
     pub time_step: Option<f64>,
     read_data: Vec<(usize, String)>,
     dump_files: Vec<(usize, String)>,
+    /// `processors Px Py Pz`: its line and grid (`None` for `*`, LIGGGHTS's choice).
+    pub processors: Option<(usize, [Option<usize>; 3])>,
 }
 
 impl CouplingDeck {
@@ -109,6 +112,7 @@ impl CouplingDeck {
         let mut time_step = None;
         let mut read_data = Vec::new();
         let mut dump_files = Vec::new();
+        let mut processors = None;
         for c in &deck.commands {
             let w = &c.words;
             match w[0].as_str() {
@@ -133,10 +137,31 @@ impl CouplingDeck {
                     }
                 }
                 "timestep" => time_step = w.get(1).and_then(|s| s.parse::<f64>().ok()),
-                "read_data" => {
+                "read_data" | "read_restart" => {
                     if let Some(f) = w.get(1) {
                         read_data.push((c.line, f.clone()));
                     }
+                }
+                "processors" => {
+                    let mut grid = [None; 3];
+                    for (k, g) in grid.iter_mut().enumerate() {
+                        let word = w.get(k + 1).map(String::as_str).unwrap_or("");
+                        *g = match word {
+                            "*" => None,
+                            n => match n.parse::<usize>() {
+                                Ok(n) if n >= 1 => Some(n),
+                                _ => {
+                                    return Err(err(
+                                        c.line,
+                                        format!(
+                                            "processors: `{word}` is not a rank count ≥ 1 or `*`"
+                                        ),
+                                    ))
+                                }
+                            },
+                        };
+                    }
+                    processors = Some((c.line, grid));
                 }
                 "fix" if w.get(3).map(String::as_str) == Some("couple/cfd") => {
                     if let Some((first, ..)) = &couple {
@@ -242,6 +267,43 @@ impl CouplingDeck {
             time_step,
             read_data,
             dump_files,
+            processors,
+        })
+    }
+
+    /// Checks that the deck's `processors` grid can run on `ranks` LIGGGHTS ranks (the product
+    /// of its numbers equals `ranks`, or divides it when a `*` lets LIGGGHTS choose the rest);
+    /// LIGGGHTS would stop the whole process otherwise.
+    pub fn check_ranks(&self, ranks: usize) -> Result<(), LiggghtsError> {
+        let Some((line, grid)) = self.processors else {
+            return Ok(());
+        };
+        let fixed: usize = grid.iter().flatten().product();
+        let free = grid.iter().any(Option::is_none);
+        let fits = if free {
+            ranks % fixed == 0
+        } else {
+            fixed == ranks
+        };
+        if fits {
+            return Ok(());
+        }
+        let shown: Vec<String> = grid
+            .iter()
+            .map(|g| g.map_or("*".into(), |n| n.to_string()))
+            .collect();
+        Err(LiggghtsError::Deck {
+            file: self.file.clone(),
+            line,
+            message: format!(
+                "`processors {}` asks for {}{fixed} LIGGGHTS ranks, but LIGGGHTS runs on {ranks} \
+                 here (foamgrain runs LIGGGHTS on its own MPI ranks: launch \
+                 `mpirun -np {fixed} foamgrain run …` once LIGGGHTS runs on several ranks, or run \
+                 this deck on the native DEM, `--dem native`, which ignores `processors` and uses \
+                 threads, or change the line to `processors * * *`)",
+                shown.join(" "),
+                if free { "a multiple of " } else { "" },
+            ),
         })
     }
 
@@ -260,7 +322,7 @@ impl CouplingDeck {
                     file: self.file.clone(),
                     line: *line,
                     message: format!(
-                        "read_data: {} does not exist (relative to the working directory {}; \
+                        "{} does not exist (relative to the working directory {}; \
                          does stage 1 have to run first?)",
                         f,
                         workdir.display()
@@ -486,6 +548,42 @@ mod tests {
         fix cfd all couple/cfd couple_every 50 mpi\n\
         fix cfd2 all couple/cfd/force/implicit\nfix integr all nve/sphere\nrun 100\n\
         run ${n} &\n  upto\n";
+
+    /// CFDEM's decks declare their LIGGGHTS grid (`processors 2 2 1`): refused before
+    /// LIGGGHTS starts when the ranks do not match, naming the line and the ways out; a
+    /// `read_restart` file must exist like a `read_data` file.
+    #[test]
+    fn processors_grid_and_restart_file_are_checked() {
+        let d = deck(&GOOD.replace(
+            "timestep 1e-5\n",
+            "timestep 1e-5\nprocessors 2 2 1\nread_restart post/restart/liggghts.restart\n",
+        ))
+        .unwrap();
+        assert_eq!(d.processors, Some((4, [Some(2), Some(2), Some(1)])));
+        d.check_ranks(4).unwrap();
+        let e = d.check_ranks(1).unwrap_err().to_string();
+        assert!(
+            e.contains("in.t:4:")
+                && e.contains("processors 2 2 1")
+                && e.contains("4 LIGGGHTS ranks"),
+            "{e}"
+        );
+        assert!(
+            e.contains("--dem native") && e.contains("mpirun -np 4"),
+            "{e}"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let e = d.check_inputs(dir.path()).unwrap_err().to_string();
+        assert!(
+            e.contains("in.t:5:") && e.contains("liggghts.restart"),
+            "{e}"
+        );
+        // `*` leaves the rest to LIGGGHTS
+        let free = deck(&GOOD.replace("timestep 1e-5\n", "processors * 2 1\n")).unwrap();
+        free.check_ranks(4).unwrap();
+        assert!(free.check_ranks(3).is_err());
+        assert!(deck(&GOOD.replace("timestep 1e-5\n", "processors 0 1 1\n")).is_err());
+    }
 
     #[test]
     fn the_reference_case_decks_pass() {

@@ -118,6 +118,8 @@ impl FileDem {
     ) -> Result<FileDem, LiggghtsError> {
         let d = CouplingDeck::read(deck, vars)?;
         d.check_inputs(workdir)?;
+        // the binary runs serially
+        d.check_ranks(1)?;
         let workdir = absolute(workdir)?;
         let every = d.couple_every.ok_or_else(|| LiggghtsError::Deck {
             file: deck.to_path_buf(),

@@ -147,6 +147,7 @@ impl LiggghtsDem {
             });
         }
         d.check_inputs(workdir)?;
+        d.check_ranks(comm.size() as usize)?;
         let workdir = absolute(workdir)?;
         let name = deck
             .file_name()
