@@ -281,7 +281,7 @@ impl CouplingDeck {
         let fixed: usize = grid.iter().flatten().product();
         let free = grid.iter().any(Option::is_none);
         let fits = if free {
-            ranks % fixed == 0
+            ranks.is_multiple_of(fixed)
         } else {
             fixed == ranks
         };
