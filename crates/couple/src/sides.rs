@@ -81,6 +81,11 @@ pub trait ParticleSide {
     /// Per-particle forces until the next exchange, in the order of [`ParticleSide::state`]:
     /// explicit `f_ext` (N), implicit `beta` (kg/s) and `u_f` (m/s).
     fn set_forces(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), SideError>;
+    /// Runs one LIGGGHTS command on the particle side (CFDEM's `liggghtsCommands`, e.g.
+    /// `write_restart FILE`). The default refuses every command, naming it.
+    fn command(&mut self, command: &str) -> Result<(), SideError> {
+        Err(format!("this particle side cannot run LIGGGHTS commands (`{command}`)").into())
+    }
 }
 
 /// A CFD side.

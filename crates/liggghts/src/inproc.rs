@@ -421,6 +421,11 @@ impl ParticleSide for LiggghtsDem {
         self.push_fields()?;
         Ok(())
     }
+
+    fn command(&mut self, cmd: &str) -> Result<(), SideError> {
+        LiggghtsDem::command(self, cmd)?;
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -318,6 +318,10 @@ pub fn run(
         events(Event::Message(format!("warning: {w}")));
     }
     let settings = config.coupler_settings(&layout.cfd)?;
+    let commands = couple::config::LiggghtsCommands::read_case(&layout.cfd)?;
+    for w in &commands.warnings {
+        events(Event::Message(format!("warning: {w}")));
+    }
 
     // Stage 1: the packed bed.
     let run_deck = Deck::read(&layout.run_deck)?;
@@ -423,6 +427,7 @@ pub fn run(
         monitors: config.monitors.clone(),
         solve_flow: config.solve_flow,
         ddt_voidage: config.ddt_voidage,
+        commands,
         opts,
         stop,
         init_seconds,
@@ -449,9 +454,36 @@ pub(crate) struct LoopContext<'a> {
     pub(crate) solve_flow: bool,
     /// `useDDTvoidfraction`.
     pub(crate) ddt_voidage: bool,
+    /// CFDEM's `liggghtsCommands`.
+    pub(crate) commands: couple::config::LiggghtsCommands,
     pub(crate) opts: &'a RunOptions,
     pub(crate) stop: &'a AtomicBool,
     pub(crate) init_seconds: f64,
+}
+
+/// Runs one of `liggghtsCommands`' commands on the particle side. The folder of a file it
+/// writes (`write_restart`, `write_data`, `write_dump`; resolved against `DEM/` like the deck's
+/// paths, which is CFDEM's `CFD/` for paths starting `../DEM/`) is created first: LIGGGHTS
+/// would stop the process on a missing one.
+fn run_command<P: ParticleSide>(
+    dem: &mut P,
+    cmd: &str,
+    layout: &CaseLayout,
+    events: &mut dyn FnMut(Event),
+) -> Result<(), RunError> {
+    let words: Vec<&str> = cmd.split_whitespace().collect();
+    if let ["write_restart" | "write_data" | "write_dump", file, ..] = words.as_slice() {
+        if let Some(dir) = layout.dem.join(file).parent() {
+            std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+        }
+    }
+    events(Event::Message(format!("liggghtsCommands: {cmd}")));
+    dem.command(cmd).map_err(|e| {
+        setup_err(
+            &layout.cfd.join("constant/liggghtsCommands"),
+            format!("`{cmd}`: {e}"),
+        )
+    })
 }
 
 /// Stage 2 on any pair of sides: the schedule, the samples, the outputs and the checks.
@@ -468,6 +500,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         coupling_interval,
         model_name,
         monitors,
+        commands,
         opts,
         stop,
         init_seconds,
@@ -559,6 +592,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let cell_volumes = coupler.voidage_mesh().geometry().cell_volumes.clone();
     let mut eps_before = coupler.voidage().to_vec();
     let mut ddt_eps = vec![0.0; mesh.n_cells];
+    let mut writes = 0;
     for k in 1..=steps {
         let step = coupler.step(&mut dem, &mut fluid)?;
         let time = fluid.inner.time();
@@ -583,6 +617,23 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             };
             for line in monitors.observe(time, &cell_volumes, &fields) {
                 events(Event::Message(line));
+            }
+        }
+        if write_now {
+            writes += 1;
+        }
+        let now = couple::config::commands::Moment {
+            step: k,
+            steps,
+            time,
+            elapsed: time - start,
+            dt_c,
+            write: write_now,
+            writes,
+        };
+        for c in &commands.commands {
+            if let Some(cmd) = c.due(now) {
+                run_command(&mut dem, &cmd, layout, events)?;
             }
         }
         if write_now {

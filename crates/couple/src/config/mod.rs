@@ -33,11 +33,13 @@
 //! Settings that are accepted but change nothing in foamgrain are listed, one sentence each,
 //! in [`CouplingConfig::warnings`].
 
+pub mod commands;
 mod forces;
 pub mod monitors;
 pub mod registry;
 mod transport;
 
+pub use commands::LiggghtsCommands;
 pub use monitors::Monitors;
 pub use transport::{read_gravity, read_transport};
 

@@ -214,6 +214,24 @@ pub const FORCES: Family = Family {
     ],
 };
 
+/// `liggghtsCommandModels` of `constant/liggghtsCommands` ([`super::commands`]).
+pub const LIGGGHTS_COMMANDS: Family = Family {
+    key: "liggghtsCommandModels",
+    models: &[
+        ("runLiggghts", Same),
+        ("writeLiggghts", Acts),
+        ("execute", Acts),
+        (
+            "readLiggghtsData",
+            Refuse("use `execute` with a read_data command"),
+        ),
+        (
+            "setDEMGravity",
+            Refuse("set gravity in the deck (`fix … gravity`)"),
+        ),
+    ],
+};
+
 /// Top-level single-name families, checked the same way: the key, its table.
 pub const SINGLE_NAME: [Family; 8] = [
     LOCATE,
@@ -232,7 +250,10 @@ mod tests {
 
     #[test]
     fn names_are_unique_within_a_family() {
-        for f in SINGLE_NAME.iter().chain([&CLOCK, &MOM_COUPLE, &FORCES]) {
+        for f in SINGLE_NAME
+            .iter()
+            .chain([&CLOCK, &MOM_COUPLE, &FORCES, &LIGGGHTS_COMMANDS])
+        {
             for (i, (a, _)) in f.models.iter().enumerate() {
                 assert!(
                     f.models[i + 1..].iter().all(|(b, _)| a != b),

@@ -1,0 +1,461 @@
+//! CFDEM's `constant/liggghtsCommands`: LIGGGHTS commands the coupler issues during a run.
+//!
+//! `liggghtsCommandModels ( … )` lists the models ([`super::registry::LIGGGHTS_COMMANDS`]):
+//! * `runLiggghts`: LIGGGHTS runs `couplingInterval` steps per coupling step — what foamgrain
+//!   always does (`runLiggghtsProps { preNo …; }` is accepted);
+//! * `writeLiggghts`: `write_restart PATH/NAME` at the fluid's write times (`writeLastOnly on`:
+//!   at the last coupling step only). `path` (default `../DEM`, relative to the OpenFOAM case)
+//!   and `writeName` (default `liggghts.restartCFDEM`) make the file name; without
+//!   `overwrite on` the time (`%f`, C's six decimals) is appended, one file per write time.
+//!   `writeEvery N` writes at every N-th write time. CFDEM-PFM's older name `writeLast` is read
+//!   as `writeLastOnly`;
+//! * `execute`: a command assembled from `command ( … )` with CFDEM's tokens (`dot` `.`,
+//!   `dotdot` `..`, `slash` `/`, `noBlanks`/`blanks` to glue or separate the words, `timeStamp`
+//!   to append the time, `number`/`label` from `scalars`/`labels`, `$couplingInterval`), run
+//!   once at the first coupling step (`runFirst`), at the last (`runLast`), every coupling step
+//!   (`runEveryCouplingStep`), at every write time (`runEveryWriteStep`), or every
+//!   `timeInterval` coupling steps from `startTime` to `endTime` (s). The k-th `execute` of the
+//!   list reads `executeProps<k>` (k from 0), as CFDEM does.
+//!
+//! A missing file means `runLiggghts` alone.
+
+use super::registry::{Support, LIGGGHTS_COMMANDS};
+use super::Reader;
+use crate::error::CoupleError;
+use foam::{Dict, Item, Value};
+use std::path::Path;
+
+/// When a command runs.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Schedule {
+    /// At the first coupling step.
+    First,
+    /// At the last coupling step.
+    Last,
+    /// After every coupling step.
+    EveryCouplingStep,
+    /// At every `every`-th write time of the fluid.
+    EveryWriteTime {
+        /// Write times between runs (1: each).
+        every: u64,
+    },
+    /// Every `interval` coupling steps from the step holding `start` to the one holding `end`
+    /// (times in s from the start of the run, as CFDEM counts them).
+    Interval {
+        /// First time, s.
+        start: f64,
+        /// Last time, s.
+        end: f64,
+        /// Coupling steps between runs (≥ 1).
+        interval: u64,
+    },
+}
+
+/// One command and its schedule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScheduledCommand {
+    /// The LIGGGHTS command (with the time appended at run time when `time_stamp`).
+    pub command: String,
+    /// Append the current time (`%f`) to the command when it runs.
+    pub time_stamp: bool,
+    /// When it runs.
+    pub schedule: Schedule,
+}
+
+/// Where a run stands after a coupling step, for [`ScheduledCommand::due`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Moment {
+    /// The coupling step just done (1-based).
+    pub step: u64,
+    /// Coupling steps in the run.
+    pub steps: u64,
+    /// Simulated time, s.
+    pub time: f64,
+    /// Time since the run's start, s.
+    pub elapsed: f64,
+    /// Coupling interval, s.
+    pub dt_c: f64,
+    /// Whether the fluid writes at this step.
+    pub write: bool,
+    /// Write times so far, this one included.
+    pub writes: u64,
+}
+
+impl ScheduledCommand {
+    /// The command to run at `now`, or `None` when it does not run then.
+    pub fn due(&self, now: Moment) -> Option<String> {
+        let run = match self.schedule {
+            Schedule::First => now.step == 1,
+            Schedule::Last => now.step == now.steps,
+            Schedule::EveryCouplingStep => true,
+            Schedule::EveryWriteTime { every } => {
+                now.write && (now.writes - 1).is_multiple_of(every)
+            }
+            Schedule::Interval {
+                start,
+                end,
+                interval,
+            } => {
+                // CFDEM: the coupling steps holding start and end, then every `interval`
+                let first = ((start + 1e-12) / now.dt_c).floor() as u64;
+                let last = ((end + 1e-12) / now.dt_c).floor() as u64;
+                let k = ((now.elapsed + 1e-9 * now.dt_c) / now.dt_c).floor() as u64;
+                k >= first && k <= last && (k - first).is_multiple_of(interval)
+            }
+        };
+        run.then(|| match self.time_stamp {
+            true => format!("{}{:.6}", self.command, now.time),
+            false => self.command.clone(),
+        })
+    }
+}
+
+/// The content of `liggghtsCommands`.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct LiggghtsCommands {
+    /// The commands, in the file's order.
+    pub commands: Vec<ScheduledCommand>,
+    /// Accepted settings without effect, one sentence each.
+    pub warnings: Vec<String>,
+}
+
+impl LiggghtsCommands {
+    /// Reads `constant/liggghtsCommands` of the OpenFOAM case `case` (none: no commands).
+    pub fn read_case(case: &Path) -> Result<LiggghtsCommands, CoupleError> {
+        let file = case.join("constant").join("liggghtsCommands");
+        if !file.is_file() {
+            return Ok(LiggghtsCommands::default());
+        }
+        let body = foam::parse_file(&file)?.body;
+        LiggghtsCommands::from_dict(&body, &file)
+    }
+
+    /// The commands of `top`, the body of the file `file`.
+    pub fn from_dict(top: &Dict, file: &Path) -> Result<LiggghtsCommands, CoupleError> {
+        let mut r = Reader::new(file);
+        let key = "liggghtsCommandModels";
+        let mut commands = Vec::new();
+        let mut executes = 0;
+        for name in r.word_list(top, key)? {
+            match LIGGGHTS_COMMANDS.support(&name) {
+                Some(Support::Acts) => {}
+                Some(_) | None => {
+                    r.select(&LIGGGHTS_COMMANDS, key, &name)?;
+                    continue;
+                }
+            }
+            match name.as_str() {
+                "writeLiggghts" => commands.push(write_liggghts(&r, top)?),
+                "execute" => {
+                    let props = format!("executeProps{executes}");
+                    executes += 1;
+                    commands.push(execute(&r, top, &props)?);
+                }
+                _ => unreachable!("every acting name of LIGGGHTS_COMMANDS is matched above"),
+            }
+        }
+        Ok(LiggghtsCommands {
+            commands,
+            warnings: r.warnings,
+        })
+    }
+}
+
+fn sub_dict<'d>(r: &Reader<'_>, top: &'d Dict, key: &str) -> Result<Option<&'d Dict>, CoupleError> {
+    match top.get(key) {
+        None => Ok(None),
+        Some(Value::Dict(d)) => Ok(Some(d)),
+        Some(Value::Stream(_)) => Err(r.err(key, "expected a dictionary")),
+    }
+}
+
+fn write_liggghts(r: &Reader<'_>, top: &Dict) -> Result<ScheduledCommand, CoupleError> {
+    let dict = "writeLiggghtsProps";
+    let empty = Dict::new();
+    let props = sub_dict(r, top, dict)?.unwrap_or(&empty);
+    r.check_props(
+        props,
+        dict,
+        &[
+            "path",
+            "writeName",
+            "overwrite",
+            "writeLastOnly",
+            "writeLast",
+            "writeEvery",
+            "verbose",
+        ],
+    )?;
+    let path = match props.contains("path") {
+        true => r.word(props, "path", &format!("{dict}/path"))?,
+        false => "../DEM",
+    };
+    let name = match props.contains("writeName") {
+        true => r.word(props, "writeName", &format!("{dict}/writeName"))?,
+        false => "liggghts.restartCFDEM",
+    };
+    let flag = |key: &str| r.opt_switch(props, key, &format!("{dict}/{key}"));
+    let last_only = match (flag("writeLastOnly")?, flag("writeLast")?) {
+        (Some(x), _) | (None, Some(x)) => x,
+        (None, None) => false,
+    };
+    let overwrite = flag("overwrite")?.unwrap_or(false);
+    let every = match props.contains("writeEvery") {
+        true => {
+            let key = format!("{dict}/writeEvery");
+            let n = props
+                .label("writeEvery")
+                .map_err(|e| r.err(&key, e.to_string()))?;
+            if n < 1 {
+                return Err(r.err(&key, format!("{n} is not ≥ 1")));
+            }
+            n as u64
+        }
+        false => 1,
+    };
+    let mut command = format!("write_restart {path}/{name}");
+    if !overwrite {
+        command.push('_');
+    }
+    Ok(ScheduledCommand {
+        command,
+        time_stamp: !overwrite,
+        schedule: match last_only {
+            true => Schedule::Last,
+            false => Schedule::EveryWriteTime { every },
+        },
+    })
+}
+
+fn execute(r: &Reader<'_>, top: &Dict, dict: &str) -> Result<ScheduledCommand, CoupleError> {
+    let Some(props) = sub_dict(r, top, dict)? else {
+        return Err(r.err(
+            dict,
+            "missing: the k-th `execute` of liggghtsCommandModels reads executeProps<k> (k from 0)",
+        ));
+    };
+    r.check_props(
+        props,
+        dict,
+        &[
+            "command",
+            "scalars",
+            "labels",
+            "runFirst",
+            "runLast",
+            "runEveryCouplingStep",
+            "runEveryWriteStep",
+            "startTime",
+            "endTime",
+            "timeInterval",
+            "verbose",
+        ],
+    )?;
+    let words = r.word_list_at(props, "command", &format!("{dict}/command"))?;
+    let numbers = |key: &str| -> Result<Vec<f64>, CoupleError> {
+        match props.get(key) {
+            None => Ok(Vec::new()),
+            Some(Value::Stream(s)) => match s.as_slice() {
+                [item] | [Item::Label(_), item] => item
+                    .as_f64_list()
+                    .ok_or_else(|| r.err(&format!("{dict}/{key}"), "expected a list of numbers")),
+                _ => Err(r.err(&format!("{dict}/{key}"), "expected a list of numbers")),
+            },
+            Some(Value::Dict(_)) => Err(r.err(&format!("{dict}/{key}"), "expected a list")),
+        }
+    };
+    let (scalars, labels) = (numbers("scalars")?, numbers("labels")?);
+    let (command, time_stamp) =
+        assemble(&words, &scalars, &labels).map_err(|m| r.err(&format!("{dict}/command"), m))?;
+    let flag =
+        |key: &str| -> Result<bool, CoupleError> { r.switch(props, key, &format!("{dict}/{key}")) };
+    // CFDEM reads the switches in this order, each only when the ones before are off
+    let schedule = if flag("runFirst")? {
+        Schedule::First
+    } else if flag("runLast")? {
+        Schedule::Last
+    } else if flag("runEveryCouplingStep")? {
+        Schedule::EveryCouplingStep
+    } else if flag("runEveryWriteStep")? {
+        Schedule::EveryWriteTime { every: 1 }
+    } else {
+        let num = |key: &str| r.number(props, key, &format!("{dict}/{key}"));
+        let interval = num("timeInterval")?;
+        if interval.is_nan() || interval < 1.0 {
+            return Err(r.err(
+                &format!("{dict}/timeInterval"),
+                format!("{interval} is not ≥ 1 (coupling steps between runs)"),
+            ));
+        }
+        Schedule::Interval {
+            start: num("startTime")?,
+            end: num("endTime")?,
+            interval: interval.floor() as u64,
+        }
+    };
+    Ok(ScheduledCommand {
+        command,
+        time_stamp,
+        schedule,
+    })
+}
+
+/// CFDEM's command assembly from words and tokens; returns the command and whether the time
+/// is to be appended.
+fn assemble(words: &[String], scalars: &[f64], labels: &[f64]) -> Result<(String, bool), String> {
+    let mut out = String::new();
+    let mut blank = true;
+    let mut time_stamp = false;
+    let (mut n, mut l) = (0, 0);
+    for w in words {
+        let add =
+            match w.as_str() {
+                "dot" => ".".to_owned(),
+                "dotdot" => "..".to_owned(),
+                "slash" => "/".to_owned(),
+                "noBlanks" => {
+                    blank = false;
+                    String::new()
+                }
+                "blanks" => {
+                    blank = true;
+                    String::new()
+                }
+                "timeStamp" => {
+                    time_stamp = true;
+                    String::new()
+                }
+                "number" => {
+                    let x = scalars.get(n).ok_or_else(|| {
+                        format!("`number` #{} but only {} scalars", n + 1, scalars.len())
+                    })?;
+                    n += 1;
+                    format!("{x:.6}")
+                }
+                "label" => {
+                    let x = labels.get(l).ok_or_else(|| {
+                        format!("`label` #{} but only {} labels", l + 1, labels.len())
+                    })?;
+                    l += 1;
+                    format!("{}", *x as i64)
+                }
+                "$couplingInterval" => return Err(
+                    "`$couplingInterval` in an execute command is not supported: write the number"
+                        .into(),
+                ),
+                other => other.to_owned(),
+            };
+        out.push_str(&add);
+        if blank {
+            out.push(' ');
+        }
+    }
+    Ok((out.trim_end().to_owned(), time_stamp))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<LiggghtsCommands, String> {
+        let d = foam::parse_bytes(text.as_bytes(), Path::new("liggghtsCommands"))
+            .map_err(|e| e.to_string())?
+            .body;
+        LiggghtsCommands::from_dict(&d, Path::new("liggghtsCommands")).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn tokens_assemble_as_cfdem_does() {
+        let w: Vec<String> = "write_restart noBlanks dotdot slash DEM slash post slash restart \
+                              slash liggghts dot restartRare_ timeStamp"
+            .split_whitespace()
+            .map(str::to_owned)
+            .collect();
+        let (c, ts) = assemble(&w, &[], &[]).unwrap();
+        assert_eq!(c, "write_restart ../DEM/post/restart/liggghts.restartRare_");
+        assert!(ts);
+        let w: Vec<String> = ["fix", "grav", "all", "gravity", "number", "vector", "label"]
+            .map(str::to_owned)
+            .to_vec();
+        assert_eq!(
+            assemble(&w, &[9.81], &[3.0]).unwrap().0,
+            "fix grav all gravity 9.810000 vector 3"
+        );
+        assert!(assemble(&w, &[], &[]).unwrap_err().contains("number"));
+    }
+
+    #[test]
+    fn write_and_execute_schedules() {
+        let c = read(
+            "liggghtsCommandModels ( runLiggghts writeLiggghts execute );\n\
+             runLiggghtsProps { preNo false; }\n\
+             writeLiggghtsProps { path \"../DEM/post/restart\"; overwrite off; writeLastOnly off; }\n\
+             executeProps0 { startTime 0.04; endTime 100; timeInterval 40; \
+               command ( write_restart noBlanks dotdot slash DEM slash r_ timeStamp ); \
+               runFirst off; runLast off; runEveryCouplingStep off; runEveryWriteStep off; }\n",
+        )
+        .unwrap();
+        assert_eq!(c.commands.len(), 2);
+        let w = &c.commands[0];
+        assert_eq!(
+            w.command,
+            "write_restart ../DEM/post/restart/liggghts.restartCFDEM_"
+        );
+        assert_eq!(w.schedule, Schedule::EveryWriteTime { every: 1 });
+        let at = |step: u64, steps: u64, dt_c: f64, write: bool, writes: u64| Moment {
+            step,
+            steps,
+            time: step as f64 * dt_c,
+            elapsed: step as f64 * dt_c,
+            dt_c,
+            write,
+            writes,
+        };
+        // written at a write time only, with C's %f time stamp
+        assert_eq!(w.due(at(3, 10, 5e-4, false, 0)), None);
+        assert_eq!(
+            w.due(at(4, 10, 5e-4, true, 1)).as_deref(),
+            Some("write_restart ../DEM/post/restart/liggghts.restartCFDEM_0.002000")
+        );
+        // every 40 coupling steps of 5e-4 s from t = 0.04 s (step 80)
+        let e = &c.commands[1];
+        let every = |k: u64| e.due(at(k, 1000, 5e-4, false, 0));
+        assert_eq!(every(79), None);
+        assert_eq!(
+            every(80).as_deref(),
+            Some("write_restart ../DEM/r_0.040000")
+        );
+        assert_eq!(every(100), None);
+        assert!(every(120).is_some());
+        // CFDEM-PFM's `writeLast`, overwrite on: one file, at the last step
+        let p = read(
+            "liggghtsCommandModels ( runLiggghts writeLiggghts );\n\
+             writeLiggghtsProps { writeLast on; writeName \"post/restart/liggghts.restartCFDEM\"; overwrite on; }\n",
+        )
+        .unwrap();
+        let w = &p.commands[0];
+        assert_eq!(w.schedule, Schedule::Last);
+        assert_eq!(
+            w.due(at(10, 10, 0.01, true, 3)).as_deref(),
+            Some("write_restart ../DEM/post/restart/liggghts.restartCFDEM")
+        );
+        assert_eq!(w.due(at(9, 10, 0.01, true, 2)), None);
+    }
+
+    #[test]
+    fn errors_name_the_key() {
+        let e = read("liggghtsCommandModels ( runLiggghts fancyCommand );").unwrap_err();
+        assert!(
+            e.contains("liggghtsCommandModels") && e.contains("fancyCommand"),
+            "{e}"
+        );
+        assert!(e.contains("writeLiggghts"), "{e}");
+        let e = read("liggghtsCommandModels ( execute );").unwrap_err();
+        assert!(e.contains("executeProps0"), "{e}");
+        let e = read(
+            "liggghtsCommandModels ( writeLiggghts );\nwriteLiggghtsProps { overwrite on; bogus 1; }",
+        )
+        .unwrap_err();
+        assert!(e.contains("writeLiggghtsProps/bogus"), "{e}");
+    }
+}
