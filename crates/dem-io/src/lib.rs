@@ -60,6 +60,7 @@ mod binary;
 mod bounds;
 mod error;
 mod reader;
+pub mod restart;
 mod snapshot;
 mod source;
 mod text;
