@@ -172,13 +172,19 @@ impl<R: Read> Src<R> {
     fn count(&mut self, what: &str, unit: u64) -> Res<usize> {
         let at = self.pos;
         let n = self.i32(what)?;
-        if n < 0 || (n as u64).saturating_mul(unit) > self.remaining() {
+        if n < 0 {
+            return Err(self.err(at, K::BadRecord(format!("{what} {n} is negative"))));
+        }
+        let need = (n as u64).saturating_mul(unit);
+        if need > self.remaining() {
             return Err(self.err(
                 at,
-                K::BadRecord(format!(
-                    "{what} {n} is negative or exceeds the {} bytes left",
-                    self.remaining()
-                )),
+                K::Truncated {
+                    expected: format!(
+                        "{what} {n} needs {need} bytes, {} are left",
+                        self.remaining()
+                    ),
+                },
             ));
         }
         Ok(n as usize)
