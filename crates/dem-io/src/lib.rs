@@ -1,4 +1,5 @@
-//! LIGGGHTS particle dumps: reading and writing `dump custom` files, text and binary.
+//! LIGGGHTS particle files: reading and writing `dump custom` files, text and binary, and
+//! restart files ([`restart`]).
 //!
 //! # What this crate owns
 //! The on-disk particle format of LIGGGHTS 3.8.0 (as packaged by Debian; the layout is the one
@@ -12,6 +13,10 @@
 //!   without converting their values (text rows are counted, binary chunks seeked over).
 //! - [`write_text`], [`write_binary`], [`DumpWriter`]: writers producing files LIGGGHTS-compatible
 //!   readers accept and that read back bit for bit.
+//! - [`restart`]: LIGGGHTS 3.8 restart files of `atom_style granular` (`write_restart` /
+//!   `read_restart`): a typed model (header records, groups, pair style, fix states, per-atom
+//!   records with the contact history), a reader whose errors name the file and byte, and a
+//!   writer that reproduces a file it read byte for byte.
 //!
 //! # Invariant
 //! Every snapshot handed out has unique column names and columns of equal length, and its values
@@ -60,6 +65,7 @@ mod binary;
 mod bounds;
 mod error;
 mod reader;
+pub mod restart;
 mod snapshot;
 mod source;
 mod text;

@@ -10,7 +10,8 @@
 //! - [`contact`]: `hertz`, `tangential` (history), `sjkr`, `rolling` (`cdt`, `epsd2`).
 //! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells + pair list).
 //! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
-//! - [`deck`]: the LIGGGHTS input subset; [`dump`]: `dump custom` output via `dem-io`;
+//! - [`deck`]: the LIGGGHTS input subset (restart files: [`deck::restart`]); [`dump`]:
+//!   `dump custom` output via `dem-io`;
 //!   [`from_dump`]: particles from a LIGGGHTS dump.
 //! - [`timestep`]: Rayleigh and Hertz time criteria.
 //!

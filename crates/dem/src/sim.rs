@@ -16,7 +16,7 @@ use dem_io::{Boundary, BoxBounds};
 use mesh::v3::V3;
 use rayon::prelude::*;
 
-use crate::contact::{contact_force, ContactInput, ContactModel, History};
+use crate::contact::{contact_force, ContactInput, ContactModel, History, HistoryUse};
 use crate::coupling::Coupling;
 use crate::dump::DumpOutput;
 use crate::error::DemError;
@@ -124,6 +124,9 @@ pub struct Simulation {
     acc: Vec<Vec<[V3; 2]>>,
     coupling: Coupling,
     forces_valid: bool,
+    /// Velocities the next set-up evaluates the forces with
+    /// ([`Simulation::set_half_step_velocities`]).
+    replay: Option<(Vec<V3>, Vec<V3>)>,
     pending_inserts: Vec<InsertPack>,
     dumps: Vec<DumpOutput>,
     lost: u64,
@@ -162,6 +165,7 @@ impl Simulation {
             acc: Vec::new(),
             coupling: Coupling::default(),
             forces_valid: false,
+            replay: None,
             pending_inserts: Vec::new(),
             dumps: Vec::new(),
             lost: 0,
@@ -322,7 +326,92 @@ impl Simulation {
     /// Marks the stored forces stale (after editing positions or velocities directly).
     pub fn invalidate_forces(&mut self) {
         self.forces_valid = false;
+        self.replay = None;
         self.pairs.invalidate();
+    }
+
+    /// Sets the step counter (a run continued from a restart file starts at the file's step).
+    pub fn set_step(&mut self, step: u64) {
+        self.step = step;
+    }
+
+    /// The particle–particle contact model.
+    pub fn pair_model(&self) -> &ContactModel {
+        &self.pair_model
+    }
+
+    /// The pairs of particles in contact now (centre distance below the sum of the radii),
+    /// as particle indices `i < j` with their history as seen from `i`, ordered by `i` then
+    /// `j`. This is the history the next step continues from.
+    pub fn pair_contacts(&self) -> Vec<(usize, usize, History)> {
+        let (x, r) = (&self.particles.x, &self.particles.radius);
+        let n = x.len();
+        let pl = &self.pairs;
+        (0..pl.len())
+            .filter_map(|k| {
+                let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
+                if i >= n || j >= n {
+                    return None;
+                }
+                let d = x[i] - x[j];
+                let radsum = r[i] + r[j];
+                (d.dot(&d) < radsum * radsum).then_some((i, j, pl.hist[k]))
+            })
+            .collect()
+    }
+
+    /// Sets the history of the pairs in contact, as `(i, j, history seen from i)` with
+    /// particle indices (either order). Builds the pair list at the current positions first;
+    /// pairs not in contact now are skipped (their history would be reset at the next step,
+    /// as LIGGGHTS does) and their number is returned.
+    pub fn set_pair_contacts(&mut self, contacts: &[(usize, usize, History)]) -> usize {
+        let p = &self.particles;
+        self.pairs.build(&p.x, &p.radius);
+        let n = p.len();
+        let mut skipped = 0;
+        for &(a, b, h) in contacts {
+            let (i, j, h) = if a < b {
+                (a, b, h)
+            } else {
+                (
+                    b,
+                    a,
+                    History {
+                        shear: -h.shear,
+                        roll: -h.roll,
+                    },
+                )
+            };
+            let in_contact = i != j && j < n && {
+                let d = p.x[i] - p.x[j];
+                let radsum = p.radius[i] + p.radius[j];
+                d.dot(&d) < radsum * radsum
+            };
+            let row = if in_contact {
+                self.pairs.first[i] as usize..self.pairs.first[i + 1] as usize
+            } else {
+                0..0
+            };
+            match self.pairs.j[row.clone()].binary_search(&(j as u32)) {
+                Ok(k) if in_contact => self.pairs.hist[row.start + k] = h,
+                _ => skipped += 1,
+            }
+        }
+        self.forces_valid = false;
+        skipped
+    }
+
+    /// The contact history of every particle with every wall: `walls().len()` entries per
+    /// particle, particle by particle (zero when not in contact).
+    pub fn wall_history(&self) -> &[History] {
+        &self.wall_hist
+    }
+
+    /// Sets the contact history of particle `i` with wall `w`.
+    pub fn set_wall_history(&mut self, i: usize, w: usize, h: History) {
+        let nw = self.walls.len();
+        self.wall_hist[i * nw + w] = h;
+        self.forces_valid = false;
     }
 
     /// Runs `n` steps (performing queued insertions and the set-up force evaluation first).
@@ -350,9 +439,56 @@ impl Simulation {
         }
         if !self.forces_valid {
             self.pairs.ensure(&self.particles.x, &self.particles.radius);
-            self.compute_forces(false, None);
+            match self.replay.take() {
+                Some((v, w)) => {
+                    let n = v.len().min(self.particles.len());
+                    let p = &mut self.particles;
+                    let full_v: Vec<V3> = p.v[..n].to_vec();
+                    let full_w: Vec<V3> = p.omega[..n].to_vec();
+                    p.v[..n].copy_from_slice(&v[..n]);
+                    p.omega[..n].copy_from_slice(&w[..n]);
+                    self.compute_forces(HistoryUse::Replay, None);
+                    let p = &mut self.particles;
+                    p.v[..n].copy_from_slice(&full_v);
+                    p.omega[..n].copy_from_slice(&full_w);
+                }
+                None => self.compute_forces(HistoryUse::Setup, None),
+            }
         }
         self.write_dumps()
+    }
+
+    /// The velocities and angular velocities half a step before the current one, v − (dt/2)F/m
+    /// and ω − (dt/2)T/I: those the forces of the current step were evaluated with, as
+    /// particle-index vectors. `None` while the forces are not those of the last step (before
+    /// the first run, or after the state was edited).
+    pub fn half_step_velocities(&self) -> Option<(Vec<V3>, Vec<V3>)> {
+        if !self.forces_valid {
+            return None;
+        }
+        let p = &self.particles;
+        let half = 0.5 * self.dt;
+        let mut v = Vec::with_capacity(p.len());
+        let mut w = Vec::with_capacity(p.len());
+        for i in 0..p.len() {
+            let a = half / p.mass[i];
+            let ai = half / (INERTIA_FACTOR * p.mass[i] * p.radius[i] * p.radius[i]);
+            v.push(p.v[i] - a * p.f[i]);
+            w.push(p.omega[i] - ai * p.torque[i]);
+        }
+        Some((v, w))
+    }
+
+    /// Gives the set-up of the next run the velocities the current step's forces were
+    /// evaluated with (see [`Simulation::half_step_velocities`]; a native restart file records
+    /// them), for the first `v.len()` particles. The set-up then evaluates the forces at those
+    /// velocities without advancing the contact history ([`HistoryUse::Replay`]) — the forces
+    /// of the uninterrupted run, to round-off — instead of LIGGGHTS's set-up at the full-step
+    /// velocities. Editing velocities or radii ([`Simulation::invalidate_forces`]) cancels it.
+    pub fn set_half_step_velocities(&mut self, v: Vec<V3>, omega: Vec<V3>) {
+        let n = v.len().min(omega.len()).min(self.particles.len());
+        self.replay = Some((v[..n].to_vec(), omega[..n].to_vec()));
+        self.forces_valid = false;
     }
 
     fn write_dumps(&mut self) -> Result<(), DemError> {
@@ -388,7 +524,7 @@ impl Simulation {
         self.remove_lost();
         self.pairs.ensure(&self.particles.x, &self.particles.radius);
         // forces, then the second half kick in the same pass
-        self.compute_forces(true, Some(half));
+        self.compute_forces(HistoryUse::Advance, Some(half));
         self.write_dumps()
     }
 
@@ -409,7 +545,7 @@ impl Simulation {
 
     /// Evaluates all forces and torques into `particles.f`, `particles.torque`; with
     /// `kick = Some(dt/2)` also applies the second half kick of velocity Verlet.
-    fn compute_forces(&mut self, update_history: bool, kick: Option<f64>) {
+    fn compute_forces(&mut self, history: HistoryUse, kick: Option<f64>) {
         let dt = self.dt;
         let model = self.pair_model;
         let mats = &self.materials;
@@ -475,7 +611,7 @@ impl Simulation {
                             is_wall: false,
                         };
                         let c = mats.pair(ty[i], ty[j]);
-                        let o = contact_force(&model, c, &inp, h, dt, update_history);
+                        let o = contact_force(&model, c, &inp, h, dt, history);
                         fi += o.force;
                         ti += o.torque_i;
                         acc[j][0] -= o.force;
@@ -522,7 +658,7 @@ impl Simulation {
                     is_wall: true,
                 };
                 let c = mats.pair(ty[i], wall.material_type);
-                let o = contact_force(&wall.model, c, &inp, h, dt, update_history);
+                let o = contact_force(&wall.model, c, &inp, h, dt, history);
                 ff += o.force;
                 tt += o.torque_i;
             }

@@ -170,8 +170,9 @@ fn bad_decks_name_file_line_and_command() {
     let e = deck_error(&format!("{SMALL}fix p all pour 100 1 1\nrun 1\n"));
     assert!(e.starts_with("bad.in:22: `fix pour`"), "{e}");
     assert!(e.contains("not supported"), "{e}");
-    let e = deck_error(&format!("{SMALL}write_restart x.restart\n"));
+    let e = deck_error(&format!("{SMALL}write_restart x.restart region r\n"));
     assert!(e.starts_with("bad.in:22: `write_restart`"), "{e}");
+    assert!(e.contains("no region"), "{e}");
     let e = deck_error(&SMALL.replace("boundary f f f", "boundary p p f"));
     assert!(e.contains("bad.in:3") && e.contains("periodic"), "{e}");
     let e = deck_error(&SMALL.replace("timestep 1e-5", "timestep 1e-5x"));

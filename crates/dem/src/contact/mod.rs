@@ -40,6 +40,23 @@ pub enum RollingModel {
     Epsd2,
 }
 
+/// How an evaluation of the contact forces treats the history.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HistoryUse {
+    /// A time step: the history advances by dt.
+    Advance,
+    /// A run's set-up (LIGGGHTS's `setup`, e.g. the first run after `read_restart` of a
+    /// LIGGGHTS file): the history is used, not advanced, exactly as LIGGGHTS 3.8 does. This
+    /// does not give the forces of the step that left the history (the velocities are a half
+    /// step later; a slipping contact may count as sticking; `epsd2` adds its increment again).
+    Setup,
+    /// The forces of the step that left this history, evaluated again at that step's
+    /// velocities (a restart file of the native DEM records them): the history is not
+    /// advanced, a spring at the Coulomb limit within round-off counts as slipping, and `epsd2`
+    /// returns its stored torque, so the forces are those of the step to round-off.
+    Replay,
+}
+
 /// History carried by a contact between steps.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct History {
@@ -88,7 +105,7 @@ pub struct ContactOutput {
 }
 
 /// Evaluates one contact (normal, cohesion, tangential, rolling, in LIGGGHTS's order) and,
-/// when `update_history`, advances its history by `dt` (s).
+/// with [`HistoryUse::Advance`], advances its history by `dt` (s).
 #[inline]
 pub fn contact_force(
     model: &ContactModel,
@@ -96,7 +113,7 @@ pub fn contact_force(
     inp: &ContactInput,
     hist: &mut History,
     dt: f64,
-    update_history: bool,
+    history: HistoryUse,
 ) -> ContactOutput {
     let n = inp.n;
     let cri = inp.radi - 0.5 * inp.deltan;
@@ -145,7 +162,7 @@ pub fn contact_force(
         k.gamma_t,
         c.friction * fn_.abs(),
         dt,
-        update_history,
+        history,
     );
     let tor = n.cross(&ft);
     let mut out = ContactOutput {
@@ -173,7 +190,7 @@ pub fn contact_force(
                 w,
                 n,
                 dt,
-                update_history,
+                history,
             ),
         };
         out.torque_i -= t;

@@ -9,6 +9,8 @@
 
 use mesh::v3::V3;
 
+use super::HistoryUse;
+
 /// `cdt`: T = μᵣ Fₑ R* ŵ with Fₑ = kₙδ the elastic normal force (N), ŵ = w/|w|, the normal
 /// component removed; zero when w = 0. Units: N·m.
 #[inline]
@@ -35,17 +37,20 @@ pub fn epsd2_torque(
     w: V3,
     n: V3,
     dt: f64,
-    update_history: bool,
+    history: HistoryUse,
 ) -> V3 {
     let wt = w - (w.dot(&n) * n);
     let kr = kt * reff * reff;
-    let mut t = *roll + (dt * kr * wt);
+    let mut t = match history {
+        HistoryUse::Replay => *roll,
+        HistoryUse::Advance | HistoryUse::Setup => *roll + (dt * kr * wt),
+    };
     let tmag = t.norm();
     let tmax = fn_.abs() * reff * mu_r;
     if tmag > tmax {
         t = tmax / tmag * t;
     }
-    if update_history {
+    if history == HistoryUse::Advance {
         *roll = t;
     }
     t
@@ -78,7 +83,7 @@ mod tests {
             V3::new(2.0, 0.0, 0.0),
             n,
             1e-3,
-            true,
+            HistoryUse::Advance,
         );
         assert!((t[0] - 2e-3).abs() < 1e-15 && h == t);
         let t = epsd2_torque(
@@ -90,8 +95,24 @@ mod tests {
             V3::new(2.0, 0.0, 0.0),
             n,
             1e-3,
-            true,
+            HistoryUse::Advance,
         );
         assert!((t[0] - 1e-3).abs() < 1e-15);
+        // a replay returns the stored (capped) torque of that step; the set-up adds the
+        // increment again
+        let step = t;
+        let args = (0.01, 1.0, 100.0, 0.1, V3::new(2.0, 0.0, 0.0), n, 1e-3);
+        let replay = |h: &mut V3, u| {
+            epsd2_torque(h, args.0, args.1, args.2, args.3, args.4, args.5, args.6, u)
+        };
+        let mut h2 = V3::new(0.5e-3, 0.0, 0.0);
+        assert_eq!(
+            replay(&mut h2, HistoryUse::Replay),
+            V3::new(0.5e-3, 0.0, 0.0)
+        );
+        // 0.5e-3 + kᵣw dt = 2.5e-3, capped at μᵣFₙR* = 1e-3
+        assert!((replay(&mut h2, HistoryUse::Setup)[0] - 1e-3).abs() < 1e-15);
+        assert_eq!(h2, V3::new(0.5e-3, 0.0, 0.0));
+        assert_eq!(replay(&mut h, HistoryUse::Replay), step);
     }
 }

@@ -4,7 +4,8 @@
 //! - set-up: `atom_style granular`, `atom_modify map array|hash`, `units si|cgs`, `boundary`
 //!   (`f`, `m`, `s`; periodic is refused), `newton`, `communicate`/`comm_modify`,
 //!   `processors`, `region ID block|cylinder … [units box] [side in]`, `create_box N REGION`,
-//!   `read_data FILE`, `create_atoms T single x y z [units box]`, `set group all diameter D
+//!   `read_data FILE`, `read_restart FILE` (LIGGGHTS 3.8 restart files, `*` = the latest step;
+//!   [`restart`](super::restart)), `create_atoms T single x y z [units box]`, `set group all diameter D
 //!   density ρ`, `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
 //!   (`delay every check one page contact_distance_factor`), `soft_particles yes`,
 //!   `hard_particles yes`, `timestep DT`;
@@ -18,7 +19,7 @@
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled);
 //!   `unfix` of gravity, walls and pending insertions;
 //! - output: `dump ID all custom N FILE cols…`, `dump_modify ID sort id|label L|format …`,
-//!   `undump`, `write_data FILE`; `thermo`, `thermo_style`, `thermo_modify`, `compute`,
+//!   `undump`, `write_data FILE`, `write_restart FILE` (`*` = the step; directories are made); `thermo`, `thermo_style`, `thermo_modify`, `compute`,
 //!   `uncompute` ([`thermo`](super::thermo): LIGGGHTS-style thermo lines, reported as
 //!   [`DeckEvent::Output`]); `compute_modify`, `echo`, `log`, `print` are accepted and have
 //!   no effect;
@@ -36,6 +37,7 @@ use mesh::v3::V3;
 
 use crate::contact::{ContactModel, RollingModel};
 use crate::deck::data_file;
+use crate::deck::restart;
 use crate::deck::thermo::Thermo;
 use crate::dump::DumpOutput;
 use crate::error::DemError;
@@ -71,6 +73,8 @@ struct Pending {
     hard: bool,
     /// `units cgs` (default si).
     cgs: bool,
+    /// What `read_restart` read beyond box and particles, applied when the simulation is built.
+    restart: Option<restart::Loaded>,
 }
 
 /// What executing a deck reports as it goes, for a front end (`foamgrain dem` prints the
@@ -122,6 +126,10 @@ struct Exec<'a> {
     nve: bool,
     checks: Vec<(f64, f64)>,
     gravity_fix: Option<String>,
+    /// Deck line of the command being executed (for warnings raised while building).
+    line: usize,
+    /// Warnings of building the simulation, reported with the command that caused it.
+    build_warnings: Vec<String>,
 }
 
 impl Simulation {
@@ -150,6 +158,8 @@ impl Simulation {
             nve: false,
             checks: Vec::new(),
             gravity_fix: None,
+            line: 0,
+            build_warnings: Vec::new(),
         };
         for c in &deck.commands {
             let err = |message: String| DemError::Deck {
@@ -164,12 +174,17 @@ impl Simulation {
                 },
             })?;
         }
-        match ex.sim {
+        match ex.sim.take() {
             Some(s) => Ok(s),
-            None => ex.build().map_err(|e| match e {
-                Failure::Msg(m) => DemError::Setup(format!("{}: {m}", deck.file.display())),
-                Failure::Dem(d) => d,
-            }),
+            None => {
+                let s = ex.build().map_err(|e| match e {
+                    Failure::Msg(m) => DemError::Setup(format!("{}: {m}", deck.file.display())),
+                    Failure::Dem(d) => d,
+                })?;
+                let warnings = std::mem::take(&mut ex.build_warnings);
+                ex.warn(ex.line, warnings);
+                Ok(s)
+            }
         }
     }
 }
@@ -392,6 +407,7 @@ impl Exec<'_> {
 
     fn command(&mut self, c: &Command) -> Result<(), Failure> {
         let w = &c.words;
+        self.line = c.line;
         match w[0].as_str() {
             "atom_style" => {
                 if word(w, 1, "style")? != "granular" || w.len() > 2 {
@@ -429,6 +445,9 @@ impl Exec<'_> {
             "uncompute" => self.thermo.remove_compute(word(w, 1, "compute id")?)?,
             "boundary" => {
                 self.before_run("boundary")?;
+                if self.pending.sim_box.is_some() {
+                    return Err("boundary after the box is defined".into());
+                }
                 let mut b = [[Boundary::Fixed; 2]; 3];
                 for k in 0..3 {
                     let s = word(w, k + 1, "boundary")?.as_bytes();
@@ -455,6 +474,9 @@ impl Exec<'_> {
             }
             "create_box" => {
                 self.before_run("the box")?;
+                if self.pending.sim_box.is_some() {
+                    return Err("create_box after the box is defined".into());
+                }
                 let n = int(w, 1, "number of atom types")? as usize;
                 if n == 0 {
                     return Err("create_box needs at least one atom type".into());
@@ -466,6 +488,9 @@ impl Exec<'_> {
             }
             "read_data" => {
                 self.before_run("read_data")?;
+                if self.pending.sim_box.is_some() {
+                    return Err("read_data after the box is defined".into());
+                }
                 if w.len() != 2 {
                     return Err("only `read_data FILE` (no keywords) is supported".into());
                 }
@@ -480,6 +505,16 @@ impl Exec<'_> {
                     d.ntypes,
                 ));
                 self.pending.particles.extend(d.particles);
+            }
+            "read_restart" => self.read_restart(c)?,
+            "write_restart" => {
+                if w.len() != 2 {
+                    return Err("only `write_restart FILE` is supported (no region)".into());
+                }
+                let workdir = self.workdir;
+                let s = self.sim_mut()?;
+                let (_, warnings) = restart::write(s, &w[1], workdir)?;
+                self.warn(c.line, warnings);
             }
             "create_atoms" => self.create_atoms(w)?,
             "set" => self.set(w)?,
@@ -595,8 +630,41 @@ impl Exec<'_> {
     fn sim_mut(&mut self) -> Result<&mut Simulation, Failure> {
         if self.sim.is_none() {
             self.sim = Some(self.build()?);
+            let warnings = std::mem::take(&mut self.build_warnings);
+            self.warn(self.line, warnings);
         }
         Ok(self.sim.as_mut().expect("built above"))
+    }
+
+    /// `read_restart FILE`: the box, boundary, types, particles and step of a LIGGGHTS restart
+    /// file; its contact histories are applied when the simulation is built.
+    fn read_restart(&mut self, c: &Command) -> Result<(), Failure> {
+        let w = &c.words;
+        if self.sim.is_some() || self.pending.sim_box.is_some() {
+            return Err("read_restart after the box is defined".into());
+        }
+        if w.len() != 2 {
+            return Err("only `read_restart FILE` is supported".into());
+        }
+        let path = restart::input_name(&self.path(&w[1]))?;
+        let (mut loaded, mut warnings) = restart::read(&path)?;
+        if self
+            .pending
+            .boundary
+            .is_some_and(|b| b != loaded.sim_box.boundary)
+        {
+            warnings.push(
+                "the restart file has other boundary settings than `boundary`: using the \
+                 file's (as LIGGGHTS does)"
+                    .into(),
+            );
+        }
+        self.pending.boundary = Some(loaded.sim_box.boundary);
+        self.pending.sim_box = Some((loaded.sim_box, loaded.ntypes));
+        self.pending.particles = std::mem::take(&mut loaded.particles);
+        self.pending.restart = Some(loaded);
+        self.warn(c.line, warnings);
+        Ok(())
     }
 
     fn create_atoms(&mut self, w: &[String]) -> Result<(), Failure> {
@@ -1187,10 +1255,22 @@ impl Exec<'_> {
         let (sim_box, ntypes) = p
             .sim_box
             .ok_or("no box defined (create_box or read_data)")?;
-        let model = p.pair_model.ok_or("no `pair_style gran …`")?;
-        if !p.pair_coeff {
-            return Err("no `pair_coeff * *`".into());
-        }
+        let model = match (p.pair_model, p.restart.as_ref().and_then(|r| r.pair)) {
+            (Some(m), _) => {
+                if !p.pair_coeff {
+                    return Err("no `pair_coeff * *`".into());
+                }
+                m
+            }
+            (None, Some(g)) => {
+                let r = p.restart.as_ref().expect("the pair came from it");
+                if !(p.pair_coeff || r.pair_coeff) {
+                    return Err("no `pair_coeff * *` (nor in the restart file)".into());
+                }
+                restart::contact_model(&g)?
+            }
+            (None, None) => return Err("no `pair_style gran …`".into()),
+        };
         if !self.nve {
             return Err("no time integration: `fix ID all nve/sphere` is required".into());
         }
@@ -1260,6 +1340,9 @@ impl Exec<'_> {
             sim.add_wall(wall)?;
         }
         sim.add_particles(&p.particles)?;
+        if let Some(r) = p.restart.take() {
+            self.build_warnings.extend(r.apply(&mut sim)?);
+        }
         for ins in p.inserts.drain(..) {
             sim.add_insertion(ins);
         }
