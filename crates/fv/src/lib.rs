@@ -22,6 +22,7 @@
 //! Speed: `cargo bench -p fv`, and `examples/bench_vs_pisofoam.rs` against pisoFoam.
 
 pub mod bc;
+pub mod convection;
 pub mod error;
 pub mod fields;
 pub mod fluid;

@@ -20,14 +20,7 @@ pub enum TimeScheme {
     CrankNicolson(f64),
 }
 
-/// Interpolation of U to faces in the convection term `div(phi,U)`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Convection {
-    /// `Gauss linear` (central, second order).
-    Linear,
-    /// `Gauss upwind` (first order, bounded).
-    Upwind,
-}
+pub use crate::convection::Convection;
 
 /// Surface-normal gradient scheme (laplacian and snGrad).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,8 +71,11 @@ pub struct Settings {
     pub write_format: foam::Format,
     /// Momentum time scheme.
     pub time_scheme: TimeScheme,
-    /// Convection scheme.
+    /// Convection scheme (`divSchemes` `div(phi,U)`).
     pub convection: Convection,
+    /// `bounded Gauss …`: the convection term minus (∇·φ) U
+    /// ([`crate::convection`]).
+    pub bounded_convection: bool,
     /// Laplacian / snGrad scheme.
     pub sn_grad: SnGrad,
     /// PISO correctors.
@@ -154,6 +150,73 @@ fn scheme_words(d: &Dict, file: &Path, sub: &str, key: &str) -> Result<(Vec<Stri
         })
         .collect::<Result<Vec<_>>>()?;
     Ok((words, used))
+}
+
+/// Checks that the gradSchemes entry `key` (else `default`) is `Gauss linear`, the only
+/// gradient the solver has.
+fn gauss_linear_grad(sch: &Dict, file: &Path, key: &str) -> Result<()> {
+    let (grad, grad_key) = scheme_words(sch, file, "gradSchemes", key)?;
+    if grad != ["Gauss", "linear"] {
+        return Err(err(
+            file,
+            &grad_key,
+            format!("`{}` is not supported (Gauss linear)", grad.join(" ")),
+        ));
+    }
+    Ok(())
+}
+
+/// The convection scheme of `divSchemes` `div(phi,U)` and whether it is `bounded`; an
+/// unsupported entry is refused naming it and listing the supported ones
+/// ([`crate::convection::SUPPORTED`]).
+fn convection_scheme(sch: &Dict, file: &Path) -> Result<(Convection, bool)> {
+    let (words, key) = scheme_words(sch, file, "divSchemes", "div(phi,U)")?;
+    let w: Vec<&str> = words.iter().map(String::as_str).collect();
+    let (bounded, rest) = match w.as_slice() {
+        ["bounded", rest @ ..] => (true, rest),
+        all => (false, all),
+    };
+    let unsupported = || {
+        err(
+            file,
+            &key,
+            format!(
+                "`{}` is not supported (supported: {})",
+                w.join(" "),
+                crate::convection::SUPPORTED
+            ),
+        )
+    };
+    let coefficient = |k: &str| -> Result<f64> {
+        match k.parse::<f64>() {
+            Ok(psi) if (0.0..=1.0).contains(&psi) => Ok(psi),
+            _ => Err(err(
+                file,
+                &key,
+                format!(
+                    "`{}`: the limiter coefficient must be a number in [0, 1], found `{k}`",
+                    w.join(" ")
+                ),
+            )),
+        }
+    };
+    let convection = match rest {
+        ["Gauss", "linear"] => Convection::Linear,
+        ["Gauss", "upwind"] => Convection::Upwind,
+        ["Gauss", "limitedLinear", k] => Convection::LimitedLinear(coefficient(k)?),
+        ["Gauss", "limitedLinearV", k] => Convection::LimitedLinearV(coefficient(k)?),
+        ["Gauss", scheme @ ("linearUpwind" | "linearUpwindV"), grad] => {
+            // The gradient is the gradSchemes entry the scheme names (`grad(U)` usually).
+            gauss_linear_grad(sch, file, grad)?;
+            if *scheme == "linearUpwind" {
+                Convection::LinearUpwind
+            } else {
+                Convection::LinearUpwindV
+            }
+        }
+        _ => return Err(unsupported()),
+    };
+    Ok((convection, bounded))
 }
 
 fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
@@ -334,22 +397,7 @@ impl Settings {
                 ))
             }
         };
-        let (conv, conv_key) = scheme_words(&sch, &sch_file, "divSchemes", "div(phi,U)")?;
-        let conv: Vec<&str> = conv.iter().map(String::as_str).collect();
-        let convection = match conv.as_slice() {
-            ["Gauss", "linear"] => Convection::Linear,
-            ["Gauss", "upwind"] => Convection::Upwind,
-            other => {
-                return Err(err(
-                    &sch_file,
-                    &conv_key,
-                    format!(
-                        "`{}` is not supported (Gauss linear, Gauss upwind)",
-                        other.join(" ")
-                    ),
-                ))
-            }
-        };
+        let (convection, bounded_convection) = convection_scheme(&sch, &sch_file)?;
         // One snGrad scheme serves the momentum and the pressure Laplacians, so every
         // Laplacian the solver forms must name the same one.
         let mut sn_grad = None;
@@ -385,15 +433,14 @@ impl Settings {
             sn_grad = Some(this);
         }
         let sn_grad = sn_grad.unwrap_or(SnGrad::Corrected);
-        for key in ["grad(p)", "grad(U)"] {
-            let (grad, grad_key) = scheme_words(&sch, &sch_file, "gradSchemes", key)?;
-            if grad != ["Gauss", "linear"] {
-                return Err(err(
-                    &sch_file,
-                    &grad_key,
-                    format!("`{}` is not supported (Gauss linear)", grad.join(" ")),
-                ));
-            }
+        // The gradients the solver forms: ∇p, ∇U, and ∇|U|² for limitedLinear's limiter
+        // (OpenFOAM names it `grad(magSqr(U))`).
+        let mut grads = vec!["grad(p)", "grad(U)"];
+        if matches!(convection, Convection::LimitedLinear(_)) {
+            grads.push("grad(magSqr(U))");
+        }
+        for key in grads {
+            gauss_linear_grad(&sch, &sch_file, key)?;
         }
         if let Ok((i, key)) = scheme_words(&sch, &sch_file, "interpolationSchemes", "default") {
             if i != ["linear"] {
@@ -497,6 +544,7 @@ impl Settings {
             write_format,
             time_scheme,
             convection,
+            bounded_convection,
             sn_grad,
             n_correctors,
             n_non_orth,
