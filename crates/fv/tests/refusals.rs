@@ -151,6 +151,27 @@ const EDITS: &[Edit] = &[
     ),
     (
         "system/fvSolution",
+        "solver          PCG;",
+        "solver GAMG; smoother SOR;",
+        "system/fvSolution",
+        "solvers.p.smoother",
+    ),
+    (
+        "system/fvSolution",
+        "solver          PCG;",
+        "solver GAMG; nCellsInCoarsestLevel 10;",
+        "system/fvSolution",
+        "solvers.p.smoother",
+    ),
+    (
+        "system/fvSolution",
+        "preconditioner  DIC;",
+        "preconditioner { preconditioner GAMG; smoother Jacobi; }",
+        "system/fvSolution",
+        "solvers.p.preconditioner.smoother",
+    ),
+    (
+        "system/fvSolution",
         "preconditioner  DIC;",
         "preconditioner FDIC;",
         "system/fvSolution",
@@ -176,6 +197,20 @@ const EDITS: &[Edit] = &[
         "        solver bogus;",
         "system/fvSolution",
         "solvers.pFinal.solver",
+    ),
+    (
+        "system/fvSolution",
+        "PISO\n{",
+        "relaxationFactors { fields { p 0.3; } equations { \"U.*\" 0.7; } }\nPISO\n{",
+        "system/fvSolution",
+        "relaxationFactors.equations.U",
+    ),
+    (
+        "system/fvSolution",
+        "PISO\n{",
+        "relaxationFactors { U 0.9; }\nPISO\n{",
+        "system/fvSolution",
+        "relaxationFactors.U",
     ),
     (
         "system/fvSolution",
