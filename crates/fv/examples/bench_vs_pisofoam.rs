@@ -12,10 +12,13 @@
 //! and as wall time (which also counts the waiting a loaded machine causes). The ratio is
 //! CPU time over CPU time.
 //!
-//! `cargo run --release -p fv --example bench_vs_pisofoam -- [N] [R]` (needs pisoFoam and
-//! blockMesh).
+//! `cargo run --release -p fv --example bench_vs_pisofoam -- [N] [R] [PCG|GAMG|both]` (needs
+//! pisoFoam and blockMesh). The third argument picks the p solver of both programs: `PCG`
+//! (DIC, the default), `GAMG` (pisoFoam: OpenFOAM's GAMG with Gauss–Seidel; fv: CG
+//! preconditioned by its aggregation multigrid, [`fv::amg`]), or `both`, which runs the four
+//! back to back in each repetition.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
@@ -131,20 +134,21 @@ fn native(dir: &Path, dt: f64) -> Sample {
     }
 }
 
-fn main() {
-    let arg = |i: usize, default: usize| {
-        std::env::args()
-            .nth(i)
-            .map_or(default, |s| s.parse().expect("a whole number"))
-    };
-    let n = arg(1, 100);
-    let reps = arg(2, 3).max(1);
-    let dt = 0.5 * 0.1 / n as f64;
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/fv/cavity-re100");
-    let tmp = std::env::temp_dir().join(format!("fv-bench-{n}"));
-    let _ = std::fs::remove_dir_all(&tmp);
-    let of = tmp.join("pisoFoam");
-    testkit::copy_dir(&root, &of);
+/// The pressure solvers the benchmark can compare: name and the `solver …` text replacing
+/// the fixture's `PCG`/`DIC` entry of p (pFinal inherits it with `$p`).
+const SOLVERS: &[(&str, &str)] = &[
+    ("PCG", "solver          PCG;\n        preconditioner  DIC;"),
+    (
+        "GAMG",
+        "solver GAMG;\n        smoother GaussSeidel;\n        cacheAgglomeration true;\n        nCellsInCoarsestLevel 10;\n        agglomerator faceAreaPair;\n        mergeLevels 1;",
+    ),
+];
+
+/// Writes the pisoFoam case (meshed) and its copy for the native solver under
+/// `tmp/<solver>/`; returns (pisoFoam case, native case).
+fn prepare(root: &Path, tmp: &Path, n: usize, dt: f64, solver: &str) -> (PathBuf, PathBuf) {
+    let of = tmp.join(solver).join("pisoFoam");
+    testkit::copy_dir(root, &of);
     let _ = std::fs::remove_dir_all(of.join("0.5"));
     let _ = std::fs::remove_dir_all(of.join("constant/polyMesh"));
     let _ = std::fs::remove_file(of.join("log.icoFoam"));
@@ -167,6 +171,12 @@ fn main() {
         "div(phi,U)      Gauss linear;",
         "div(phi,U)      Gauss linear;\n    div((nuEff*dev2(T(grad(U))))) Gauss linear;",
     );
+    let entry = SOLVERS
+        .iter()
+        .find(|s| s.0 == solver)
+        .unwrap_or_else(|| panic!("solver {solver}: one of PCG, GAMG"))
+        .1;
+    edit(&of.join("system/fvSolution"), SOLVERS[0].1, entry);
     std::fs::write(
         of.join("constant/turbulenceProperties"),
         "FoamFile { version 2.0; format ascii; class dictionary; object turbulenceProperties; }\nsimulationType laminar;\n",
@@ -178,8 +188,32 @@ fn main() {
         "transportModel Newtonian;\nnu ",
     );
     run("blockMesh", &of);
-    let ours = tmp.join("fv");
+    let ours = tmp.join(solver).join("fv");
     testkit::copy_dir(&of, &ours);
+    (of, ours)
+}
+
+fn main() {
+    let arg = |i: usize, default: usize| {
+        std::env::args()
+            .nth(i)
+            .map_or(default, |s| s.parse().expect("a whole number"))
+    };
+    let n = arg(1, 100);
+    let reps = arg(2, 3).max(1);
+    let solvers: Vec<String> = match std::env::args().nth(3).as_deref() {
+        None | Some("PCG") => vec!["PCG".into()],
+        Some("both") => vec!["PCG".into(), "GAMG".into()],
+        Some(other) => vec![other.to_string()],
+    };
+    let dt = 0.5 * 0.1 / n as f64;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/fv/cavity-re100");
+    let tmp = std::env::temp_dir().join(format!("fv-bench-{n}"));
+    let _ = std::fs::remove_dir_all(&tmp);
+    let cases: Vec<(PathBuf, PathBuf)> = solvers
+        .iter()
+        .map(|s| prepare(&root, &tmp, n, dt, s))
+        .collect();
 
     println!(
         "cavity {n}x{n} ({} cells), {STEPS} steps of {dt:e} s, {} rayon threads",
@@ -187,36 +221,40 @@ fn main() {
         rayon::current_num_threads()
     );
     println!(
-        "rep  load(1/5/15 min)   pisoFoam CPU ms/step (p it, U it)   fv CPU ms/step, wall (p it, U it)"
+        "rep  p solver  load(1/5/15 min)   pisoFoam CPU ms/step (p it, U it)   fv CPU ms/step, wall (p it, U it)"
     );
-    let mut piso = Vec::new();
-    let mut fv = Vec::new();
-    let mut fv_wall = Vec::new();
+    let mut piso = vec![Vec::new(); solvers.len()];
+    let mut fv = vec![Vec::new(); solvers.len()];
+    let mut fv_wall = vec![Vec::new(); solvers.len()];
     for rep in 0..reps {
-        let load = load_average();
-        let a = pisofoam(&of);
-        let b = native(&ours, dt);
-        println!(
-            "{rep:>3}  {load:<17}  {:>8.2} ({:>6.1}, {:>4.1})              {:>8.2}, {:>6.2} ({:>6.1}, {:>4.1})",
-            a.ms, a.p_iter, a.u_iter, b.ms, b.wall, b.p_iter, b.u_iter
-        );
-        piso.push(a.ms);
-        fv.push(b.ms);
-        fv_wall.push(b.wall);
+        for (k, (of, ours)) in cases.iter().enumerate() {
+            let load = load_average();
+            let a = pisofoam(of);
+            let b = native(ours, dt);
+            println!(
+                "{rep:>3}  {:<8}  {load:<17}  {:>8.2} ({:>6.1}, {:>4.1})              {:>8.2}, {:>6.2} ({:>6.1}, {:>4.1})",
+                solvers[k], a.ms, a.p_iter, a.u_iter, b.ms, b.wall, b.p_iter, b.u_iter
+            );
+            piso[k].push(a.ms);
+            fv[k].push(b.ms);
+            fv_wall[k].push(b.wall);
+        }
     }
     let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    let (bp, bf) = (best(&piso), best(&fv));
-    let (mp, mf) = (median(&mut piso), median(&mut fv));
-    println!(
-        "best of {reps}: pisoFoam {bp:.2} ms/step, fv {bf:.2} ms/step (wall {:.2}), ratio {:.2}; median ratio {:.2}",
-        best(&fv_wall),
-        bf / bp,
-        mf / mp
-    );
+    for (k, solver) in solvers.iter().enumerate() {
+        let (bp, bf) = (best(&piso[k]), best(&fv[k]));
+        let (mp, mf) = (median(&mut piso[k]), median(&mut fv[k]));
+        println!(
+            "p {solver}, best of {reps}: pisoFoam {bp:.2} ms/step, fv {bf:.2} ms/step (wall {:.2}), ratio {:.2}; median ratio {:.2}",
+            best(&fv_wall[k]),
+            bf / bp,
+            mf / mp
+        );
+    }
 }
 
 fn edit(path: &Path, from: &str, to: &str) {

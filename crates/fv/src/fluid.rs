@@ -23,7 +23,7 @@ use crate::fvc::{self, Field};
 use crate::geometry::{FvGeometry, V3};
 use crate::ldu::Ldu;
 use crate::linsolve::{self, SolveStats};
-use crate::settings::{Convection, Settings, SnGrad, TimeScheme};
+use crate::settings::{Settings, SnGrad, TimeScheme};
 use foam::{Case, FieldValues, VolField};
 use rayon::prelude::*;
 use std::path::Path;
@@ -357,9 +357,21 @@ impl Fluid {
     /// `phi_star` the unconstrained predicted flux on boundary faces, for fixedFluxPressure.
     fn update_p_boundary(&mut self, t: f64, gamma_b: &[f64], phi_star: &[f64]) {
         let mut pb = std::mem::take(&mut self.p_b);
-        bc::eval_pressure(
-            &self.g, &self.p_bc, t, &self.p, &self.u_b, &self.phi, &mut pb,
-        );
+        self.eval_p_boundary(t, &self.p, gamma_b, phi_star, &mut pb);
+        self.p_b = pb;
+    }
+
+    /// The boundary pressure values of the cell pressures `p` into `pb` (see
+    /// [`Self::update_p_boundary`]).
+    fn eval_p_boundary(
+        &self,
+        t: f64,
+        p: &[f64],
+        gamma_b: &[f64],
+        phi_star: &[f64],
+        pb: &mut [f64],
+    ) {
+        bc::eval_pressure(&self.g, &self.p_bc, t, p, &self.u_b, &self.phi, pb);
         let g = &self.g;
         for (patch, bc) in g.patches.iter().zip(&self.p_bc) {
             if *bc != PressureBc::FixedFluxPressure {
@@ -373,7 +385,6 @@ impl Fluid {
                 }
             }
         }
-        self.p_b = pb;
     }
 
     /// Advances by `dt` seconds (one PISO step).
@@ -677,6 +688,13 @@ impl Fluid {
                 };
                 let s = linsolve::solve(ctl.method, &pm, g, &rhs, &mut p, &ctl.controls, "p")?;
                 report.pressure.push(s);
+                if nonorth < self.settings.n_non_orth {
+                    // The next correction's ∇p sees the boundary values of this solution
+                    // (OpenFOAM's solve ends with p.correctBoundaryConditions()).
+                    let mut pb = std::mem::take(&mut self.p_b);
+                    self.eval_p_boundary(t_new, &p, &gamma_b, &phi_unconstrained, &mut pb);
+                    self.p_b = pb;
+                }
             }
             // Rhie–Chow face flux from the pressure solution.
             for f in 0..g.n_internal {
@@ -749,19 +767,12 @@ impl Fluid {
         let mut diag = vec![V3::zeros(); g.n_cells];
         let mut b = vec![V3::zeros(); g.n_cells];
         let corrected = self.settings.sn_grad == SnGrad::Corrected;
+        let conv = self.settings.convection;
+        let weights = conv.weights(g, &self.phi, &self.u, &self.u_b, grad_u);
         for f in 0..g.n_internal {
             let (o, nn) = (g.owner[f] as usize, g.neighbour[f] as usize);
             let phi = self.phi[f];
-            let w = match self.settings.convection {
-                Convection::Linear => g.weight[f],
-                Convection::Upwind => {
-                    if phi >= 0.0 {
-                        1.0
-                    } else {
-                        0.0
-                    }
-                }
-            };
+            let w = weights[f];
             let gam = nu * ef[f] * g.mag_sf[f] * self.lap_dc[f];
             m.upper[f] = phi * (1.0 - w) - gam;
             m.lower[f] = -phi * w - gam;
@@ -788,6 +799,27 @@ impl Fluid {
         }
         let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
         self.add_boundary_terms(ef, &vi, &self.u_b, Some(&mut diag), &mut b);
+        // linearUpwind's explicit part: the source loses V ∇·(φ c) (OpenFOAM's
+        // `fvm += fvc::surfaceIntegrate(faceFlux*correction)`).
+        if let Some(corr) = conv.correction(g, &self.phi, &self.u, grad_u) {
+            let mut flux: Vec<V3> = (0..g.n_internal).map(|f| self.phi[f] * corr[f]).collect();
+            flux.resize(g.n_faces(), V3::zeros());
+            let div = fvc::surface_integrate(g, &flux);
+            for c in 0..g.n_cells {
+                for k in 0..3 {
+                    b[c][k] -= g.v[c] * div[c][k];
+                }
+            }
+        }
+        // `bounded`: minus (∇·φ) U, implicit (OpenFOAM's `fvm::Sp(fvc::surfaceIntegrate(phi), U)`).
+        if self.settings.bounded_convection {
+            let div_phi = fvc::surface_integrate(g, &self.phi);
+            for c in 0..g.n_cells {
+                for k in 0..3 {
+                    diag[c][k] -= g.v[c] * div_phi[c];
+                }
+            }
+        }
         (m, diag, b)
     }
 

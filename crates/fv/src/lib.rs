@@ -21,7 +21,9 @@
 //! through a porous block and the time order of Euler and Crank–Nicolson against closed forms.
 //! Speed: `cargo bench -p fv`, and `examples/bench_vs_pisofoam.rs` against pisoFoam.
 
+pub mod amg;
 pub mod bc;
+pub mod convection;
 pub mod error;
 pub mod fields;
 pub mod fluid;

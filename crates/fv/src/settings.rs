@@ -20,14 +20,7 @@ pub enum TimeScheme {
     CrankNicolson(f64),
 }
 
-/// Interpolation of U to faces in the convection term `div(phi,U)`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Convection {
-    /// `Gauss linear` (central, second order).
-    Linear,
-    /// `Gauss upwind` (first order, bounded).
-    Upwind,
-}
+pub use crate::convection::Convection;
 
 /// Surface-normal gradient scheme (laplacian and snGrad).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,8 +71,11 @@ pub struct Settings {
     pub write_format: foam::Format,
     /// Momentum time scheme.
     pub time_scheme: TimeScheme,
-    /// Convection scheme.
+    /// Convection scheme (`divSchemes` `div(phi,U)`).
     pub convection: Convection,
+    /// `bounded Gauss …`: the convection term minus (∇·φ) U
+    /// ([`crate::convection`]).
+    pub bounded_convection: bool,
     /// Laplacian / snGrad scheme.
     pub sn_grad: SnGrad,
     /// PISO correctors.
@@ -156,6 +152,190 @@ fn scheme_words(d: &Dict, file: &Path, sub: &str, key: &str) -> Result<(Vec<Stri
     Ok((words, used))
 }
 
+/// The names the momentum Laplacian has in fvSchemes: icoFoam's, pisoFoam's (laminar
+/// `nuEff`) and CFDEM's cfdemSolverPiso's.
+const MOMENTUM_LAPLACIANS: &[&str] = &[
+    "laplacian(nu,U)",
+    "laplacian(nuEff,U)",
+    "laplacian(viscousTerm,U)",
+];
+
+/// The names the pressure Laplacian has: icoFoam's/pisoFoam's and cfdemSolverPiso's.
+const PRESSURE_LAPLACIANS: &[&str] =
+    &["laplacian((1|A(U)),p)", "laplacian((voidfraction2|A(U)),p)"];
+
+/// The names of the explicit stress divergence of the laminar model: pisoFoam v1912's and the
+/// older and CFDEM forms.
+const STRESS_DIVERGENCES: &[&str] = &[
+    "div((nuEff*dev2(T(grad(U)))))",
+    "div((nuEff*dev(T(grad(U)))))",
+    "div((nuEff*dev(grad(U).T())))",
+    "div((viscousTerm*dev(grad(U).T())))",
+];
+
+/// The schemes of one term that has several names (`keys`) in fvSchemes' `sub`: every one of
+/// those entries that is there, else the `default` (an error when there is none), each with
+/// the dotted key that supplied it. A solver looks up one of the names, so only entries that
+/// exist are checked: a `default none` with the term named is fine.
+fn scheme_group(
+    sch: &Dict,
+    file: &Path,
+    sub: &str,
+    keys: &[&str],
+) -> Result<Vec<(Vec<String>, String)>> {
+    let s = sch.dict(sub).map_err(|e| err(file, sub, e.0))?;
+    let named: Vec<&str> = keys.iter().copied().filter(|k| s.contains(k)).collect();
+    if named.is_empty() {
+        return Ok(vec![scheme_words(sch, file, sub, keys[0])?]);
+    }
+    named
+        .into_iter()
+        .map(|k| scheme_words(sch, file, sub, k))
+        .collect()
+}
+
+/// Checks that the gradSchemes entry `key` (else `default`) is `Gauss linear`, the only
+/// gradient the solver has.
+fn gauss_linear_grad(sch: &Dict, file: &Path, key: &str) -> Result<()> {
+    let (grad, grad_key) = scheme_words(sch, file, "gradSchemes", key)?;
+    if grad != ["Gauss", "linear"] {
+        return Err(err(
+            file,
+            &grad_key,
+            format!("`{}` is not supported (Gauss linear)", grad.join(" ")),
+        ));
+    }
+    Ok(())
+}
+
+/// The convection scheme of `divSchemes` `div(phi,U)` and whether it is `bounded`; an
+/// unsupported entry is refused naming it and listing the supported ones
+/// ([`crate::convection::SUPPORTED`]).
+fn convection_scheme(sch: &Dict, file: &Path) -> Result<(Convection, bool)> {
+    let (words, key) = scheme_words(sch, file, "divSchemes", "div(phi,U)")?;
+    let w: Vec<&str> = words.iter().map(String::as_str).collect();
+    let (bounded, rest) = match w.as_slice() {
+        ["bounded", rest @ ..] => (true, rest),
+        all => (false, all),
+    };
+    let unsupported = || {
+        err(
+            file,
+            &key,
+            format!(
+                "`{}` is not supported (supported: {})",
+                w.join(" "),
+                crate::convection::SUPPORTED
+            ),
+        )
+    };
+    let coefficient = |k: &str| -> Result<f64> {
+        match k.parse::<f64>() {
+            Ok(psi) if (0.0..=1.0).contains(&psi) => Ok(psi),
+            _ => Err(err(
+                file,
+                &key,
+                format!(
+                    "`{}`: the limiter coefficient must be a number in [0, 1], found `{k}`",
+                    w.join(" ")
+                ),
+            )),
+        }
+    };
+    let convection = match rest {
+        ["Gauss", "linear"] => Convection::Linear,
+        ["Gauss", "upwind"] => Convection::Upwind,
+        ["Gauss", "limitedLinear", k] => Convection::LimitedLinear(coefficient(k)?),
+        ["Gauss", "limitedLinearV", k] => Convection::LimitedLinearV(coefficient(k)?),
+        ["Gauss", scheme @ ("linearUpwind" | "linearUpwindV"), grad] => {
+            // The gradient is the gradSchemes entry the scheme names (`grad(U)` usually).
+            gauss_linear_grad(sch, file, grad)?;
+            if *scheme == "linearUpwind" {
+                Convection::LinearUpwind
+            } else {
+                Convection::LinearUpwindV
+            }
+        }
+        _ => return Err(unsupported()),
+    };
+    Ok((convection, bounded))
+}
+
+/// Checks `relaxationFactors` of fvSolution: pisoFoam and cfdemSolverPiso relax the momentum
+/// equation (`UEqn.relax()`) by the factor of `equations` `U` (an exact key, else a pattern
+/// such as `"U.*"`, else `default`; the flat form of older versions counts too), which the
+/// native solver does not do, so a factor other than 1 is refused. Factors of fields (p's
+/// `fields` entry: the PISO solvers do not call `p.relax()`) and of other equations (k,
+/// epsilon, …) change nothing and are accepted.
+fn momentum_relaxation(sol: &Dict, file: &Path) -> Result<()> {
+    let Some(rf) = sol.opt_dict("relaxationFactors") else {
+        return Ok(());
+    };
+    let (eq, prefix) = match rf.opt_dict("equations") {
+        Some(eq) => (eq, "relaxationFactors.equations"),
+        None if rf.opt_dict("fields").is_none() => (rf, "relaxationFactors"),
+        None => return Ok(()),
+    };
+    let (value, key) = match eq.lookup_path("U") {
+        Some(v) => (v, "U"),
+        None => match eq.get("default") {
+            Some(v) => (v, "default"),
+            None => return Ok(()),
+        },
+    };
+    let dotted = format!("{prefix}.{key}");
+    let factor = match value {
+        foam::Value::Stream(s) => s.iter().rev().find_map(Item::as_f64),
+        foam::Value::Dict(_) => None,
+    };
+    match factor {
+        Some(1.0) => Ok(()),
+        Some(f) => Err(err(
+            file,
+            &dotted,
+            format!(
+                "the momentum equation relaxed by {f} is not supported (the native PISO \
+                 solver does not relax U; only 1)"
+            ),
+        )),
+        None => Err(err(file, &dotted, "expected a number")),
+    }
+}
+
+/// The smoothers OpenFOAM v1912's GAMG accepts.
+const GAMG_SMOOTHERS: &[&str] = &[
+    "GaussSeidel",
+    "symGaussSeidel",
+    "nonBlockingGaussSeidel",
+    "DIC",
+    "DICGaussSeidel",
+    "DILU",
+    "DILUGaussSeidel",
+    "FDIC",
+];
+
+/// Checks the `smoother` of a GAMG entry (`dotted` names it in errors). The native solver
+/// runs its own multigrid ([`crate::amg`], Gauss–Seidel on every level) to the entry's
+/// tolerances, so the smoother, like `cacheAgglomeration`, `nCellsInCoarsestLevel`,
+/// `agglomerator`, `mergeLevels`, `nPreSweeps`, `nPostSweeps`, `nFinestSweeps`,
+/// `directSolveCoarsest`, `scaleCorrection`, `interpolateCorrection` and `nVcycles`, changes
+/// the iterations but not the converged answer; those keys are accepted and not used. A
+/// smoother OpenFOAM would refuse is refused here too.
+fn gamg_smoother(d: &Dict, file: &Path, dotted: &str) -> Result<()> {
+    let smoother = d.word("smoother").map_err(|e| err(file, dotted, e.0))?;
+    if !GAMG_SMOOTHERS.contains(&smoother) {
+        return Err(err(
+            file,
+            dotted,
+            format!(
+                "`{smoother}` is not a GAMG smoother ({})",
+                GAMG_SMOOTHERS.join(", ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
     let key = |k: &str| format!("solvers.{name}.{k}");
     let s = match d.lookup_path(&format!("solvers.{name}")) {
@@ -177,10 +357,17 @@ fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
             "DIC" | "DILU" => Ok(Preconditioner::Dic),
             "diagonal" => Ok(Preconditioner::Diagonal),
             "none" => Ok(Preconditioner::None),
+            "GAMG" => {
+                let d = s
+                    .dict("preconditioner")
+                    .map_err(|e| err(file, &key("preconditioner"), e.0))?;
+                gamg_smoother(d, file, &key("preconditioner.smoother"))?;
+                Ok(Preconditioner::Amg)
+            }
             other => Err(err(
                 file,
                 &key("preconditioner"),
-                format!("`{other}` is not supported (DIC, DILU, diagonal, none)"),
+                format!("`{other}` is not supported (DIC, DILU, diagonal, none, GAMG)"),
             )),
         }
     };
@@ -213,11 +400,15 @@ fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
                 sweeps: sweeps as usize,
             })
         }
+        "GAMG" => {
+            gamg_smoother(s, file, &key("smoother"))?;
+            Method::Gamg
+        }
         other => {
             return Err(err(
                 file,
                 &key("solver"),
-                format!("`{other}` is not supported (PCG, PBiCG, PBiCGStab, smoothSolver)"),
+                format!("`{other}` is not supported (PCG, PBiCG, PBiCGStab, smoothSolver, GAMG)"),
             ))
         }
     };
@@ -334,31 +525,15 @@ impl Settings {
                 ))
             }
         };
-        let (conv, conv_key) = scheme_words(&sch, &sch_file, "divSchemes", "div(phi,U)")?;
-        let conv: Vec<&str> = conv.iter().map(String::as_str).collect();
-        let convection = match conv.as_slice() {
-            ["Gauss", "linear"] => Convection::Linear,
-            ["Gauss", "upwind"] => Convection::Upwind,
-            other => {
-                return Err(err(
-                    &sch_file,
-                    &conv_key,
-                    format!(
-                        "`{}` is not supported (Gauss linear, Gauss upwind)",
-                        other.join(" ")
-                    ),
-                ))
-            }
-        };
+        let (convection, bounded_convection) = convection_scheme(&sch, &sch_file)?;
         // One snGrad scheme serves the momentum and the pressure Laplacians, so every
         // Laplacian the solver forms must name the same one.
         let mut sn_grad = None;
-        for key in [
-            "laplacian(nu,U)",
-            "laplacian(nuEff,U)",
-            "laplacian((1|A(U)),p)",
-        ] {
-            let (lap, lap_key) = scheme_words(&sch, &sch_file, "laplacianSchemes", key)?;
+        let laplacians = [MOMENTUM_LAPLACIANS, PRESSURE_LAPLACIANS]
+            .into_iter()
+            .map(|keys| scheme_group(&sch, &sch_file, "laplacianSchemes", keys))
+            .collect::<Result<Vec<_>>>()?;
+        for (lap, lap_key) in laplacians.into_iter().flatten() {
             let lap: Vec<&str> = lap.iter().map(String::as_str).collect();
             let this = match lap.as_slice() {
                 ["Gauss", "linear", "corrected"] => SnGrad::Corrected,
@@ -385,15 +560,14 @@ impl Settings {
             sn_grad = Some(this);
         }
         let sn_grad = sn_grad.unwrap_or(SnGrad::Corrected);
-        for key in ["grad(p)", "grad(U)"] {
-            let (grad, grad_key) = scheme_words(&sch, &sch_file, "gradSchemes", key)?;
-            if grad != ["Gauss", "linear"] {
-                return Err(err(
-                    &sch_file,
-                    &grad_key,
-                    format!("`{}` is not supported (Gauss linear)", grad.join(" ")),
-                ));
-            }
+        // The gradients the solver forms: ∇p, ∇U, and ∇|U|² for limitedLinear's limiter
+        // (OpenFOAM names it `grad(magSqr(U))`).
+        let mut grads = vec!["grad(p)", "grad(U)"];
+        if matches!(convection, Convection::LimitedLinear(_)) {
+            grads.push("grad(magSqr(U))");
+        }
+        for key in grads {
+            gauss_linear_grad(&sch, &sch_file, key)?;
         }
         if let Ok((i, key)) = scheme_words(&sch, &sch_file, "interpolationSchemes", "default") {
             if i != ["linear"] {
@@ -444,6 +618,7 @@ impl Settings {
             p_solver
         };
         let u_solver = linear_solver(&sol, &sol_file, "U")?;
+        momentum_relaxation(&sol, &sol_file)?;
 
         let full_stress = match case.read_dict("constant/turbulenceProperties") {
             Ok(d) => {
@@ -477,14 +652,14 @@ impl Settings {
             Err(_) => false,
         };
         if full_stress {
-            let key = "div((nuEff*dev2(T(grad(U)))))";
-            let (w, used) = scheme_words(&sch, &sch_file, "divSchemes", key)?;
-            if w != ["Gauss", "linear"] {
-                return Err(err(
-                    &sch_file,
-                    &used,
-                    format!("`{}` is not supported (Gauss linear)", w.join(" ")),
-                ));
+            for (w, used) in scheme_group(&sch, &sch_file, "divSchemes", STRESS_DIVERGENCES)? {
+                if w != ["Gauss", "linear"] {
+                    return Err(err(
+                        &sch_file,
+                        &used,
+                        format!("`{}` is not supported (Gauss linear)", w.join(" ")),
+                    ));
+                }
             }
         }
         Ok(Settings {
@@ -497,6 +672,7 @@ impl Settings {
             write_format,
             time_scheme,
             convection,
+            bounded_convection,
             sn_grad,
             n_correctors,
             n_non_orth,

@@ -87,9 +87,32 @@ const EDITS: &[Edit] = &[
     (
         "system/fvSchemes",
         "div(phi,U)      Gauss linear;",
-        "div(phi,U) Gauss limitedLinearV 1;",
+        "div(phi,U) Gauss vanLeerV;",
         "system/fvSchemes",
         "divSchemes.div(phi,U)",
+    ),
+    (
+        "system/fvSchemes",
+        "div(phi,U)      Gauss linear;",
+        "div(phi,U) Gauss limitedLinear 1.5;",
+        "system/fvSchemes",
+        "divSchemes.div(phi,U)",
+    ),
+    // linearUpwind's gradient is the gradSchemes entry it names.
+    (
+        "system/fvSchemes",
+        "    grad(p)         Gauss linear;\n}\n\ndivSchemes\n{\n    default         none;\n    div(phi,U)      Gauss linear;",
+        "    grad(p) Gauss linear; limitedGrad cellLimited Gauss linear 1;\n}\ndivSchemes\n{\n    div(phi,U) Gauss linearUpwind limitedGrad;",
+        "system/fvSchemes",
+        "gradSchemes.limitedGrad",
+    ),
+    // limitedLinear's limiter takes the gradient of |U|² (`grad(magSqr(U))`, here `default`).
+    (
+        "system/fvSchemes",
+        "    default         Gauss linear;\n    grad(p)         Gauss linear;\n}\n\ndivSchemes\n{\n    default         none;\n    div(phi,U)      Gauss linear;",
+        "    default leastSquares; grad(U) Gauss linear; grad(p) Gauss linear;\n}\ndivSchemes\n{\n    div(phi,U) Gauss limitedLinear 1;",
+        "system/fvSchemes",
+        "gradSchemes.default",
     ),
     (
         "system/fvSchemes",
@@ -122,9 +145,30 @@ const EDITS: &[Edit] = &[
     (
         "system/fvSolution",
         "solver          PCG;",
-        "solver GAMG; smoother GaussSeidel;",
+        "solver diagonal;",
         "system/fvSolution",
         "solvers.p.solver",
+    ),
+    (
+        "system/fvSolution",
+        "solver          PCG;",
+        "solver GAMG; smoother SOR;",
+        "system/fvSolution",
+        "solvers.p.smoother",
+    ),
+    (
+        "system/fvSolution",
+        "solver          PCG;",
+        "solver GAMG; nCellsInCoarsestLevel 10;",
+        "system/fvSolution",
+        "solvers.p.smoother",
+    ),
+    (
+        "system/fvSolution",
+        "preconditioner  DIC;",
+        "preconditioner { preconditioner GAMG; smoother Jacobi; }",
+        "system/fvSolution",
+        "solvers.p.preconditioner.smoother",
     ),
     (
         "system/fvSolution",
@@ -153,6 +197,20 @@ const EDITS: &[Edit] = &[
         "        solver bogus;",
         "system/fvSolution",
         "solvers.pFinal.solver",
+    ),
+    (
+        "system/fvSolution",
+        "PISO\n{",
+        "relaxationFactors { fields { p 0.3; } equations { \"U.*\" 0.7; } }\nPISO\n{",
+        "system/fvSolution",
+        "relaxationFactors.equations.U",
+    ),
+    (
+        "system/fvSolution",
+        "PISO\n{",
+        "relaxationFactors { U 0.9; }\nPISO\n{",
+        "system/fvSolution",
+        "relaxationFactors.U",
     ),
     (
         "system/fvSolution",
@@ -275,23 +333,31 @@ fn an_unsupported_convection_scheme_is_named_with_the_supported_ones() {
     let from = "div(phi,U)      Gauss linear;";
     assert!(text.contains(from));
     for (to, named) in [
-        (
-            "div(phi,U) Gauss limitedLinearV 1;",
-            "`Gauss limitedLinearV 1`",
-        ),
-        (
-            "div(phi,U) Gauss linearUpwind grad(U);",
-            "`Gauss linearUpwind grad(U)`",
-        ),
+        ("div(phi,U) Gauss vanLeerV;", "`Gauss vanLeerV`"),
+        ("div(phi,U) Gauss limitedCubic 1;", "`Gauss limitedCubic 1`"),
+        ("div(phi,U) bounded Gauss QUICK;", "`bounded Gauss QUICK`"),
+        ("div(phi,U) Gauss linearUpwind;", "`Gauss linearUpwind`"),
     ] {
         std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
         let message = fv::Fluid::from_case(dir.path()).err().unwrap().to_string();
         assert!(
             message.contains(named)
-                && message.contains("Gauss linear, Gauss upwind")
+                && message.contains(fv::convection::SUPPORTED)
                 && message.contains("div(phi,U)"),
             "{message}"
         );
+    }
+    // The list names every scheme the solver runs.
+    for scheme in [
+        "Gauss linear,",
+        "Gauss upwind",
+        "Gauss limitedLinear ψ",
+        "Gauss limitedLinearV ψ",
+        "Gauss linearUpwind <grad>",
+        "Gauss linearUpwindV <grad>",
+        "bounded",
+    ] {
+        assert!(fv::convection::SUPPORTED.contains(scheme), "{scheme}");
     }
 }
 
