@@ -1,8 +1,9 @@
 //! `foamgrain run`: a coupled case on the native stack (native fluid + native DEM).
 //!
-//! 1. Stage 1 (packing): when the coupled deck reads a data file (`read_data FILE`) that does
-//!    not exist and `DEM/in.liggghts_init` does, the init deck is run natively first; it
-//!    writes that file.
+//! 1. Stage 1 (packing): when the coupled deck starts from a file (`read_data FILE`, or CFDEM's
+//!    `read_restart FILE`) that does not exist and `DEM/in.liggghts_init` does, the init deck
+//!    is run first (natively, or with the liggghts binary for the LIGGGHTS backends); it writes
+//!    that file.
 //! 2. Stage 2: the coupled deck builds the DEM, `CFD/` the fluid, `couplingProperties` the
 //!    coupler; `(endTime − startTime) / (couplingInterval · dt_DEM)` coupling steps follow.
 //! 3. After every step the integral quantities ([`Sample`]) are recorded; at the case's write
@@ -177,13 +178,34 @@ impl Column {
     }
 }
 
-/// The data file a deck reads with `read_data`, resolved against the deck's directory.
-fn read_data_file(deck: &Deck, dem_dir: &Path) -> Option<PathBuf> {
-    deck.commands
-        .iter()
-        .find(|c| c.words.first().map(String::as_str) == Some("read_data"))
-        .and_then(|c| c.words.get(1))
-        .map(|f| dem_dir.join(f))
+/// The file a coupled deck starts from — `read_data FILE` or `read_restart FILE` (CFDEM's
+/// decks) — resolved against the deck's directory, and whether it exists (a `*` in a restart
+/// name stands for any step, as LIGGGHTS reads the latest).
+fn start_file(deck: &Deck, dem_dir: &Path) -> Option<(PathBuf, bool)> {
+    let c = deck.commands.iter().find(|c| {
+        matches!(
+            c.words.first().map(String::as_str),
+            Some("read_data" | "read_restart")
+        )
+    })?;
+    let path = dem_dir.join(c.words.get(1)?);
+    let exists = match path.file_name().and_then(|n| n.to_str()) {
+        Some(name) if name.contains('*') => {
+            let (head, tail) = name.split_once('*').unwrap_or((name, ""));
+            path.parent()
+                .and_then(|d| std::fs::read_dir(d).ok())
+                .is_some_and(|entries| {
+                    entries.flatten().any(|e| {
+                        let n = e.file_name().to_string_lossy().into_owned();
+                        n.len() >= head.len() + tail.len()
+                            && n.starts_with(head)
+                            && n.ends_with(tail)
+                    })
+                })
+        }
+        _ => path.exists(),
+    };
+    Some((path, exists))
 }
 
 fn setup_err(file: &Path, message: String) -> RunError {
@@ -326,8 +348,8 @@ pub fn run(
     // Stage 1: the packed bed.
     let run_deck = Deck::read(&layout.run_deck)?;
     let mut init_seconds = 0.0;
-    if let Some(data) = read_data_file(&run_deck, &layout.dem) {
-        if opts.repack || !data.exists() {
+    if let Some((data, exists)) = start_file(&run_deck, &layout.dem) {
+        if opts.repack || !exists {
             let Some(init) = &layout.init_deck else {
                 return Err(setup_err(
                     &layout.run_deck,
@@ -354,11 +376,11 @@ pub fn run(
                 "packed by LIGGGHTS".to_owned()
             };
             init_seconds = t.elapsed().as_secs_f64();
-            if !data.exists() {
+            if !start_file(&run_deck, &layout.dem).is_some_and(|(_, exists)| exists) {
                 return Err(setup_err(
                     init,
                     format!(
-                        "ran, but did not write {} (needs `write_data`)",
+                        "ran, but did not write {} (needs `write_data` or `write_restart`)",
                         data.display()
                     ),
                 ));

@@ -415,8 +415,23 @@ impl Exec<'_> {
                 }
             }
             "atom_modify" => {
-                if !(w.len() == 3 && w[1] == "map" && (w[2] == "array" || w[2] == "hash")) {
-                    return Err("only `atom_modify map array|hash` is supported".into());
+                // `map array|hash` (particles by tag: always so here) and `sort N binsize`
+                // (LIGGGHTS's memory reordering; the native DEM's neighbour lists sort anyway)
+                let mut k = 1;
+                while k < w.len() {
+                    match (w[k].as_str(), w.get(k + 1).map(String::as_str)) {
+                        ("map", Some("array" | "hash")) => k += 2,
+                        ("sort", Some(_)) if w.len() > k + 2 => {
+                            int(w, k + 1, "sort interval")?;
+                            num(w, k + 2, "sort bin size")?;
+                            k += 3
+                        }
+                        _ => {
+                            return Err("only `atom_modify map array|hash [sort N BINSIZE]` is \
+                                        supported"
+                                .into())
+                        }
+                    }
                 }
             }
             "units" => {
@@ -433,6 +448,13 @@ impl Exec<'_> {
             "newton" | "communicate" | "comm_modify" | "processors" | "echo" | "log" | "print"
             | "compute_modify" => {}
             "thermo" => self.thermo.set_every(w)?,
+            "thermo_log" => self.warn(
+                c.line,
+                vec![format!(
+                    "thermo_log {}: the thermo lines go to the screen and log.liggghts only",
+                    w.get(1).map_or("", String::as_str)
+                )],
+            ),
             "thermo_style" => {
                 let warnings = self.thermo.set_style(w)?;
                 self.warn(c.line, warnings);
@@ -534,7 +556,14 @@ impl Exec<'_> {
                 let mut k = 1;
                 while k < w.len() {
                     match w[k].as_str() {
-                        "delay" | "every" | "one" | "page" | "contact_distance_factor" => k += 2,
+                        // `binsize` sets LIGGGHTS's bins; the native DEM sizes its linked
+                        // cells from the largest contact distance
+                        "delay"
+                        | "every"
+                        | "one"
+                        | "page"
+                        | "contact_distance_factor"
+                        | "binsize" => k += 2,
                         "check" => {
                             yes_no(w, k + 1, "check")?;
                             k += 2
