@@ -130,7 +130,7 @@ pub(crate) fn run_pair(
     match (fluid, dem) {
         (FluidBackend::Native, DemBackend::Native) => {
             let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
-            couple_loop(ctx, NativeDem::new(sim), native_fluid()?, events)
+            couple_loop(ctx, NativeDem::new(sim, &layout.dem), native_fluid()?, events)
         }
         (FluidBackend::Native, DemBackend::LiggghtsFile) => {
             let dt = deck_time_step(run_deck).ok_or_else(|| {
@@ -204,7 +204,7 @@ mod mpi_pair {
             (FluidBackend::OpenFoam, DemBackend::Native) => {
                 let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
                 let fluid = open_foam(&world, layout, ctx.opts.fluid_ranks)?;
-                couple_loop(ctx, NativeDem::new(sim), fluid, events)
+                couple_loop(ctx, NativeDem::new(sim, &layout.dem), fluid, events)
             }
             #[cfg(all(feature = "mpi", feature = "liggghts"))]
             (FluidBackend::OpenFoam, DemBackend::Liggghts) => {

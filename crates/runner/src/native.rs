@@ -10,7 +10,7 @@ use dem::Simulation;
 use foam::PolyMesh;
 use fv::Fluid;
 use mesh::v3::V3;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The native fluid solver as the fluid side.
 ///
@@ -179,12 +179,17 @@ impl RunFluid for NativeFluid {
 /// The native DEM as the particle side.
 pub struct NativeDem {
     sim: Simulation,
+    /// The deck's directory: relative file names of commands resolve against it.
+    workdir: PathBuf,
 }
 
 impl NativeDem {
-    /// Wraps a simulation built from a deck.
-    pub fn new(sim: Simulation) -> NativeDem {
-        NativeDem { sim }
+    /// Wraps a simulation built from a deck run in `workdir`.
+    pub fn new(sim: Simulation, workdir: &Path) -> NativeDem {
+        NativeDem {
+            sim,
+            workdir: workdir.to_path_buf(),
+        }
     }
 
     /// The simulation (particles, dumps, step count).
@@ -197,6 +202,21 @@ impl ParticleSide for NativeDem {
     fn advance(&mut self, steps: u64) -> Result<(), SideError> {
         self.sim.run(steps)?;
         Ok(())
+    }
+
+    /// `write_restart FILE` (a LIGGGHTS 3.8 restart file, `*` = the step); other commands are
+    /// refused by name.
+    fn command(&mut self, command: &str) -> Result<(), SideError> {
+        match command.split_whitespace().collect::<Vec<_>>().as_slice() {
+            ["write_restart", file] => {
+                dem::deck::restart::write(&self.sim, file, &self.workdir)?;
+                Ok(())
+            }
+            _ => Err(format!(
+                "`{command}`: the native DEM runs only `write_restart FILE` from liggghtsCommands"
+            )
+            .into()),
+        }
     }
 
     fn time_step(&self) -> f64 {

@@ -135,3 +135,31 @@ fn a_deck_whose_coupling_interval_disagrees_warns_or_is_refused() {
         "{err}"
     );
 }
+
+/// CFDEM's liggghtsCommands: writeLiggghts writes a LIGGGHTS restart file of the particles at
+/// the write times (here the one step a stop request leaves), which the native DEM reads back.
+#[test]
+fn write_liggghts_writes_a_restart_file_at_the_write_time() {
+    let (_tmp, case) = case_copy("settling");
+    std::fs::write(
+        case.join("CFD/constant/liggghtsCommands"),
+        "FoamFile { version 2.0; format ascii; class dictionary; object liggghtsCommands; }\n\
+         liggghtsCommandModels ( runLiggghts writeLiggghts );\n\
+         writeLiggghtsProps { writeLastOnly off; writeName \"post/restart/liggghts.restartCFDEM\"; overwrite on; }\n",
+    )
+    .unwrap();
+    let stop = AtomicBool::new(true);
+    let mut log = Vec::new();
+    let report = run(&case, &RunOptions::default(), &stop, &mut |e| {
+        if let Event::Message(m) = e {
+            log.push(m)
+        }
+    })
+    .unwrap();
+    assert!(report.stopped || report.steps == 1);
+    let file = case.join("DEM/post/restart/liggghts.restartCFDEM");
+    assert!(file.is_file(), "{log:?}");
+    assert!(log.iter().any(|m| m.contains("write_restart ../DEM/post/restart/liggghts.restartCFDEM")));
+    let restart = dem_io::restart::read_restart(&file).unwrap();
+    assert_eq!(restart.atoms.len(), report.particles);
+}
