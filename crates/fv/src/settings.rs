@@ -5,7 +5,7 @@
 //! ignored.
 
 use crate::error::{FvError, Result};
-use crate::linsolve::{Method, Preconditioner, Smoother, SolverControls};
+use crate::linsolve::{Method, Preconditioner, Smoother, SmootherKind, SolverControls};
 use foam::{Case, Dict, Item};
 use std::path::{Path, PathBuf};
 
@@ -373,22 +373,22 @@ fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
     };
     let method = match solver {
         "PCG" => Method::Pcg(preconditioner()?),
-        "PBiCG" | "PBiCGStab" => Method::BiCgStab(preconditioner()?),
+        "PBiCG" => Method::BiCg(preconditioner()?),
+        "PBiCGStab" => Method::BiCgStab(preconditioner()?),
         "smoothSolver" => {
             let smoother = s
                 .word("smoother")
                 .map_err(|e| err(file, &key("smoother"), e.0))?;
-            let symmetric = match smoother {
-                "symGaussSeidel" => true,
-                "GaussSeidel" => false,
-                other => {
-                    return Err(err(
-                        file,
-                        &key("smoother"),
-                        format!("`{other}` is not supported (GaussSeidel, symGaussSeidel)"),
-                    ))
-                }
-            };
+            let kind = SmootherKind::from_name(smoother).ok_or_else(|| {
+                err(
+                    file,
+                    &key("smoother"),
+                    format!(
+                        "`{smoother}` is not supported ({})",
+                        SmootherKind::NAMES.join(", ")
+                    ),
+                )
+            })?;
             let sweeps = s
                 .f64_or("nSweeps", 1.0)
                 .map_err(|e| err(file, &key("nSweeps"), e.0))?;
@@ -396,7 +396,7 @@ fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
                 return Err(err(file, &key("nSweeps"), "must be a positive integer"));
             }
             Method::Smooth(Smoother {
-                symmetric,
+                kind,
                 sweeps: sweeps as usize,
             })
         }

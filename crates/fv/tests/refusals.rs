@@ -180,7 +180,7 @@ const EDITS: &[Edit] = &[
     (
         "system/fvSolution",
         "smoother        symGaussSeidel;",
-        "smoother DILU;",
+        "smoother Jacobi;",
         "system/fvSolution",
         "solvers.U.smoother",
     ),
