@@ -1,8 +1,26 @@
 //! The case settings the solver honours, read from `system/controlDict`, `system/fvSchemes`,
 //! `system/fvSolution`, `constant/transportProperties` and (if present)
 //! `constant/turbulenceProperties`. Every unsupported choice is refused with an error naming the
-//! file and key; keys the solver has no use for (writePrecision, runTimeModifiable, …) are
-//! ignored.
+//! file and key (and, for a scheme or solver, listing the supported ones); keys the solver has
+//! no use for (writePrecision, runTimeModifiable, …) are ignored.
+//!
+//! fvSchemes: only the entries of the terms the solver forms are read — `ddt(U)`,
+//! `div(phi,U)` ([`crate::convection`]), the laminar stress divergence, the momentum and
+//! pressure Laplacians under the names icoFoam, pisoFoam and cfdemSolverPiso give them,
+//! `grad(p)`, `grad(U)`, the gradient a scheme names (`linearUpwind grad(U)`,
+//! `grad(magSqr(U))` for `limitedLinear`) — each its own entry, else `default`. Entries for
+//! fields the laminar solver never solves (CFDEM's tutorials carry `div(phi,k)`,
+//! `div(phi,epsilon)`, `laplacian(DkEff,k)`, …), `fluxRequired`, `wallDist` and
+//! `interpolate(U)` are accepted and not used.
+//!
+//! fvSolution: the `p`, `pFinal` and `U` solvers (exact keys, else pattern keys such as
+//! `"(U|k|epsilon)"`, `$p` inherited) with `tolerance`, `relTol`, `maxIter`, `minIter`; `PISO`
+//! (else a `PIMPLE` with one outer corrector) `nCorrectors`, `nNonOrthogonalCorrectors`,
+//! `momentumPredictor`, `pRefCell`, `pRefValue`. `GAMG` is solved by the native multigrid
+//! ([`crate::amg`]) to the same tolerances; its smoother is checked, its tuning keys
+//! (`cacheAgglomeration`, `nCellsInCoarsestLevel`, `agglomerator`, `mergeLevels`, sweeps …)
+//! change the path, not the answer, and are accepted. `relaxationFactors` are accepted when
+//! they do not change the PISO solution (U's equation factor 1, any field factor).
 
 use crate::error::{FvError, Result};
 use crate::linsolve::{Method, Preconditioner, Smoother, SmootherKind, SolverControls};
