@@ -21,6 +21,7 @@
 //! (`cacheAgglomeration`, `nCellsInCoarsestLevel`, `agglomerator`, `mergeLevels`, sweeps …)
 //! change the path, not the answer, and are accepted. `relaxationFactors` are accepted when
 //! they do not change the PISO solution (U's equation factor 1, any field factor).
+//! An active source in `system/fvOptions` or `constant/fvOptions` is refused.
 
 use crate::error::{FvError, Result};
 use crate::linsolve::{Method, Preconditioner, Smoother, SmootherKind, SolverControls};
@@ -277,6 +278,29 @@ fn convection_scheme(sch: &Dict, file: &Path) -> Result<(Convection, bool)> {
         _ => return Err(unsupported()),
     };
     Ok((convection, bounded))
+}
+
+/// Refuses an fvOptions dictionary with an active source (CFDEM's periodicChannel drives its
+/// flow with `meanSupVelocityForce` there): the native solver has no fvOptions, and running
+/// without the source would be a different flow. Sources switched off (`active no;`) are
+/// accepted.
+fn no_fv_options(d: &Dict, file: &Path) -> Result<()> {
+    for e in d.entries() {
+        let foam::Value::Dict(src) = &e.value else {
+            continue;
+        };
+        if src.switch("active").unwrap_or(true) {
+            let kind = src.word("type").unwrap_or("?");
+            return Err(err(
+                file,
+                &e.keyword,
+                format!(
+                    "the source `{kind}` is not supported (the native solver has no fvOptions)"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Checks `relaxationFactors` of fvSolution: pisoFoam and cfdemSolverPiso relax the momentum
@@ -593,6 +617,11 @@ impl Settings {
             }
         }
 
+        for rel in ["system/fvOptions", "constant/fvOptions"] {
+            if root.join(rel).is_file() {
+                no_fv_options(&case.read_dict(rel)?, &path(rel))?;
+            }
+        }
         let sol_file = path("system/fvSolution");
         let sol = case.read_dict("system/fvSolution")?;
         let algo = match (sol.dict("PISO"), sol.dict("PIMPLE")) {
