@@ -11,7 +11,7 @@
 //! Run: `cargo bench -p fv`. `bench_vs_pisofoam` (an example) compares with pisoFoam itself.
 
 use fv::ldu::Ldu;
-use fv::linsolve::{self, Preconditioner, Smoother, SolverControls};
+use fv::linsolve::{self, Preconditioner, Smoother, SmootherKind, SolverControls};
 use fv::FvGeometry;
 use std::path::{Path, PathBuf};
 
@@ -139,11 +139,11 @@ fn symmetric_gauss_seidel(bencher: divan::Bencher) {
         ..SolverControls::default()
     };
     let sm = Smoother {
-        symmetric: true,
+        kind: SmootherKind::SymGaussSeidel,
         sweeps: 1,
     };
     bencher.bench_local(|| {
         let mut x = vec![0.0; g.n_cells];
-        linsolve::gauss_seidel(&a, &g, &b, &mut x, sm, &c, "U").unwrap()
+        linsolve::smooth(&a, &g, &b, &mut x, sm, &c, "U").unwrap()
     });
 }

@@ -1,5 +1,6 @@
 //! Linear solvers for the finite-volume equations, as `fvSolution` names them: preconditioned
-//! conjugate gradients (`PCG`) for the symmetric pressure equation, BiCGStab (`PBiCGStab`) and
+//! conjugate gradients (`PCG`) for the symmetric pressure equation, biconjugate gradients
+//! (`PBiCG`), BiCGStab (`PBiCGStab`) and
 //! Gauss–Seidel smoothing (`smoothSolver` with `GaussSeidel`/`symGaussSeidel`) for the momentum
 //! components, with the Jacobi (`diagonal`) or diagonal-incomplete (`DIC`/`DILU`)
 //! preconditioner, and `GAMG` as conjugate gradients (BiCGStab for a non-symmetric matrix)
@@ -44,9 +45,11 @@ pub enum Preconditioner {
 pub enum Method {
     /// `PCG` with its preconditioner (symmetric matrices: the pressure equation).
     Pcg(Preconditioner),
-    /// `PBiCGStab` (or `PBiCG`, solved by BiCGStab) with its preconditioner.
+    /// `PBiCGStab` with its preconditioner.
     BiCgStab(Preconditioner),
-    /// `smoothSolver` with the `GaussSeidel` or `symGaussSeidel` smoother.
+    /// `PBiCG` (biconjugate gradients) with its preconditioner.
+    BiCg(Preconditioner),
+    /// `smoothSolver` with its smoother.
     Smooth(Smoother),
     /// `GAMG`: conjugate gradients (symmetric matrices) or BiCGStab (others) preconditioned by
     /// one V-cycle of the aggregation multigrid of [`crate::amg`], to the entry's tolerances.
@@ -55,8 +58,8 @@ pub enum Method {
     Gamg,
 }
 
-/// Solves `A x = b` from the initial guess `x` with `method` (see [`pcg`], [`bicgstab`],
-/// [`gauss_seidel`]).
+/// Solves `A x = b` from the initial guess `x` with `method` (see [`pcg`], [`bicg`],
+/// [`bicgstab`], [`smooth`]).
 pub fn solve(
     method: Method,
     a: &Ldu,
@@ -69,19 +72,61 @@ pub fn solve(
     match method {
         Method::Pcg(pre) => pcg(a, g, b, x, pre, c, what),
         Method::BiCgStab(pre) => bicgstab(a, g, b, x, pre, c, what),
-        Method::Smooth(s) => gauss_seidel(a, g, b, x, s, c, what),
+        Method::BiCg(pre) => bicg(a, g, b, x, pre, c, what),
+        Method::Smooth(s) => smooth(a, g, b, x, s, c, what),
         Method::Gamg if a.is_symmetric() => pcg(a, g, b, x, Preconditioner::Amg, c, what),
         Method::Gamg => bicgstab(a, g, b, x, Preconditioner::Amg, c, what),
     }
 }
 
-/// The Gauss–Seidel smoother of [`gauss_seidel`] (OpenFOAM `smoothSolver`).
+/// The smoother of [`smooth`] (OpenFOAM `smoothSolver`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Smoother {
-    /// Forward and backward sweeps (`symGaussSeidel`) or forward only (`GaussSeidel`).
-    pub symmetric: bool,
+    /// What one sweep does.
+    pub kind: SmootherKind,
     /// Sweeps between residual checks (`nSweeps`, default 1).
     pub sweeps: usize,
+}
+
+/// One sweep of a [`Smoother`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SmootherKind {
+    /// `GaussSeidel` (and `nonBlockingGaussSeidel`, the same in serial): a forward sweep.
+    GaussSeidel,
+    /// `symGaussSeidel`: a forward then a backward sweep.
+    SymGaussSeidel,
+    /// `DIC`, `DILU`, `FDIC`: x ← x + M⁻¹(b − A x) with the diagonal incomplete factorisation
+    /// M of the `DIC`/`DILU` preconditioner (OpenFOAM's `DICSmoother`, `DILUSmoother`; `FDIC`
+    /// is the same arithmetic with stored coefficients).
+    Factor,
+    /// `DICGaussSeidel`, `DILUGaussSeidel`: a [`SmootherKind::Factor`] sweep then a
+    /// [`SmootherKind::GaussSeidel`] sweep.
+    FactorGaussSeidel,
+}
+
+impl SmootherKind {
+    /// The smoother fvSolution names `name`, if supported.
+    pub fn from_name(name: &str) -> Option<SmootherKind> {
+        Some(match name {
+            "GaussSeidel" | "nonBlockingGaussSeidel" => SmootherKind::GaussSeidel,
+            "symGaussSeidel" => SmootherKind::SymGaussSeidel,
+            "DIC" | "DILU" | "FDIC" => SmootherKind::Factor,
+            "DICGaussSeidel" | "DILUGaussSeidel" => SmootherKind::FactorGaussSeidel,
+            _ => return None,
+        })
+    }
+
+    /// The names [`SmootherKind::from_name`] accepts.
+    pub const NAMES: &'static [&'static str] = &[
+        "GaussSeidel",
+        "symGaussSeidel",
+        "nonBlockingGaussSeidel",
+        "DIC",
+        "DILU",
+        "FDIC",
+        "DICGaussSeidel",
+        "DILUGaussSeidel",
+    ];
 }
 
 /// Settings of one linear solve (OpenFOAM `fvSolution` `solvers` entry).
@@ -415,6 +460,85 @@ pub fn pcg(
     Ok(stats)
 }
 
+/// Solves `A x = b` (any non-singular A) by preconditioned biconjugate gradients, starting
+/// from `x` (Saad Alg. 7.3 with a preconditioner; OpenFOAM's `PBiCG`): the recurrences of CG
+/// run on A with the residual r and on Aᵀ with a shadow residual r̃ = b − Aᵀx, each
+/// preconditioned (Aᵀ by the transposed factorisation: the DILU of Aᵀ, whose reciprocal
+/// diagonal is that of A), α = (w·r̃)/(Ap·p̃), β = (w·r̃)/(w·r̃)_old. The operations follow
+/// OpenFOAM v1912's `PBiCG::solve`, so the results are its to round-off. The multigrid
+/// preconditioner has no transposed form here: with it the solve is [`bicgstab`].
+pub fn bicg(
+    a: &Ldu,
+    g: &FvGeometry,
+    b: &[f64],
+    x: &mut [f64],
+    pre: Preconditioner,
+    c: &SolverControls,
+    what: &str,
+) -> Result<SolveStats> {
+    if pre == Preconditioner::Amg {
+        return bicgstab(a, g, b, x, pre, c, what);
+    }
+    let n = x.len();
+    let m = RowMatrix::new(a, g);
+    let (mut ra, nf, mut stats) = start(&m, b, x, what)?;
+    let r0 = stats.initial;
+    if converged(c, r0, r0, 0) {
+        return Ok(stats);
+    }
+    let at = Ldu {
+        diag: a.diag.clone(),
+        upper: a.lower.clone(),
+        lower: a.upper.clone(),
+    };
+    let mt = RowMatrix::new(&at, g);
+    let mut wt = vec![0.0; n];
+    mt.mul(x, &mut wt);
+    let mut rt: Vec<f64> = b.iter().zip(&wt).map(|(b, w)| b - w).collect();
+    let pre_a = Precond::new(pre, a, &m);
+    let pre_t = Precond::new(pre, &at, &mt);
+    let mut wa = vec![0.0; n];
+    let mut pa = vec![0.0; n];
+    let mut pt = vec![0.0; n];
+    let mut wart = 0.0;
+    loop {
+        let wart_old = wart;
+        pre_a.apply(m.rows, &ra, &mut wa);
+        pre_t.apply(mt.rows, &rt, &mut wt);
+        wart = dot(&wa, &rt);
+        if stats.iterations == 0 {
+            pa.copy_from_slice(&wa);
+            pt.copy_from_slice(&wt);
+        } else {
+            let beta = wart / wart_old;
+            pa.iter_mut().zip(&wa).for_each(|(p, w)| *p = w + beta * *p);
+            pt.iter_mut().zip(&wt).for_each(|(p, w)| *p = w + beta * *p);
+        }
+        m.mul(&pa, &mut wa);
+        mt.mul(&pt, &mut wt);
+        let wapt = dot(&wa, &pt);
+        // OpenFOAM's singularity test (|w·p̃|/n_f below VSMALL).
+        if wapt.abs() / nf < 1e-300 {
+            break;
+        }
+        let alpha = wart / wapt;
+        for i in 0..n {
+            x[i] += alpha * pa[i];
+            ra[i] -= alpha * wa[i];
+            rt[i] -= alpha * wt[i];
+        }
+        stats.last = sum_abs(&ra) / nf;
+        check_finite(what, stats.last)?;
+        stats.iterations += 1;
+        if (stats.iterations >= c.max_iter || meets(c, stats.last, r0))
+            && stats.iterations >= c.min_iter
+        {
+            break;
+        }
+    }
+    Ok(stats)
+}
+
 /// Solves `A x = b` (any non-singular A) by right-preconditioned BiCGStab (Saad Alg. 9.5 with
 /// the Jacobi or DILU preconditioner), starting from `x`. As OpenFOAM's `PBiCGStab`, the
 /// residual of the half step s = r − αAy is checked too and the solve ends there when it
@@ -497,14 +621,14 @@ pub fn bicgstab(
     Ok(stats)
 }
 
-/// Gauss–Seidel smoothing as OpenFOAM's `smoothSolver` runs it: `sweeps` sweeps (with
-/// `symmetric` a forward then a backward sweep each, `symGaussSeidel`; else forward only,
-/// `GaussSeidel`) between residual checks, the iteration count advancing by `sweeps`, until
-/// the residual meets the tolerances or `max_iter` is reached. Each sweep updates the rows in
-/// place, x_c ← (b_c − Σ_k a_ck x_k) / a_cc, so a row sees the values of the rows already done
-/// in this sweep (Saad §4.1). Converges for diagonally dominant matrices (the momentum
-/// equation's).
-pub fn gauss_seidel(
+/// Smoothing as OpenFOAM's `smoothSolver` runs it: `sweeps` sweeps of the smoother between
+/// residual checks, the iteration count advancing by `sweeps`, until the residual meets the
+/// tolerances or `max_iter` is reached. A Gauss–Seidel sweep updates the rows in place,
+/// x_c ← (b_c − Σ_k a_ck x_k) / a_cc, so a row sees the values of the rows already done in
+/// this sweep (Saad §4.1; `symGaussSeidel` adds the backward sweep); an incomplete-factor
+/// sweep adds M⁻¹(b − A x) ([`SmootherKind::Factor`]). Converges for diagonally dominant
+/// matrices (the momentum equation's).
+pub fn smooth(
     a: &Ldu,
     g: &FvGeometry,
     b: &[f64],
@@ -527,16 +651,50 @@ pub fn gauss_seidel(
         }
         x[c] = s / m.diag[c];
     };
-    loop {
-        for _ in 0..sweeps {
-            for c in 0..x.len() {
-                relax(x, c);
+    let factor = match smoother.kind {
+        SmootherKind::Factor | SmootherKind::FactorGaussSeidel => Some(Dilu::new(a, &m)),
+        _ => None,
+    };
+    let mut w = vec![0.0; if factor.is_some() { x.len() } else { 0 }];
+    let factor_sweep = |x: &mut [f64], r: &mut [f64], w: &mut [f64], f: &Dilu| {
+        // r = b − A x (OpenFOAM's lduMatrix::residual order: b − d x, then the faces).
+        for c in 0..x.len() {
+            let mut s = b[c] - m.diag[c] * x[c];
+            for k in m.rows.row(c) {
+                s -= m.coef[k] * x[m.rows.col[k] as usize];
             }
-            if smoother.symmetric {
-                for c in (0..x.len()).rev() {
-                    relax(x, c);
+            r[c] = s;
+        }
+        f.apply(m.rows, r, w);
+        x.iter_mut().zip(w.iter()).for_each(|(x, w)| *x += w);
+    };
+    loop {
+        match (smoother.kind, &factor) {
+            (SmootherKind::GaussSeidel | SmootherKind::SymGaussSeidel, _) => {
+                for _ in 0..sweeps {
+                    for c in 0..x.len() {
+                        relax(x, c);
+                    }
+                    if smoother.kind == SmootherKind::SymGaussSeidel {
+                        for c in (0..x.len()).rev() {
+                            relax(x, c);
+                        }
+                    }
                 }
             }
+            (_, Some(f)) => {
+                for _ in 0..sweeps {
+                    factor_sweep(x, &mut r, &mut w, f);
+                }
+                if smoother.kind == SmootherKind::FactorGaussSeidel {
+                    for _ in 0..sweeps {
+                        for c in 0..x.len() {
+                            relax(x, c);
+                        }
+                    }
+                }
+            }
+            (_, None) => unreachable!("factor smoothers build their factorisation"),
         }
         m.mul(x, &mut r);
         r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
@@ -668,10 +826,12 @@ mod tests {
             tolerance: 1e-12,
             ..SolverControls::default()
         };
+        let sm = |kind| Method::Smooth(Smoother { kind, sweeps: 1 });
         let gs = |symmetric| {
-            Method::Smooth(Smoother {
-                symmetric,
-                sweeps: 1,
+            sm(if symmetric {
+                SmootherKind::SymGaussSeidel
+            } else {
+                SmootherKind::GaussSeidel
             })
         };
         let mut iters = Vec::new();
@@ -683,8 +843,14 @@ mod tests {
                 Method::BiCgStab(Preconditioner::Dic),
                 Method::BiCgStab(Preconditioner::Diagonal),
                 Method::BiCgStab(Preconditioner::None),
+                Method::BiCg(Preconditioner::Dic),
+                Method::BiCg(Preconditioner::Diagonal),
+                Method::BiCg(Preconditioner::None),
                 gs(true),
                 gs(false),
+                sm(SmootherKind::Factor),
+                sm(SmootherKind::FactorGaussSeidel),
+                Method::Gamg,
             ];
             if symmetric {
                 methods.push(Method::Pcg(Preconditioner::Dic));
@@ -707,9 +873,14 @@ mod tests {
             }
         }
         // A symmetric sweep does the work of two forward ones and converges in fewer sweeps;
-        // DIC beats Jacobi in CG iterations.
+        // DIC beats Jacobi in CG iterations; an incomplete-factor sweep followed by a
+        // Gauss–Seidel one beats either alone.
         let it = |sym: bool, m: Method| iters.iter().find(|i| i.0 == sym && i.1 == m).unwrap().2;
         assert!(it(true, gs(true)) < it(true, gs(false)));
+        for sym in [true, false] {
+            let both = it(sym, sm(SmootherKind::FactorGaussSeidel));
+            assert!(both < it(sym, sm(SmootherKind::Factor)) && both < it(sym, gs(false)));
+        }
         assert!(
             it(true, Method::Pcg(Preconditioner::Dic))
                 < it(true, Method::Pcg(Preconditioner::Diagonal))
@@ -717,7 +888,7 @@ mod tests {
     }
 
     #[test]
-    fn gauss_seidel_counts_sweeps_and_honours_max_iter() {
+    fn smooth_counts_sweeps_and_honours_max_iter() {
         let g = geometry([6, 6, 1]);
         let a = matrix(&g, false, 5);
         let b = vec![1.0; g.n_cells];
@@ -726,14 +897,16 @@ mod tests {
             max_iter: 7,
             ..SolverControls::default()
         };
-        let sm = Smoother {
-            symmetric: true,
-            sweeps: 3,
-        };
-        let mut x = vec![0.0; g.n_cells];
-        let s = gauss_seidel(&a, &g, &b, &mut x, sm, &c, "x").unwrap();
-        // Checks after 3, 6 and 9 sweeps; 9 ≥ 7 stops (OpenFOAM's smoothSolver count).
-        assert_eq!(s.iterations, 9);
-        assert!(s.last < s.initial);
+        for kind in [
+            SmootherKind::SymGaussSeidel,
+            SmootherKind::FactorGaussSeidel,
+        ] {
+            let sm = Smoother { kind, sweeps: 3 };
+            let mut x = vec![0.0; g.n_cells];
+            let s = smooth(&a, &g, &b, &mut x, sm, &c, "x").unwrap();
+            // Checks after 3, 6 and 9 sweeps; 9 ≥ 7 stops (OpenFOAM's smoothSolver count).
+            assert_eq!(s.iterations, 9);
+            assert!(s.last < s.initial);
+        }
     }
 }

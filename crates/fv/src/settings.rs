@@ -1,11 +1,30 @@
 //! The case settings the solver honours, read from `system/controlDict`, `system/fvSchemes`,
 //! `system/fvSolution`, `constant/transportProperties` and (if present)
 //! `constant/turbulenceProperties`. Every unsupported choice is refused with an error naming the
-//! file and key; keys the solver has no use for (writePrecision, runTimeModifiable, …) are
-//! ignored.
+//! file and key (and, for a scheme or solver, listing the supported ones); keys the solver has
+//! no use for (writePrecision, runTimeModifiable, …) are ignored.
+//!
+//! fvSchemes: only the entries of the terms the solver forms are read — `ddt(U)`,
+//! `div(phi,U)` ([`crate::convection`]), the laminar stress divergence, the momentum and
+//! pressure Laplacians under the names icoFoam, pisoFoam and cfdemSolverPiso give them,
+//! `grad(p)`, `grad(U)`, the gradient a scheme names (`linearUpwind grad(U)`,
+//! `grad(magSqr(U))` for `limitedLinear`) — each its own entry, else `default`. Entries for
+//! fields the laminar solver never solves (CFDEM's tutorials carry `div(phi,k)`,
+//! `div(phi,epsilon)`, `laplacian(DkEff,k)`, …), `fluxRequired`, `wallDist` and
+//! `interpolate(U)` are accepted and not used.
+//!
+//! fvSolution: the `p`, `pFinal` and `U` solvers (exact keys, else pattern keys such as
+//! `"(U|k|epsilon)"`, `$p` inherited) with `tolerance`, `relTol`, `maxIter`, `minIter`; `PISO`
+//! (else a `PIMPLE` with one outer corrector) `nCorrectors`, `nNonOrthogonalCorrectors`,
+//! `momentumPredictor`, `pRefCell`, `pRefValue`. `GAMG` is solved by the native multigrid
+//! ([`crate::amg`]) to the same tolerances; its smoother is checked, its tuning keys
+//! (`cacheAgglomeration`, `nCellsInCoarsestLevel`, `agglomerator`, `mergeLevels`, sweeps …)
+//! change the path, not the answer, and are accepted. `relaxationFactors` are accepted when
+//! they do not change the PISO solution (U's equation factor 1, any field factor).
+//! An active source in `system/fvOptions` or `constant/fvOptions` is refused.
 
 use crate::error::{FvError, Result};
-use crate::linsolve::{Method, Preconditioner, Smoother, SolverControls};
+use crate::linsolve::{Method, Preconditioner, Smoother, SmootherKind, SolverControls};
 use foam::{Case, Dict, Item};
 use std::path::{Path, PathBuf};
 
@@ -261,6 +280,29 @@ fn convection_scheme(sch: &Dict, file: &Path) -> Result<(Convection, bool)> {
     Ok((convection, bounded))
 }
 
+/// Refuses an fvOptions dictionary with an active source (CFDEM's periodicChannel drives its
+/// flow with `meanSupVelocityForce` there): the native solver has no fvOptions, and running
+/// without the source would be a different flow. Sources switched off (`active no;`) are
+/// accepted.
+fn no_fv_options(d: &Dict, file: &Path) -> Result<()> {
+    for e in d.entries() {
+        let foam::Value::Dict(src) = &e.value else {
+            continue;
+        };
+        if src.switch("active").unwrap_or(true) {
+            let kind = src.word("type").unwrap_or("?");
+            return Err(err(
+                file,
+                &e.keyword,
+                format!(
+                    "the source `{kind}` is not supported (the native solver has no fvOptions)"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Checks `relaxationFactors` of fvSolution: pisoFoam and cfdemSolverPiso relax the momentum
 /// equation (`UEqn.relax()`) by the factor of `equations` `U` (an exact key, else a pattern
 /// such as `"U.*"`, else `default`; the flat form of older versions counts too), which the
@@ -373,22 +415,22 @@ fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
     };
     let method = match solver {
         "PCG" => Method::Pcg(preconditioner()?),
-        "PBiCG" | "PBiCGStab" => Method::BiCgStab(preconditioner()?),
+        "PBiCG" => Method::BiCg(preconditioner()?),
+        "PBiCGStab" => Method::BiCgStab(preconditioner()?),
         "smoothSolver" => {
             let smoother = s
                 .word("smoother")
                 .map_err(|e| err(file, &key("smoother"), e.0))?;
-            let symmetric = match smoother {
-                "symGaussSeidel" => true,
-                "GaussSeidel" => false,
-                other => {
-                    return Err(err(
-                        file,
-                        &key("smoother"),
-                        format!("`{other}` is not supported (GaussSeidel, symGaussSeidel)"),
-                    ))
-                }
-            };
+            let kind = SmootherKind::from_name(smoother).ok_or_else(|| {
+                err(
+                    file,
+                    &key("smoother"),
+                    format!(
+                        "`{smoother}` is not supported ({})",
+                        SmootherKind::NAMES.join(", ")
+                    ),
+                )
+            })?;
             let sweeps = s
                 .f64_or("nSweeps", 1.0)
                 .map_err(|e| err(file, &key("nSweeps"), e.0))?;
@@ -396,7 +438,7 @@ fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
                 return Err(err(file, &key("nSweeps"), "must be a positive integer"));
             }
             Method::Smooth(Smoother {
-                symmetric,
+                kind,
                 sweeps: sweeps as usize,
             })
         }
@@ -575,6 +617,11 @@ impl Settings {
             }
         }
 
+        for rel in ["system/fvOptions", "constant/fvOptions"] {
+            if root.join(rel).is_file() {
+                no_fv_options(&case.read_dict(rel)?, &path(rel))?;
+            }
+        }
         let sol_file = path("system/fvSolution");
         let sol = case.read_dict("system/fvSolution")?;
         let algo = match (sol.dict("PISO"), sol.dict("PIMPLE")) {

@@ -180,7 +180,7 @@ const EDITS: &[Edit] = &[
     (
         "system/fvSolution",
         "smoother        symGaussSeidel;",
-        "smoother DILU;",
+        "smoother Jacobi;",
         "system/fvSolution",
         "solvers.U.smoother",
     ),
@@ -320,6 +320,30 @@ fn unsupported_settings_are_refused_naming_file_and_key() {
             "{message}"
         );
     }
+}
+
+/// An active fvOptions source would change the flow: refused, naming it.
+#[test]
+fn an_fv_options_source_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    testkit::copy_dir(&testkit::fixture("fv/cavity-re10"), dir.path());
+    let file = dir.path().join("system/fvOptions");
+    let source = "FoamFile { version 2.0; format ascii; class dictionary; object fvOptions; }\n\
+                  momentumSource { type meanSupVelocityForce; active yes; }\n";
+    std::fs::write(&file, source).unwrap();
+    match fv::Fluid::from_case(dir.path()) {
+        Err(FvError::Setting { file, key, msg }) => {
+            assert!(
+                file.ends_with("system/fvOptions") && key == "momentumSource",
+                "{key}"
+            );
+            assert!(msg.contains("meanSupVelocityForce"), "{msg}");
+        }
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("accepted"),
+    }
+    std::fs::write(&file, source.replace("active yes", "active no")).unwrap();
+    fv::Fluid::from_case(dir.path()).unwrap();
 }
 
 /// A scheme with a number in it (CFDEM's tutorials write `Gauss limitedLinearV 1`) is named

@@ -24,8 +24,8 @@ fn edit(path: &Path, from: &str, to: &str) {
 }
 
 /// The Re 100 cavity fixture made a pisoFoam (laminar) case at Re 1000 on a skewed, graded
-/// mesh, with `div(phi,U)` = `div` and the pressure solver entries `p_solver`.
-fn make_case(dir: &Path, div: &str, p_solver: &str) {
+/// mesh, with `div(phi,U)` = `div` and the entries of fvSolution's `solvers` = `solvers`.
+fn make_case(dir: &Path, div: &str, solvers: &str) {
     testkit::copy_dir(&testkit::fixture("fv/cavity-re100"), dir);
     for d in ["0.5", "constant/polyMesh"] {
         std::fs::remove_dir_all(dir.join(d)).unwrap();
@@ -74,9 +74,9 @@ fn make_case(dir: &Path, div: &str, p_solver: &str) {
     edit(&sch, "default         orthogonal;", "default corrected;");
     let sol = dir.join("system/fvSolution");
     let text = std::fs::read_to_string(&sol).unwrap();
-    let start = text.find("    p\n    {").unwrap();
-    let end = text.find("    U\n    {").unwrap();
-    let text = format!("{}{p_solver}\n{}", &text[..start], &text[end..]);
+    let start = text.find("solvers\n{").unwrap() + "solvers\n{".len();
+    let end = text.find("PISO\n{").unwrap();
+    let text = format!("{}\n{solvers}\n}}\n\n{}", &text[..start], &text[end..]);
     std::fs::write(&sol, text).unwrap();
     edit(
         &sol,
@@ -86,10 +86,14 @@ fn make_case(dir: &Path, div: &str, p_solver: &str) {
     testkit::run_ok(testkit::openfoam("blockMesh"), dir);
 }
 
-const PCG: &str = "    p { solver PCG; preconditioner DIC; tolerance 1e-06; relTol 0.05; }
+/// The momentum solver of the icoFoam tutorial.
+const U_GS: &str =
+    "    U { solver smoothSolver; smoother symGaussSeidel; tolerance 1e-05; relTol 0; }";
+
+const P_PCG: &str = "    p { solver PCG; preconditioner DIC; tolerance 1e-06; relTol 0.05; }
     pFinal { $p; relTol 0; }";
 
-const GAMG: &str = "    p { solver GAMG; smoother GaussSeidel; tolerance 1e-08; relTol 0;
+const P_GAMG: &str = "    p { solver GAMG; smoother GaussSeidel; tolerance 1e-08; relTol 0;
         cacheAgglomeration true; nCellsInCoarsestLevel 10; agglomerator faceAreaPair;
         mergeLevels 1; }
     pFinal { $p; relTol 0; }";
@@ -139,10 +143,10 @@ fn difference(a: &Fields, b: &Fields) -> (f64, f64) {
 }
 
 /// Runs pisoFoam and the native fluid on copies of one case; returns both end fields.
-fn run_both(root: &Path, name: &str, div: &str, p_solver: &str) -> (Fields, Fields) {
+fn run_both(root: &Path, name: &str, div: &str, solvers: &str) -> (Fields, Fields) {
     let of: PathBuf = root.join(format!("{name}-pisoFoam"));
     let ours: PathBuf = root.join(format!("{name}-fv"));
-    make_case(&of, div, p_solver);
+    make_case(&of, div, solvers);
     testkit::copy_dir(&of, &ours);
     testkit::run_ok(testkit::openfoam("pisoFoam"), &of);
     let mut fluid = fv::Fluid::from_case(&ours).unwrap_or_else(|e| panic!("{div}: {e}"));
@@ -157,7 +161,12 @@ fn convection_schemes_match_pisofoam() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let (linear, linear_fv) = run_both(dir.path(), "linear", "Gauss linear", PCG);
+    let (linear, linear_fv) = run_both(
+        dir.path(),
+        "linear",
+        "Gauss linear",
+        &format!("{P_PCG}\n{U_GS}"),
+    );
     let (du, dp) = difference(&linear_fv, &linear);
     eprintln!(
         "{:<34} max|ΔU|/U_lid {du:.2e}  max|Δp|/max|p| {dp:.2e}",
@@ -177,7 +186,12 @@ fn convection_schemes_match_pisofoam() {
     let mut failures = Vec::new();
     let mut results = Vec::new();
     for (i, div) in schemes.iter().enumerate() {
-        let (theirs, ours) = run_both(dir.path(), &format!("s{i}"), div, PCG);
+        let (theirs, ours) = run_both(
+            dir.path(),
+            &format!("s{i}"),
+            div,
+            &format!("{P_PCG}\n{U_GS}"),
+        );
         let (du, dp) = difference(&ours, &theirs);
         let (su, sp) = difference(&theirs, &linear);
         eprintln!(
@@ -219,8 +233,58 @@ fn gamg_pressure_solver_matches_pisofoam_to_the_tolerance() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let (theirs, ours) = run_both(dir.path(), "gamg", "Gauss limitedLinearV 1", GAMG);
+    let (theirs, ours) = run_both(
+        dir.path(),
+        "gamg",
+        "Gauss limitedLinearV 1",
+        &format!("{P_GAMG}\n{U_GS}"),
+    );
     let (du, dp) = difference(&ours, &theirs);
     eprintln!("GAMG, Gauss limitedLinearV 1: max|ΔU|/U_lid {du:.2e}  max|Δp|/max|p| {dp:.2e}");
     assert!(du < 1e-6 && dp < 1e-6, "ΔU {du:e}, Δp {dp:e}");
+}
+
+/// The momentum solvers: `smoothSolver` with the Gauss–Seidel and incomplete-factor
+/// smoothers, `PBiCGStab` and `PBiCG` (the tutorials' choice, with DILU) reproduce pisoFoam to
+/// round-off (the same operations in the same order).
+#[test]
+fn momentum_solvers_match_pisofoam() {
+    if !testkit::tool("pisoFoam") || !testkit::tool("blockMesh") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut failures = Vec::new();
+    for (i, (u, bound)) in [
+        ("smoother DILU; tolerance 1e-05", 1e-10),
+        ("smoother DILUGaussSeidel; tolerance 1e-05", 1e-10),
+        ("smoother GaussSeidel; nSweeps 2; tolerance 1e-05", 1e-10),
+    ]
+    .into_iter()
+    .map(|(s, b)| (format!("solver smoothSolver; {s}; relTol 0;"), b))
+    .chain([
+        (
+            "solver PBiCGStab; preconditioner DILU; tolerance 1e-05; relTol 0;".to_string(),
+            1e-10,
+        ),
+        (
+            "solver PBiCG; preconditioner DILU; tolerance 1e-05; relTol 0;".to_string(),
+            1e-10,
+        ),
+    ])
+    .enumerate()
+    {
+        let solvers = format!("{P_PCG}\n    U {{ {u} }}");
+        let (theirs, ours) = run_both(
+            dir.path(),
+            &format!("u{i}"),
+            "Gauss limitedLinearV 1",
+            &solvers,
+        );
+        let (du, dp) = difference(&ours, &theirs);
+        eprintln!("U {{ {u} }}: max|ΔU|/U_lid {du:.2e}  max|Δp|/max|p| {dp:.2e}");
+        if !(du < bound && dp < bound) {
+            failures.push(format!("{u}: ΔU {du:e}, Δp {dp:e}"));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
 }

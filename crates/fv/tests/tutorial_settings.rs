@@ -99,7 +99,7 @@ fn the_tutorials_vocabulary_is_accepted() {
     );
     assert_eq!(s.p_final.method, Method::Gamg);
     assert_eq!(s.p_final.controls.rel_tol, 0.0);
-    assert_eq!(s.u_solver.method, Method::BiCgStab(Preconditioner::Dic));
+    assert_eq!(s.u_solver.method, Method::BiCg(Preconditioner::Dic));
     assert_eq!(s.u_solver.controls.tolerance, 1e-5);
     // And the case runs.
     let mut fluid = fv::Fluid::from_case(dir.path()).unwrap();
