@@ -418,6 +418,21 @@ fn bad_restart_files_are_refused_with_file_and_byte() {
             assert!(e.contains(" (byte "), "{e}");
         }
     }
+    // multisphere bodies are refused, not read as loose spheres
+    let mut f = read_restart(fixture("restart.25000")).unwrap();
+    f.global_fixes.push(dem_io::restart::FixState::from_values(
+        "ms",
+        "multisphere",
+        &[1.0],
+    ));
+    write_restart_file(&d.join("ms.restart"), &f).unwrap();
+    let deck =
+        Deck::read_with_vars(d.join("continue.in"), &vars(&[("restart", "ms.restart")])).unwrap();
+    let e = try_native(d, &deck, 1).unwrap_err().to_string();
+    assert!(
+        e.contains("ms.restart") && e.contains("multisphere bodies"),
+        "{e}"
+    );
     // a history of another contact model is refused, as LIGGGHTS refuses it
     let text = std::fs::read_to_string(fixture("continue.in"))
         .unwrap()

@@ -22,7 +22,9 @@
 //! (insertion counters, random seeds of templates) and the per-atom data of other fixes.
 //! Restoring a history whose number of values differs from what the deck's contact model
 //! keeps is an error, as in LIGGGHTS ("saved simulation state used different contact history
-//! model").
+//! model"); so are multisphere bodies (`fix multisphere…` state), which as loose spheres would
+//! fall apart, and everything the [`dem_io::restart`] reader refuses (another atom style or
+//! version, a corrupt file); and units other than `si`, 2d, triclinic or periodic boxes.
 //!
 //! # Continuing a run
 //! A restart file holds the velocities at the end of its step but not the forces, which the
@@ -135,6 +137,19 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
         .any(|&b| b == Boundary::Periodic)
     {
         return refuse("periodic boundaries are not supported".into());
+    }
+    // clumps of spheres: read as loose spheres they would fall apart (LIGGGHTS too refuses to
+    // go on when a deck does not take the bodies up again)
+    let bodies = f
+        .global_fixes
+        .iter()
+        .map(|g| (&g.id, &g.style))
+        .chain(f.peratom_fixes.iter().map(|p| (&p.id, &p.style)))
+        .find(|(_, style)| style.starts_with("multisphere"));
+    if let Some((id, style)) = bodies {
+        return refuse(format!(
+            "fix {id} ({style}) holds multisphere bodies, which the native DEM does not support"
+        ));
     }
     let mut warnings = Vec::new();
     let mut warn = |w: String| warnings.push(format!("read_restart {name}: {w}"));
@@ -453,8 +468,9 @@ impl Loaded {
             }
         }
         if let Some(hs) = &self.half_step {
-            // particles of the file without the block keep their end-of-step velocities and
-            // zero recorded forces (which then differ from the evaluated ones: no shortcut)
+            // particles not from the file (created after read_restart) keep their velocities
+            // and zero recorded forces, which differ from the evaluated ones: the set-up then
+            // uses the evaluated forces for all
             let p = &sim.particles;
             let zero = vec![V3::zeros(); p.len()];
             let mut h = HalfStep {
