@@ -196,6 +196,62 @@ fn contact_history_equals_liggghts_pair_list() {
     assert_eq!((contacts.len(), stale / 2), (17, 13));
 }
 
+/// The file of a run on two MPI ranks has one chunk per rank; it reads like the serial one:
+/// the values of LIGGGHTS's dump of the same state, each contact on both sides (negated), and
+/// it is written back to the same bytes.
+#[test]
+fn two_rank_file_reads_and_writes_back() {
+    let path = fixture("restart_2proc.25000");
+    let f = read_restart(&path).unwrap();
+    assert_eq!(f.chunks.len(), 2);
+    assert!(f.chunks.iter().all(|&n| n > 0), "{:?}", f.chunks);
+    assert_eq!(f.header.procgrid, [2, 1, 1]);
+    let s = read_snapshot(
+        fixture("state_2proc.txt"),
+        &ReadOptions::default(),
+        Selection::Last,
+    )
+    .unwrap();
+    let row: HashMap<u64, usize> = s
+        .column("id")
+        .unwrap()
+        .iter()
+        .enumerate()
+        .map(|(k, &id)| (id as u64, k))
+        .collect();
+    assert_eq!(row.len(), f.atoms.len());
+    for a in &f.atoms {
+        let k = row[&a.tag];
+        for (d, c) in ["x", "y", "z"].iter().enumerate() {
+            assert_eq!(a.x[d], s.column(c).unwrap()[k]);
+            assert_eq!(a.v[d], s.column(&format!("v{c}")).unwrap()[k]);
+            assert_eq!(a.omega[d], s.column(&format!("omega{c}")).unwrap()[k]);
+        }
+    }
+    let k = f.peratom_fix("contacthistory").unwrap();
+    let blocks: HashMap<u64, &Vec<Contact>> = f
+        .atoms
+        .iter()
+        .map(|a| match &a.fix_data[k] {
+            FixAtomData::Contacts(c) => (a.tag, c),
+            FixAtomData::Values(_) => panic!("contacts expected"),
+        })
+        .collect();
+    let mut n = 0;
+    for (&i, cs) in &blocks {
+        for c in cs.iter() {
+            let back = blocks[&c.partner].iter().find(|b| b.partner == i).unwrap();
+            let neg: Vec<f64> = c.history.iter().map(|v| -v).collect();
+            assert_eq!(back.history, neg);
+            n += 1;
+        }
+    }
+    assert!(n >= 20, "{n}");
+    let mut out = Vec::new();
+    write_restart(&mut out, &f).unwrap();
+    assert!(out == std::fs::read(&path).unwrap());
+}
+
 /// What is read is written back to the same bytes.
 #[test]
 fn liggghts_file_is_written_back_byte_for_byte() {

@@ -45,4 +45,4 @@ pub mod timestep;
 pub mod walls;
 
 pub use error::DemError;
-pub use sim::{SimBox, SimConfig, Simulation};
+pub use sim::{HalfStep, SimBox, SimConfig, Simulation};

@@ -106,6 +106,27 @@ pub struct SimConfig {
     pub sim_box: SimBox,
 }
 
+/// What a continued run needs beyond positions, end-of-step velocities and contact history
+/// to carry on exactly as the uninterrupted run: the velocities half a step earlier, with
+/// which the last forces were evaluated (velocity Verlet evaluates them between its two half
+/// kicks), and those forces. Particle-index vectors of equal length.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HalfStep {
+    /// Velocities half a step before the current one, v − (dt/2)F/m (m/s).
+    pub v: Vec<V3>,
+    /// Angular velocities half a step before, ω − (dt/2)T/I (rad/s).
+    pub omega: Vec<V3>,
+    /// The forces of the current step (N).
+    pub force: Vec<V3>,
+    /// The torques of the current step (N·m).
+    pub torque: Vec<V3>,
+}
+
+/// Largest difference, relative to the largest force (torque), between forces evaluated again
+/// at the half-step velocities and the recorded ones for which the set-up is taken to be the
+/// one that recorded them (the recorded forces are then used as they are).
+const SAME_FORCES: f64 = 1e-9;
+
 /// A running DEM simulation.
 #[derive(Debug)]
 pub struct Simulation {
@@ -124,9 +145,8 @@ pub struct Simulation {
     acc: Vec<Vec<[V3; 2]>>,
     coupling: Coupling,
     forces_valid: bool,
-    /// Velocities the next set-up evaluates the forces with
-    /// ([`Simulation::set_half_step_velocities`]).
-    replay: Option<(Vec<V3>, Vec<V3>)>,
+    /// The state the next set-up evaluates the forces from ([`Simulation::set_half_step`]).
+    replay: Option<HalfStep>,
     pending_inserts: Vec<InsertPack>,
     dumps: Vec<DumpOutput>,
     lost: u64,
@@ -440,29 +460,17 @@ impl Simulation {
         if !self.forces_valid {
             self.pairs.ensure(&self.particles.x, &self.particles.radius);
             match self.replay.take() {
-                Some((v, w)) => {
-                    let n = v.len().min(self.particles.len());
-                    let p = &mut self.particles;
-                    let full_v: Vec<V3> = p.v[..n].to_vec();
-                    let full_w: Vec<V3> = p.omega[..n].to_vec();
-                    p.v[..n].copy_from_slice(&v[..n]);
-                    p.omega[..n].copy_from_slice(&w[..n]);
-                    self.compute_forces(HistoryUse::Replay, None);
-                    let p = &mut self.particles;
-                    p.v[..n].copy_from_slice(&full_v);
-                    p.omega[..n].copy_from_slice(&full_w);
-                }
+                Some(h) => self.replay_forces(&h),
                 None => self.compute_forces(HistoryUse::Setup, None),
             }
         }
         self.write_dumps()
     }
 
-    /// The velocities and angular velocities half a step before the current one, v − (dt/2)F/m
-    /// and ω − (dt/2)T/I: those the forces of the current step were evaluated with, as
-    /// particle-index vectors. `None` while the forces are not those of the last step (before
-    /// the first run, or after the state was edited).
-    pub fn half_step_velocities(&self) -> Option<(Vec<V3>, Vec<V3>)> {
+    /// The half-step velocities and the forces of the current step ([`HalfStep`]); `None`
+    /// while the forces are not those of the last step (before the first run, or after the
+    /// state was edited).
+    pub fn half_step(&self) -> Option<HalfStep> {
         if !self.forces_valid {
             return None;
         }
@@ -476,19 +484,53 @@ impl Simulation {
             v.push(p.v[i] - a * p.f[i]);
             w.push(p.omega[i] - ai * p.torque[i]);
         }
-        Some((v, w))
+        Some(HalfStep {
+            v,
+            omega: w,
+            force: p.f.clone(),
+            torque: p.torque.clone(),
+        })
     }
 
-    /// Gives the set-up of the next run the velocities the current step's forces were
-    /// evaluated with (see [`Simulation::half_step_velocities`]; a native restart file records
-    /// them), for the first `v.len()` particles. The set-up then evaluates the forces at those
-    /// velocities without advancing the contact history ([`HistoryUse::Replay`]) — the forces
-    /// of the uninterrupted run, to round-off — instead of LIGGGHTS's set-up at the full-step
+    /// Hands the next run's set-up the [`HalfStep`] state of the first `h.v.len()` particles
+    /// (a native restart file records it). The set-up evaluates the forces at the half-step
+    /// velocities without advancing the contact history ([`HistoryUse::Replay`]); if they are
+    /// the recorded ones to a relative 10⁻⁹ (the same set-up), the recorded forces are used as
+    /// they are, so the run continues bit for bit; otherwise (the deck changed gravity, walls or
+    /// materials) the new ones are. Without it the set-up is LIGGGHTS's, at the end-of-step
     /// velocities. Editing velocities or radii ([`Simulation::invalidate_forces`]) cancels it.
-    pub fn set_half_step_velocities(&mut self, v: Vec<V3>, omega: Vec<V3>) {
-        let n = v.len().min(omega.len()).min(self.particles.len());
-        self.replay = Some((v[..n].to_vec(), omega[..n].to_vec()));
+    pub fn set_half_step(&mut self, h: HalfStep) {
+        self.replay = Some(h);
         self.forces_valid = false;
+    }
+
+    /// The set-up's force evaluation from a [`HalfStep`].
+    fn replay_forces(&mut self, h: &HalfStep) {
+        let n =
+            h.v.len()
+                .min(h.omega.len())
+                .min(h.force.len())
+                .min(h.torque.len())
+                .min(self.particles.len());
+        let p = &mut self.particles;
+        let full_v: Vec<V3> = p.v[..n].to_vec();
+        let full_w: Vec<V3> = p.omega[..n].to_vec();
+        p.v[..n].copy_from_slice(&h.v[..n]);
+        p.omega[..n].copy_from_slice(&h.omega[..n]);
+        self.compute_forces(HistoryUse::Replay, None);
+        let p = &mut self.particles;
+        p.v[..n].copy_from_slice(&full_v);
+        p.omega[..n].copy_from_slice(&full_w);
+        let same = |now: &[V3], recorded: &[V3]| {
+            let scale = recorded.iter().map(|f| f.norm()).fold(0.0, f64::max);
+            now.iter()
+                .zip(recorded)
+                .all(|(a, b)| (a - b).norm() <= SAME_FORCES * scale)
+        };
+        if same(&p.f[..n], &h.force[..n]) && same(&p.torque[..n], &h.torque[..n]) {
+            p.f[..n].copy_from_slice(&h.force[..n]);
+            p.torque[..n].copy_from_slice(&h.torque[..n]);
+        }
     }
 
     fn write_dumps(&mut self) -> Result<(), DemError> {

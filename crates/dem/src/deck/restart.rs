@@ -22,7 +22,9 @@
 //! (insertion counters, random seeds of templates) and the per-atom data of other fixes.
 //! Restoring a history whose number of values differs from what the deck's contact model
 //! keeps is an error, as in LIGGGHTS ("saved simulation state used different contact history
-//! model").
+//! model"); so are multisphere bodies (`fix multisphere…` state), which as loose spheres would
+//! fall apart, and everything the [`dem_io::restart`] reader refuses (another atom style or
+//! version, a corrupt file); and units other than `si`, 2d, triclinic or periodic boxes.
 //!
 //! # Continuing a run
 //! A restart file holds the velocities at the end of its step but not the forces, which the
@@ -33,9 +35,12 @@
 //! from the uninterrupted `run A+B` by the dashpot forces' change over half a step (see
 //! `tests/fixtures/dem/restart/README.md`). Reading a LIGGGHTS file, the native DEM does the
 //! same and so continues exactly as LIGGGHTS does. Its own files carry one more per-atom block,
-//! [`HALF_STEP_ID`]: the velocities half a step earlier. With them the set-up evaluates the
-//! forces of the file's step again ([`HistoryUse::Replay`](crate::contact::HistoryUse)), and
-//! the continued run is the uninterrupted one to round-off.
+//! [`HALF_STEP_ID`]: the velocities half a step earlier and the forces of the step. With them
+//! the set-up evaluates the forces of the file's step again
+//! ([`HistoryUse::Replay`](crate::contact::HistoryUse)); when they are the recorded ones to
+//! round-off (the deck set up the same contacts, walls, gravity) the recorded forces are used,
+//! and the continued run is the uninterrupted one bit for bit (on one thread; on several, the
+//! fresh neighbour list may sum the forces in another order).
 //!
 //! A file written here is read by Debian's LIGGGHTS 3.8.0 (`read_restart`), which continues
 //! the run with the same contact history and keeps the half-step block unused. The file
@@ -54,7 +59,7 @@ use mesh::v3::V3;
 
 use crate::contact::{ContactModel, History, RollingModel};
 use crate::particles::NewParticle;
-use crate::sim::{SimBox, Simulation};
+use crate::sim::{HalfStep, SimBox, Simulation};
 
 type Res<T> = Result<T, String>;
 
@@ -67,13 +72,16 @@ pub const VERSION: &str = concat!(
 /// Prefix of the id of the `fix property/atom` holding a primitive wall's history.
 const WALL_HISTORY_PREFIX: &str = "history_";
 
-/// Id and style of the per-atom block only the native DEM writes and reads: the velocities
-/// and angular velocities half a step before the file's step (vx vy vz ωx ωy ωz), with which
-/// that step's forces were evaluated. A fix of this style does not exist in LIGGGHTS, which
-/// keeps the block unused when it reads the file.
+/// Id and style of the per-atom block only the native DEM writes and reads ([`HalfStep`]): the
+/// velocities and angular velocities half a step before the file's step, with which that
+/// step's forces were evaluated, and those forces and torques (vx vy vz ωx ωy ωz fx fy fz tx
+/// ty tz; m/s, rad/s, N, N·m). A fix of this style does not exist in LIGGGHTS, which keeps
+/// the block unused when it reads the file.
 pub const HALF_STEP_ID: &str = "foamgrain_halfstep";
 /// See [`HALF_STEP_ID`].
 pub const HALF_STEP_STYLE: &str = "foamgrain/halfstep";
+/// Values per atom of the [`HALF_STEP_ID`] block.
+const HALF_STEP_VALUES: usize = 12;
 
 /// A saved pair contact: holder id, partner id, history values as seen from the holder.
 type SavedContact = (u64, u64, Vec<f64>);
@@ -103,8 +111,8 @@ pub struct Loaded {
     contacts: Option<(usize, Vec<SavedContact>)>,
     /// Wall histories by wall id: values per particle (same order as `particles`).
     walls: Vec<(String, usize, Vec<Vec<f64>>)>,
-    /// Half-step velocities and angular velocities per particle (same order), if recorded.
-    half_step: Option<Vec<[f64; 6]>>,
+    /// The [`HalfStep`] values per particle (same order), if recorded.
+    half_step: Option<Vec<[f64; HALF_STEP_VALUES]>>,
 }
 
 /// Reads `path` for `read_restart`; returns the state and the warnings about what the native
@@ -129,6 +137,19 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
         .any(|&b| b == Boundary::Periodic)
     {
         return refuse("periodic boundaries are not supported".into());
+    }
+    // clumps of spheres: read as loose spheres they would fall apart (LIGGGHTS too refuses to
+    // go on when a deck does not take the bodies up again)
+    let bodies = f
+        .global_fixes
+        .iter()
+        .map(|g| (&g.id, &g.style))
+        .chain(f.peratom_fixes.iter().map(|p| (&p.id, &p.style)))
+        .find(|(_, style)| style.starts_with("multisphere"));
+    if let Some((id, style)) = bodies {
+        return refuse(format!(
+            "fix {id} ({style}) holds multisphere bodies, which the native DEM does not support"
+        ));
     }
     let mut warnings = Vec::new();
     let mut warn = |w: String| warnings.push(format!("read_restart {name}: {w}"));
@@ -186,10 +207,15 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
             let mut per = Vec::with_capacity(f.atoms.len());
             for a in &f.atoms {
                 match &a.fix_data[k] {
-                    FixAtomData::Values(v) if v.len() == 6 => {
-                        per.push([v[0], v[1], v[2], v[3], v[4], v[5]])
+                    FixAtomData::Values(v) if v.len() == HALF_STEP_VALUES => {
+                        per.push(std::array::from_fn(|j| v[j]))
                     }
-                    _ => return refuse(format!("fix {}: 6 values per atom expected", fix.id)),
+                    _ => {
+                        return refuse(format!(
+                            "fix {}: {HALF_STEP_VALUES} values per atom expected",
+                            fix.id
+                        ))
+                    }
                 }
             }
             half_step = Some(per);
@@ -442,16 +468,26 @@ impl Loaded {
             }
         }
         if let Some(hs) = &self.half_step {
+            // particles not from the file (created after read_restart) keep their velocities
+            // and zero recorded forces, which differ from the evaluated ones: the set-up then
+            // uses the evaluated forces for all
             let p = &sim.particles;
-            let mut v = p.v.clone();
-            let mut w = p.omega.clone();
-            for (id, h) in self.ids.iter().zip(hs) {
+            let zero = vec![V3::zeros(); p.len()];
+            let mut h = HalfStep {
+                v: p.v.clone(),
+                omega: p.omega.clone(),
+                force: zero.clone(),
+                torque: zero,
+            };
+            for (id, r) in self.ids.iter().zip(hs) {
                 if let Some(&i) = index.get(id) {
-                    v[i] = V3::new(h[0], h[1], h[2]);
-                    w[i] = V3::new(h[3], h[4], h[5]);
+                    h.v[i] = V3::new(r[0], r[1], r[2]);
+                    h.omega[i] = V3::new(r[3], r[4], r[5]);
+                    h.force[i] = V3::new(r[6], r[7], r[8]);
+                    h.torque[i] = V3::new(r[9], r[10], r[11]);
                 }
             }
-            sim.set_half_step_velocities(v, w);
+            sim.set_half_step(h);
         }
 
         let orphans: Vec<&str> = self
@@ -595,12 +631,12 @@ pub fn restart_file(sim: &Simulation) -> RestartFile {
         max_size: 0,
     });
 
-    let half_step = sim.half_step_velocities();
+    let half_step = sim.half_step();
     if half_step.is_some() {
         peratom_fixes.push(PerAtomFix {
             id: HALF_STEP_ID.into(),
             style: HALF_STEP_STYLE.into(),
-            max_size: 7,
+            max_size: HALF_STEP_VALUES + 1,
         });
     }
     let wall_hist = sim.wall_history();
@@ -618,10 +654,12 @@ pub fn restart_file(sim: &Simulation) -> RestartFile {
                 })
                 .collect();
             fix_data.push(FixAtomData::Contacts(cs));
-            if let Some((v, w)) = &half_step {
-                fix_data.push(FixAtomData::Values(vec![
-                    v[i][0], v[i][1], v[i][2], w[i][0], w[i][1], w[i][2],
-                ]));
+            if let Some(h) = &half_step {
+                let values = [h.v[i], h.omega[i], h.force[i], h.torque[i]]
+                    .iter()
+                    .flat_map(|x| [x[0], x[1], x[2]])
+                    .collect();
+                fix_data.push(FixAtomData::Values(values));
             }
             AtomRecord {
                 x: p.x[i].into(),
