@@ -130,7 +130,12 @@ pub(crate) fn run_pair(
     match (fluid, dem) {
         (FluidBackend::Native, DemBackend::Native) => {
             let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
-            couple_loop(ctx, NativeDem::new(sim, &layout.dem), native_fluid()?, events)
+            couple_loop(
+                ctx,
+                NativeDem::new(sim, &layout.dem),
+                native_fluid()?,
+                events,
+            )
         }
         (FluidBackend::Native, DemBackend::LiggghtsFile) => {
             let dt = deck_time_step(run_deck).ok_or_else(|| {

@@ -159,7 +159,9 @@ fn write_liggghts_writes_a_restart_file_at_the_write_time() {
     assert!(report.stopped || report.steps == 1);
     let file = case.join("DEM/post/restart/liggghts.restartCFDEM");
     assert!(file.is_file(), "{log:?}");
-    assert!(log.iter().any(|m| m.contains("write_restart ../DEM/post/restart/liggghts.restartCFDEM")));
+    assert!(log
+        .iter()
+        .any(|m| m.contains("write_restart ../DEM/post/restart/liggghts.restartCFDEM")));
     let restart = dem_io::restart::read_restart(&file).unwrap();
     assert_eq!(restart.atoms.len(), report.particles);
 }
