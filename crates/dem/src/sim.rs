@@ -469,10 +469,10 @@ impl Simulation {
 
     /// The half-step velocities and the forces of the current step ([`HalfStep`]); `None`
     /// while the forces are not those of the last step (before the first run, or after the
-    /// state was edited).
+    /// state was edited). Between `read_restart` and the first run, the state read.
     pub fn half_step(&self) -> Option<HalfStep> {
         if !self.forces_valid {
-            return None;
+            return self.replay.clone();
         }
         let p = &self.particles;
         let half = 0.5 * self.dt;
