@@ -140,7 +140,8 @@ fn list_files(root: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
 
 /// Whether `rel` (relative to a CFDEM-layout case or one of its `CFD/`, `DEM/` folders) is
 /// something a run writes rather than an input: `postProcessing/…`, `DEM/post/…` (but its
-/// `.keep`), a time directory other than `0`, `processorN/…`, or a `log.*` file.
+/// `.keep`), a time directory other than `0`, `processorN/…`, `clockData/…` (CFDEM's
+/// `standardClock` table), or a `log.*` file.
 pub fn is_run_output(rel: &Path) -> bool {
     let parts: Vec<String> = rel
         .components()
@@ -155,6 +156,7 @@ pub fn is_run_output(rel: &Path) -> bool {
     parts.iter().enumerate().any(|(k, p)| {
         let last = k + 1 == parts.len();
         p == "postProcessing"
+            || p == "clockData"
             || p.starts_with("processor")
             || (!last && p != "0" && p.parse::<f64>().is_ok())
             || (p == "post" && k + 2 == parts.len() && name != ".keep")
@@ -172,6 +174,7 @@ mod tests {
             "postProcessing/integrals.csv",
             "DEM/post/packed.data",
             "DEM/post/restart/liggghts.restart",
+            "CFD/clockData/timeEval.txt",
             "CFD/0.02/U",
             "CFD/1e-05/p",
             "CFD/processor1/constant/polyMesh/faces",
