@@ -15,17 +15,23 @@ fn case_copy(name: &str) -> (tempfile::TempDir, PathBuf) {
     (dir, dst)
 }
 
-#[test]
-fn settling_sphere_passes_its_checks() {
-    let (_tmp, case) = case_copy("settling");
-    let stop = AtomicBool::new(false);
+/// Runs `case` natively with default options, collecting the log lines.
+fn run_logged(case: &std::path::Path, stop: &AtomicBool) -> (runner::run::RunReport, Vec<String>) {
     let mut log = Vec::new();
-    let report = run(&case, &RunOptions::default(), &stop, &mut |e| {
+    let report = run(case, &RunOptions::default(), stop, &mut |e| {
         if let Event::Message(m) = e {
             log.push(m)
         }
     })
     .unwrap();
+    (report, log)
+}
+
+#[test]
+fn settling_sphere_passes_its_checks() {
+    let (_tmp, case) = case_copy("settling");
+    let stop = AtomicBool::new(false);
+    let (report, _log) = run_logged(&case, &stop);
     assert_eq!(report.steps, 200);
     assert_eq!(report.particles, 1);
     assert!(!report.checks.is_empty());
@@ -110,13 +116,7 @@ fn a_deck_whose_coupling_interval_disagrees_warns_or_is_refused() {
         .replace("couple_every 100", "couple_every 50");
     std::fs::write(&deck, text).unwrap();
     let stop = AtomicBool::new(true);
-    let mut log = Vec::new();
-    let report = run(&case, &RunOptions::default(), &stop, &mut |e| {
-        if let Event::Message(m) = e {
-            log.push(m)
-        }
-    })
-    .unwrap();
+    let (report, log) = run_logged(&case, &stop);
     let warning = log.iter().find(|m| m.contains("couple_every 50")).unwrap();
     assert!(warning.contains("couplingInterval 100"), "{warning}");
     // one coupling step of couplingInterval (100) DEM steps of 1e-5 s
@@ -149,13 +149,7 @@ fn write_liggghts_writes_a_restart_file_at_the_write_time() {
     )
     .unwrap();
     let stop = AtomicBool::new(true);
-    let mut log = Vec::new();
-    let report = run(&case, &RunOptions::default(), &stop, &mut |e| {
-        if let Event::Message(m) = e {
-            log.push(m)
-        }
-    })
-    .unwrap();
+    let (report, log) = run_logged(&case, &stop);
     assert!(report.stopped || report.steps == 1);
     let file = case.join("DEM/post/restart/liggghts.restartCFDEM");
     assert!(file.is_file(), "{log:?}");
