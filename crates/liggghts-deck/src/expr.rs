@@ -2,14 +2,44 @@
 //! `v_name`, `+ - * / % ^`, unary `- !`, comparisons `< <= > >= == !=`, `&& ||`, parentheses,
 //! and the math functions of LAMMPS (`sqrt exp ln log abs sin cos tan asin acos atan atan2
 //! floor ceil round`), with LAMMPS's precedence (`^` binds tighter than unary minus, right
-//! associative). Thermo keywords and per-atom references are not supported.
+//! associative). Names that only a running simulation knows — thermo keywords (`step*dt`),
+//! `c_ID[i]`, `f_ID[i]` and per-atom values by tag (`vx[1]`) — are handed to the resolver as
+//! a [`Ref`]; while a deck is read they are errors, while the DEM runs it answers them.
 
-/// Evaluates `text`; `lookup(name)` resolves `v_name`.
-pub fn evaluate(text: &str, lookup: &dyn Fn(&str) -> Result<f64, String>) -> Result<f64, String> {
+/// A name in a formula that the caller resolves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ref<'a> {
+    /// `v_name`: another variable.
+    Variable(&'a str),
+    /// A bare word that is not a function or `PI`: a thermo keyword (`step`, `dt`, `atoms`…).
+    Keyword(&'a str),
+    /// `c_ID` (index `None`) or `c_ID[i]` (i ≥ 1): a compute's scalar or vector element.
+    Compute(&'a str, Option<usize>),
+    /// `f_ID` or `f_ID[i]`: a fix's scalar or vector element.
+    Fix(&'a str, Option<usize>),
+    /// `name[tag]`: a per-atom value (`x`, `vx`, `fx`, `mass`…) of the atom with that tag.
+    Atom(&'a str, u64),
+}
+
+impl std::fmt::Display for Ref<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let idx = |i: &Option<usize>| i.map(|i| format!("[{i}]")).unwrap_or_default();
+        match self {
+            Ref::Variable(n) => write!(f, "v_{n}"),
+            Ref::Keyword(n) => write!(f, "{n}"),
+            Ref::Compute(n, i) => write!(f, "c_{n}{}", idx(i)),
+            Ref::Fix(n, i) => write!(f, "f_{n}{}", idx(i)),
+            Ref::Atom(n, t) => write!(f, "{n}[{t}]"),
+        }
+    }
+}
+
+/// Evaluates `text`; `resolve` answers the names in it ([`Ref`]).
+pub fn evaluate(text: &str, resolve: &dyn Fn(Ref) -> Result<f64, String>) -> Result<f64, String> {
     let mut p = Parser {
         s: text.as_bytes(),
         pos: 0,
-        lookup,
+        lookup: resolve,
     };
     let v = p.or()?;
     p.skip_ws();
@@ -25,7 +55,7 @@ pub fn evaluate(text: &str, lookup: &dyn Fn(&str) -> Result<f64, String>) -> Res
 struct Parser<'a> {
     s: &'a [u8],
     pos: usize,
-    lookup: &'a dyn Fn(&str) -> Result<f64, String>,
+    lookup: &'a dyn Fn(Ref) -> Result<f64, String>,
 }
 
 fn truth(b: bool) -> f64 {
@@ -180,16 +210,47 @@ impl Parser<'_> {
         if name.is_empty() {
             return Err(format!("unexpected `{}` in formula", c as char));
         }
+        if self.s.get(self.pos) == Some(&b'[') {
+            let close = self.s[self.pos..]
+                .iter()
+                .position(|&c| c == b']')
+                .ok_or_else(|| format!("missing `]` after {name}["))?;
+            let inner = std::str::from_utf8(&self.s[self.pos + 1..self.pos + close]).unwrap_or("");
+            self.pos += close + 1;
+            let index: u64 = inner
+                .trim()
+                .parse()
+                .ok()
+                .filter(|&i| i >= 1)
+                .ok_or_else(|| {
+                    format!("`{name}[{inner}]`: the index must be a whole number ≥ 1")
+                })?;
+            let r = match (name.strip_prefix("c_"), name.strip_prefix("f_")) {
+                (Some(id), _) => Ref::Compute(id, Some(index as usize)),
+                (_, Some(id)) => Ref::Fix(id, Some(index as usize)),
+                _ if name.starts_with("v_") => {
+                    return Err(format!(
+                        "`{name}[{inner}]`: vector variables are not supported"
+                    ))
+                }
+                _ => Ref::Atom(name, index),
+            };
+            return (self.lookup)(r);
+        }
         if let Some(v) = name.strip_prefix("v_") {
-            return (self.lookup)(v);
+            return (self.lookup)(Ref::Variable(v));
+        }
+        if let Some(id) = name.strip_prefix("c_") {
+            return (self.lookup)(Ref::Compute(id, None));
+        }
+        if let Some(id) = name.strip_prefix("f_") {
+            return (self.lookup)(Ref::Fix(id, None));
         }
         if name == "PI" {
             return Ok(std::f64::consts::PI);
         }
         if !self.eat("(") {
-            return Err(format!(
-                "unknown name `{name}` in formula (only numbers, PI, v_name and math functions)"
-            ));
+            return (self.lookup)(Ref::Keyword(name));
         }
         let a = self.or()?;
         let b = if self.eat(",") {
@@ -234,12 +295,15 @@ mod tests {
     use super::*;
 
     fn ev(s: &str) -> Result<f64, String> {
-        evaluate(s, &|n| {
-            if n == "r" {
-                Ok(0.5)
-            } else {
-                Err(format!("no {n}"))
-            }
+        evaluate(s, &|n| match n {
+            Ref::Variable("r") => Ok(0.5),
+            Ref::Keyword("step") => Ok(200.0),
+            Ref::Keyword("dt") => Ok(1e-5),
+            Ref::Compute("com", Some(3)) => Ok(0.25),
+            Ref::Fix("cfd2", Some(i)) => Ok(i as f64),
+            Ref::Compute("rke", None) => Ok(7.0),
+            Ref::Atom("vx", 1) => Ok(-3.0),
+            other => Err(format!("no {other}")),
         })
     }
 
@@ -253,8 +317,21 @@ mod tests {
         assert_eq!(ev("2.5E+1").unwrap(), 25.0);
         assert!((ev("sqrt(2)*PI").unwrap() - 2f64.sqrt() * std::f64::consts::PI).abs() < 1e-15);
         assert_eq!(ev("3 > 2 && 1 == 1").unwrap(), 1.0);
-        assert!(ev("v_q").unwrap_err().contains("no q"));
-        assert!(ev("step*2").unwrap_err().contains("step"));
+        assert!(ev("v_q").unwrap_err().contains("no v_q"));
         assert!(ev("1/0").is_err());
+    }
+
+    #[test]
+    fn runtime_names_go_to_the_resolver() {
+        assert_eq!(ev("step*dt").unwrap(), 200.0 * 1e-5);
+        assert_eq!(ev("c_com[3]*2").unwrap(), 0.5);
+        assert_eq!(ev("f_cfd2[2]+f_cfd2[3]").unwrap(), 5.0);
+        assert_eq!(ev("c_rke").unwrap(), 7.0);
+        assert_eq!(ev("-vx[1]").unwrap(), 3.0);
+        assert!(ev("atoms").unwrap_err().contains("no atoms"));
+        assert!(ev("f_x").unwrap_err().contains("no f_x"));
+        assert!(ev("vx[0]").unwrap_err().contains("≥ 1"));
+        assert!(ev("vx[1").unwrap_err().contains("missing `]`"));
+        assert!(ev("v_a[2]").unwrap_err().contains("vector variables"));
     }
 }

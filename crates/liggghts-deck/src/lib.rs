@@ -102,6 +102,60 @@ pub struct Deck {
     pub file: PathBuf,
     /// The commands in order, `variable` lines already applied.
     pub commands: Vec<Command>,
+    /// The command-line variables and every `variable` command with its line, in order (what
+    /// [`Deck::variables_at`] replays).
+    definitions: Vec<(usize, Vec<String>)>,
+}
+
+/// The variables defined at a point of a deck, for what is evaluated while the DEM runs
+/// (`fix print` text, `v_name` thermo columns): equal-style formulas are evaluated when asked,
+/// with the caller answering the names only a running simulation knows ([`expr::Ref`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Variables {
+    table: HashMap<String, Var>,
+}
+
+/// The resolver used while a deck is read: only variables are known then.
+fn reading(r: expr::Ref) -> Result<f64, String> {
+    Err(format!(
+        "`{r}` is known only while the simulation runs (use it in `fix print` or thermo_style, \
+         not in an immediate $-substitution)"
+    ))
+}
+
+impl Variables {
+    /// The value of variable `name` as `${name}` substitutes it (equal-style: `%.15g`).
+    pub fn value(
+        &self,
+        name: &str,
+        resolve: &dyn Fn(expr::Ref) -> Result<f64, String>,
+    ) -> Result<String, String> {
+        lookup(name, &self.table, 0, resolve)
+    }
+
+    /// The value of variable `name` as a number (`v_name` in a formula or a thermo column).
+    pub fn number(
+        &self,
+        name: &str,
+        resolve: &dyn Fn(expr::Ref) -> Result<f64, String>,
+    ) -> Result<f64, String> {
+        number(name, &self.table, 0, resolve)
+    }
+
+    /// `text` with `$x`, `${name}` and `$(formula)` replaced outside quotes (what `fix print`
+    /// does to its text every time it prints).
+    pub fn substitute(
+        &self,
+        text: &str,
+        resolve: &dyn Fn(expr::Ref) -> Result<f64, String>,
+    ) -> Result<String, String> {
+        substitute(text, &self.table, resolve)
+    }
+
+    /// Whether `name` is defined.
+    pub fn contains(&self, name: &str) -> bool {
+        self.table.contains_key(name)
+    }
 }
 
 /// What `fix couple/cfd` and `fix couple/cfd/force[/implicit]` declare.
@@ -115,7 +169,7 @@ pub struct CoupledDeck {
     pub has_force_fix: bool,
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 enum Var {
     Text(String),
     Equal(String),
@@ -146,6 +200,15 @@ impl Deck {
             .iter()
             .map(|(k, v)| (k.clone(), Var::Text(v.clone())))
             .collect();
+        let mut definitions: Vec<(usize, Vec<String>)> = vars
+            .iter()
+            .map(|(k, v)| {
+                (
+                    0,
+                    vec!["variable".into(), k.clone(), "index".into(), v.clone()],
+                )
+            })
+            .collect();
         let mut commands = Vec::new();
         for l in lines::logical_lines(src) {
             let err = |command: &str, message: String| DeckError::Syntax {
@@ -156,13 +219,14 @@ impl Deck {
                 },
                 message,
             };
-            let text = substitute(&l.text, &table).map_err(|m| err("", m))?;
+            let text = substitute(&l.text, &table, &reading).map_err(|m| err("", m))?;
             let words = lines::split_words(lines::strip_comment(&text)).map_err(|m| err("", m))?;
             if words.is_empty() {
                 continue;
             }
             if words[0] == "variable" {
                 define(&words, &mut table).map_err(|m| err("variable", m))?;
+                definitions.push((l.line, words));
                 continue;
             }
             commands.push(Command {
@@ -173,7 +237,18 @@ impl Deck {
         Ok(Deck {
             file: file.to_path_buf(),
             commands,
+            definitions,
         })
+    }
+
+    /// The variables as defined before deck line `line` (`usize::MAX`: at the end).
+    pub fn variables_at(&self, line: usize) -> Variables {
+        let mut table = HashMap::new();
+        for (_, words) in self.definitions.iter().filter(|(l, _)| *l < line) {
+            // each definition was applied once already while reading: it cannot fail now
+            let _ = define(words, &mut table);
+        }
+        Variables { table }
     }
 
     /// The location of `c` for messages.
@@ -220,31 +295,59 @@ impl Deck {
     }
 }
 
-fn lookup(name: &str, table: &HashMap<String, Var>, depth: usize) -> Result<String, String> {
+type Resolve<'r> = &'r dyn Fn(expr::Ref) -> Result<f64, String>;
+
+fn lookup(
+    name: &str,
+    table: &HashMap<String, Var>,
+    depth: usize,
+    resolve: Resolve,
+) -> Result<String, String> {
     if depth > 32 {
         return Err(format!("variable `{name}` refers to itself"));
     }
     match table.get(name) {
         Some(Var::Text(t)) => Ok(t.clone()),
         Some(Var::Equal(f)) => {
-            let v = eval_formula(f, table, depth)?;
+            let v = eval_formula(f, table, depth, resolve)?;
             Ok(format_g(v, 15))
         }
         None => Err(format!("variable `{name}` is not defined")),
     }
 }
 
-fn eval_formula(f: &str, table: &HashMap<String, Var>, depth: usize) -> Result<f64, String> {
-    expr::evaluate(f, &|n| {
-        let t = lookup(n, table, depth + 1)?;
-        t.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("variable `{n}` = `{t}` is not a number"))
+fn number(
+    name: &str,
+    table: &HashMap<String, Var>,
+    depth: usize,
+    resolve: Resolve,
+) -> Result<f64, String> {
+    match table.get(name) {
+        // no round trip through the %.15g text for a formula
+        Some(Var::Equal(f)) if depth <= 32 => eval_formula(f, table, depth, resolve),
+        _ => {
+            let t = lookup(name, table, depth, resolve)?;
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("variable `{name}` = `{t}` is not a number"))
+        }
+    }
+}
+
+fn eval_formula(
+    f: &str,
+    table: &HashMap<String, Var>,
+    depth: usize,
+    resolve: Resolve,
+) -> Result<f64, String> {
+    expr::evaluate(f, &|r| match r {
+        expr::Ref::Variable(n) => number(n, table, depth + 1, resolve),
+        other => resolve(other),
     })
 }
 
 /// Replaces `$x`, `${name}` and `$(formula)` outside quotes.
-fn substitute(s: &str, table: &HashMap<String, Var>) -> Result<String, String> {
+fn substitute(s: &str, table: &HashMap<String, Var>, resolve: Resolve) -> Result<String, String> {
     let mut out = String::with_capacity(s.len());
     let chars: Vec<char> = s.chars().collect();
     let mut quote: Option<char> = None;
@@ -292,9 +395,9 @@ fn substitute(s: &str, table: &HashMap<String, Var>) -> Result<String, String> {
                     None => return Err("`$` at the end of a line".into()),
                 };
                 let value = if immediate {
-                    format_g(eval_formula(&name, table, 0)?, 15)
+                    format_g(eval_formula(&name, table, 0, resolve)?, 15)
                 } else {
-                    lookup(&name, table, 0)?
+                    lookup(&name, table, 0, resolve)?
                 };
                 out.push_str(&value);
                 k = rest;
@@ -363,5 +466,43 @@ mod tests {
         let e = Deck::parse("a\nb ${nope}", Path::new("t.in"), &[]).unwrap_err();
         assert!(e.to_string().starts_with("t.in:2:"), "{e}");
         assert!(e.to_string().contains("nope"), "{e}");
+    }
+
+    #[test]
+    fn runtime_variables_are_evaluated_when_asked() {
+        // `fix print` keeps its quoted text; the variables it names are evaluated while the
+        // simulation runs, with the running values of step, dt and the fix vectors.
+        let src = "variable time equal step*dt\nvariable fx equal f_cfd2[1]\n\
+                   variable n index 3\nfix p all print 10 \"${time} ${fx} $n\"\n\
+                   variable n delete\nvariable n string late\nrun 1";
+        let d = Deck::parse(src, Path::new("t.in"), &[("w".into(), "9".into())]).unwrap();
+        assert_eq!(d.commands[0].words[5], "${time} ${fx} $n");
+        let resolve = |r: expr::Ref| match r {
+            expr::Ref::Keyword("step") => Ok(1000.0),
+            expr::Ref::Keyword("dt") => Ok(1e-5),
+            expr::Ref::Fix("cfd2", Some(1)) => Ok(-0.25),
+            other => Err(format!("unknown {other}")),
+        };
+        let at_print = d.variables_at(d.commands[0].line);
+        assert_eq!(
+            at_print
+                .substitute(&d.commands[0].words[5], &resolve)
+                .unwrap(),
+            "0.01 -0.25 3"
+        );
+        assert_eq!(at_print.number("time", &resolve).unwrap(), 1000.0 * 1e-5);
+        assert_eq!(at_print.value("w", &resolve).unwrap(), "9");
+        let at_end = d.variables_at(usize::MAX);
+        assert_eq!(at_end.value("n", &resolve).unwrap(), "late");
+        assert!(at_end
+            .number("n", &resolve)
+            .unwrap_err()
+            .contains("not a number"));
+        // while reading, a running value in an immediate substitution is an error
+        let e = Deck::parse("variable t equal step\nrun ${t}", Path::new("t.in"), &[]).unwrap_err();
+        assert!(
+            e.to_string().contains("only while the simulation runs"),
+            "{e}"
+        );
     }
 }
