@@ -135,8 +135,8 @@ pub enum ErrorKind {
     /// A binary chunk whose size does not fit the header.
     #[error("bad chunk: {0}")]
     BadChunk(String),
-    /// The same column name appears twice.
-    #[error("duplicate column name `{0}`")]
+    /// The same column name appears twice with different values.
+    #[error("column `{0}` appears twice with different values")]
     DuplicateColumn(String),
     /// A column list with no names.
     #[error("no column names given")]

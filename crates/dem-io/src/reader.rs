@@ -200,6 +200,14 @@ impl<R: Read + Seek> DumpReader<R> {
             DumpFormat::Text => text::read_body(&mut self.src, &mut self.line, &p.head.header)?,
             DumpFormat::Binary => binary::read_body(&mut self.src, &p.head)?,
         };
+        crate::snapshot::check_duplicates(&p.head.header.columns, &data).map_err(|kind| {
+            // the `ITEM: ATOMS` line (text) or the chunk (binary) that names the columns
+            let at = match self.format {
+                DumpFormat::Text => Location::Line(p.body_line),
+                DumpFormat::Binary => Location::Byte(p.body_pos),
+            };
+            DumpError::at(self.src.name(), at, kind)
+        })?;
         Ok(Snapshot::from_parts(p.head.header, self.src.name(), data))
     }
 

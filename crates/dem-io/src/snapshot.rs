@@ -1,6 +1,6 @@
 //! The data model: one snapshot as a structure of arrays, and a typed particle view of it.
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::bounds::BoxBounds;
@@ -47,13 +47,26 @@ pub(crate) fn check_names(names: &[String]) -> Result<(), ErrorKind> {
     if names.is_empty() {
         return Err(ErrorKind::NoColumns);
     }
-    let mut seen = HashSet::with_capacity(names.len());
     for n in names {
         if n.is_empty() || n.chars().any(char::is_whitespace) {
             return Err(ErrorKind::BadHeader(format!("invalid column name `{n}`")));
         }
-        if !seen.insert(n.as_str()) {
-            return Err(ErrorKind::DuplicateColumn(n.clone()));
+    }
+    Ok(())
+}
+
+/// A column named twice must carry the same values both times: LIGGGHTS writes a column twice
+/// when the deck names it twice (`dump … id type type x y z`, as in CFDEM-PFM's tutorials), and
+/// [`Snapshot::column`] gives the first; two different columns of one name are an error.
+pub(crate) fn check_duplicates(names: &[String], data: &[Vec<f64>]) -> Result<(), ErrorKind> {
+    let mut first: HashMap<&str, usize> = HashMap::with_capacity(names.len());
+    for (k, n) in names.iter().enumerate() {
+        match first.get(n.as_str()) {
+            Some(&j) if data[j] != data[k] => return Err(ErrorKind::DuplicateColumn(n.clone())),
+            Some(_) => {}
+            None => {
+                first.insert(n, k);
+            }
         }
     }
     Ok(())
@@ -62,7 +75,8 @@ pub(crate) fn check_names(names: &[String]) -> Result<(), ErrorKind> {
 impl Snapshot {
     /// Builds a snapshot from column names and column data (same order, equal lengths).
     ///
-    /// Errors: no columns, duplicate or empty names, columns of unequal length. The snapshot's
+    /// Errors: no columns, empty names, a name given twice with different values, columns of
+    /// unequal length. The snapshot's
     /// source is [`IN_MEMORY`]; change it with [`Snapshot::with_source`].
     pub fn new(
         timestep: u64,
@@ -79,6 +93,7 @@ impl Snapshot {
                 names: names.join(" "),
             }));
         }
+        check_duplicates(&names, &data).map_err(err)?;
         let n = data[0].len();
         for (name, col) in names.iter().zip(&data) {
             if col.len() != n {
