@@ -128,6 +128,23 @@ struct Output {
 }
 
 impl Output {
+    fn set_log(&mut self, path: Option<&Path>, append: bool) -> std::io::Result<()> {
+        if let Some(mut old) = self.log.take() {
+            old.flush()?;
+        }
+        if let Some(p) = path {
+            let f = std::fs::OpenOptions::new()
+                .create(true)
+                .write(true)
+                .append(append)
+                .truncate(!append)
+                .open(p)
+                .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", p.display())))?;
+            self.log = Some(std::io::BufWriter::new(f));
+        }
+        Ok(())
+    }
+
     fn line(&mut self, text: &str) -> std::io::Result<()> {
         if let Some(log) = &mut self.log {
             writeln!(log, "{text}")?;
@@ -196,6 +213,8 @@ pub fn run(a: &DemArgs) -> anyhow::Result<()> {
                 Ok(())
             }
             DeckEvent::Output(line) => out.line(&line),
+            // `log FILE` in the deck moves the log, as in LIGGGHTS
+            DeckEvent::Log { path, append } => out.set_log(path.as_deref(), append),
             DeckEvent::Warning { line, message } => out.line(&format!(
                 "WARNING: {}:{line}: {message}",
                 opts.deck.display()

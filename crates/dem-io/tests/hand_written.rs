@@ -231,9 +231,11 @@ fn bad_headers() {
     let twice = HEADER.replace("id type x", "id type type");
     let s = read_text(&format!("{twice}1 2 2 0 0\n2 1 1 1 1\n")).unwrap();
     assert_eq!(s[0].column("type").unwrap(), [2.0, 1.0]);
-    assert_text_error(&format!("{twice}1 2 3 0 0\n2 1 1 1 1\n"), 9, |k| {
-        matches!(k, ErrorKind::DuplicateColumn(c) if c == "type")
-    });
+    assert_text_error(
+        &format!("{twice}1 2 3 0 0\n2 1 1 1 1\n"),
+        9,
+        |k| matches!(k, ErrorKind::DuplicateColumn(c) if c == "type"),
+    );
     assert_text_error(
         &HEADER.replace("pp ff sm", "pp fx sm"),
         5,
@@ -425,7 +427,10 @@ fn binary_column_names_must_match_and_be_unique() {
     assert_eq!(err.location, Location::Byte(92));
     // two different columns given one name: an error at the first snapshot's chunk
     let err = read_bin(two_snapshots(), &["id", "id"]).unwrap_err();
-    assert!(matches!(err.kind, ErrorKind::DuplicateColumn(ref c) if c == "id"), "{err}");
+    assert!(
+        matches!(err.kind, ErrorKind::DuplicateColumn(ref c) if c == "id"),
+        "{err}"
+    );
 }
 
 #[test]

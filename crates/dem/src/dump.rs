@@ -9,14 +9,10 @@ use std::path::{Path, PathBuf};
 
 use dem_io::{BoxBounds, DumpFormat, Snapshot};
 
+use crate::atom_value::{self, AtomValue};
+use crate::coupling::Coupling;
 use crate::error::DemError;
 use crate::particles::Particles;
-
-/// The `dump custom` columns this crate can write.
-pub const COLUMNS: &[&str] = &[
-    "id", "type", "x", "y", "z", "vx", "vy", "vz", "fx", "fy", "fz", "omegax", "omegay", "omegaz",
-    "tqx", "tqy", "tqz", "radius", "diameter", "mass", "density", "ix", "iy", "iz",
-];
 
 /// One periodic dump.
 #[derive(Debug)]
@@ -29,6 +25,7 @@ pub struct DumpOutput {
     pub path: PathBuf,
     /// Column names.
     pub columns: Vec<String>,
+    values: Vec<AtomValue>,
     /// `dump_modify sort id`.
     pub sort_by_id: bool,
     /// Last step written.
@@ -37,7 +34,8 @@ pub struct DumpOutput {
 }
 
 impl DumpOutput {
-    /// Checks the columns and the period; the file is created at the first write.
+    /// Checks the columns ([`atom_value::NAMES`]; a column may be named twice, as LIGGGHTS
+    /// allows) and the period; the file is created at the first write.
     pub fn new(
         name: &str,
         every: u64,
@@ -50,22 +48,23 @@ impl DumpOutput {
         if columns.is_empty() {
             return Err("no columns".into());
         }
-        for (k, c) in columns.iter().enumerate() {
-            if columns[..k].contains(c) {
-                return Err(format!("dump column `{c}` given twice"));
-            }
-            if !COLUMNS.contains(&c.as_str()) {
-                return Err(format!(
-                    "unsupported dump column `{c}` (supported: {})",
-                    COLUMNS.join(" ")
-                ));
-            }
-        }
+        let values = columns
+            .iter()
+            .map(|c| {
+                AtomValue::parse(c).ok_or_else(|| {
+                    format!(
+                        "unsupported dump column `{c}` (supported: {})",
+                        atom_value::NAMES
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
         Ok(DumpOutput {
             name: name.to_string(),
             every,
             path,
             columns,
+            values,
             sort_by_id: false,
             last_step: None,
             writer: None,
@@ -77,12 +76,21 @@ impl DumpOutput {
         &mut self,
         step: u64,
         p: &Particles,
+        coupling: &Coupling,
         bounds: BoxBounds,
     ) -> Result<(), DemError> {
         if !step.is_multiple_of(self.every) || self.last_step == Some(step) {
             return Ok(());
         }
-        let snap = snapshot(step, p, bounds, &self.columns, self.sort_by_id);
+        let snap = snapshot(
+            step,
+            p,
+            coupling,
+            bounds,
+            &self.columns,
+            &self.values,
+            self.sort_by_id,
+        );
         let wildcard = self.path.to_string_lossy().contains('*');
         let file = if wildcard {
             PathBuf::from(self.path.to_string_lossy().replace('*', &step.to_string()))
@@ -111,47 +119,24 @@ impl DumpOutput {
     }
 }
 
-/// A snapshot of the particles with the given columns (checked against [`COLUMNS`]).
-pub fn snapshot(
+/// A snapshot of the particles with the given columns and the values they name.
+fn snapshot(
     step: u64,
     p: &Particles,
+    coupling: &Coupling,
     bounds: BoxBounds,
     columns: &[String],
+    values: &[AtomValue],
     sort_by_id: bool,
 ) -> Snapshot {
     let mut order: Vec<usize> = (0..p.len()).collect();
     if sort_by_id {
         order.sort_by_key(|&i| p.id[i]);
     }
-    let col = |f: &dyn Fn(usize) -> f64| -> Vec<f64> { order.iter().map(|&i| f(i)).collect() };
-    let data: Vec<Vec<f64>> = columns
+    let data: Vec<Vec<f64>> = values
         .iter()
-        .map(|c| match c.as_str() {
-            "id" => col(&|i| p.id[i] as f64),
-            "type" => col(&|i| p.atom_type[i] as f64),
-            "x" => col(&|i| p.x[i][0]),
-            "y" => col(&|i| p.x[i][1]),
-            "z" => col(&|i| p.x[i][2]),
-            "vx" => col(&|i| p.v[i][0]),
-            "vy" => col(&|i| p.v[i][1]),
-            "vz" => col(&|i| p.v[i][2]),
-            "fx" => col(&|i| p.f[i][0]),
-            "fy" => col(&|i| p.f[i][1]),
-            "fz" => col(&|i| p.f[i][2]),
-            "omegax" => col(&|i| p.omega[i][0]),
-            "omegay" => col(&|i| p.omega[i][1]),
-            "omegaz" => col(&|i| p.omega[i][2]),
-            "tqx" => col(&|i| p.torque[i][0]),
-            "tqy" => col(&|i| p.torque[i][1]),
-            "tqz" => col(&|i| p.torque[i][2]),
-            "radius" => col(&|i| p.radius[i]),
-            "diameter" => col(&|i| 2.0 * p.radius[i]),
-            "mass" => col(&|i| p.mass[i]),
-            "density" => col(&|i| p.density[i]),
-            // no periodic boundaries: image flags are always 0
-            _ => col(&|_| 0.0),
-        })
+        .map(|v| order.iter().map(|&i| v.get(p, coupling, i)).collect())
         .collect();
     Snapshot::new(step, bounds, columns.to_vec(), data)
-        .expect("columns checked unique and of equal length")
+        .expect("columns named twice carry the same values; all columns have one length")
 }

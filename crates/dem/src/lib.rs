@@ -10,6 +10,7 @@
 //! - [`contact`]: `hertz`, `tangential` (history), `sjkr`, `rolling` (`cdt`, `epsd2`).
 //! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells + pair list).
 //! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
+//! - [`atom_value`]: per-atom quantities by LIGGGHTS name (dump columns, `compute reduce`).
 //! - [`deck`]: the LIGGGHTS input subset (restart files: [`deck::restart`]); [`dump`]:
 //!   `dump custom` output via `dem-io`;
 //!   [`from_dump`]: particles from a LIGGGHTS dump.
@@ -29,6 +30,7 @@
 //! force buffers summed in a fixed order). Bad input gives a [`DemError`] naming the deck line, property or
 //! particle; nothing here panics on user input.
 
+pub mod atom_value;
 pub mod contact;
 pub mod coupling;
 pub mod deck;

@@ -338,6 +338,30 @@ impl Simulation {
         )
     }
 
+    /// The coupling forces (empty without coupling).
+    pub fn coupling(&self) -> &Coupling {
+        &self.coupling
+    }
+
+    /// Σ over the particles of the coupling force of the last step, F_ext + β(u_f − v) with v
+    /// the half-step velocity it was evaluated at (N): LIGGGHTS's global vector of `fix
+    /// couple/cfd/force[/implicit]` (`f_ID[1..3]`). Zero without coupling.
+    pub fn coupling_force_total(&self) -> V3 {
+        if !self.coupling.is_active() {
+            return V3::zeros();
+        }
+        let p = &self.particles;
+        let half = if self.forces_valid {
+            0.5 * self.dt
+        } else {
+            0.0
+        };
+        (0..p.len()).fold(V3::zeros(), |sum, i| {
+            let v = p.v[i] - (half / p.mass[i]) * p.f[i];
+            sum + self.coupling.force(i, v)
+        })
+    }
+
     /// Removes the coupling forces.
     pub fn clear_coupling(&mut self) {
         self.coupling = Coupling::default();
@@ -539,7 +563,7 @@ impl Simulation {
         }
         let bounds = self.sim_box.dump_bounds(&self.particles.x);
         for d in &mut self.dumps {
-            d.maybe_write(self.step, &self.particles, bounds)?;
+            d.maybe_write(self.step, &self.particles, &self.coupling, bounds)?;
         }
         Ok(())
     }

@@ -1,5 +1,5 @@
 //! C's `%.Pg`, the number format LAMMPS and LIGGGHTS print with: equal-style variables are
-//! substituted as `%.15g`, thermo columns are `%14.8g` (see [`thermo_float`]) and integers
+//! substituted as `%.15g` (`$(formula)` as `%.20g`), thermo columns are `%14.8g` (see [`thermo_float`]) and integers
 //! `%8d`.
 //!
 //! `%.Pg` rounds to P significant digits, then uses scientific notation when the decimal

@@ -4,7 +4,7 @@
 //!
 //! Reading handles `&` continuations, `#` comments, quotes ([`lines`]), and `variable NAME
 //! index|string|equal|delete …` with `$x`, `${name}` and `$(formula)` substitution ([`expr`]
-//! evaluates formulas; equal-style values are formatted `%.15g` as LAMMPS does, [`format`]);
+//! evaluates formulas; equal-style values are formatted `%.15g`, `$(formula)` `%.20g`, as LAMMPS does, [`format`]);
 //! values given on the command line (`-var NAME VALUE`) take precedence over `index`
 //! definitions. What a command means is not this crate's business: it returns the words.
 //!
@@ -102,8 +102,10 @@ pub struct Deck {
     pub file: PathBuf,
     /// The commands in order, `variable` lines already applied.
     pub commands: Vec<Command>,
-    /// The command-line variables and every `variable` command with its line, in order (what
-    /// [`Deck::variables_at`] replays).
+    /// The variables before the first line (the command line's, or those a deck read with
+    /// [`Deck::parse_with`] started from).
+    initial: Variables,
+    /// Every `variable` command with its line, in order (what [`Deck::variables_at`] replays).
     definitions: Vec<(usize, Vec<String>)>,
 }
 
@@ -196,19 +198,18 @@ impl Deck {
 
     /// Parses deck text; `file` names it in errors.
     pub fn parse(src: &str, file: &Path, vars: &[(String, String)]) -> Result<Deck, DeckError> {
-        let mut table: HashMap<String, Var> = vars
+        let table: HashMap<String, Var> = vars
             .iter()
             .map(|(k, v)| (k.clone(), Var::Text(v.clone())))
             .collect();
-        let mut definitions: Vec<(usize, Vec<String>)> = vars
-            .iter()
-            .map(|(k, v)| {
-                (
-                    0,
-                    vec!["variable".into(), k.clone(), "index".into(), v.clone()],
-                )
-            })
-            .collect();
+        Deck::parse_with(src, file, &Variables { table })
+    }
+
+    /// Parses deck text that continues with the variables `vars` (commands given to a running
+    /// simulation, e.g. CFDEM's `liggghtsCommands`, see the deck's [`Deck::variables_at`]).
+    pub fn parse_with(src: &str, file: &Path, vars: &Variables) -> Result<Deck, DeckError> {
+        let mut table = vars.table.clone();
+        let mut definitions: Vec<(usize, Vec<String>)> = Vec::new();
         let mut commands = Vec::new();
         for l in lines::logical_lines(src) {
             let err = |command: &str, message: String| DeckError::Syntax {
@@ -237,13 +238,14 @@ impl Deck {
         Ok(Deck {
             file: file.to_path_buf(),
             commands,
+            initial: vars.clone(),
             definitions,
         })
     }
 
     /// The variables as defined before deck line `line` (`usize::MAX`: at the end).
     pub fn variables_at(&self, line: usize) -> Variables {
-        let mut table = HashMap::new();
+        let mut table = self.initial.table.clone();
         for (_, words) in self.definitions.iter().filter(|(l, _)| *l < line) {
             // each definition was applied once already while reading: it cannot fail now
             let _ = define(words, &mut table);
@@ -395,7 +397,7 @@ fn substitute(s: &str, table: &HashMap<String, Var>, resolve: Resolve) -> Result
                     None => return Err("`$` at the end of a line".into()),
                 };
                 let value = if immediate {
-                    format_g(eval_formula(&name, table, 0, resolve)?, 15)
+                    format_g(eval_formula(&name, table, 0, resolve)?, 20)
                 } else {
                     lookup(&name, table, 0, resolve)?
                 };

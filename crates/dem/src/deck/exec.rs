@@ -16,13 +16,17 @@
 //!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2`,
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
 //!   (`insert_every once`), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
-//!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled);
-//!   `unfix` of gravity, walls and pending insertions;
-//! - output: `dump ID all custom N FILE cols…`, `dump_modify ID sort id|label L|format …`,
-//!   `undump`, `write_data FILE`, `write_restart FILE` (`*` = the step; directories are made); `thermo`, `thermo_style`, `thermo_modify`, `compute`,
-//!   `uncompute` ([`thermo`](super::thermo): LIGGGHTS-style thermo lines, reported as
-//!   [`DeckEvent::Output`]); `compute_modify`, `echo`, `log`, `print` are accepted and have
-//!   no effect;
+//!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
+//!   vector `f_ID[1..3]` is the total coupling force), `print` ([`print`](super::print));
+//!   `unfix` of gravity, prints, walls and pending insertions;
+//! - output: `dump ID all custom N FILE cols…` (columns of [`crate::atom_value`]),
+//!   `dump_modify ID sort id|label L|format …`, `undump`, `write_data FILE`, `write_restart
+//!   FILE` (`*` = the step; directories are made); `thermo`, `thermo_style`, `thermo_modify`
+//!   ([`thermo`](super::thermo): LIGGGHTS-style thermo lines, reported as
+//!   [`DeckEvent::Output`]); `compute` (`erotate/sphere`, `com`, `reduce`; other styles are
+//!   accepted, [`values`](super::values)), `uncompute`; `print TEXT` (its variables evaluated
+//!   when it runs); `log FILE|none [append yes]` ([`DeckEvent::Log`]); `compute_modify` and
+//!   `echo` are accepted and have no effect;
 //! - `run N [upto] [pre yes|no] [post yes|no]`, reported as [`DeckEvent`]s: the run's span,
 //!   progress, thermo rows and LIGGGHTS's `Loop time of …` line.
 //!
@@ -37,8 +41,10 @@ use mesh::v3::V3;
 
 use crate::contact::{ContactModel, RollingModel};
 use crate::deck::data_file;
+use crate::deck::print::FixPrint;
 use crate::deck::restart;
-use crate::deck::thermo::Thermo;
+use crate::deck::thermo::{RunColumns, Thermo};
+use crate::deck::values::{Registry, Values};
 use crate::dump::DumpOutput;
 use crate::error::DemError;
 use crate::insert::{Distribution, InsertPack, InsertTarget, SphereTemplate};
@@ -48,7 +54,7 @@ use crate::region::Region;
 use crate::sim::{SimBox, SimConfig, Simulation};
 use crate::timestep::{hertz_time, rayleigh_time};
 use crate::walls::{Wall, WallShape};
-use liggghts_deck::{Command, Deck};
+use liggghts_deck::{Command, Deck, Variables};
 
 type Res<T> = Result<T, String>;
 
@@ -102,6 +108,14 @@ pub enum DeckEvent {
     },
     /// A line of LIGGGHTS-style screen output: a thermo header or row, or the loop time.
     Output(String),
+    /// `log FILE [append yes]` (`path` resolved against the working directory) or `log none`
+    /// (`path` `None`): the front end sends the output lines there from now on.
+    Log {
+        /// The new log file, or none.
+        path: Option<PathBuf>,
+        /// Append to it instead of truncating it.
+        append: bool,
+    },
     /// Something accepted that does not act as the deck may expect (deck line `line`).
     Warning {
         /// 1-based deck line.
@@ -114,10 +128,18 @@ pub enum DeckEvent {
 /// How many progress reports a run gives at most (each costs one `Simulation::run` call).
 const PROGRESS_REPORTS: u64 = 200;
 
-struct Exec<'a> {
-    workdir: &'a Path,
-    observer: &'a mut dyn FnMut(DeckEvent),
+/// A deck being executed, and the simulation it made: what LIGGGHTS's instance is to CFDEM.
+/// [`Session::execute`] runs a deck's commands; afterwards [`Session::advance`] continues the
+/// runs (a coupled run's DEM intervals, with the deck's thermo output, `fix print`s and dumps)
+/// and [`Session::command_text`] runs more commands (CFDEM's `liggghtsCommands`).
+pub struct Session<'a> {
+    workdir: PathBuf,
+    observer: Box<dyn FnMut(DeckEvent) + 'a>,
     thermo: Thermo,
+    registry: Registry,
+    /// The variables as of the command being executed.
+    vars: Variables,
+    prints: Vec<FixPrint>,
     regions: HashMap<String, Region>,
     templates: HashMap<String, SphereTemplate>,
     dists: HashMap<String, Distribution>,
@@ -130,6 +152,8 @@ struct Exec<'a> {
     line: usize,
     /// Warnings of building the simulation, reported with the command that caused it.
     build_warnings: Vec<String>,
+    /// The thermo columns of [`Session::advance`], set at its first call.
+    continuation: Option<(RunColumns, std::time::Instant)>,
 }
 
 impl Simulation {
@@ -146,10 +170,22 @@ impl Simulation {
         workdir: &Path,
         observer: &mut dyn FnMut(DeckEvent),
     ) -> Result<Simulation, DemError> {
-        let mut ex = Exec {
-            workdir,
-            observer,
+        let mut session = Session::new(workdir, observer);
+        session.execute(deck)?;
+        session.into_simulation()
+    }
+}
+
+impl<'a> Session<'a> {
+    /// A session whose relative file names resolve against `workdir`, reporting to `observer`.
+    pub fn new(workdir: &Path, observer: impl FnMut(DeckEvent) + 'a) -> Session<'a> {
+        Session {
+            workdir: workdir.to_path_buf(),
+            observer: Box::new(observer),
             thermo: Thermo::default(),
+            registry: Registry::default(),
+            vars: Variables::default(),
+            prints: Vec::new(),
             regions: HashMap::new(),
             templates: HashMap::new(),
             dists: HashMap::new(),
@@ -160,32 +196,98 @@ impl Simulation {
             gravity_fix: None,
             line: 0,
             build_warnings: Vec::new(),
-        };
-        for c in &deck.commands {
-            let err = |message: String| DemError::Deck {
-                at: deck.location(c),
-                message,
-            };
-            ex.command(c).map_err(|e| match e {
-                Failure::Msg(m) => err(m),
-                Failure::Dem(d) => match d {
-                    DemError::Deck { .. } => d,
-                    other => err(other.to_string()),
-                },
-            })?;
+            continuation: None,
         }
-        match ex.sim.take() {
+    }
+
+    /// Executes every command of `deck` in order (errors name the deck line).
+    pub fn execute(&mut self, deck: &Deck) -> Result<(), DemError> {
+        for c in &deck.commands {
+            self.vars = deck.variables_at(c.line);
+            self.execute_one(deck, c)?;
+        }
+        self.vars = deck.variables_at(usize::MAX);
+        Ok(())
+    }
+
+    /// Executes `text` (one or more deck lines, e.g. a `liggghtsCommands` entry) with the
+    /// variables the session has; `file` names it in errors.
+    pub fn command_text(&mut self, text: &str, file: &Path) -> Result<(), DemError> {
+        let deck =
+            Deck::parse_with(text, file, &self.vars).map_err(|e| DemError::Setup(e.to_string()))?;
+        self.execute(&deck)
+    }
+
+    fn execute_one(&mut self, deck: &Deck, c: &Command) -> Result<(), DemError> {
+        let err = |message: String| DemError::Deck {
+            at: deck.location(c),
+            message,
+        };
+        self.command(c).map_err(|e| match e {
+            Failure::Msg(m) => err(m),
+            Failure::Dem(d) => match d {
+                DemError::Deck { .. } => d,
+                other => err(other.to_string()),
+            },
+        })
+    }
+
+    /// The simulation, built from the set-up if no command needed it yet.
+    pub fn simulation(&mut self) -> Result<&mut Simulation, DemError> {
+        self.sim_mut().map_err(|e| match e {
+            Failure::Msg(m) => DemError::Setup(m),
+            Failure::Dem(d) => d,
+        })
+    }
+
+    /// The simulation if it exists.
+    pub fn sim(&self) -> Option<&Simulation> {
+        self.sim.as_ref()
+    }
+
+    /// Ends the session, returning the simulation (built now if no command needed it).
+    pub fn into_simulation(mut self) -> Result<Simulation, DemError> {
+        match self.sim.take() {
             Some(s) => Ok(s),
             None => {
-                let s = ex.build().map_err(|e| match e {
-                    Failure::Msg(m) => DemError::Setup(format!("{}: {m}", deck.file.display())),
+                let s = self.build().map_err(|e| match e {
+                    Failure::Msg(m) => DemError::Setup(m),
                     Failure::Dem(d) => d,
                 })?;
-                let warnings = std::mem::take(&mut ex.build_warnings);
-                ex.warn(ex.line, warnings);
+                let warnings = std::mem::take(&mut self.build_warnings);
+                self.warn(self.line, warnings);
                 Ok(s)
             }
         }
+    }
+
+    /// Continues the runs by `steps` steps, as CFDEM's `run N` between two exchanges: thermo
+    /// rows at the `thermo` interval (the header once, at the first call), `fix print`s and
+    /// dumps when due. The state does not depend on how the steps are split into calls.
+    pub fn advance(&mut self, steps: u64) -> Result<(), DemError> {
+        let fail = |e: Failure| match e {
+            Failure::Msg(m) => DemError::Setup(m),
+            Failure::Dem(d) => d,
+        };
+        if self.continuation.is_none() {
+            let (columns, warnings) = self
+                .thermo
+                .for_run(&self.registry, &self.vars)
+                .map_err(DemError::Setup)?;
+            self.warn(self.line, warnings);
+            self.sim_mut().map_err(fail)?.run(0)?;
+            let header = columns.header();
+            (self.observer)(DeckEvent::Output(header));
+            let started = std::time::Instant::now();
+            let first = self.row(&columns, 0.0).map_err(DemError::Setup)?;
+            (self.observer)(DeckEvent::Output(first));
+            self.continuation = Some((columns, started));
+        }
+        let (columns, started) = self.continuation.take().expect("set above");
+        let from = self.sim_mut().map_err(fail)?.step();
+        let result = self.steps(from, from + steps, &columns, started, false);
+        self.continuation = Some((columns, started));
+        result.map_err(fail)
     }
 }
 
@@ -380,7 +482,7 @@ fn region(w: &[String]) -> Res<(String, Region)> {
     Ok((id, reg))
 }
 
-impl Exec<'_> {
+impl Session<'_> {
     fn path(&self, p: &str) -> PathBuf {
         self.workdir.join(p)
     }
@@ -445,8 +547,37 @@ impl Exec<'_> {
                     }
                 };
             }
-            "newton" | "communicate" | "comm_modify" | "processors" | "echo" | "log" | "print"
-            | "compute_modify" => {}
+            "newton" | "communicate" | "comm_modify" | "processors" | "echo" | "compute_modify" => {
+            }
+            "log" => {
+                let file = word(w, 1, "log file")?;
+                let append = match (w.get(2).map(String::as_str), w.get(3).map(String::as_str)) {
+                    (None, _) => false,
+                    (Some("append"), Some("yes")) => true,
+                    (Some("append"), Some("no")) => false,
+                    _ => return Err("usage: log FILE|none [append yes|no]".into()),
+                };
+                let path = (file != "none").then(|| self.path(file));
+                (self.observer)(DeckEvent::Log { path, append });
+            }
+            "print" => {
+                // quoted text keeps its variables until now, as LIGGGHTS's `print` does
+                let text = w[1..].join(" ");
+                let line = match &self.sim {
+                    Some(sim) => Values {
+                        sim,
+                        registry: &self.registry,
+                        vars: &self.vars,
+                        cpu: 0.0,
+                        norm: self.thermo.norm(),
+                    }
+                    .substitute(&text)?,
+                    None => self.vars.substitute(&text, &|r| {
+                        Err(format!("`{r}` is known only once the simulation exists"))
+                    })?,
+                };
+                (self.observer)(DeckEvent::Output(line));
+            }
             "thermo" => self.thermo.set_every(w)?,
             "thermo_log" => self.warn(
                 c.line,
@@ -463,8 +594,8 @@ impl Exec<'_> {
                 let warnings = self.thermo.modify(w)?;
                 self.warn(c.line, warnings);
             }
-            "compute" => self.thermo.define_compute(w)?,
-            "uncompute" => self.thermo.remove_compute(word(w, 1, "compute id")?)?,
+            "compute" => self.registry.define_compute(w)?,
+            "uncompute" => self.registry.remove_compute(word(w, 1, "compute id")?)?,
             "boundary" => {
                 self.before_run("boundary")?;
                 if self.pending.sim_box.is_some() {
@@ -533,9 +664,9 @@ impl Exec<'_> {
                 if w.len() != 2 {
                     return Err("only `write_restart FILE` is supported (no region)".into());
                 }
-                let workdir = self.workdir;
+                let workdir = self.workdir.clone();
                 let s = self.sim_mut()?;
-                let (_, warnings) = restart::write(s, &w[1], workdir)?;
+                let (_, warnings) = restart::write(s, &w[1], &workdir)?;
                 self.warn(c.line, warnings);
             }
             "create_atoms" => self.create_atoms(w)?,
@@ -1021,7 +1152,12 @@ impl Exec<'_> {
                     }
                 }
             }
-            "couple/cfd/force" | "couple/cfd/force/implicit" => {}
+            "couple/cfd/force" | "couple/cfd/force/implicit" => self.registry.add_force_fix(&id),
+            "print" => {
+                let p = FixPrint::new(w, &self.workdir)?;
+                self.prints.retain(|q| q.id != p.id);
+                self.prints.push(p);
+            }
             other => {
                 return Err(
                     format!("fix style `{other}` is not supported by the native DEM").into(),
@@ -1138,6 +1274,11 @@ impl Exec<'_> {
     }
 
     fn unfix(&mut self, id: &str) -> Result<(), Failure> {
+        let prints = self.prints.len();
+        self.prints.retain(|p| p.id != id);
+        if prints != self.prints.len() {
+            return Ok(());
+        }
         if self.gravity_fix.as_deref() == Some(id) {
             self.gravity_fix = None;
             match &mut self.sim {
@@ -1154,7 +1295,7 @@ impl Exec<'_> {
                 return Ok(());
             }
         }
-        Err(format!("unfix `{id}`: only gravity, and walls or insertions before the first run, can be removed").into())
+        Err(format!("unfix `{id}`: only gravity, print, and walls or insertions before the first run, can be removed").into())
     }
 
     fn dump(&mut self, w: &[String]) -> Result<(), Failure> {
@@ -1226,9 +1367,8 @@ impl Exec<'_> {
                 o => return Err(format!("run keyword `{o}` is not supported").into()),
             }
         }
-        let (columns, warnings) = self.thermo.for_run()?;
+        let (columns, warnings) = self.thermo.for_run(&self.registry, &self.vars)?;
         self.warn(c.line, warnings);
-        let every = self.thermo.every();
         let checks = self.checks.clone();
         let s = self.sim_mut()?;
         let steps = if upto {
@@ -1243,38 +1383,95 @@ impl Exec<'_> {
         for (fr, fh) in checks {
             check_timestep(s, fr, fh);
         }
-        let (dt, header, first) = (s.dt(), columns.header(), columns.row(s, 0.0));
+        let dt = s.dt();
         (self.observer)(DeckEvent::RunStart {
             line: c.line,
             from,
             to,
             dt,
         });
-        (self.observer)(DeckEvent::Output(header));
+        (self.observer)(DeckEvent::Output(columns.header()));
+        let first = self.row(&columns, 0.0)?;
         (self.observer)(DeckEvent::Output(first));
-        let chunk = (steps / PROGRESS_REPORTS).max(1);
-        let mut step = from;
-        while step < to {
-            let mut next = (step + chunk).min(to);
-            if let Some(k) = step.checked_div(every) {
-                next = next.min((k + 1) * every);
-            }
-            let s = self.sim_mut()?;
-            s.run(next - step)?;
-            step = next;
-            let (time, thermo_due) = (s.time(), step == to || (every > 0 && step % every == 0));
-            let row = thermo_due.then(|| columns.row(s, started.elapsed().as_secs_f64()));
-            (self.observer)(DeckEvent::Progress { step, time });
-            if let Some(row) = row {
-                (self.observer)(DeckEvent::Output(row));
-            }
-        }
+        self.steps(from, to, &columns, started, true)?;
         let atoms = self.sim_mut()?.particles.len();
         (self.observer)(DeckEvent::Output(format!(
             "Loop time of {} on 1 procs ({} threads) for {steps} steps with {atoms} atoms",
             liggghts_deck::format::format_g(started.elapsed().as_secs_f64(), 6),
             rayon::current_num_threads()
         )));
+        Ok(())
+    }
+
+    /// The thermo row now (`cpu`: wall seconds since the run began).
+    fn row(&self, columns: &RunColumns, cpu: f64) -> Res<String> {
+        let sim = self.sim.as_ref().ok_or("no simulation yet")?;
+        columns.row(&Values {
+            sim,
+            registry: &self.registry,
+            vars: &self.vars,
+            cpu,
+            norm: columns.norm(),
+        })
+    }
+
+    /// Advances from step `from` to `to` in chunks that end at every thermo step, every `fix
+    /// print` step and, with `progress`, at most [`PROGRESS_REPORTS`] times (the state does not
+    /// depend on the chunking: a chunk boundary only re-checks insertions and due dumps).
+    fn steps(
+        &mut self,
+        from: u64,
+        to: u64,
+        columns: &RunColumns,
+        started: std::time::Instant,
+        progress: bool,
+    ) -> Result<(), Failure> {
+        let every = self.thermo.every();
+        let chunk = if progress {
+            ((to - from) / PROGRESS_REPORTS).max(1)
+        } else {
+            to - from
+        };
+        let mut step = from;
+        while step < to {
+            let mut next = (step + chunk).min(to);
+            if let Some(k) = step.checked_div(every) {
+                next = next.min((k + 1) * every);
+            }
+            for p in &self.prints {
+                next = next.min(p.next_after(step));
+            }
+            let s = self.sim_mut()?;
+            s.run(next - step)?;
+            step = next;
+            let time = s.time();
+            let thermo_due = (progress && step == to) || (every > 0 && step.is_multiple_of(every));
+            let mut screen = Vec::new();
+            if !self.prints.is_empty() {
+                let sim = self.sim.as_ref().expect("built above");
+                let values = Values {
+                    sim,
+                    registry: &self.registry,
+                    vars: &self.vars,
+                    cpu: started.elapsed().as_secs_f64(),
+                    norm: columns.norm(),
+                };
+                for p in &mut self.prints {
+                    screen.extend(p.at_step(step, &values)?);
+                }
+            }
+            let row = if thermo_due {
+                Some(self.row(columns, started.elapsed().as_secs_f64())?)
+            } else {
+                None
+            };
+            if progress {
+                (self.observer)(DeckEvent::Progress { step, time });
+            }
+            for line in screen.into_iter().chain(row) {
+                (self.observer)(DeckEvent::Output(line));
+            }
+        }
         Ok(())
     }
 

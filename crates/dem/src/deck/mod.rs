@@ -5,5 +5,7 @@
 
 pub mod data_file;
 pub mod exec;
+pub mod print;
 pub mod restart;
 pub mod thermo;
+pub mod values;

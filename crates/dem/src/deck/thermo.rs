@@ -1,120 +1,79 @@
-//! `thermo`, `thermo_style`, `thermo_modify` and the `compute` styles a thermo column can name:
-//! the screen output of a run, printed as LIGGGHTS 3.8.0 prints it (header `%8s`/`%14s`, rows
-//! `%8d` for integers and `%14.8g` for floats, one blank after each column).
+//! `thermo`, `thermo_style` and `thermo_modify`: the screen output of a run, printed as LIGGGHTS
+//! 3.8.0 prints it (header `%8s`/`%14s`, rows `%8d` for integers and `%14.8g` for floats, one
+//! blank after each column).
 //!
 //! LIGGGHTS prints a row at the first step of every `run`, at every step that is a multiple of
 //! the `thermo N` interval (N = 0: none), and at the last step. The default style (`one`) is
 //! `step atoms ke cpu`, as LIGGGHTS 3.8's granular decks print it.
 //!
-//! Columns: `step`, `atoms`, `ke` (Σ ½m|v|², J), `cpu` (wall seconds since the run began),
-//! `time` (simulated s), `dt` (s), `vol` (box volume, m³, shrink-wrapped faces following the
-//! particles), `c_ID` of `compute ID all erotate/sphere` (Σ ½I|ω|², J). Any other keyword or
-//! compute is accepted with a warning and its column is left blank: a value that is not
-//! computed is never printed as a number. `thermo_modify norm yes` divides the extensive
-//! energies by the number of atoms (LIGGGHTS's default for `units si` is `norm no`).
+//! A column is a keyword, `c_ID[i]`, `f_ID[i]` or `v_name`, evaluated by [`Values`] (which lists
+//! what is computed). What foamgrain does not compute is accepted with a warning and its column
+//! is left blank: a value that is not computed is never printed as a number. The header of
+//! `c_`/`f_`/`v_` columns drops the prefix, as LIGGGHTS 3.8 prints it.
 
-use std::collections::HashMap;
-
+use liggghts_deck::expr::Ref;
 use liggghts_deck::format::{thermo_float, thermo_int};
+use liggghts_deck::Variables;
 
-use crate::sim::Simulation;
+use crate::deck::values::{Registry, Support, Values, KEYWORDS};
 
 type Res<T> = Result<T, String>;
 
-/// A thermo column as the deck names it.
-#[derive(Debug, Clone, PartialEq)]
-enum Column {
-    Step,
-    Atoms,
-    Ke,
-    Cpu,
-    Time,
-    Dt,
-    Vol,
-    /// `c_ID` or `c_ID[k]`: a compute (its id, the keyword after `c_` for the header),
-    /// resolved when a run starts (LIGGGHTS allows defining it later).
-    Compute {
-        id: String,
-        label: String,
-    },
-    /// A keyword foamgrain does not compute: printed blank.
-    Blank(String),
-}
-
-impl Column {
-    fn parse(word: &str) -> Column {
-        match word {
-            "step" => Column::Step,
-            "atoms" => Column::Atoms,
-            "ke" => Column::Ke,
-            "cpu" => Column::Cpu,
-            "time" => Column::Time,
-            "dt" => Column::Dt,
-            "vol" => Column::Vol,
-            w => match w.strip_prefix("c_") {
-                Some(label) if !label.is_empty() => Column::Compute {
-                    id: label.split('[').next().unwrap_or(label).to_owned(),
-                    label: label.to_owned(),
-                },
-                _ => Column::Blank(w.to_owned()),
-            },
+/// The reference a thermo column names.
+fn column_ref(word: &str) -> Res<Ref<'_>> {
+    let (kind, rest) = match word.get(..2) {
+        Some(p @ ("c_" | "f_" | "v_")) => (p, &word[2..]),
+        _ => return Ok(Ref::Keyword(word)),
+    };
+    let (id, index) = match rest.split_once('[') {
+        Some((id, i)) => {
+            let i = i
+                .strip_suffix(']')
+                .and_then(|i| i.parse::<usize>().ok())
+                .filter(|&i| i >= 1)
+                .ok_or_else(|| format!("thermo column `{word}`: bad index"))?;
+            (id, Some(i))
         }
+        None => (rest, None),
+    };
+    if id.is_empty() {
+        return Err(format!("thermo column `{word}`: no id"));
     }
-
-    /// LIGGGHTS's header for the column.
-    fn header(&self) -> String {
-        match self {
-            Column::Step => "Step".into(),
-            Column::Atoms => "Atoms".into(),
-            Column::Ke => "KinEng".into(),
-            Column::Cpu => "CPU".into(),
-            Column::Time => "Time".into(),
-            Column::Dt => "Dt".into(),
-            Column::Vol => "Volume".into(),
-            Column::Compute { label, .. } => label.clone(),
-            Column::Blank(w) => w.clone(),
+    Ok(match (kind, index) {
+        ("c_", i) => Ref::Compute(id, i),
+        ("f_", i) => Ref::Fix(id, i),
+        ("v_", None) => Ref::Variable(id),
+        _ => {
+            return Err(format!(
+                "thermo column `{word}`: vector variables are not supported"
+            ))
         }
-    }
-
-    fn is_int(&self) -> bool {
-        matches!(self, Column::Step | Column::Atoms)
-    }
+    })
 }
 
-/// The compute styles a thermo column can print.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ComputeStyle {
-    /// `erotate/sphere`: rotational kinetic energy of the spheres (J).
-    RotationalEnergy,
-    /// Any other style: accepted (the deck may need it for something foamgrain ignores), but a
-    /// thermo column naming it stays blank.
-    Unsupported(String),
-}
-
-/// The thermo settings of a deck and the computes it defines.
+/// The thermo settings of a deck.
 #[derive(Debug, Clone)]
 pub struct Thermo {
     every: u64,
-    columns: Vec<Column>,
+    columns: Vec<String>,
     norm: bool,
-    computes: HashMap<String, ComputeStyle>,
 }
 
 impl Default for Thermo {
     fn default() -> Self {
         Thermo {
             every: 0,
-            columns: vec![Column::Step, Column::Atoms, Column::Ke, Column::Cpu],
+            columns: ["step", "atoms", "ke", "cpu"].map(String::from).to_vec(),
             norm: false,
-            computes: HashMap::new(),
         }
     }
 }
 
-/// The columns of one run, resolved against the computes defined by then.
+/// The columns of one run, checked against the computes and variables defined by then.
 #[derive(Debug, Clone)]
 pub struct RunColumns {
-    columns: Vec<(Column, Option<ComputeStyle>)>,
+    /// (word, computed) per column.
+    columns: Vec<(String, bool)>,
     norm: bool,
 }
 
@@ -122,6 +81,11 @@ impl Thermo {
     /// The `thermo N` interval (0: first and last step of a run only).
     pub fn every(&self) -> u64 {
         self.every
+    }
+
+    /// `thermo_modify norm yes`.
+    pub fn norm(&self) -> bool {
+        self.norm
     }
 
     /// `thermo N`.
@@ -137,7 +101,7 @@ impl Thermo {
         }
     }
 
-    /// `thermo_style one|custom …`; returns warnings for what is printed blank.
+    /// `thermo_style one|custom …`; returns warnings for keywords that are printed blank.
     pub fn set_style(&mut self, w: &[String]) -> Res<Vec<String>> {
         match w.get(1).map(String::as_str) {
             Some("one") if w.len() == 2 => {
@@ -145,17 +109,22 @@ impl Thermo {
                 Ok(Vec::new())
             }
             Some("custom") if w.len() > 2 => {
-                self.columns = w[2..].iter().map(|k| Column::parse(k)).collect();
+                for c in &w[2..] {
+                    column_ref(c)?;
+                }
+                self.columns = w[2..].to_vec();
                 Ok(self
                     .columns
                     .iter()
-                    .filter_map(|c| match c {
-                        Column::Blank(k) => Some(format!(
+                    .filter(
+                        |c| matches!(column_ref(c), Ok(Ref::Keyword(k)) if !KEYWORDS.contains(&k)),
+                    )
+                    .map(|k| {
+                        format!(
                             "thermo keyword `{k}` is not computed by the native DEM: its column \
-                             stays blank (computed: step atoms ke cpu time dt vol \
-                             c_ID of erotate/sphere)"
-                        )),
-                        _ => None,
+                             stays blank (computed: {}, c_ID, f_ID, v_name)",
+                            KEYWORDS.join(" ")
+                        )
                     })
                     .collect())
             }
@@ -205,56 +174,22 @@ impl Thermo {
         Ok(warnings)
     }
 
-    /// `compute ID GROUP STYLE …`.
-    pub fn define_compute(&mut self, w: &[String]) -> Res<()> {
-        let (Some(id), Some(style)) = (w.get(1), w.get(3)) else {
-            return Err("usage: compute ID GROUP STYLE …".into());
-        };
-        let style = match style.as_str() {
-            "erotate/sphere" => ComputeStyle::RotationalEnergy,
-            s => ComputeStyle::Unsupported(s.to_owned()),
-        };
-        self.computes.insert(id.clone(), style);
-        Ok(())
-    }
-
-    /// `uncompute ID`.
-    pub fn remove_compute(&mut self, id: &str) -> Res<()> {
-        self.computes
-            .remove(id)
-            .map(|_| ())
-            .ok_or_else(|| format!("uncompute: no compute `{id}`"))
-    }
-
-    /// The columns for a run starting now; a `c_ID` whose compute is missing is an error (as
-    /// in LIGGGHTS), one of a style foamgrain does not compute gives a warning and a blank.
-    pub fn for_run(&self) -> Res<(RunColumns, Vec<String>)> {
+    /// The columns for a run starting now: a compute or variable that does not exist is an
+    /// error (as in LIGGGHTS), one foamgrain does not compute a warning and a blank.
+    pub fn for_run(&self, registry: &Registry, vars: &Variables) -> Res<(RunColumns, Vec<String>)> {
         let mut warnings = Vec::new();
         let mut columns = Vec::with_capacity(self.columns.len());
         for c in &self.columns {
-            let style = match c {
-                Column::Compute { id, label } => {
-                    let style = self
-                        .computes
-                        .get(id)
-                        .ok_or_else(|| format!("thermo column c_{label}: no compute `{id}`"))?;
-                    let style = match style {
-                        ComputeStyle::RotationalEnergy if label != id => ComputeStyle::Unsupported(
-                            format!("erotate/sphere (a scalar) as {label}"),
-                        ),
-                        s => s.clone(),
-                    };
-                    if let ComputeStyle::Unsupported(s) = &style {
-                        warnings.push(format!(
-                            "thermo column c_{label}: compute style `{s}` is not computed by the \
-                             native DEM; the column stays blank"
-                        ));
+            let computed = match registry.check(column_ref(c)?, vars)? {
+                Support::Yes => true,
+                Support::Blank(why) => {
+                    if !matches!(column_ref(c)?, Ref::Keyword(_)) {
+                        warnings.push(format!("thermo column {c}: {why}; the column stays blank"));
                     }
-                    Some(style)
+                    false
                 }
-                _ => None,
             };
-            columns.push((c.clone(), style));
+            columns.push((c.clone(), computed));
         }
         Ok((
             RunColumns {
@@ -266,48 +201,62 @@ impl Thermo {
     }
 }
 
+/// LIGGGHTS's header for a column.
+fn header(word: &str) -> String {
+    match word {
+        "step" => "Step".into(),
+        "atoms" => "Atoms".into(),
+        "ke" => "KinEng".into(),
+        "cpu" => "CPU".into(),
+        "time" => "Time".into(),
+        "dt" => "Dt".into(),
+        "vol" => "Volume".into(),
+        w => match w.get(..2) {
+            Some("c_" | "f_" | "v_") => w[2..].to_owned(),
+            _ => w.to_owned(),
+        },
+    }
+}
+
+fn is_int(word: &str) -> bool {
+    matches!(word, "step" | "atoms")
+}
+
 impl RunColumns {
+    /// Whether `thermo_modify norm yes` was in force when the run started.
+    pub fn norm(&self) -> bool {
+        self.norm
+    }
+
     /// The header line.
     pub fn header(&self) -> String {
         let mut s = String::new();
         for (c, _) in &self.columns {
-            let width = if c.is_int() { 8 } else { 14 };
-            s.push_str(&format!("{:>width$} ", c.header()));
+            let width = if is_int(c) { 8 } else { 14 };
+            s.push_str(&format!("{:>width$} ", header(c)));
         }
         s
     }
 
-    /// The row for the simulation's current state; `cpu` is the wall time since the run
-    /// started (s).
-    pub fn row(&self, sim: &Simulation, cpu: f64) -> String {
-        let atoms = sim.particles.len();
-        let per = if self.norm && atoms > 0 {
-            1.0 / atoms as f64
-        } else {
-            1.0
-        };
+    /// The row for the current state; an error when a value cannot be evaluated now (an atom
+    /// tag that left, a variable that became text).
+    pub fn row(&self, values: &Values) -> Res<String> {
         let mut s = String::new();
-        for (c, style) in &self.columns {
-            let cell = match (c, style) {
-                (Column::Step, _) => thermo_int(sim.step()),
-                (Column::Atoms, _) => thermo_int(atoms as u64),
-                (Column::Ke, _) => thermo_float(sim.particles.translational_energy() * per),
-                (Column::Cpu, _) => thermo_float(cpu),
-                (Column::Time, _) => thermo_float(sim.time()),
-                (Column::Dt, _) => thermo_float(sim.dt()),
-                (Column::Vol, _) => {
-                    let b = sim.sim_box().dump_bounds(&sim.particles.x);
-                    thermo_float((0..3).map(|k| b.hi[k] - b.lo[k]).product())
+        for (c, computed) in &self.columns {
+            let cell = if *computed {
+                let v = values.resolve(column_ref(c)?)?;
+                if is_int(c) {
+                    thermo_int(v as u64)
+                } else {
+                    thermo_float(v)
                 }
-                (Column::Compute { .. }, Some(ComputeStyle::RotationalEnergy)) => {
-                    thermo_float(sim.particles.rotational_energy() * per)
-                }
-                (Column::Compute { .. } | Column::Blank(_), _) => " ".repeat(14),
+            } else {
+                " ".repeat(if is_int(c) { 8 } else { 14 })
             };
             s.push_str(&cell);
             s.push(' ');
         }
-        s
+        Ok(s)
     }
 }
 
@@ -324,7 +273,9 @@ mod tests {
         // LIGGGHTS 3.8.0 with `thermo_style custom step atoms ke c_rke cpu time dt vol`
         // (compute rke all erotate/sphere) prints this header.
         let mut t = Thermo::default();
-        t.define_compute(&words("compute rke all erotate/sphere"))
+        let mut reg = Registry::default();
+        let vars = Variables::default();
+        reg.define_compute(&words("compute rke all erotate/sphere"))
             .unwrap();
         let w = t
             .set_style(&words(
@@ -332,14 +283,14 @@ mod tests {
             ))
             .unwrap();
         assert!(w.is_empty());
-        let (cols, w) = t.for_run().unwrap();
+        let (cols, w) = t.for_run(&reg, &vars).unwrap();
         assert!(w.is_empty());
         assert_eq!(
             cols.header(),
             "    Step    Atoms         KinEng            rke            CPU           Time             Dt         Volume "
         );
         // the default style
-        let (cols, _) = Thermo::default().for_run().unwrap();
+        let (cols, _) = Thermo::default().for_run(&reg, &vars).unwrap();
         assert_eq!(
             cols.header(),
             "    Step    Atoms         KinEng            CPU "
@@ -349,17 +300,30 @@ mod tests {
     #[test]
     fn what_is_not_computed_is_blank_or_an_error() {
         let mut t = Thermo::default();
+        let mut reg = Registry::default();
+        let vars = Variables::default();
         let w = t
             .set_style(&words("thermo_style custom step press c_x"))
             .unwrap();
         assert_eq!(w.len(), 1);
         assert!(w[0].contains("`press`"), "{w:?}");
-        let e = t.for_run().unwrap_err();
+        let e = t.for_run(&reg, &vars).unwrap_err();
         assert!(e.contains("no compute `x`"), "{e}");
-        t.define_compute(&words("compute x all pair/gran/local pos"))
+        reg.define_compute(&words("compute x all pair/gran/local pos"))
             .unwrap();
-        let (_, w) = t.for_run().unwrap();
+        let (_, w) = t.for_run(&reg, &vars).unwrap();
         assert!(w[0].contains("pair/gran/local"), "{w:?}");
+        // a vector compute needs an element; an undefined variable is an error
+        reg.define_compute(&words("compute com all com")).unwrap();
+        t.set_style(&words("thermo_style custom step c_com"))
+            .unwrap();
+        let e = t.for_run(&reg, &vars).unwrap_err();
+        assert!(e.contains("name an element"), "{e}");
+        t.set_style(&words("thermo_style custom c_com[3] f_cfd2[1] v_nope"))
+            .unwrap();
+        let e = t.for_run(&reg, &vars).unwrap_err();
+        assert!(e.contains("`nope` is not defined"), "{e}");
+        assert!(t.set_style(&words("thermo_style custom c_com[0]")).is_err());
         assert!(t.set_style(&words("thermo_style multi")).is_err());
         assert!(t.set_every(&words("thermo x")).is_err());
         assert!(t.modify(&words("thermo_modify norm maybe")).is_err());
