@@ -371,6 +371,15 @@ pub fn read_pressure(
     mesh: &foam::PolyMesh,
     g: &FvGeometry,
 ) -> Result<Vec<PressureBc>> {
+    // OpenFOAM's totalPressure reads `rho`/`psi` only when p is in Pa; with a kinematic p
+    // (m²/s², what this solver and CFDEM's solvers use) it ignores them, and so does this
+    let kinematic = match field.body.item("dimensions") {
+        Ok(Item::Dims(d)) => {
+            let d: Vec<f64> = d.iter().filter_map(Item::as_f64).collect();
+            d.len() >= 3 && d[..3] == [0.0, 2.0, -2.0] && d[3..].iter().all(|&x| x == 0.0)
+        }
+        _ => false,
+    };
     read_all(file, field, mesh, g, |e, t| {
         let bc = match t {
             "fixedValue" => {
@@ -380,10 +389,14 @@ pub fn read_pressure(
             "zeroGradient" | "symmetryPlane" | "symmetry" => PressureBc::ZeroGradient,
             "fixedFluxPressure" => PressureBc::FixedFluxPressure,
             "totalPressure" => {
-                if e.dict.word("rho").is_ok_and(|r| r != "none") {
-                    return Err(e.err("rho", "only the kinematic form (`rho none;`) is supported"));
+                if !kinematic && e.dict.word("rho").is_ok_and(|r| r != "none") {
+                    return Err(e.err(
+                        "rho",
+                        "only the kinematic form is supported: p in m²/s² (`dimensions [0 2 -2 \
+                         0 0 0 0]`, where `rho` is ignored as OpenFOAM does) or `rho none;`",
+                    ));
                 }
-                if e.dict.word("psi").is_ok_and(|r| r != "none") {
+                if !kinematic && e.dict.word("psi").is_ok_and(|r| r != "none") {
                     return Err(e.err("psi", "compressible totalPressure is not supported"));
                 }
                 PressureBc::TotalPressure(e.values("p0", Item::as_f64, Item::as_f64_list)?)

@@ -277,13 +277,6 @@ const EDITS: &[Edit] = &[
     ),
     (
         "0/p",
-        "movingWall\n    {\n        type            zeroGradient;",
-        "movingWall\n    {\n        type totalPressure; p0 uniform 0; rho rho;",
-        "0/p",
-        "boundaryField.movingWall.rho",
-    ),
-    (
-        "0/p",
         "movingWall\n    {\n        type            zeroGradient;\n    }",
         "",
         "0/p",
@@ -319,6 +312,33 @@ fn unsupported_settings_are_refused_naming_file_and_key() {
             message.contains(err_file) && message.contains(err_key),
             "{message}"
         );
+    }
+}
+
+/// totalPressure's `rho`: with a kinematic p OpenFOAM ignores it (CFDEM's tutorials name
+/// `rho rho;`) and so does fv; with p in Pa it would be the compressible form: refused.
+#[test]
+fn total_pressure_rho_follows_the_dimensions_of_p() {
+    let dir = tempfile::tempdir().unwrap();
+    testkit::copy_dir(&testkit::fixture("fv/cavity-re10"), dir.path());
+    let path = dir.path().join("0/p");
+    let text = std::fs::read_to_string(&path).unwrap().replacen(
+        "movingWall\n    {\n        type            zeroGradient;",
+        "movingWall\n    {\n        type totalPressure; p0 uniform 0; rho rho;",
+        1,
+    );
+    std::fs::write(&path, &text).unwrap();
+    fv::Fluid::from_case(dir.path()).expect("kinematic p: `rho` is ignored");
+    let pascal = text.replacen("[0 2 -2 0 0 0 0]", "[1 -1 -2 0 0 0 0]", 1);
+    assert_ne!(pascal, text);
+    std::fs::write(&path, pascal).unwrap();
+    match fv::Fluid::from_case(dir.path()) {
+        Err(FvError::Setting { file, key, msg }) => {
+            assert!(file.ends_with("0/p") && key == "boundaryField.movingWall.rho", "{key}");
+            assert!(msg.contains("kinematic"), "{msg}");
+        }
+        Ok(_) => panic!("p in Pa with `rho rho` was accepted"),
+        Err(other) => panic!("not a setting error: {other}"),
     }
 }
 

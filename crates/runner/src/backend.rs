@@ -114,6 +114,17 @@ pub(crate) fn pack_with_liggghts(
         .map_err(|e| backend_err("LIGGGHTS (stage 1)", e))
 }
 
+/// The run deck on the native DEM, its warnings in the run's log.
+fn native_dem(
+    run_deck: &Deck,
+    dem_dir: &Path,
+    events: &mut dyn FnMut(Event),
+) -> Result<NativeDem, RunError> {
+    Ok(crate::native::run_native_deck(run_deck, dem_dir, &mut |w| {
+        events(Event::Message(format!("warning: {w}")))
+    })?)
+}
+
 /// Runs stage 2 on the chosen pair of sides.
 pub(crate) fn run_pair(
     ctx: LoopContext<'_>,
@@ -129,13 +140,8 @@ pub(crate) fn run_pair(
         || NativeFluid::open(&layout.cfd, model, ddt, solve).map_err(RunError::Fluid);
     match (fluid, dem) {
         (FluidBackend::Native, DemBackend::Native) => {
-            let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
-            couple_loop(
-                ctx,
-                NativeDem::new(sim, &layout.dem),
-                native_fluid()?,
-                events,
-            )
+            let dem = native_dem(run_deck, &layout.dem, events)?;
+            couple_loop(ctx, dem, native_fluid()?, events)
         }
         (FluidBackend::Native, DemBackend::LiggghtsFile) => {
             let dt = deck_time_step(run_deck).ok_or_else(|| {
@@ -207,9 +213,9 @@ mod mpi_pair {
             }
             #[cfg(feature = "mpi")]
             (FluidBackend::OpenFoam, DemBackend::Native) => {
-                let sim = dem::Simulation::from_deck(run_deck, &layout.dem)?;
+                let dem = native_dem(run_deck, &layout.dem, events)?;
                 let fluid = open_foam(&world, layout, ctx.opts.fluid_ranks)?;
-                couple_loop(ctx, NativeDem::new(sim, &layout.dem), fluid, events)
+                couple_loop(ctx, dem, fluid, events)
             }
             #[cfg(all(feature = "mpi", feature = "liggghts"))]
             (FluidBackend::OpenFoam, DemBackend::Liggghts) => {

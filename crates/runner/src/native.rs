@@ -6,11 +6,16 @@ use couple::blend::{blend_scalar, fraction};
 use couple::{
     CouplingStep, ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState, SideError,
 };
+use dem::deck::exec::{DeckEvent, Session};
 use dem::Simulation;
+use liggghts_deck::Deck;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::sync::{Arc, Mutex};
 use foam::PolyMesh;
 use fv::Fluid;
 use mesh::v3::V3;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The native fluid solver as the fluid side.
 ///
@@ -176,59 +181,140 @@ impl RunFluid for NativeFluid {
     }
 }
 
-/// The native DEM as the particle side.
-pub struct NativeDem {
-    sim: Simulation,
-    /// The deck's directory: relative file names of commands resolve against it.
-    workdir: PathBuf,
+/// Where a native deck's screen output goes: LIGGGHTS's log file (`DEM/log.liggghts`, or the
+/// file the deck's `log` command names), and the warnings, kept for the run's log.
+struct DemLog {
+    file: Option<BufWriter<File>>,
+    warnings: Vec<String>,
+    error: Option<String>,
 }
 
-impl NativeDem {
-    /// Wraps a simulation built from a deck run in `workdir`.
-    pub fn new(sim: Simulation, workdir: &Path) -> NativeDem {
-        NativeDem {
-            sim,
-            workdir: workdir.to_path_buf(),
+impl DemLog {
+    fn open(&mut self, path: &Path, append: bool) {
+        if let Some(mut f) = self.file.take() {
+            let _ = f.flush();
+        }
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .write(true)
+            .append(append)
+            .truncate(!append)
+            .open(path);
+        match file {
+            Ok(f) => self.file = Some(BufWriter::new(f)),
+            Err(e) => {
+                self.error
+                    .get_or_insert(format!("cannot open the DEM log {}: {e}", path.display()));
+            }
         }
     }
 
+    fn line(&mut self, text: &str) {
+        if let Some(f) = &mut self.file {
+            if let Err(e) = writeln!(f, "{text}").and_then(|_| f.flush()) {
+                self.error.get_or_insert(format!("cannot write the DEM log: {e}"));
+            }
+        }
+    }
+
+    fn event(&mut self, e: DeckEvent, deck: &Path) {
+        match e {
+            DeckEvent::Output(l) => self.line(&l),
+            DeckEvent::Log { path, append } => match path {
+                Some(p) => self.open(&p, append),
+                None => self.file = None,
+            },
+            DeckEvent::Warning { line, message } => {
+                let w = format!("{}:{line}: {message}", deck.display());
+                self.line(&format!("WARNING: {w}"));
+                self.warnings.push(w);
+            }
+            DeckEvent::RunStart { .. } | DeckEvent::Progress { .. } => {}
+        }
+    }
+}
+
+/// Executes `deck` on the native DEM in `dem_dir` (its relative paths resolve there, as
+/// LIGGGHTS's in its working directory), its screen output going to `dem_dir/log.liggghts` or
+/// where its `log` command says; the deck's warnings are passed to `warn`.
+pub fn run_native_deck(
+    deck: &Deck,
+    dem_dir: &Path,
+    warn: &mut dyn FnMut(String),
+) -> Result<NativeDem, dem::DemError> {
+    let log = Arc::new(Mutex::new(DemLog {
+        file: None,
+        warnings: Vec::new(),
+        error: None,
+    }));
+    lock(&log).open(&dem_dir.join("log.liggghts"), false);
+    let sink = Arc::clone(&log);
+    let file = deck.file.clone();
+    let mut session = Session::new(dem_dir, move |e| lock(&sink).event(e, &file));
+    let result = session.execute(deck).and_then(|_| session.simulation().map(|_| ()));
+    for w in std::mem::take(&mut lock(&log).warnings) {
+        warn(w);
+    }
+    result?;
+    if let Some(e) = lock(&log).error.take() {
+        return Err(dem::DemError::Setup(e));
+    }
+    Ok(NativeDem { session, log })
+}
+
+fn lock(log: &Mutex<DemLog>) -> std::sync::MutexGuard<'_, DemLog> {
+    // a panic while holding the lock cannot leave the log inconsistent: use it anyway
+    log.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// The native DEM as the particle side: the run deck's [`Session`], continued between
+/// exchanges as CFDEM continues LIGGGHTS (thermo rows, `fix print`s and dumps as the deck
+/// says).
+pub struct NativeDem {
+    session: Session<'static>,
+    log: Arc<Mutex<DemLog>>,
+}
+
+impl NativeDem {
     /// The simulation (particles, dumps, step count).
     pub fn sim(&self) -> &Simulation {
-        &self.sim
+        self.session
+            .sim()
+            .expect("run_native_deck builds the simulation")
+    }
+
+    fn log_error(&self) -> Result<(), SideError> {
+        match lock(&self.log).error.take() {
+            Some(e) => Err(e.into()),
+            None => Ok(()),
+        }
     }
 }
 
 impl ParticleSide for NativeDem {
     fn advance(&mut self, steps: u64) -> Result<(), SideError> {
-        self.sim.run(steps)?;
-        Ok(())
+        self.session.advance(steps)?;
+        self.log_error()
     }
 
-    /// `write_restart FILE` (a LIGGGHTS 3.8 restart file, `*` = the step); other commands are
-    /// refused by name.
+    /// Any deck command (CFDEM's `liggghtsCommands`: `write_restart`, `run`, `fix`…), with the
+    /// run deck's variables.
     fn command(&mut self, command: &str) -> Result<(), SideError> {
-        match command.split_whitespace().collect::<Vec<_>>().as_slice() {
-            ["write_restart", file] => {
-                dem::deck::restart::write(&self.sim, file, &self.workdir)?;
-                Ok(())
-            }
-            _ => Err(format!(
-                "`{command}`: the native DEM runs only `write_restart FILE` from liggghtsCommands"
-            )
-            .into()),
-        }
+        self.session
+            .command_text(command, Path::new("liggghtsCommands"))?;
+        self.log_error()
     }
 
     fn time_step(&self) -> f64 {
-        self.sim.dt()
+        self.sim().dt()
     }
 
     fn time(&self) -> f64 {
-        self.sim.time()
+        self.sim().time()
     }
 
     fn state(&self) -> ParticleState<'_> {
-        let p = &self.sim.particles;
+        let p = &self.sim().particles;
         ParticleState {
             ids: &p.id,
             position: &p.x,
@@ -239,7 +325,7 @@ impl ParticleSide for NativeDem {
     }
 
     fn set_forces(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), SideError> {
-        self.sim.set_coupling(f_ext, beta, u_f)?;
+        self.session.simulation()?.set_coupling(f_ext, beta, u_f)?;
         Ok(())
     }
 }

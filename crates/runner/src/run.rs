@@ -25,7 +25,6 @@ use crate::timed::Timed;
 use crate::validation::{write_json, Check};
 use closures::model::ModelType;
 use couple::{Coupler, CouplerSettings, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
-use dem::Simulation;
 use liggghts_deck::Deck;
 use mesh::v3::{as_arrays, unit, V3};
 use std::path::{Path, PathBuf};
@@ -364,8 +363,10 @@ pub fn run(
                     data.display()
                 )));
                 let deck = Deck::read_with_vars(init, &opts.init_vars)?;
-                let sim = Simulation::from_deck(&deck, &layout.dem)?;
-                format!("{} particles packed", sim.particles.len())
+                let dem = crate::native::run_native_deck(&deck, &layout.dem, &mut |w| {
+                    events(Event::Message(format!("warning: {w}")))
+                })?;
+                format!("{} particles packed", dem.sim().particles.len())
             } else {
                 events(Event::Message(format!(
                     "stage 1: running {} with the liggghts binary (writes {})",
