@@ -99,6 +99,25 @@ fn cfdem_trilinear_with_its_alpha_min() {
     assert_eq!(c.voidage.alpha_min, Some(0.3));
 }
 
+/// CFDEM's models floor ε at alphaMin 0.1 when their Props leave it out (CFDEM-PUBLIC's
+/// default for every voidFractionModel); foamgrain's own have no default floor.
+#[test]
+fn cfdem_models_default_to_alpha_min_0_1() {
+    for (model, expect) in [
+        ("divided", Some(0.1)),
+        ("centre", Some(0.1)),
+        ("trilinear", Some(0.1)),
+        ("cube", None),
+        ("exact", None),
+    ] {
+        let text = BASE.replace(
+            "voidFractionModel exact;",
+            &format!("voidFractionModel {model}; {model}Props {{ }}"),
+        );
+        assert_eq!(read(&text).unwrap().voidage.alpha_min, expect, "{model}");
+    }
+}
+
 /// `text` with `from` replaced by `to` must fail with a message holding every `expect`.
 fn fails(from: &str, to: &str, expect: &[&str]) {
     assert!(BASE.contains(from), "{from}");

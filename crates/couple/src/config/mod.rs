@@ -10,7 +10,7 @@
 //! |---|---|
 //! | `modelType` `A`, `B`, `Bfull` | [`closures::model::ModelType`] |
 //! | `couplingInterval` (integer ≥ 1) | DEM steps per coupling step |
-//! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor |
+//! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor (CFDEM's default 0.1 for its models, none for ours) |
 //! | `forceModels` (one drag law of [`closures::DRAG_LAW_NAMES`], [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
 //! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
@@ -502,7 +502,10 @@ fn read_voidage(r: &Reader<'_>, top: &Dict) -> Result<VoidageSettings, CoupleErr
             }
             Some(a)
         }
-        false => None,
+        // CFDEM's own models default to alphaMin 0.1 (every voidFractionModel of
+        // CFDEMcoupling-PUBLIC reads it with that default); foamgrain's cube, correctedCube and
+        // exact have no floor unless one is given
+        false => matches!(name, "centre" | "divided" | "trilinear").then_some(0.1),
     };
     for key in ["scaleUpVol", "weight", "porosity"] {
         if props.contains(key) {
