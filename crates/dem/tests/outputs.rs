@@ -188,3 +188,52 @@ fn liggghts_prints_the_same() {
         }
     }
 }
+
+/// `dump custom/vtk` (CFDEM-PFM's decks) writes the particles a `dump custom` of the same
+/// columns writes: legacy VTK points and arrays equal to the custom dump's values, with a
+/// column named twice written once (LIGGGHTS's `type type`).
+#[test]
+fn custom_vtk_dump_matches_the_custom_dump() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(testkit::fixture("dem/outputs.in"))
+        .unwrap()
+        .replace(
+            "run             2000",
+            "dump d1 all custom 1000 post/d_*.txt id type type x y z vx vy vz radius\n\
+             dump d2 all custom/vtk 1000 post/d_*.vtk id type type x y z vx vy vz radius\n\
+             run 2000",
+        );
+    let deck = liggghts_deck::Deck::parse(&src, Path::new("vtk.in"), &[]).unwrap();
+    dem::Simulation::from_deck(&deck, dir.path()).unwrap();
+    let custom = dem_io::read_snapshot(
+        dir.path().join("post/d_2000.txt"),
+        &dem_io::ReadOptions::default(),
+        dem_io::Selection::Last,
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(dir.path().join("post/d_2000.vtk")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "# vtk DataFile Version 2.0");
+    assert_eq!(lines[4], "POINTS 2 double");
+    let nums = |l: &str| -> Vec<f64> { l.split_whitespace().map(|w| w.parse().unwrap()).collect() };
+    let x = custom.require("x").unwrap();
+    let z = custom.require("z").unwrap();
+    for i in 0..2 {
+        let p = nums(lines[5 + i]);
+        assert_eq!((p[0], p[2]), (x[i], z[i]));
+    }
+    // FIELD arrays: id, type (once), v (a vector), radius
+    let field = lines.iter().position(|l| l.starts_with("FIELD")).unwrap();
+    assert_eq!(lines[field], "FIELD FieldData 4");
+    let array = |name: &str| -> Vec<Vec<f64>> {
+        let k = lines
+            .iter()
+            .position(|l| l.starts_with(&format!("{name} ")))
+            .unwrap();
+        lines[k + 1..k + 3].iter().map(|l| nums(l)).collect()
+    };
+    let vz = custom.require("vz").unwrap();
+    assert_eq!(array("v")[1][2], vz[1]);
+    assert_eq!(array("radius")[0][0], custom.require("radius").unwrap()[0]);
+    assert_eq!(array("type")[1][0], 1.0);
+}

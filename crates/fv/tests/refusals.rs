@@ -334,7 +334,10 @@ fn total_pressure_rho_follows_the_dimensions_of_p() {
     std::fs::write(&path, pascal).unwrap();
     match fv::Fluid::from_case(dir.path()) {
         Err(FvError::Setting { file, key, msg }) => {
-            assert!(file.ends_with("0/p") && key == "boundaryField.movingWall.rho", "{key}");
+            assert!(
+                file.ends_with("0/p") && key == "boundaryField.movingWall.rho",
+                "{key}"
+            );
             assert!(msg.contains("kinematic"), "{msg}");
         }
         Ok(_) => panic!("p in Pa with `rho rho` was accepted"),

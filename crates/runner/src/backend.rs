@@ -120,9 +120,11 @@ fn native_dem(
     dem_dir: &Path,
     events: &mut dyn FnMut(Event),
 ) -> Result<NativeDem, RunError> {
-    Ok(crate::native::run_native_deck(run_deck, dem_dir, &mut |w| {
-        events(Event::Message(format!("warning: {w}")))
-    })?)
+    Ok(crate::native::run_native_deck(
+        run_deck,
+        dem_dir,
+        &mut |w| events(Event::Message(format!("warning: {w}"))),
+    )?)
 }
 
 /// Runs stage 2 on the chosen pair of sides.

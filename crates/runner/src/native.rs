@@ -8,14 +8,14 @@ use couple::{
 };
 use dem::deck::exec::{DeckEvent, Session};
 use dem::Simulation;
-use liggghts_deck::Deck;
-use std::fs::File;
-use std::io::{BufWriter, Write};
-use std::sync::{Arc, Mutex};
 use foam::PolyMesh;
 use fv::Fluid;
+use liggghts_deck::Deck;
 use mesh::v3::V3;
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 
 /// The native fluid solver as the fluid side.
 ///
@@ -212,7 +212,8 @@ impl DemLog {
     fn line(&mut self, text: &str) {
         if let Some(f) = &mut self.file {
             if let Err(e) = writeln!(f, "{text}").and_then(|_| f.flush()) {
-                self.error.get_or_insert(format!("cannot write the DEM log: {e}"));
+                self.error
+                    .get_or_insert(format!("cannot write the DEM log: {e}"));
             }
         }
     }
@@ -251,7 +252,9 @@ pub fn run_native_deck(
     let sink = Arc::clone(&log);
     let file = deck.file.clone();
     let mut session = Session::new(dem_dir, move |e| lock(&sink).event(e, &file));
-    let result = session.execute(deck).and_then(|_| session.simulation().map(|_| ()));
+    let result = session
+        .execute(deck)
+        .and_then(|_| session.simulation().map(|_| ()));
     for w in std::mem::take(&mut lock(&log).warnings) {
         warn(w);
     }
@@ -264,7 +267,8 @@ pub fn run_native_deck(
 
 fn lock(log: &Mutex<DemLog>) -> std::sync::MutexGuard<'_, DemLog> {
     // a panic while holding the lock cannot leave the log inconsistent: use it anyway
-    log.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    log.lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 /// The native DEM as the particle side: the run deck's [`Session`], continued between

@@ -1,4 +1,4 @@
-//! VTK XML writers for foamgrain's outputs, the files ParaView opens.
+//! VTK writers (XML, and legacy for particles) for foamgrain's outputs, the files ParaView opens.
 //!
 //! This crate owns the translation of foamgrain's data into VTK's XML formats:
 //! - particles as PolyData (`.vtp`, [`write_vtp`]): points, one `VTK_VERTEX` per particle so
@@ -8,7 +8,9 @@
 //!   point order derived from the face topology; every other cell (prisms included, whose VTK
 //!   orientation convention differs between VTK versions, and any cell whose shape is not
 //!   matched exactly) becomes a `VTK_POLYHEDRON` ([`VtkCells`]);
-//! - time series as ParaView collections (`.pvd`, [`write_pvd`]).
+//! - time series as ParaView collections (`.pvd`, [`write_pvd`]);
+//! - particles as a legacy ASCII `.vtk` PolyData ([`write_legacy_vtk`]), what LIGGGHTS's `dump
+//!   custom/vtk` writes for a `.vtk` name.
 //!
 //! Arrays are Float64 (coordinates and fields), Int64 (connectivity) or the integer type given,
 //! stored inline as base64 binary (`header_type="UInt64"`, little-endian, the header holding
@@ -52,6 +54,7 @@
 mod array;
 mod cells;
 mod error;
+mod legacy;
 mod pvd;
 mod vtp;
 mod vtu;
@@ -60,6 +63,7 @@ mod xml;
 pub use array::{DataArray, Encoding, Values};
 pub use cells::{CellType, VtkCells};
 pub use error::VtkError;
+pub use legacy::write_legacy_vtk;
 pub use pvd::write_pvd;
 pub use vtp::{write_vtp, write_vtp_with};
 pub use vtu::{write_vtu, write_vtu_cells, write_vtu_with};

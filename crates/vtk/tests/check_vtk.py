@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Independent check of foamgrain's VTK files with VTK's own XML readers (what ParaView uses).
 
-Usage: check_vtk.py FILE.vtu|FILE.vtp|FILE.pvd
+Usage: check_vtk.py FILE.vtu|FILE.vtp|FILE.vtk|FILE.pvd  (.vtk: legacy PolyData)
 
 Prints one JSON object on stdout:
   vtk_version, errors (messages VTK printed while reading; must be empty),
@@ -10,7 +10,7 @@ Prints one JSON object on stdout:
   for .vtu also volumes (per cell, from vtkCellSizeFilter), total_volume, and
   face_volumes (per cell, divergence theorem over the faces VTK reports for the cell,
   cell.GetFace(i): positive only if VTK sees the faces oriented outward),
-  for .vtp also n_verts,
+  for .vtp and .vtk also n_verts,
   for .pvd: datasets ([{timestep, part, file, n_points, n_cells}]) each read with VTK.
 Exit status 0 when the file was read, 1 when VTK reported an error, 2 on usage errors.
 """
@@ -34,6 +34,8 @@ def read(path):
         reader = vtk.vtkXMLUnstructuredGridReader()
     elif path.endswith(".vtp"):
         reader = vtk.vtkXMLPolyDataReader()
+    elif path.endswith(".vtk"):
+        reader = vtk.vtkPolyDataReader()
     else:
         raise SystemExit(f"unsupported file type: {path}")
     reader.SetFileName(path)

@@ -433,3 +433,49 @@ fn empty_particle_set_is_readable() {
         assert_eq!(j["n_points"], 0);
     }
 }
+
+/// The legacy `.vtk` particles read by VTK's own `vtkPolyDataReader` (what ParaView uses for
+/// LIGGGHTS's `dump custom/vtk` files): points, vertices and arrays, to 1e-15 (VTK's ASCII
+/// number parser is not always correctly rounded: one ulp off was seen).
+#[test]
+fn legacy_particles_read_by_vtk() {
+    let n = 50;
+    let mut s = 7;
+    let pos: Vec<[f64; 3]> = (0..n)
+        .map(|_| [lcg(&mut s), lcg(&mut s) - 0.5, 1e-3 * lcg(&mut s)])
+        .collect();
+    let radius: Vec<f64> = (0..n).map(|_| 1e-4 * (1.0 + lcg(&mut s))).collect();
+    let vel: Vec<[f64; 3]> = (0..n)
+        .map(|i| [i as f64 / 3.0, -(i as f64), 0.25])
+        .collect();
+    let ids: Vec<i64> = (0..n as i64).map(|i| 1 + i).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("dump_100.vtk");
+    vtk::write_legacy_vtk(
+        &path,
+        "foamgrain",
+        &pos,
+        &[
+            DataArray::scalar("radius", &radius),
+            DataArray::vector("v", &vel),
+            DataArray::int64("id", &ids),
+        ],
+    )
+    .unwrap();
+    for py in vtk_pythons() {
+        let j = check_with(&py, &path);
+        assert_eq!(j["n_points"].as_u64().unwrap() as usize, n);
+        assert_eq!(j["n_verts"].as_u64().unwrap() as usize, n);
+        assert_close(&json_f64s(&j["points"]), pos.as_flattened(), 1e-15, "pos");
+        let pd = &j["point_data"];
+        assert_close(&json_f64s(&pd["radius"]["values"]), &radius, 1e-15, "r");
+        assert_close(
+            &json_f64s(&pd["v"]["values"]),
+            vel.as_flattened(),
+            1e-15,
+            "v",
+        );
+        let id: Vec<f64> = ids.iter().map(|&i| i as f64).collect();
+        assert_close(&json_f64s(&pd["id"]["values"]), &id, 1e-15, "id");
+    }
+}

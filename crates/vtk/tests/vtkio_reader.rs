@@ -278,3 +278,58 @@ fn without_arrays(text: &str, names: &[&str]) -> String {
     out.push_str(rest);
     out
 }
+
+/// The legacy `.vtk` particles (LIGGGHTS's `dump custom/vtk` form) read back exactly by vtkio's
+/// legacy parser: points, one vertex per point, scalar, vector and integer point data.
+#[test]
+fn legacy_particles_read_back_with_vtkio() {
+    let x = [[0.0, 0.0, 0.0], [1e-3, -2e-3, 3.5e-3], [0.1, 0.2, 0.3]];
+    let v = [[0.0, 0.0, -0.1], [1.0 / 3.0, 0.0, 2e-17], [-5.0, 6.0, 7.0]];
+    let r = [5e-4, 4e-4, 1.0 / 7.0];
+    let ty = [1_i32, 2, 1];
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p_100.vtk");
+    let arrays = [
+        DataArray::scalar("radius", &r),
+        DataArray::vector("v", &v),
+        DataArray::int32("type", &ty),
+    ];
+    vtk::write_legacy_vtk(&path, "foamgrain dump", &x, &arrays).unwrap();
+    let vtk = vtkio::Vtk::import(&path).unwrap_or_else(|e| panic!("vtkio: {e:?}"));
+    assert_eq!(vtk.title, "foamgrain dump");
+    let DataSet::PolyData { pieces, .. } = vtk.data else {
+        panic!("PolyData expected")
+    };
+    let [Piece::Inline(p)] = <[_; 1]>::try_from(pieces).expect("one piece") else {
+        panic!("an inline piece")
+    };
+    assert_eq!(p.points.cast_into::<f64>().unwrap(), flat(&x));
+    match p.verts.expect("vertices") {
+        VertexNumbers::Legacy {
+            num_cells,
+            vertices,
+        } => {
+            assert_eq!(num_cells, 3);
+            assert_eq!(vertices, [1, 0, 1, 1, 1, 2]);
+        }
+        VertexNumbers::XML { .. } => panic!("legacy cells expected"),
+    }
+    // the arrays come as one field of point data
+    let [Attribute::Field { data_array, .. }] = p.data.point.as_slice() else {
+        panic!("one field of point data expected: {:?}", p.data.point)
+    };
+    let point: HashMap<String, (usize, Vec<f64>)> = data_array
+        .iter()
+        .map(|a| {
+            let v = a.data.clone().cast_into::<f64>().expect("numeric");
+            (a.name.clone(), (a.elem as usize, v))
+        })
+        .collect();
+    assert_eq!(point["radius"], (1, r.to_vec()));
+    assert_eq!(point["v"], (3, flat(&v)));
+    assert_eq!(point["type"], (1, vec![1.0, 2.0, 1.0]));
+    // bad input names the file
+    let nan = [f64::NAN, 0.0, 0.0];
+    let e = vtk::write_legacy_vtk(&path, "t", &x, &[DataArray::scalar("r", &nan)]).unwrap_err();
+    assert!(e.to_string().contains("p_100.vtk"), "{e}");
+}

@@ -19,7 +19,7 @@
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
 //!   vector `f_ID[1..3]` is the total coupling force), `print` ([`print`](super::print));
 //!   `unfix` of gravity, prints, walls and pending insertions;
-//! - output: `dump ID all custom N FILE cols…` (columns of [`crate::atom_value`]),
+//! - output: `dump ID all custom|custom/vtk N FILE cols…` (columns of [`crate::atom_value`]),
 //!   `dump_modify ID sort id|label L|format …`, `undump`, `write_data FILE`, `write_restart
 //!   FILE` (`*` = the step; directories are made); `thermo`, `thermo_style`, `thermo_modify`
 //!   ([`thermo`](super::thermo): LIGGGHTS-style thermo lines, reported as
@@ -1300,12 +1300,16 @@ impl Session<'_> {
 
     fn dump(&mut self, w: &[String]) -> Result<(), Failure> {
         let id = word(w, 1, "dump id")?;
-        if word(w, 2, "group")? != "all" || word(w, 3, "style")? != "custom" {
-            return Err("only `dump ID all custom N FILE columns…` is supported".into());
+        let style = word(w, 3, "style")?;
+        if word(w, 2, "group")? != "all" || !matches!(style, "custom" | "custom/vtk") {
+            return Err("only `dump ID all custom|custom/vtk N FILE columns…` is supported".into());
         }
         let every = int(w, 4, "dump interval")?;
         let file = self.path(word(w, 5, "file name")?);
-        let d = DumpOutput::new(id, every, file, w[6..].to_vec())?;
+        let d = match style {
+            "custom" => DumpOutput::new(id, every, file, w[6..].to_vec())?,
+            _ => DumpOutput::new_vtk(id, every, file, w[6..].to_vec())?,
+        };
         match &mut self.sim {
             Some(s) => s.add_dump(d),
             None => self.pending.dumps.push(d),
