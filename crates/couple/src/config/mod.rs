@@ -16,7 +16,7 @@
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
 //! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
 //! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
-//! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
+//! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's) | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
 //! | `debug`, `syncMode`, `checkPeriodicCells`, `turbulenceModelType` | accepted; `debug on` warns (no debug output) |
 //!
 //! In a force model's Props, `interpolation true` selects the smooth interpolation
@@ -135,7 +135,7 @@ pub struct CouplingConfig {
     /// the particles, the voidage and the exchange fields go on.
     pub solve_flow: bool,
     /// `useDDTvoidfraction`: `b` puts ∂ε/∂t into the continuity equation, `off` leaves it out.
-    /// Without the key foamgrain keeps it (true; CFDEM's default is `off`).
+    /// Without the key it is left out, as CFDEM's default (`off`) does.
     pub ddt_voidage: bool,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
@@ -403,8 +403,8 @@ impl CouplingConfig {
         }
         let solve_flow = r.opt_switch(top, "solveFlow", "solveFlow")?.unwrap_or(true);
         let ddt_voidage = match r.opt_word(top, "useDDTvoidfraction", "useDDTvoidfraction")? {
-            None | Some("b") => true,
-            Some("off") => false,
+            Some("b") => true,
+            None | Some("off") => false,
             Some("a") => {
                 return Err(r.err(
                     "useDDTvoidfraction",
