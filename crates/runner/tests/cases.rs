@@ -159,3 +159,75 @@ fn write_liggghts_writes_a_restart_file_at_the_write_time() {
     let restart = dem_io::restart::read_restart(&file).unwrap();
     assert_eq!(restart.atoms.len(), report.particles);
 }
+
+/// A coupled deck's run-time monitors (CFDEM's tutorials print their drag this way) act through
+/// the whole coupled run: `compute reduce` of `f_dragforce`, `f_cfd2` of the force fix, `vy[1]`
+/// and `step*dt` in a `fix print` file and in thermo rows in `DEM/log.liggghts`. Checked
+/// against the settling sphere's physics: at terminal velocity the fluid's force balances the
+/// weight, mg = 1.54e-8 N, and it is all explicit (`couple/cfd/force`: F_ext, β = 0).
+#[test]
+fn coupled_deck_monitors_print_through_the_run() {
+    let (_tmp, case) = case_copy("settling");
+    let deck = case.join("DEM/in.liggghts_run");
+    let text = std::fs::read_to_string(&deck).unwrap();
+    let monitors =
+        "compute dragtotal all reduce sum f_dragforce[1] f_dragforce[2] f_dragforce[3]\n\
+                    variable time equal step*dt\nvariable vy equal vy[1]\n\
+                    variable fy equal f_cfd2[2]\n\
+                    fix extra all print 100 \"${time} ${vy} ${fy} $(c_dragtotal[2])\" \
+                    file post/forces.txt title \"# t vy fy dragy\" screen no\n\
+                    thermo_style custom step atoms c_dragtotal[2] f_cfd2[2] v_vy\n";
+    std::fs::write(
+        &deck,
+        text.replace("thermo_style    custom step atoms ke\n", monitors),
+    )
+    .unwrap();
+    let stop = AtomicBool::new(false);
+    let (report, _) = run_logged(&case, &stop);
+    let rows: Vec<Vec<f64>> = std::fs::read_to_string(case.join("DEM/post/forces.txt"))
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .collect();
+    // every 100 DEM steps (one coupling step) for 200 coupling steps
+    assert_eq!(rows.len(), 200);
+    let m = 3000.0 * std::f64::consts::PI / 6.0 * 1e-12;
+    let last = rows.last().unwrap();
+    assert!((last[0] - 0.2).abs() < 1e-12, "t {}", last[0]);
+    // explicit coupling: the fix's total is the per-atom force summed
+    for r in &rows {
+        assert!(
+            (r[2] - r[3]).abs() <= 1e-12 * r[2].abs().max(1e-20),
+            "{r:?}"
+        );
+    }
+    assert!(
+        (last[2] - m * 9.81).abs() < 0.01 * m * 9.81,
+        "fy {} vs mg {}",
+        last[2],
+        m * 9.81
+    );
+    // the printed velocity is the particle's, as the run's samples record it
+    let s = report.samples.last().unwrap();
+    assert!(
+        (last[1].abs() - s.first_axial_velocity.abs()).abs() < 1e-6 * last[1].abs(),
+        "vy {} vs {}",
+        last[1],
+        s.first_axial_velocity
+    );
+    // thermo rows continue through the coupled run into the DEM log
+    let log = std::fs::read_to_string(case.join("DEM/log.liggghts")).unwrap();
+    assert!(log.contains("dragtotal[2]"), "{log}");
+    let last_row = log
+        .lines()
+        .filter(|l| l.split_whitespace().next() == Some("20000"))
+        .last()
+        .unwrap_or_else(|| panic!("no thermo row at step 20000 in\n{log}"));
+    let fy: f64 = last_row.split_whitespace().nth(3).unwrap().parse().unwrap();
+    assert!(
+        (fy - last[2]).abs() < 1e-7 * last[2].abs(),
+        "{fy} vs {}",
+        last[2]
+    );
+}
