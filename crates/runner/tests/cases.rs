@@ -221,8 +221,7 @@ fn coupled_deck_monitors_print_through_the_run() {
     assert!(log.contains("dragtotal[2]"), "{log}");
     let last_row = log
         .lines()
-        .filter(|l| l.split_whitespace().next() == Some("20000"))
-        .last()
+        .rfind(|l| l.split_whitespace().next() == Some("20000"))
         .unwrap_or_else(|| panic!("no thermo row at step 20000 in\n{log}"));
     let fy: f64 = last_row.split_whitespace().nth(3).unwrap().parse().unwrap();
     assert!(
