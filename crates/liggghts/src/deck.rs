@@ -230,15 +230,18 @@ impl CouplingDeck {
                     .into(),
             ));
         }
-        // trailing runs, then any other run after couple/cfd
+        // trailing runs, then any other run after couple/cfd that takes steps (`run 0` and
+        // `run 0 upto`, CFDEM's way to set up dumps between commands, take none: LIGGGHTS runs
+        // them as they are)
         let mut first_trailing = deck.commands.len();
         while first_trailing > 0 && deck.commands[first_trailing - 1].words[0] == "run" {
             first_trailing -= 1;
         }
-        if let Some(c) = deck.commands[..first_trailing]
-            .iter()
-            .find(|c| c.words[0] == "run" && c.line > couple_line)
-        {
+        if let Some(c) = deck.commands[..first_trailing].iter().find(|c| {
+            c.words[0] == "run"
+                && c.line > couple_line
+                && c.words.get(1).map(String::as_str) != Some("0")
+        }) {
             return Err(err(
                 c.line,
                 "a `run` after `fix … couple/cfd` followed by other commands: the coupler drives \
@@ -624,6 +627,14 @@ mod tests {
                 }
             ]
         );
+        // CFDEM's settlingTestMPI: `run 0` before a dump, then `run 0 upto`: no steps, kept
+        let mid = deck(&GOOD.replace(
+            "run 100\n",
+            "run 0\ndump d all custom 5 post/d id x\nrun 0 upto\n",
+        ))
+        .unwrap();
+        assert_eq!(mid.skipped_runs.len(), 2, "{:?}", mid.skipped_runs);
+        assert!(mid.without_runs().contains("\nrun 0\ndump d all"));
         let text = d.without_runs();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 9);
