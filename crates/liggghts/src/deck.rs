@@ -136,6 +136,14 @@ impl CouplingDeck {
                         dump_files.push((c.line, f.clone()));
                     }
                 }
+                // `fix ID group print N TEXT file|append F`
+                "fix" if w.get(3).map(String::as_str) == Some("print") => {
+                    if let Some(k) = w.iter().skip(6).position(|x| x == "file" || x == "append") {
+                        if let Some(f) = w.get(6 + k + 1) {
+                            dump_files.push((c.line, f.clone()));
+                        }
+                    }
+                }
                 "timestep" => time_step = w.get(1).and_then(|s| s.parse::<f64>().ok()),
                 "read_data" | "read_restart" => {
                     if let Some(f) = w.get(1) {
@@ -310,8 +318,9 @@ impl CouplingDeck {
         })
     }
 
-    /// Checks that the files the deck reads (`read_data`) exist under `workdir`, the directory
-    /// LIGGGHTS will run in.
+    /// Checks that the files the deck reads (`read_data`, `read_restart`) exist under
+    /// `workdir`, the directory LIGGGHTS will run in, and makes the folders its dumps and `fix
+    /// print` files go to (LIGGGHTS would stop without them; CFDEM's run scripts make `post/`).
     pub fn check_inputs(&self, workdir: &Path) -> Result<(), LiggghtsError> {
         if !workdir.is_dir() {
             return Err(LiggghtsError::Parameter(format!(
@@ -334,18 +343,14 @@ impl CouplingDeck {
             }
         }
         for (line, f) in &self.dump_files {
-            let parent = workdir.join(f).parent().map(Path::to_path_buf);
-            if parent.is_some_and(|p| !p.is_dir()) {
-                return Err(LiggghtsError::Deck {
-                    file: self.file.clone(),
-                    line: *line,
-                    message: format!(
-                        "dump: the folder of {f} does not exist in the working directory {} \
-                         (LIGGGHTS would stop)",
-                        workdir.display()
-                    ),
-                });
-            }
+            let Some(parent) = workdir.join(f).parent().map(Path::to_path_buf) else {
+                continue;
+            };
+            std::fs::create_dir_all(&parent).map_err(|e| LiggghtsError::Deck {
+                file: self.file.clone(),
+                line: *line,
+                message: format!("cannot make the folder {} for {f}: {e}", parent.display()),
+            })?;
         }
         Ok(())
     }
@@ -601,14 +606,18 @@ mod tests {
         assert!(!s.force.implicit);
         let err = e.check_inputs(Path::new("/nonexistent")).unwrap_err();
         assert!(err.to_string().contains("does not exist"), "{err}");
+        // the dump's folder is made (LIGGGHTS would stop without it); one that cannot be made
+        // is an error naming the deck line
         let dir = tempfile::tempdir().unwrap();
+        s.check_inputs(dir.path()).unwrap();
+        assert!(dir.path().join("post").is_dir());
+        std::fs::remove_dir(dir.path().join("post")).unwrap();
+        std::fs::write(dir.path().join("post"), "a file").unwrap();
         let err = s.check_inputs(dir.path()).unwrap_err().to_string();
         assert!(
             err.contains("in.liggghts_run:49:") && err.contains("post/dump*.run"),
             "{err}"
         );
-        std::fs::create_dir(dir.path().join("post")).unwrap();
-        s.check_inputs(dir.path()).unwrap();
     }
 
     #[test]
