@@ -1,0 +1,56 @@
+//! What CFDEM's cases give grainPisoFoam differently from foamgrain's: the fluid density as a
+//! uniform `0/rho` field instead of `rho` in transportProperties, and no `0/f` (nor other
+//! coupling fields). The run must equal the one with foamgrain's inputs, field for field.
+
+use foam_solver_tests::case::max_abs_diff;
+use foam_solver_tests::{grain_piso_foam, TestCase};
+
+#[test]
+fn rho_from_the_zero_folder_and_missing_coupling_fields() {
+    let Some(solver) = grain_piso_foam() else {
+        return;
+    };
+    let ours = TestCase::new("column");
+    ours.run(&solver);
+    let cfdem = TestCase::new("column");
+    cfdem.edit("constant/transportProperties", "rho             10;", "");
+    // 0/rho: Ksl's file (same patches) with the density's name, dimensions and value
+    let rho: String = std::fs::read_to_string(cfdem.dir.join("0/Ksl"))
+        .unwrap()
+        .lines()
+        .map(|l| match l.trim_start() {
+            t if t.starts_with("internalField") => "internalField   uniform 10;".to_string(),
+            t if t.starts_with("object") => "    object      rho;".to_string(),
+            t if t.starts_with("dimensions") => "dimensions      [1 -3 0 0 0 0 0];".to_string(),
+            _ => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(cfdem.dir.join("0/rho"), rho).unwrap();
+    std::fs::remove_file(cfdem.dir.join("0/f")).unwrap();
+    let log = cfdem.run(&solver);
+    assert!(log.contains("no 0/f: created"), "{log}");
+    assert!(log.contains("rho 10 kg/m^3"), "{log}");
+    for field in ["p"] {
+        let d = max_abs_diff(&ours.scalars("0.02", field), &cfdem.scalars("0.02", field));
+        assert_eq!(d, 0.0, "{field}");
+    }
+    let (a, b) = (ours.vectors("0.02", "U"), cfdem.vectors("0.02", "U"));
+    assert_eq!(a, b);
+    // a varying 0/rho is refused, naming it
+    let bad = TestCase::new("column");
+    bad.edit("constant/transportProperties", "rho             10;", "");
+    let mut rho_cells = vec![10.0; 60];
+    rho_cells[3] = 11.0;
+    std::fs::write(
+        bad.dir.join("0/rho"),
+        std::fs::read_to_string(cfdem.dir.join("0/rho")).unwrap(),
+    )
+    .unwrap();
+    bad.set_field("rho", foam::FieldValues::Scalar(rho_cells));
+    let (ok, log) = bad.try_run(&solver);
+    assert!(
+        !ok && log.contains("rho") && log.contains("uniform"),
+        "{log}"
+    );
+}
