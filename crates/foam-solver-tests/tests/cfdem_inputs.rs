@@ -31,10 +31,8 @@ fn rho_from_the_zero_folder_and_missing_coupling_fields() {
     let log = cfdem.run(&solver);
     assert!(log.contains("no 0/f: created"), "{log}");
     assert!(log.contains("rho 10 kg/m^3"), "{log}");
-    for field in ["p"] {
-        let d = max_abs_diff(&ours.scalars("0.02", field), &cfdem.scalars("0.02", field));
-        assert_eq!(d, 0.0, "{field}");
-    }
+    let d = max_abs_diff(&ours.scalars("0.02", "p"), &cfdem.scalars("0.02", "p"));
+    assert_eq!(d, 0.0, "p");
     let (a, b) = (ours.vectors("0.02", "U"), cfdem.vectors("0.02", "U"));
     assert_eq!(a, b);
     // a varying 0/rho is refused, naming it
