@@ -76,7 +76,8 @@ pub struct Settings {
     /// Kinematic viscosity ν (m²/s), `transportProperties` `nu`.
     pub nu: f64,
     /// Fluid density ρ (kg/m³), `transportProperties` `rho` (1 if absent; only the exchange
-    /// terms Ksl/ρ and f/ρ use it).
+    /// terms Ksl/ρ and f/ρ use it). A coupled run replaces it with the coupling's ρ, which
+    /// CFDEM's cases may keep in the field `0/rho` instead (`runner::native::NativeFluid::open`).
     pub rho: f64,
     /// Start time (s).
     pub start_time: f64,

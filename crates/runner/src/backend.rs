@@ -137,9 +137,9 @@ pub(crate) fn run_pair(
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
     let layout = ctx.layout;
-    let (ddt, solve) = (ctx.ddt_voidage, ctx.solve_flow);
+    let (ddt, solve, rho) = (ctx.ddt_voidage, ctx.solve_flow, ctx.settings.physics.rho);
     let native_fluid =
-        || NativeFluid::open(&layout.cfd, model, ddt, solve).map_err(RunError::Fluid);
+        || NativeFluid::open(&layout.cfd, model, ddt, solve, rho).map_err(RunError::Fluid);
     match (fluid, dem) {
         (FluidBackend::Native, DemBackend::Native) => {
             let dem = native_dem(run_deck, &layout.dem, events)?;
@@ -209,8 +209,14 @@ mod mpi_pair {
             #[cfg(feature = "liggghts")]
             (FluidBackend::Native, DemBackend::Liggghts) => {
                 let dem = open_liggghts(&world, layout)?;
-                let fluid = NativeFluid::open(&layout.cfd, model, ctx.ddt_voidage, ctx.solve_flow)
-                    .map_err(RunError::Fluid)?;
+                let fluid = NativeFluid::open(
+                    &layout.cfd,
+                    model,
+                    ctx.ddt_voidage,
+                    ctx.solve_flow,
+                    ctx.settings.physics.rho,
+                )
+                .map_err(RunError::Fluid)?;
                 couple_loop(ctx, dem, fluid, events)
             }
             #[cfg(feature = "mpi")]

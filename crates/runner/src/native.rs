@@ -38,15 +38,27 @@ pub struct NativeFluid {
 
 impl NativeFluid {
     /// Reads the OpenFOAM case `cfd` (mesh, settings, start fields), with the model, the
-    /// ∂ε/∂t switch and whether the flow is solved (`solveFlow`; when false the clock moves
-    /// and U, p stay as read).
+    /// ∂ε/∂t switch, whether the flow is solved (`solveFlow`; when false the clock moves
+    /// and U, p stay as read) and the coupling's fluid density `rho` (kg/m³).
+    ///
+    /// The solver divides Ksl and f by `rho`, which replaces the density `fv` read itself:
+    /// the coupling reads ρ where CFDEM cases keep it ([`couple::config::read_transport`]:
+    /// `transportProperties`' `rho`, else the field `0/rho`), and `fv` knows only the first
+    /// (1 without it). Two densities would make the pressure ρ_coupling/ρ_fluid times the
+    /// pressure of the drag the particles feel (ErgunTestMPI, ρ 10 only in `0/rho`: a 10×
+    /// pressure gradient force lifted the bed and the coupled oscillation grew until it blew up).
     pub fn open(
         cfd: &Path,
         model: fv::Model,
         ddt_voidage: bool,
         solve_flow: bool,
+        rho: f64,
     ) -> Result<NativeFluid, SideError> {
+        if !(rho.is_finite() && rho > 0.0) {
+            return Err(format!("fluid density {rho} kg/m³ is not a positive number").into());
+        }
         let mut fluid = Fluid::from_case(cfd)?;
+        fluid.settings.rho = rho;
         fluid.model = model;
         fluid.ddt_voidage = ddt_voidage;
         fluid.harmonic_faces = true;

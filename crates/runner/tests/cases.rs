@@ -228,5 +228,111 @@ fn coupled_deck_monitors_print_through_the_run() {
         (fy - last[2]).abs() < 1e-7 * last[2].abs(),
         "{fy} vs {}",
         last[2]
+
+/// The committed LIGGGHTS pack of the Ergun case (`reference/liggghts-settled.dump`: id type x y z
+/// vx vy vz radius, ρp 2000 as the init deck's) as the `read_data` file the run deck reads.
+fn write_packed_bed_from_reference(case: &std::path::Path) {
+    let dump = std::fs::read_to_string(case.join("reference/liggghts-settled.dump")).unwrap();
+    let rows: Vec<Vec<&str>> = dump
+        .lines()
+        .skip(9)
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+        .filter(|w| w.len() == 9)
+        .collect();
+    assert_eq!(rows.len(), 10_000);
+    let mut atoms = String::new();
+    let mut velocities = String::new();
+    for w in &rows {
+        let d = 2.0 * w[8].parse::<f64>().unwrap();
+        atoms += &format!("{} {} {d:e} 2000 {} {} {}\n", w[0], w[1], w[2], w[3], w[4]);
+        velocities += &format!("{} {} {} {} 0 0 0\n", w[0], w[5], w[6], w[7]);
+    }
+    let data = format!(
+        "LAMMPS data file: the Ergun case's reference pack\n\n{} atoms\n1 atom types\n\n\
+         -0.015 0.015 xlo xhi\n-0.015 0.015 ylo yhi\n-0.001 0.0554 zlo zhi\n\n\
+         Atoms\n\n{atoms}\nVelocities\n\n{velocities}",
+        rows.len()
+    );
+    std::fs::create_dir_all(case.join("DEM/post")).unwrap();
+    std::fs::write(case.join("DEM/post/packed.data"), data).unwrap();
+}
+
+/// CFDEM's cases keep the fluid density in the field `0/rho` and not in transportProperties
+/// (ErgunTestMPI). The Ergun case in that convention, from its committed LIGGGHTS pack, with
+/// the drag explicit on the particle side (`implForceDEM` off: held for the coupling
+/// interval's 50 DEM steps, as ErgunTestMPI's Koch–Hill drag): at 0.002 m/s (u/u_mf ≈ 0.15)
+/// the packed bed's Δp is Ergun's (the case's Gidaspow drag is Ergun's below ε 0.8) on the
+/// bed measured from the particles, and it stays well below the bed's weight per area at
+/// every step. With the fluid dividing Ksl by another ρ than the coupling's (fv's default 1
+/// against 0/rho's 10), Δp was 10× Ergun's, above the bed's weight from the first step, and
+/// the coupled oscillation grew until the run blew up.
+#[test]
+fn a_packed_bed_whose_density_is_in_0_rho_keeps_erguns_pressure_drop() {
+    let (_tmp, case) = case_copy("ergun");
+    write_packed_bed_from_reference(&case);
+    let tp = case.join("CFD/constant/transportProperties");
+    let text = std::fs::read_to_string(&tp).unwrap();
+    let without_rho: String = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("rho "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert_ne!(without_rho, text);
+    std::fs::write(&tp, without_rho).unwrap();
+    std::fs::write(
+        case.join("CFD/0/rho"),
+        "FoamFile { version 2.0; format ascii; class volScalarField; object rho; }\n\
+         dimensions [1 -3 0 0 0 0 0];\ninternalField uniform 10;\n\
+         boundaryField { \".*\" { type zeroGradient; } }\n",
+    )
+    .unwrap();
+    let cp = case.join("CFD/constant/couplingProperties");
+    let text = std::fs::read_to_string(&cp).unwrap();
+    let gidaspow = text.find("GidaspowDragProps").unwrap();
+    let explicit = text[..gidaspow].to_owned()
+        + &text[gidaspow..].replacen("implForceDEM            true;", "implForceDEM false;", 1);
+    assert_ne!(explicit, text);
+    std::fs::write(&cp, explicit).unwrap();
+
+    let stop = AtomicBool::new(false);
+    let opts = RunOptions {
+        end_time: Some(0.005),
+        ..RunOptions::default()
+    };
+    let report = run(&case, &opts, &stop, &mut |_| {}).unwrap();
+    assert_eq!(report.steps, 10);
+    // Ergun's equation (Ergun 1952) for the bed measured at each step, fluid ρ 10, ν 1.5e-4.
+    let (rho, mu) = (10.0, 10.0 * 1.5e-4);
+    let ergun = |s: &runner::sample::Sample| {
+        let (u, l, e, d) = (
+            s.inlet_velocity.unwrap(),
+            s.bed_height.unwrap(),
+            s.bed_voidage.unwrap(),
+            s.sauter_diameter.unwrap(),
+        );
+        let viscous = 150.0 * mu * (1.0 - e).powi(2) / (e.powi(3) * d * d) * u;
+        let inertial = 1.75 * rho * (1.0 - e) / (e.powi(3) * d) * u * u;
+        (viscous + inertial) * l
+    };
+    let mut late = Vec::new();
+    for (k, s) in report.samples.iter().enumerate() {
+        let dp = s.pressure_drop.unwrap();
+        let (reference, weight) = (ergun(s), s.weight_per_area.unwrap());
+        assert!((s.inlet_velocity.unwrap() - 0.002).abs() < 1e-12);
+        // measured: 1.2–1.3 Ergun in the first two steps (the fluid starts from rest), 0.55
+        // at the fourth as the bed takes the fluid's load, 0.94–1.07 from the sixth on
+        assert!(
+            dp > 0.4 * reference && dp < 1.5 * reference && dp < 0.3 * weight,
+            "step {}: Δp {dp} Pa, Ergun {reference} Pa, weight per area {weight} Pa",
+            k + 1
+        );
+        if k >= 5 {
+            late.push(dp / reference);
+        }
+    }
+    let mean = late.iter().sum::<f64>() / late.len() as f64;
+    assert!(
+        (mean - 1.0).abs() < 0.15,
+        "Δp / Ergun over steps 6–10: {late:?}"
     );
 }

@@ -190,8 +190,9 @@ impl RunContext<'_> {
         let ax = self.axis;
         set_inlet_velocity(&work, self.inlet, velocity * ax)?;
 
+        let rho = self.settings.physics.rho;
         let mut fluid =
-            NativeFluid::open(&work, self.model, true, true).map_err(fluid_err(&work))?;
+            NativeFluid::open(&work, self.model, true, true, rho).map_err(fluid_err(&work))?;
         for patch in [self.inlet, self.outlet] {
             if !fluid
                 .fluid()
@@ -207,7 +208,6 @@ impl RunContext<'_> {
             }
         }
         let dt_fluid = fluid.fluid().settings.delta_t;
-        let rho = fluid.fluid().settings.rho;
         let mut particles =
             FrozenParticles::new(self.bed.clone(), dt_fluid / self.coupling_interval as f64)
                 .map_err(fluid_err(&work))?;
