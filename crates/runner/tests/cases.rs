@@ -228,6 +228,8 @@ fn coupled_deck_monitors_print_through_the_run() {
         (fy - last[2]).abs() < 1e-7 * last[2].abs(),
         "{fy} vs {}",
         last[2]
+    );
+}
 
 /// The committed LIGGGHTS pack of the Ergun case (`reference/liggghts-settled.dump`: id type x y z
 /// vx vy vz radius, ρp 2000 as the init deck's) as the `read_data` file the run deck reads.
