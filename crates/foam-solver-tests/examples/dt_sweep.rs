@@ -69,7 +69,10 @@ fn main() {
             let v: Vec<f64> = table.iter().map(|r| r[k]).collect();
             let max = v.iter().copied().fold(f64::MIN, f64::max);
             let min = v.iter().copied().fold(f64::MAX, f64::min);
-            format!("{:.3} %", 100.0 * (max - min) / (v.iter().sum::<f64>() / v.len() as f64))
+            format!(
+                "{:.3} %",
+                100.0 * (max - min) / (v.iter().sum::<f64>() / v.len() as f64)
+            )
         })
         .collect();
     println!("spread  | {}", spread.join(" | "));

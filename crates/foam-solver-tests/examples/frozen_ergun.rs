@@ -55,11 +55,7 @@ fn main() {
     for harmonic in [false, true] {
         let (history, p) =
             native::run_native(&frozen, steps, harmonic, fv::PorousTimeFlux::Consistent);
-        report(
-            &format!("native harmonic_faces={harmonic}"),
-            &history,
-            &p,
-        );
+        report(&format!("native harmonic_faces={harmonic}"), &history, &p);
     }
 
     if let Some(solver) = grain_piso_foam() {
