@@ -12,8 +12,10 @@
 //! steps of the case's Δt = 5e-4 s are run with the inlet held at 0.002 m/s. grainPisoFoam
 //! runs only when OpenFOAM is installed.
 
-use foam_solver_tests::darcy;
-use foam_solver_tests::frozen_bed::{self, FrozenBed, DT, RHO};
+#[path = "common/native.rs"]
+mod native;
+
+use foam_solver_tests::frozen_bed::{self, FrozenBed, RHO};
 use foam_solver_tests::grain_piso_foam;
 use std::path::PathBuf;
 
@@ -51,29 +53,9 @@ fn main() {
     };
 
     for harmonic in [false, true] {
-        let run = frozen.case.duplicate();
-        let mut fluid = fv::Fluid::from_case(&run.dir).expect("native solver reads the case");
-        fluid.harmonic_faces = harmonic;
-        fluid.set_voidage(&frozen.eps, &frozen.eps).unwrap();
-        fluid
-            .set_exchange(&frozen.ksl, mesh::v3::as_vectors(&frozen.us))
-            .unwrap();
-        fluid.set_force(mesh::v3::as_vectors(&frozen.f)).unwrap();
-        let mut history = Vec::new();
-        for step in 1..=steps {
-            fluid.advance(DT).unwrap();
-            if step % (steps / 4).max(1) == 0 {
-                let g = fluid.geometry();
-                let inlet = &g.patches[g.patch_index("inlet").expect("inlet patch")];
-                let pb = &fluid.p_boundary()[inlet.boundary_range(g.n_internal)];
-                history.push(RHO * darcy::area_mean(&g.sf[inlet.faces.clone()], pb));
-            }
-        }
-        report(
-            &format!("native harmonic_faces={harmonic}"),
-            &history,
-            fluid.p(),
-        );
+        let (history, p) =
+            native::run_native(&frozen, steps, harmonic, fv::PorousTimeFlux::Consistent);
+        report(&format!("native harmonic_faces={harmonic}"), &history, &p);
     }
 
     if let Some(solver) = grain_piso_foam() {

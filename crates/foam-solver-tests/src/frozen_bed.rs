@@ -37,12 +37,19 @@ pub struct FrozenBed {
     pub bed: Bed,
     /// End time (s).
     pub end: f64,
+    /// Time step (s).
+    pub dt: f64,
 }
 
 impl FrozenBed {
     /// Copies the Ergun case and sets the fields of `fields` (`voidfraction Ksl Us f` needed,
-    /// `U p` used when present) as its start fields.
+    /// `U p` used when present) as its start fields; `steps` steps of the case's [`DT`].
     pub fn new(fields: &Path, steps: usize) -> FrozenBed {
+        Self::with_time_step(fields, steps, DT)
+    }
+
+    /// As [`Self::new`] with the time step `dt` (s) in `system/controlDict`.
+    pub fn with_time_step(fields: &Path, steps: usize, dt: f64) -> FrozenBed {
         let case = TestCase::inputs_of(&testkit::repo_root().join("openfoam-cases/ergun/CFD"));
         let n = case.mesh().0.n_cells;
         hold_inlet(&case);
@@ -57,11 +64,16 @@ impl FrozenBed {
                 .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             case.set_field(name, values);
         }
-        let end = steps as f64 * DT;
+        let end = steps as f64 * dt;
         case.edit(
             "system/controlDict",
             "endTime         0.2;",
             &format!("endTime {end};"),
+        );
+        case.edit(
+            "system/controlDict",
+            "deltaT          0.0005;",
+            &format!("deltaT {dt};"),
         );
         case.edit(
             "system/controlDict",
@@ -81,6 +93,7 @@ impl FrozenBed {
             f,
             bed,
             end,
+            dt,
         }
     }
 

@@ -37,6 +37,42 @@ pub enum Model {
     B,
 }
 
+/// How the face flux next to porous cells carries the time derivative, with
+/// [`Fluid::harmonic_faces`] (clear faces always keep OpenFOAM's `ddtCorr`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PorousTimeFlux {
+    /// The face's own momentum balance (default): the half-cell resistances in series,
+    /// r_c = 1/γ_c = A_c/(ε_c κ_p,c) (s/m² per m of flow path, kinematic units), split into a
+    /// steady part r′ = A′/(ε κ_p) (A′ the diagonal without the time derivative: convection,
+    /// diffusion, Ksl/ρ) and the time part r_t = T/(ε κ_p) = 1/(κ_p Δt) (T = ε/Δt the Euler
+    /// ddt diagonal per volume, 1/s); on the face
+    ///
+    ///   φ* = γ_f ((H′/κ_p)_f·S + r_t,f φ°),   1/γ_f = r_f = (1 − w) r_P + w r_N,
+    ///   r_t,f = (1 − w) r_t,P + w r_t,N,
+    ///
+    /// H′ = H − ε° U°/Δt the momentum source without the old-time term (m/s² per volume),
+    /// φ° the face's own old flux (m³/s). At steady state (φ = φ°) the face flux solves
+    /// r′_f φ = (H′/κ_p)_f·S − |S| snGrad p whatever Δt: the time term cancels exactly, as in
+    /// the time-step-independent momentum interpolation of Choi (AIAA J. 37 (1999) 1004) and
+    /// Yu, Ozoe & Churchill (Numer. Heat Transfer B 42 (2002) 141), here written for the
+    /// series resistances of [`Fluid::harmonic_faces`]. Transiently the face flux relaxes as
+    /// the cells' velocities do (the same r′ and r_t, interpolated). The face pressures of the
+    /// cell gradient on these faces are weighted by the steady γ′ = ε κ_p/A′ (not γ), so the
+    /// cell velocities, which feed H′ through the neighbours' coefficients, are Δt-free too.
+    /// Faces between clear cells keep OpenFOAM's forms (pisoFoam's results where ε ≡ 1 and
+    /// Ksl ≡ 0). Measured on a heterogeneous frozen bed: steady Δp spread 6.4e-5 across
+    /// Δt = 1e-4 … 1e-3 s, against 6.2 % with [`Self::DdtCorr`] (`tests/steady_dt.rs`); the
+    /// rest comes from the clear faces' ddtCorr.
+    #[default]
+    Consistent,
+    /// OpenFOAM v1912's `ddtCorr` on every face (the behaviour before issue 17): the old cell
+    /// velocities interpolated, corrected by (ε/A)_f·c·(φ° − ε°_f U°_f·S)/Δt with the coupling
+    /// coefficient c = 1 − min(|φ° − ε°_f U°_f·S|/|φ°|, 1). At steady state the flux keeps a
+    /// term of order Δt·Ksl-jumps: measured +1.5 / +2.7 / +3.3 % of Δp at Δt = 1e-4 / 2.5e-4 /
+    /// 5e-4 s on the binary bed (docs/cellsize.md). Kept for comparisons.
+    DdtCorr,
+}
+
 /// What one time step did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StepReport {
@@ -83,6 +119,10 @@ pub struct Fluid {
     /// bits). Not used everywhere because the reconstruction alone loses what the fluxes do
     /// not carry (the tangential velocity at walls: 18 % of the lid speed on the 20×20 cavity).
     pub reconstruct_u: bool,
+    /// The time term of the face flux on faces next to porous cells (ε < 1 or Ksl > 0) when
+    /// [`Self::harmonic_faces`] is on; see [`PorousTimeFlux`]. Without `harmonic_faces` every
+    /// face keeps OpenFOAM's linear forms and `ddtCorr`.
+    pub porous_time_flux: PorousTimeFlux,
     case: Case,
     g: FvGeometry,
     u_bc: Vec<VelocityBc>,
@@ -154,6 +194,7 @@ impl Fluid {
             ddt_voidage: true,
             harmonic_faces: false,
             reconstruct_u: false,
+            porous_time_flux: PorousTimeFlux::Consistent,
             time: settings.start_time,
             time_index: 0,
             settings,
@@ -559,6 +600,34 @@ impl Fluid {
                 erau_f[f] * coeff * diff / dt
             })
             .collect();
+        // Faces next to porous cells take the consistent time term (PorousTimeFlux): their
+        // time resistance r_t = 1/(κ_p Δt) per cell (s/m², kinematic) and the mask.
+        let consistent = self.harmonic_faces && self.porous_time_flux == PorousTimeFlux::Consistent;
+        let porous_face = if consistent {
+            porous_faces(g, &self.eps, &self.ksl)
+        } else {
+            vec![false; g.n_faces()]
+        };
+        let r_t: Vec<f64> = (0..n).map(|c| 1.0 / (kappa_p(c) * dt)).collect();
+        // The steady flux coefficient γ′ = ε κ_p/A′ (A′ = A − ε/Δt, the diagonal without the
+        // time derivative) weighs the face pressures of ∇p on porous faces, so that the cell
+        // velocities U = HbyA − κ∇p, and through H′ the face fluxes, reach a steady state that
+        // does not depend on Δt (PorousTimeFlux::Consistent). A cell whose A′ is not positive
+        // (possible only without Ksl) keeps γ.
+        let gam_steady: Vec<f64> = if consistent {
+            (0..n)
+                .map(|c| {
+                    let a_steady = a_mean[c] - self.eps[c] / dt;
+                    if a_steady > 0.0 {
+                        self.eps[c] * kappa_p(c) / a_steady
+                    } else {
+                        gam_c[c]
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let jump_zone = if self.reconstruct_u {
             jump_zone(&self.g, &gam_c, JUMP_RATIO, JUMP_LAYERS)
         } else {
@@ -584,30 +653,52 @@ impl Fluid {
                 // φ* = γ_f (HbyA/κ)_f·S on internal faces: the driving term interpolated
                 // like the pressure gradient it balances (Fluid::harmonic_faces).
                 let ht: Vec<V3> = (0..n).map(|c| 1.0 / kappa[c] * hbya[c]).collect();
-                let htb: Vec<V3> = (g.n_internal..g.n_faces())
-                    .map(|f| ht[g.owner[f] as usize])
-                    .collect();
-                let htf = fvc::interpolate(g, Field::new(&ht, &htb));
+                let htf = interpolate_cells(g, &ht);
+                // H′/κ_p: the same without the old-time source ε° U°/Δt (PorousTimeFlux).
+                let ht_steady: Vec<V3> = if consistent {
+                    (0..n)
+                        .map(|c| ht[c] - self.eps_old[c] * r_t[c] * u_old[c])
+                        .collect()
+                } else {
+                    Vec::new()
+                };
+                let htsf = if consistent {
+                    interpolate_cells(g, &ht_steady)
+                } else {
+                    Vec::new()
+                };
                 (0..g.n_faces())
                     .map(|f| {
-                        if f < g.n_internal {
-                            gamma[f] * htf[f].dot(&g.sf[f])
-                        } else if g.boundary_empty[f - g.n_internal] {
+                        let internal = f < g.n_internal;
+                        if !internal && g.boundary_empty[f - g.n_internal] {
                             0.0
+                        } else if porous_face[f] && internal {
+                            // The face's momentum balance with its own old flux.
+                            let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                            let w = g.weight[f];
+                            let rtf = (1.0 - w) * r_t[o] + w * r_t[nb_];
+                            gamma[f] * (htsf[f].dot(&g.sf[f]) + rtf * phi_old[f])
+                        } else if porous_face[f] {
+                            // The owner's half cell with the face's old flux.
+                            let o = g.owner[f] as usize;
+                            gamma[f] * (ht_steady[o].dot(&g.sf[f]) + r_t[o] * phi_old[f])
+                        } else if internal {
+                            gamma[f] * htf[f].dot(&g.sf[f]) + ddt_corr[f]
                         } else {
                             // The owner's half cell: φ* = γ_c (HbyA_c/κ_c)·S = ε_c HbyA_c·S.
                             let o = g.owner[f] as usize;
-                            self.eps[o] * hbya[o].dot(&g.sf[f])
+                            self.eps[o] * hbya[o].dot(&g.sf[f]) + ddt_corr[f]
                         }
                     })
                     .collect()
             } else {
                 let hf = fvc::interpolate(g, Field::new(&hbya, &hb));
-                self.flux(&ef, &hf)
+                let mut phi_star = self.flux(&ef, &hf);
+                for f in 0..g.n_faces() {
+                    phi_star[f] += ddt_corr[f];
+                }
+                phi_star
             };
-            for f in 0..g.n_faces() {
-                phi_star[f] += ddt_corr[f];
-            }
             let phi_unconstrained = phi_star.clone();
             for f in g.n_internal..g.n_faces() {
                 let bi = f - g.n_internal;
@@ -713,7 +804,13 @@ impl Fluid {
             self.p = p;
             self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained);
             self.grad_p = if self.harmonic_faces {
-                flux_consistent_grad(&self.g, &self.p, &self.p_b, &gam_c)
+                flux_consistent_grad(
+                    &self.g,
+                    &self.p,
+                    &self.p_b,
+                    &gam_c,
+                    (&gam_steady, &porous_face),
+                )
             } else {
                 fvc::grad_scalar(&self.g, &self.p, &self.p_b)
             };
@@ -935,12 +1032,25 @@ fn start_dir(case: &Case, start: f64) -> Result<std::path::PathBuf> {
 
 /// Gauss gradient of the cell pressures `p` (boundary values `p_b`) with the flux-continuous
 /// face pressure of [`Fluid::harmonic_faces`] on internal faces: p_f weights each side by its
-/// flux coefficient γ = εκ over its distance to the face.
-fn flux_consistent_grad(g: &FvGeometry, p: &[f64], p_b: &[f64], kappa: &[f64]) -> Vec<V3> {
+/// flux coefficient γ = εκ over its distance to the face, p_f = (w γ_P p_P + (1−w) γ_N p_N)/
+/// (w γ_P + (1−w) γ_N). `gamma` per cell; on the faces `steady.1` marks (empty: none) the
+/// per-cell `steady.0` instead (the steady γ′ of [`PorousTimeFlux::Consistent`]).
+fn flux_consistent_grad(
+    g: &FvGeometry,
+    p: &[f64],
+    p_b: &[f64],
+    gamma: &[f64],
+    steady: (&[f64], &[bool]),
+) -> Vec<V3> {
     let mut sum = vec![V3::zeros(); g.n_cells];
     for f in 0..g.n_internal {
         let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
         let w = g.weight[f];
+        let kappa = if steady.1.get(f).copied().unwrap_or(false) {
+            steady.0
+        } else {
+            gamma
+        };
         let (a, b) = (w * kappa[o], (1.0 - w) * kappa[nb]);
         let pf = (a * p[o] + b * p[nb]) / (a + b);
         for i in 0..3 {
@@ -961,6 +1071,24 @@ fn flux_consistent_grad(g: &FvGeometry, p: &[f64], p_b: &[f64], kappa: &[f64]) -
         }
     }
     sum
+}
+
+/// Linear interpolation of a cell field to the faces, boundary faces taking the owner's value.
+fn interpolate_cells(g: &FvGeometry, cells: &[V3]) -> Vec<V3> {
+    let b: Vec<V3> = g.owner[g.n_internal..]
+        .iter()
+        .map(|&o| cells[o as usize])
+        .collect();
+    fvc::interpolate(g, Field::new(cells, &b))
+}
+
+/// Faces next to a porous cell (ε < 1 or Ksl > 0): internal faces with such a cell on either
+/// side, boundary faces of such an owner (grainPisoFoam's `porousFaces` mask).
+fn porous_faces(g: &FvGeometry, eps: &[f64], ksl: &[f64]) -> Vec<bool> {
+    let porous = |c: u32| eps[c as usize] < 1.0 || ksl[c as usize] > 0.0;
+    (0..g.n_faces())
+        .map(|f| porous(g.owner[f]) || (f < g.n_internal && porous(g.neighbour[f])))
+        .collect()
 }
 
 /// Ratio of neighbouring cells' flux coefficients γ = εκ that counts as a jump for

@@ -43,5 +43,5 @@ pub mod settings;
 pub mod testfields;
 
 pub use error::{FvError, Result};
-pub use fluid::{Fluid, Model, StepReport};
+pub use fluid::{Fluid, Model, PorousTimeFlux, StepReport};
 pub use geometry::{FvGeometry, FvPatch, V3};

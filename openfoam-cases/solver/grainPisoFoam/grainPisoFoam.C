@@ -18,8 +18,10 @@
     ∇·(ε_f (k/A)_f ∇p) = ∇·φ* + ∂ε/∂t,   φ = φ* − ε_f (k/A)_f |S| snGrad p,   U = HbyA − (k/A)∇p;
   on faces next to porous cells (ε < 1 or Ksl > 0) the face coefficient is the series
   resistance of the two half cells, φ* and the face pressure of ∇p are interpolated to match,
-  and fixedFluxPressure patches take the gradient of the half cell next to them
-  (porousFaces.H). Between clear cells the forms above are pisoFoam's.
+  φ* carries the time derivative as the face's own balance with its old flux instead of
+  ddtCorr (so the steady state does not depend on Δt), and fixedFluxPressure patches take the
+  gradient of the half cell next to them (porousFaces.H). Between clear cells the forms above
+  are pisoFoam's.
 
   Fields: U, p as pisoFoam; voidfraction, Ksl, Us, f read from the start time (couplingFields.H)
   and updated each step by the selected couplingSource (couplingSource.H), which also drives
