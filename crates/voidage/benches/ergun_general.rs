@@ -3,7 +3,8 @@
 //! core and four ring blocks with arc edges) with 200 000 spheres at random in the cylinder, of
 //! diameter d = h/2, h = (mesh volume / cells)^⅓ ≈ 1.95 mm. Each timed call is one
 //! `VoidageMesh::deposit` (locate + deposit + reduction), the figure printed is the median of
-//! the repeats. Run: `cargo bench -p voidage --bench ergun_general`; `ERGUN_N` sets the number
+//! the repeats; particles per CPU-second (all threads) is printed too, being less sensitive to
+//! the other load on a shared machine. Run: `cargo bench -p voidage --bench ergun_general`; `ERGUN_N` sets the number
 //! of particles, `ERGUN_REPEATS` the repeats (default 5), `ERGUN_METHODS` a comma-separated list.
 
 use mesh::v3::V3;
@@ -21,6 +22,20 @@ impl SplitMix {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
+}
+
+/// CPU time of all threads of this process so far, s (Linux `/proc/self/task/*/schedstat`;
+/// 0 elsewhere): on a shared machine the wall time depends on the other load, the CPU time much
+/// less.
+fn cpu_seconds() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return 0.0;
+    };
+    tasks
+        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum::<f64>()
+        * 1e-9
 }
 
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
@@ -67,23 +82,25 @@ fn main() {
     for name in methods.split(',') {
         let method: Method = name.parse().unwrap();
         vm.deposit(method, &set).unwrap();
-        let mut times: Vec<f64> = (0..repeats)
+        let (mut times, mut cpu): (Vec<f64>, Vec<f64>) = (0..repeats)
             .map(|_| {
-                let t = Instant::now();
+                let (t, c) = (Instant::now(), cpu_seconds());
                 let d = vm.deposit(method, &set).unwrap();
-                let s = t.elapsed().as_secs_f64();
+                let s = (t.elapsed().as_secs_f64(), cpu_seconds() - c);
                 std::hint::black_box(d);
                 s
             })
-            .collect();
+            .unzip();
         times.sort_by(f64::total_cmp);
+        cpu.sort_by(f64::total_cmp);
         let median = times[times.len() / 2];
         println!(
-            "{:>15}: {:>12.0} particles/s (median {:.4} s, min {:.4} s)",
+            "{:>15}: {:>10.0} particles/s (wall median {:.4} s, min {:.4} s), {:>10.0} per CPU-s",
             name,
             n as f64 / median,
             median,
-            times[0]
+            times[0],
+            n as f64 / cpu[cpu.len() / 2]
         );
     }
 }

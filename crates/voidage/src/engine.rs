@@ -32,8 +32,10 @@
 //!   those of Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`]. A ball inside the kernel of
 //!   its centre's cell (on the inner side of every fan triangle, at distance ≥ r) goes there
 //!   whole; a cell inside the ball gets its (OpenFOAM) volume;
-//! * `cube`: the exact volume of cube ∩ cell, by clipping the cell's tets with the cube
-//!   ([`crate::clip`]), divided by d³;
+//! * `cube`: the exact volume of cube ∩ cell from the terms of its faces (each face's polygon, or
+//!   its fan triangles if warped: the boundary of the cell's tets in
+//!   [`mesh::TetDecomposition`]) clipped by the cube ([`crate::clip`]; a face shared by two
+//!   candidate cells is computed once), divided by d³;
 //! * `corrected-cube`: the polynomial on those fractions plus one piece for the cube's part
 //!   outside the mesh (1 − Σφc), renormalised over all of them.
 //!
@@ -49,7 +51,7 @@
 //! (cell, volume) shares, and the lists are added into the cell array in chunk order. The
 //! result does not depend on the number of threads.
 
-use crate::clip::box_tet_volume;
+use crate::clip::{box_polygon_flux, ClipScratch};
 use crate::cube::{cube_axis_fraction, khawaja_correction};
 use crate::divided::{divided_offsets, DIVIDED_MARKERS};
 use crate::error::{ParticleProblem, VoidageError};
@@ -382,7 +384,8 @@ struct Scratch {
     candidates: Vec<Label>,
     faces: LabelMap<f64>,
     fractions: Vec<f64>,
-    clip: Vec<[V3; 4]>,
+    clip: ClipScratch,
+    polygon: Vec<V3>,
     markers: Vec<(Label, u32)>,
 }
 
@@ -420,8 +423,9 @@ pub struct VoidageMesh {
     boundary_bounds: Vec<Aabb>,
     bins: CellBins,
     markers: [V3; DIVIDED_MARKERS],
-    /// Faces whose points lie in one plane (within 1e-12 of the face size): their flux is taken
-    /// over the polygon's edges instead of the fan triangles.
+    /// Faces whose points lie in one plane ([`Locator::face_is_planar`]) with at most
+    /// [`MAX_POLYGON`] points: their flux is taken over the polygon's edges instead of the fan
+    /// triangles.
     planar: Vec<bool>,
 }
 
@@ -453,25 +457,8 @@ impl VoidageMesh {
             .map(|f| Aabb::of_points(mesh.faces.face(f).iter().map(|&p| &points[p as usize])))
             .collect();
         let bins = CellBins::new(&geom.bounds, &cell_bounds);
-        let apexes = tets.face_apexes();
         let planar = (0..mesh.n_faces())
-            .into_par_iter()
-            .map(|f| {
-                let face = mesh.faces.face(f);
-                let a = geom.face_areas[f];
-                let m = a.norm();
-                if face.len() > MAX_POLYGON || !(m > 0.0) {
-                    return false;
-                }
-                let nh = a.map(|x| x / m);
-                let (mut warp, mut size) = (0.0f64, 0.0f64);
-                for &p in face {
-                    let d = points[p as usize] - apexes[f];
-                    warp = warp.max(d.dot(&nh).abs());
-                    size = size.max(d.norm());
-                }
-                warp <= 1e-12 * size
-            })
+            .map(|f| mesh.faces.face(f).len() <= MAX_POLYGON && locator.face_is_planar(f as Label))
             .collect();
         Ok(VoidageMesh {
             geom,
@@ -765,17 +752,22 @@ impl VoidageMesh {
         }
         s.markers.clear();
         s.markers.push((c0, 1));
-        for off in &self.markers[1..] {
-            let p = V3::from_fn(|a, _| c[a] + r * off[a]);
-            let m = match &self.grid {
-                Some(g) => g.locate(p),
-                None => self.locator.locate_from(p, c0),
-            }
-            .unwrap_or(c0);
+        let mut add = |m: Option<Label>| {
+            let m = m.unwrap_or(c0);
             match s.markers.iter_mut().find(|(cell, _)| *cell == m) {
                 Some(e) => e.1 += 1,
                 None => s.markers.push((m, 1)),
             }
+        };
+        match &self.grid {
+            Some(g) => {
+                for off in &self.markers[1..] {
+                    add(g.locate(V3::from_fn(|a, _| c[a] + r * off[a])));
+                }
+            }
+            None => self
+                .locator
+                .locate_near(c0, c, r, &self.markers[1..], |_, m| add(m)),
         }
         let each = v / DIVIDED_MARKERS as f64;
         for &(m, k) in &s.markers {
@@ -856,6 +848,41 @@ impl VoidageMesh {
             prev = next;
         }
         sum
+    }
+
+    /// The term of face `f` (owner orientation) in the volume of the cube of half-side `r`
+    /// centred at `c` ∩ a cell ([`crate::clip`]), m³: over the polygon for planar faces, over
+    /// its fan triangles (the boundary of the cells' tets) otherwise; coordinates relative to
+    /// `c`.
+    fn face_cube_flux(
+        &self,
+        f: usize,
+        c: V3,
+        r: f64,
+        polygon: &mut Vec<V3>,
+        clip: &mut ClipScratch,
+    ) -> f64 {
+        let tets = self.locator.tets();
+        let points = tets.points();
+        let face = self.faces.face(f);
+        let (lo, hi) = (V3::from_element(-r), V3::from_element(r));
+        polygon.clear();
+        polygon.extend(face.iter().map(|&p| points[p as usize] - c));
+        if self.planar[f] || face.len() == 3 {
+            return box_polygon_flux(lo, hi, polygon, clip);
+        }
+        let apex = tets.face_apexes()[f] - c;
+        let n = face.len();
+        (0..n)
+            .map(|i| {
+                let tri = [
+                    apex,
+                    polygon[i],
+                    polygon[if i + 1 == n { 0 } else { i + 1 }],
+                ];
+                box_polygon_flux(lo, hi, &tri, clip)
+            })
+            .sum()
     }
 
     /// True when a body centred at `c` lies in the kernel of `cell`: on the inner side of the
@@ -976,8 +1003,8 @@ impl VoidageMesh {
         let q = Query { lo, hi, ball: None };
         self.candidates(&q, cell, s);
         let cube = 8.0 * r * r * r;
-        let tets = self.locator.tets();
         s.fractions.clear();
+        s.faces.clear();
         let mut total = 0.0;
         for &cell in &s.candidates {
             let b = &self.cell_bounds[cell as usize];
@@ -985,10 +1012,24 @@ impl VoidageMesh {
             let vol = if (0..3).all(|a| b.min[a] >= lo[a] && b.max[a] <= hi[a]) {
                 cv
             } else {
-                tets.cell_tets(cell)
-                    .map(|t| box_tet_volume(lo, hi, &t.points, &mut s.clip))
-                    .sum::<f64>()
-                    .clamp(0.0, cv)
+                let mut sum = 0.0;
+                for &f in self.locator.tets().cell_faces(cell) {
+                    let flux = match s.faces.get(f) {
+                        Some(x) => x,
+                        None => {
+                            let x =
+                                self.face_cube_flux(f as usize, c, r, &mut s.polygon, &mut s.clip);
+                            s.faces.insert(f, x);
+                            x
+                        }
+                    };
+                    sum += if self.owner[f as usize] == cell {
+                        flux
+                    } else {
+                        -flux
+                    };
+                }
+                sum.clamp(0.0, cv)
             };
             let phi = (vol / cube).min(1.0);
             s.fractions.push(phi);
