@@ -60,7 +60,7 @@ use crate::method::Method;
 use crate::sphere_box::{
     ball_volume, cut_ball_unit, interval_dist2, sphere_grid_volumes, GridScratch,
 };
-use crate::sphere_poly::{polygon_flux_unit, triangle_flux_unit, MAX_POLYGON};
+use crate::sphere_poly::{polygon_cap_unit, polygon_flux_unit, triangle_flux_unit, MAX_POLYGON};
 use crate::trilinear::{check_grid, grid_trilinear};
 use crate::vec3::{to_unit, V3};
 use foam::{FaceList, Label, PolyMesh};
@@ -387,6 +387,16 @@ struct Scratch {
     clip: ClipScratch,
     polygon: Vec<V3>,
     markers: Vec<(Label, u32)>,
+}
+
+/// How a walk over the cells a ball meets ended ([`VoidageMesh::exact_walk`]).
+enum CapWalk {
+    /// Every cell found; the volume outside the mesh.
+    Done(f64),
+    /// The ball crosses a boundary face: the candidates must come from the bins.
+    Incomplete,
+    /// A face cannot tell the side of the centre: the flux form must be used.
+    Tie,
 }
 
 /// One particle being deposited: centre (m), radius (m, > 0), volume (m³), centre cell.
@@ -850,6 +860,58 @@ impl VoidageMesh {
         sum
     }
 
+    /// The cap-form term g = flux − Ω/3 of face `f` (owner orientation) for the unit ball
+    /// ([`crate::sphere_poly`], "Cap form"): over the polygon for planar faces, over the fan
+    /// triangles otherwise; zero without trigonometry unless the face meets the ball. `None`
+    /// when the centre or its foot point is within 1e-9 of the face (relative to the face's
+    /// extent in unit-ball coordinates): then which side of the face the centre lies on, by the
+    /// locator's tie rule, is not certain from the face alone.
+    fn face_cap_unit(&self, f: usize, c: V3, inv_r: f64) -> Option<f64> {
+        const TIE: f64 = 1e-9;
+        let tets = self.locator.tets();
+        let points = tets.points();
+        let face = self.faces.face(f);
+        let apex = tets.face_apexes()[f];
+        let plane_misses = |nh: V3, on: V3| ((on - c).dot(&nh) * inv_r).abs() >= 1.0;
+        if self.planar[f] {
+            let a = self.geom.face_areas[f];
+            let nh = a / a.norm();
+            if plane_misses(nh, apex) {
+                return Some(0.0);
+            }
+            // A zeroed array of records is a memset (see `face_flux_unit`).
+            let mut v = [[0.0; 3]; MAX_POLYGON];
+            let mut extent = 0.0f64;
+            for (u, &p) in v.iter_mut().zip(face) {
+                let q = to_unit(points[p as usize], c, inv_r);
+                extent = extent.max(q.amax());
+                *u = q.into();
+            }
+            let v = mesh::v3::as_vectors(&v[..face.len()]);
+            return polygon_cap_unit(v, nh, TIE * (1.0 + extent));
+        }
+        let tri = |t: [V3; 3]| -> Option<f64> {
+            let nrm = (t[1] - t[0]).cross(&(t[2] - t[0]));
+            let m = nrm.norm();
+            if !(m > 0.0) || plane_misses(nrm / m, t[0]) {
+                return Some(0.0);
+            }
+            let u = t.map(|p| to_unit(p, c, inv_r));
+            let extent = u.iter().map(|p| p.amax()).fold(0.0, f64::max);
+            polygon_cap_unit(&u, nrm / m, TIE * (1.0 + extent))
+        };
+        let p = |i: usize| points[face[i] as usize];
+        if face.len() == 3 {
+            return tri([p(0), p(1), p(2)]);
+        }
+        let n = face.len();
+        let mut sum = 0.0;
+        for i in 0..n {
+            sum += tri([apex, p(i), p(if i + 1 == n { 0 } else { i + 1 })])?;
+        }
+        Some(sum)
+    }
+
     /// The term of face `f` (owner orientation) in the volume of the cube of half-side `r`
     /// centred at `c` ∩ a cell ([`crate::clip`]), m³: over the polygon for planar faces, over
     /// its fan triangles (the boundary of the cells' tets) otherwise; coordinates relative to
@@ -924,6 +986,18 @@ impl VoidageMesh {
         true
     }
 
+    /// True when every point of `cell` lies in the ball (centre `c`, radius `r`), hence the
+    /// whole cell (its tets' other vertices, face and cell centres, are averages of its points).
+    fn cell_in_ball(&self, cell: Label, c: V3, r: f64) -> bool {
+        let points = self.locator.tets().points();
+        self.locator.tets().cell_faces(cell).iter().all(|&f| {
+            self.faces
+                .face(f as usize)
+                .iter()
+                .all(|&p| (points[p as usize] - c).norm_squared() <= r * r)
+        })
+    }
+
     /// [`VoidageMesh::body_in_cell`] for the ball of radius `r`.
     fn ball_in_cell(&self, cell: Label, c: V3, r: f64) -> bool {
         self.body_in_cell(cell, c, |n| r * n.norm())
@@ -942,16 +1016,124 @@ impl VoidageMesh {
             hi: c.map(|x| x + r),
             ball: Some((c, r)),
         };
+        let start = out.len();
+        s.faces.clear();
+        let caps = match cell {
+            Some(c0) => match self.exact_walk(b, c0, s, out) {
+                CapWalk::Done(outside) => return outside,
+                CapWalk::Incomplete => true,
+                CapWalk::Tie => false,
+            },
+            None => true,
+        };
+        out.truncate(start);
         self.candidates(&q, cell, s);
+        if caps {
+            if let Some(outside) = self.exact_shares(b, true, s, out) {
+                return outside;
+            }
+            out.truncate(start);
+        }
+        s.faces.clear();
+        self.exact_shares(b, false, s, out)
+            .expect("the flux form has a value for every face")
+    }
+
+    /// The exact shares in the cap form by a walk from the centre's cell `c0` across the faces
+    /// that meet the ball (nonzero cap term): for a ball that crosses no boundary face every
+    /// cell it meets is reached this way (the segment from the centre to any point of the ball
+    /// in the mesh crosses only faces meeting the ball), and only those cells are visited.
+    fn exact_walk(
+        &self,
+        b: Ball,
+        c0: Label,
+        s: &mut Scratch,
+        out: &mut Vec<(Label, f64)>,
+    ) -> CapWalk {
+        let Ball { c, r, v, .. } = b;
+        let inv_r = 1.0 / r;
+        let r3 = r * r * r;
+        let n_internal = self.neighbour.len();
+        let tets = self.locator.tets();
+        s.visited.clear();
+        s.queue.clear();
+        s.queue.push(c0);
+        s.visited.insert(c0, ());
+        let mut sum = 0.0;
+        while let Some(cell) = s.queue.pop() {
+            let mut unit = 0.0;
+            for &f in tets.cell_faces(cell) {
+                let term = match s.faces.get(f) {
+                    Some(x) => x,
+                    None => match self.face_cap_unit(f as usize, c, inv_r) {
+                        Some(x) => {
+                            s.faces.insert(f, x);
+                            x
+                        }
+                        None => return CapWalk::Tie,
+                    },
+                };
+                let fu = f as usize;
+                let own = self.owner[fu] == cell;
+                unit += if own { term } else { -term };
+                if term != 0.0 {
+                    if fu >= n_internal {
+                        return CapWalk::Incomplete;
+                    }
+                    let next = if own {
+                        self.neighbour[fu]
+                    } else {
+                        self.owner[fu]
+                    };
+                    if s.visited.insert(next, ()) {
+                        s.queue.push(next);
+                    }
+                }
+            }
+            let vol = self.cap_cell_volume(cell, c0 == cell, unit * r3, b);
+            if vol > 0.0 {
+                out.push((cell, vol));
+                sum += vol;
+            }
+        }
+        CapWalk::Done(v - sum)
+    }
+
+    /// The share of `cell` from its cap-form sum `caps` (m³; plus the ball if `centre_cell`),
+    /// clamped to [0, min(cell volume, ball volume)], and exactly the cell volume for a cell
+    /// inside the ball: the cap form adds the ball and takes the caps off, a rounding of order
+    /// ulp(v) that the flux form's clamp at the cell volume removes.
+    fn cap_cell_volume(&self, cell: Label, centre_cell: bool, caps: f64, b: Ball) -> f64 {
+        let cv = self.geom.cell_volumes[cell as usize];
+        let vol = if centre_cell { b.v + caps } else { caps };
+        if vol >= cv - 1e-9 * b.v && self.cell_in_ball(cell, b.c, b.r) {
+            cv
+        } else {
+            vol.clamp(0.0, cv.min(b.v))
+        }
+    }
+
+    /// The exact shares of the candidate cells (module docs), in the cap form (`caps`: face
+    /// terms [`VoidageMesh::face_cap_unit`] plus the whole ball for the centre's cell; `None`
+    /// when a face cannot tell the side of the centre) or in the flux form
+    /// ([`VoidageMesh::face_flux_unit`]), the face terms cached in `s.faces` (which must hold
+    /// terms of the same form). Returns the volume outside the mesh.
+    fn exact_shares(
+        &self,
+        b: Ball,
+        caps: bool,
+        s: &mut Scratch,
+        out: &mut Vec<(Label, f64)>,
+    ) -> Option<f64> {
+        let Ball { c, r, v, cell: c0 } = b;
         let inv_r = 1.0 / r;
         let r3 = r * r * r;
         let tets = self.locator.tets();
-        s.faces.clear();
         let mut sum = 0.0;
         for &cell in &s.candidates {
-            let b = &self.cell_bounds[cell as usize];
+            let bb = &self.cell_bounds[cell as usize];
             let far: f64 = (0..3)
-                .map(|a| interval_dist2(b.min[a] - c[a], b.max[a] - c[a]).1)
+                .map(|a| interval_dist2(bb.min[a] - c[a], bb.max[a] - c[a]).1)
                 .sum();
             let cv = self.geom.cell_volumes[cell as usize];
             let vol = if far <= r * r {
@@ -959,28 +1141,36 @@ impl VoidageMesh {
             } else {
                 let mut unit = 0.0;
                 for &f in tets.cell_faces(cell) {
-                    let flux = match s.faces.get(f) {
+                    let term = match s.faces.get(f) {
                         Some(x) => x,
                         None => {
-                            let x = self.face_flux_unit(f as usize, c, inv_r);
+                            let x = if caps {
+                                self.face_cap_unit(f as usize, c, inv_r)?
+                            } else {
+                                self.face_flux_unit(f as usize, c, inv_r)
+                            };
                             s.faces.insert(f, x);
                             x
                         }
                     };
                     unit += if self.owner[f as usize] == cell {
-                        flux
+                        term
                     } else {
-                        -flux
+                        -term
                     };
                 }
-                (unit * r3).clamp(0.0, cv.min(v))
+                if caps {
+                    self.cap_cell_volume(cell, c0 == Some(cell), unit * r3, b)
+                } else {
+                    (unit * r3).clamp(0.0, cv.min(v))
+                }
             };
             if vol > 0.0 {
                 out.push((cell, vol));
                 sum += vol;
             }
         }
-        v - sum
+        Some(v - sum)
     }
 
     fn general_cube(
