@@ -430,7 +430,11 @@ pub struct VoidageMesh {
     owner: Vec<Label>,
     neighbour: Vec<Label>,
     cell_bounds: Vec<Aabb>,
-    boundary_bounds: Vec<Aabb>,
+    /// Bounding box of every face's points.
+    face_bounds: Vec<Aabb>,
+    /// Unit normal of every face (OpenFOAM's area vector, out of the owner; zero for a
+    /// zero-area face) and its plane's offset n̂·(fan apex).
+    face_planes: Vec<(V3, f64)>,
     bins: CellBins,
     markers: [V3; DIVIDED_MARKERS],
     /// Faces whose points lie in one plane ([`Locator::face_is_planar`]) with at most
@@ -463,8 +467,20 @@ impl VoidageMesh {
             .map(|c| tets.cell_bounds(c))
             .collect();
         let points = tets.points();
-        let boundary_bounds = (mesh.n_internal_faces()..mesh.n_faces())
+        let face_bounds = (0..mesh.n_faces())
+            .into_par_iter()
+            .with_min_len(4096)
             .map(|f| Aabb::of_points(mesh.faces.face(f).iter().map(|&p| &points[p as usize])))
+            .collect();
+        let face_planes = (0..mesh.n_faces())
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|f| {
+                let a = geom.face_areas[f];
+                let m = a.norm();
+                let n = if m > 0.0 { a / m } else { V3::zeros() };
+                (n, n.dot(&tets.face_apexes()[f]))
+            })
             .collect();
         let bins = CellBins::new(&geom.bounds, &cell_bounds);
         let planar = (0..mesh.n_faces())
@@ -477,7 +493,8 @@ impl VoidageMesh {
             owner: mesh.owner.clone(),
             neighbour: mesh.neighbour.clone(),
             cell_bounds,
-            boundary_bounds,
+            face_bounds,
+            face_planes,
             bins,
             locator,
             markers: divided_offsets(),
@@ -810,7 +827,7 @@ impl VoidageMesh {
                         if s.visited.insert(n, ()) && q.hits(&self.cell_bounds[n as usize]) {
                             s.queue.push(n);
                         }
-                    } else if q.hits(&self.boundary_bounds[f - n_internal]) {
+                    } else if q.hits(&self.face_bounds[f]) {
                         complete = false;
                     }
                 }
@@ -866,44 +883,51 @@ impl VoidageMesh {
     /// when the centre or its foot point is within 1e-9 of the face (relative to the face's
     /// extent in unit-ball coordinates): then which side of the face the centre lies on, by the
     /// locator's tie rule, is not certain from the face alone.
-    fn face_cap_unit(&self, f: usize, c: V3, inv_r: f64) -> Option<f64> {
+    fn face_cap_unit(&self, f: usize, c: V3, r: f64, poly: &mut Vec<V3>) -> Option<f64> {
         const TIE: f64 = 1e-9;
+        let fb = &self.face_bounds[f];
+        if (0..3).any(|a| fb.min[a] >= c[a] + r || fb.max[a] <= c[a] - r) {
+            return Some(0.0);
+        }
+        let inv_r = 1.0 / r;
         let tets = self.locator.tets();
         let points = tets.points();
         let face = self.faces.face(f);
-        let apex = tets.face_apexes()[f];
-        let plane_misses = |nh: V3, on: V3| ((on - c).dot(&nh) * inv_r).abs() >= 1.0;
         if self.planar[f] {
-            let a = self.geom.face_areas[f];
-            let nh = a / a.norm();
-            if plane_misses(nh, apex) {
+            let (nh, k) = self.face_planes[f];
+            let d = (k - nh.dot(&c)) * inv_r;
+            if !(d.abs() < 1.0) {
                 return Some(0.0);
             }
-            // A zeroed array of records is a memset (see `face_flux_unit`).
-            let mut v = [[0.0; 3]; MAX_POLYGON];
+            poly.clear();
             let mut extent = 0.0f64;
-            for (u, &p) in v.iter_mut().zip(face) {
+            for &p in face {
                 let q = to_unit(points[p as usize], c, inv_r);
                 extent = extent.max(q.amax());
-                *u = q.into();
+                poly.push(q);
             }
-            let v = mesh::v3::as_vectors(&v[..face.len()]);
-            return polygon_cap_unit(v, nh, TIE * (1.0 + extent));
+            return polygon_cap_unit(poly, nh, d, TIE * (1.0 + extent));
         }
         let tri = |t: [V3; 3]| -> Option<f64> {
             let nrm = (t[1] - t[0]).cross(&(t[2] - t[0]));
             let m = nrm.norm();
-            if !(m > 0.0) || plane_misses(nrm / m, t[0]) {
+            if !(m > 0.0) {
                 return Some(0.0);
             }
+            let nh = nrm / m;
             let u = t.map(|p| to_unit(p, c, inv_r));
+            let d = u[0].dot(&nh);
+            if !(d.abs() < 1.0) {
+                return Some(0.0);
+            }
             let extent = u.iter().map(|p| p.amax()).fold(0.0, f64::max);
-            polygon_cap_unit(&u, nrm / m, TIE * (1.0 + extent))
+            polygon_cap_unit(&u, nh, d, TIE * (1.0 + extent))
         };
         let p = |i: usize| points[face[i] as usize];
         if face.len() == 3 {
             return tri([p(0), p(1), p(2)]);
         }
+        let apex = tets.face_apexes()[f];
         let n = face.len();
         let mut sum = 0.0;
         for i in 0..n {
@@ -962,7 +986,8 @@ impl VoidageMesh {
             let sign = if self.owner[f] == cell { 1.0 } else { -1.0 };
             let inside = |a: V3, nrm: V3| sign * (a - c).dot(&nrm) >= support(nrm);
             if self.planar[f] {
-                if !inside(apexes[f], self.geom.face_areas[f]) {
+                let (n, k) = self.face_planes[f];
+                if !(sign * (k - n.dot(&c)) >= support(n)) {
                     return false;
                 }
                 continue;
@@ -1051,7 +1076,6 @@ impl VoidageMesh {
         out: &mut Vec<(Label, f64)>,
     ) -> CapWalk {
         let Ball { c, r, v, .. } = b;
-        let inv_r = 1.0 / r;
         let r3 = r * r * r;
         let n_internal = self.neighbour.len();
         let tets = self.locator.tets();
@@ -1065,7 +1089,7 @@ impl VoidageMesh {
             for &f in tets.cell_faces(cell) {
                 let term = match s.faces.get(f) {
                     Some(x) => x,
-                    None => match self.face_cap_unit(f as usize, c, inv_r) {
+                    None => match self.face_cap_unit(f as usize, c, r, &mut s.polygon) {
                         Some(x) => {
                             s.faces.insert(f, x);
                             x
@@ -1145,7 +1169,7 @@ impl VoidageMesh {
                         Some(x) => x,
                         None => {
                             let x = if caps {
-                                self.face_cap_unit(f as usize, c, inv_r)?
+                                self.face_cap_unit(f as usize, c, r, &mut s.polygon)?
                             } else {
                                 self.face_flux_unit(f as usize, c, inv_r)
                             };

@@ -160,17 +160,17 @@ fn edge_terms(a: V3, b: V3, nh: V3, d: f64, rho2: f64) -> (f64, f64) {
 /// The cap form of a planar polygon's term on the unit ball: g = flux − Ω/3 = (d·area(F ∩ D) −
 /// Ω(F ∩ D))/3, Ω(F) the polygon's signed solid angle seen from the centre and F ∩ D its part
 /// inside the disk the ball cuts from its plane (module docs, "Cap form"). `v` are the vertices
-/// (counter-clockwise about the outward unit normal `nh`). Zero unless the polygon meets the
-/// ball, and then only the edges crossing the disk cost trigonometry.
+/// (counter-clockwise about the outward unit normal `nh`), `d` the signed distance of the plane
+/// (n̂·v for any vertex v). Zero unless the polygon meets the ball, and then only the edges
+/// crossing the disk cost trigonometry.
 ///
 /// `None` when the centre is within `tie` of the plane while the polygon meets the ball, or the
 /// foot point p₀ is within `tie` of an edge: the caller must then use the flux form.
-pub(crate) fn polygon_cap_unit(v: &[V3], nh: V3, tie: f64) -> Option<f64> {
+pub(crate) fn polygon_cap_unit(v: &[V3], nh: V3, d: f64, tie: f64) -> Option<f64> {
     let n = v.len();
     if n < 3 {
         return Some(0.0);
     }
-    let d = v.iter().map(|p| (*p).dot(&nh)).sum::<f64>() / n as f64;
     if !(d.abs() < 1.0) {
         return Some(0.0);
     }
@@ -195,6 +195,11 @@ pub(crate) fn polygon_cap_unit(v: &[V3], nh: V3, tie: f64) -> Option<f64> {
             } else if yb <= 0.0 && left < 0.0 {
                 winding -= 1;
             }
+        }
+        // An edge beyond a face of the ball's box (with the tie margin) misses the disk.
+        let reach = 1.0 + 2.0 * tie;
+        if (0..3).any(|i| (a[i] > reach && b[i] > reach) || (a[i] < -reach && b[i] < -reach)) {
+            continue;
         }
         let Some(e) = EdgeFrame::new(a, b, nh) else {
             continue;
@@ -424,7 +429,8 @@ mod tests {
                 .map(|i| 0.5 * (v[i] - v[0]).cross(&(v[i + 1] - v[0])))
                 .sum();
             let flux = polygon_flux_unit(&v, area);
-            let Some(cap) = polygon_cap_unit(&v, nrm, 1e-9) else {
+            let d_plane = v.iter().map(|p| p.dot(&nrm)).sum::<f64>() / n as f64;
+            let Some(cap) = polygon_cap_unit(&v, nrm, d_plane, 1e-9) else {
                 continue;
             };
             let via_cap = cap + polygon_solid_angle(&v) / 3.0;
