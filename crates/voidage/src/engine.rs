@@ -389,6 +389,61 @@ struct Scratch {
     markers: Vec<(Label, u32)>,
 }
 
+/// The plane of one face of a cell, as seen from the cell.
+#[derive(Clone, Copy, Debug)]
+struct CellPlane {
+    /// Unit normal out of the cell (zero for a warped face).
+    n: V3,
+    /// n · (fan apex); NaN for a warped face, whose fan triangles have planes of their own.
+    k: f64,
+    /// The face.
+    face: Label,
+}
+
+impl CellPlane {
+    /// The table of every cell's face planes and each cell's first entry (one more for the
+    /// end).
+    fn table(
+        tets: &mesh::TetDecomposition,
+        owner: &[Label],
+        face_planes: &[(V3, f64)],
+        planar: &[bool],
+    ) -> (Vec<CellPlane>, Vec<u32>) {
+        let mut planes = Vec::new();
+        let mut start = Vec::with_capacity(tets.n_cells() + 1);
+        for cell in 0..tets.n_cells() as Label {
+            start.push(planes.len() as u32);
+            for &f in tets.cell_faces(cell) {
+                let (n, k) = face_planes[f as usize];
+                let own = owner[f as usize] == cell;
+                planes.push(if !planar[f as usize] {
+                    CellPlane {
+                        n: V3::zeros(),
+                        k: f64::NAN,
+                        face: f,
+                    }
+                } else if own {
+                    CellPlane { n, k, face: f }
+                } else {
+                    CellPlane {
+                        n: -n,
+                        k: -k,
+                        face: f,
+                    }
+                });
+            }
+        }
+        start.push(planes.len() as u32);
+        (planes, start)
+    }
+
+    /// Signed distance of `p` from the plane, positive outside the cell (NaN for a warped face).
+    #[inline]
+    fn outside(&self, p: V3) -> f64 {
+        self.n.dot(&p) - self.k
+    }
+}
+
 /// How a walk over the cells a ball meets ended ([`VoidageMesh::exact_walk`]).
 enum CapWalk {
     /// Every cell found; the volume outside the mesh.
@@ -435,6 +490,11 @@ pub struct VoidageMesh {
     /// Unit normal of every face (OpenFOAM's area vector, out of the owner; zero for a
     /// zero-area face) and its plane's offset n̂·(fan apex).
     face_planes: Vec<(V3, f64)>,
+    /// The planes of every cell's faces as seen from the cell, in the order of the cell's faces
+    /// (cell i's from `cell_plane_start[i]`): kept together so that a cell's plane tests read
+    /// neighbouring memory.
+    cell_planes: Vec<CellPlane>,
+    cell_plane_start: Vec<u32>,
     bins: CellBins,
     markers: [V3; DIVIDED_MARKERS],
     /// Faces whose points lie in one plane ([`Locator::face_is_planar`]) with at most
@@ -472,7 +532,7 @@ impl VoidageMesh {
             .with_min_len(4096)
             .map(|f| Aabb::of_points(mesh.faces.face(f).iter().map(|&p| &points[p as usize])))
             .collect();
-        let face_planes = (0..mesh.n_faces())
+        let face_planes: Vec<(V3, f64)> = (0..mesh.n_faces())
             .into_par_iter()
             .with_min_len(4096)
             .map(|f| {
@@ -483,9 +543,11 @@ impl VoidageMesh {
             })
             .collect();
         let bins = CellBins::new(&geom.bounds, &cell_bounds);
-        let planar = (0..mesh.n_faces())
+        let planar: Vec<bool> = (0..mesh.n_faces())
             .map(|f| mesh.faces.face(f).len() <= MAX_POLYGON && locator.face_is_planar(f as Label))
             .collect();
+        let (cell_planes, cell_plane_start) =
+            CellPlane::table(tets, &mesh.owner, &face_planes, &planar);
         Ok(VoidageMesh {
             geom,
             grid,
@@ -494,6 +556,8 @@ impl VoidageMesh {
             neighbour: mesh.neighbour.clone(),
             cell_bounds,
             face_bounds,
+            cell_planes,
+            cell_plane_start,
             face_planes,
             bins,
             locator,
@@ -885,10 +949,6 @@ impl VoidageMesh {
     /// locator's tie rule, is not certain from the face alone.
     fn face_cap_unit(&self, f: usize, c: V3, r: f64, poly: &mut Vec<V3>) -> Option<f64> {
         const TIE: f64 = 1e-9;
-        let fb = &self.face_bounds[f];
-        if (0..3).any(|a| fb.min[a] >= c[a] + r || fb.max[a] <= c[a] - r) {
-            return Some(0.0);
-        }
         let inv_r = 1.0 / r;
         let tets = self.locator.tets();
         let points = tets.points();
@@ -980,18 +1040,17 @@ impl VoidageMesh {
         let tets = self.locator.tets();
         let points = tets.points();
         let apexes = tets.face_apexes();
-        for &f in tets.cell_faces(cell) {
-            let f = f as usize;
-            let face = self.faces.face(f);
-            let sign = if self.owner[f] == cell { 1.0 } else { -1.0 };
-            let inside = |a: V3, nrm: V3| sign * (a - c).dot(&nrm) >= support(nrm);
-            if self.planar[f] {
-                let (n, k) = self.face_planes[f];
-                if !(sign * (k - n.dot(&c)) >= support(n)) {
+        for plane in self.planes_of(cell) {
+            if plane.k.is_finite() {
+                if !(-plane.outside(c) >= support(plane.n)) {
                     return false;
                 }
                 continue;
             }
+            let f = plane.face as usize;
+            let face = self.faces.face(f);
+            let sign = if self.owner[f] == cell { 1.0 } else { -1.0 };
+            let inside = |a: V3, nrm: V3| sign * (a - c).dot(&nrm) >= support(nrm);
             let p = |i: usize| points[face[i] as usize];
             let tri = |a: V3, b: V3, d: V3| (b - a).cross(&(d - a));
             let n = face.len();
@@ -1009,6 +1068,13 @@ impl VoidageMesh {
             }
         }
         true
+    }
+
+    /// The face planes of `cell` ([`CellPlane`]).
+    #[inline]
+    fn planes_of(&self, cell: Label) -> &[CellPlane] {
+        let i = cell as usize;
+        &self.cell_planes[self.cell_plane_start[i] as usize..self.cell_plane_start[i + 1] as usize]
     }
 
     /// True when every point of `cell` lies in the ball (centre `c`, radius `r`), hence the
@@ -1078,7 +1144,6 @@ impl VoidageMesh {
         let Ball { c, r, v, .. } = b;
         let r3 = r * r * r;
         let n_internal = self.neighbour.len();
-        let tets = self.locator.tets();
         s.visited.clear();
         s.queue.clear();
         s.queue.push(c0);
@@ -1086,7 +1151,12 @@ impl VoidageMesh {
         let mut sum = 0.0;
         while let Some(cell) = s.queue.pop() {
             let mut unit = 0.0;
-            for &f in tets.cell_faces(cell) {
+            for plane in self.planes_of(cell) {
+                if plane.outside(c).abs() >= r {
+                    // The plane misses the ball: no term.
+                    continue;
+                }
+                let f = plane.face;
                 let term = match s.faces.get(f) {
                     Some(x) => x,
                     None => match self.face_cap_unit(f as usize, c, r, &mut s.polygon) {
