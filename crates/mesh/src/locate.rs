@@ -16,6 +16,13 @@
 //!   (particles move little between coupling steps). If the walk leaves the mesh through a
 //!   boundary face (non-convex domain, or outside) or does not settle, the cells whose bounding
 //!   boxes overlap the point's bin are tested one by one.
+//! * **Short cuts** that never change the answer: a point on the inner side of every face plane
+//!   of a cell by more than the planes of its fan triangles can tilt away and the rounding is in
+//!   that cell ([`Locator::cell_surely_holds`], tried on the start cell before any walk); one
+//!   beyond a face plane by more than every vertex of the cell is not
+//!   ([`Locator::cell_surely_lacks`], tried before a candidate's tets). Points around a located
+//!   centre, such as a particle's marker points, are tested only against the face planes that
+//!   pass near the centre ([`Locator::locate_near`]).
 
 use crate::error::MeshError;
 use crate::geometry::{Aabb, MeshGeometry};
@@ -657,9 +664,10 @@ impl Locator {
     }
 
     /// True when `p` lies in cell `cell` beyond doubt: on the inner side of the plane of every
-    /// fan triangle of its faces by more than the rounding of the test ([`FaceCertainty`],
-    /// evaluated on the face planes: six dot products for a hexahedron), hence in the kernel
-    /// of the cell, hence in the cell under any tie rule. False says nothing.
+    /// fan triangle of its faces, tested on the face planes (six dot products for a hexahedron)
+    /// with a margin for how far the fan triangles' planes tilt from them and for rounding;
+    /// hence in the kernel of the cell, hence in the cell under any tie rule. False says
+    /// nothing.
     #[inline]
     pub fn cell_surely_holds(&self, cell: Label, p: V3) -> bool {
         self.tets.cell_faces(cell).iter().all(|&f| {
@@ -680,8 +688,8 @@ impl Locator {
     }
 
     /// True when `p` lies outside cell `cell` beyond doubt: outside its bounding box, or beyond
-    /// one of its face planes by more than any vertex of its tets ([`cell_excess`]) and the
-    /// rounding. False says nothing.
+    /// one of its face planes by more than any vertex of its tets, the tilt of its fan
+    /// triangles' planes and the rounding. False says nothing.
     #[inline]
     pub fn cell_surely_lacks(&self, cell: Label, p: V3) -> bool {
         if !self.cell_bounds[cell as usize].contains(p) {

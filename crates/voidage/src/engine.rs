@@ -24,27 +24,37 @@
 //!   between the boxes around each grid node).
 //!
 //! # Methods on general meshes (any polyhedral cells)
-//! * `centre`, `divided`: [`mesh::Locator`] (markers are located starting from the centre's
-//!   cell);
+//! * `centre`: [`mesh::Locator`];
+//! * `divided`: the markers by [`mesh::Locator::locate_near`] from the centre's cell (each
+//!   marker tested only against the face planes that pass within the ball, the others located
+//!   from the cell across the face they lie beyond);
 //! * `trilinear`: not defined ([`crate::VoidageError::UnsupportedMesh`]);
-//! * `exact`: the face-flux form of [`crate::sphere_poly`] over the fan triangles of each cell's
-//!   faces — the boundary of the cell's tets in [`mesh::TetDecomposition`], so the shares are
-//!   those of Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`]. A ball inside the kernel of
-//!   its centre's cell (on the inner side of every fan triangle, at distance ≥ r) goes there
-//!   whole; a cell inside the ball gets its (OpenFOAM) volume;
+//! * `exact`: Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`], computed from the terms
+//!   of the cells' faces (each face's polygon, or its fan triangles if warped: the boundary of
+//!   the cell's tets). In the cap form of [`crate::sphere_poly`] a face's term is zero unless the
+//!   face meets the ball, and the centre's cell adds the whole ball; the cells are found by a
+//!   walk from the centre's cell across the faces that meet the ball, which reaches every cell
+//!   the ball meets unless the ball crosses a boundary face (then the candidates below). Where a
+//!   face passes within 1e-9 (relative) of the centre, the side the centre lies on is not
+//!   certain from the face, and the particle takes the flux form over the candidates (the same
+//!   volumes, to rounding, with no such condition). A ball inside the kernel of its centre's
+//!   cell (on the inner side of every face plane, at distance ≥ r) goes there whole; a cell
+//!   inside the ball gets its (OpenFOAM) volume;
 //! * `cube`: the exact volume of cube ∩ cell from the terms of its faces (each face's polygon, or
-//!   its fan triangles if warped: the boundary of the cell's tets in
-//!   [`mesh::TetDecomposition`]) clipped by the cube ([`crate::clip`]; a face shared by two
-//!   candidate cells is computed once), divided by d³;
+//!   its fan triangles if warped) clipped by the cube ([`crate::clip`]), divided by d³;
 //! * `corrected-cube`: the polynomial on those fractions plus one piece for the cube's part
 //!   outside the mesh (1 − Σφc), renormalised over all of them.
 //!
-//! Candidate cells for exact and cube on general meshes: a breadth-first walk over face
-//! neighbours from the centre's cell through cells whose bounding box meets the ball (cube).
-//! For a convex domain the cells meeting the ball are face-connected, so the walk finds them
-//! all; when the walk meets a boundary face whose box meets the ball (cube), or the centre lies
-//! outside the mesh, the candidates are taken instead from a bin index of cell bounding boxes,
-//! which finds every cell whose box meets the ball's box (any domain, convex or not).
+//! A face shared by two cells of one particle has its term computed once (odd under reversing
+//! the face, it enters the two cells with opposite signs, so interior faces cancel exactly and
+//! Σ shares + outside = particle volume to rounding).
+//!
+//! Candidate cells for cube (and exact when the walk above cannot be used): a breadth-first walk
+//! over face neighbours from the centre's cell through cells whose bounding box meets the ball
+//! (cube). For a convex domain the cells meeting the ball are face-connected, so the walk finds
+//! them all; when the walk meets a boundary face whose box meets the ball (cube), or the centre
+//! lies outside the mesh, the candidates are taken instead from a bin index of cell bounding
+//! boxes, which finds every cell whose box meets the ball's box (any domain, convex or not).
 //!
 //! # Parallelism and determinism
 //! Particles are processed in fixed chunks in parallel (rayon); each chunk produces a list of
@@ -485,8 +495,8 @@ pub struct VoidageMesh {
     owner: Vec<Label>,
     neighbour: Vec<Label>,
     cell_bounds: Vec<Aabb>,
-    /// Bounding box of every face's points.
-    face_bounds: Vec<Aabb>,
+    /// Bounding box of every boundary face's points (face n_internal + i at i).
+    boundary_bounds: Vec<Aabb>,
     /// Unit normal of every face (OpenFOAM's area vector, out of the owner; zero for a
     /// zero-area face) and its plane's offset n̂·(fan apex).
     face_planes: Vec<(V3, f64)>,
@@ -527,7 +537,7 @@ impl VoidageMesh {
             .map(|c| tets.cell_bounds(c))
             .collect();
         let points = tets.points();
-        let face_bounds = (0..mesh.n_faces())
+        let boundary_bounds = (mesh.n_internal_faces()..mesh.n_faces())
             .into_par_iter()
             .with_min_len(4096)
             .map(|f| Aabb::of_points(mesh.faces.face(f).iter().map(|&p| &points[p as usize])))
@@ -555,7 +565,7 @@ impl VoidageMesh {
             owner: mesh.owner.clone(),
             neighbour: mesh.neighbour.clone(),
             cell_bounds,
-            face_bounds,
+            boundary_bounds,
             cell_planes,
             cell_plane_start,
             face_planes,
@@ -891,7 +901,7 @@ impl VoidageMesh {
                         if s.visited.insert(n, ()) && q.hits(&self.cell_bounds[n as usize]) {
                             s.queue.push(n);
                         }
-                    } else if q.hits(&self.face_bounds[f]) {
+                    } else if q.hits(&self.boundary_bounds[f - n_internal]) {
                         complete = false;
                     }
                 }

@@ -41,6 +41,22 @@
 //! Biomed. Eng. 30 (1983) 125–126); a tetrahedron inside the ball gives its volume; one whose
 //! bounding box misses the ball gives 0.
 //!
+//! # Cap form
+//! The solid angles of a closed cell's faces sum to 4π·w, w = 1 when the centre lies inside the
+//! cell and 0 outside, so
+//!
+//! vol(B ∩ P) = w·vol(B) + Σ_F g(F),  g(F) = flux(F) − R³Ω(F)/3 = d/3·area(F ∩ D) − R³/3·Ω(F ∩ D),
+//!
+//! in which a face that misses the ball (F ∩ D = ∅) has no term at all, where the flux form has
+//! its solid angle. Over the fan about p₀, F ∩ D is the parts of the fan triangles inside the
+//! disk: for each edge the section inside the disk (a flat triangle: area ½|p|Δτ, solid angle
+//! sign(d)Δφ − Δψ) and circular sectors (area ½ρ²Δφ, solid angle (sign(d) − d/R)Δφ); the sectors'
+//! angles sum to 2π·(winding number of p₀ in F) minus the sections' Δφ, so only edges crossing
+//! the disk cost trigonometry. The winding number comes from crossings of a ray, without angles.
+//! The form is exact, but w must be known: the caller takes it from point location, which is
+//! why a centre within rounding of a face (where w is not certain from the face) uses the flux
+//! form instead. Faces shared by two cells keep their term odd under reversal.
+//!
 //! Accuracy: absolute errors of a few ulps of R³; computed on the unit ball (coordinates
 //! relative to c divided by R), so any scale works.
 
