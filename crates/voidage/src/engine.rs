@@ -57,9 +57,12 @@
 //! boxes, which finds every cell whose box meets the ball's box (any domain, convex or not).
 //!
 //! # Parallelism and determinism
-//! Particles are processed in fixed chunks in parallel (rayon); each chunk produces a list of
-//! (cell, volume) shares, and the lists are added into the cell array in chunk order. The
-//! result does not depend on the number of threads.
+//! Particles are processed in batches of fixed chunks in parallel (rayon); each chunk produces a
+//! list of (cell, volume) shares, and the shares are added into the cell array in particle
+//! order while the next batch is computed. On general meshes (all methods but `centre`) the
+//! chunks of a batch take its particles in the order of their centre's cell, so that
+//! consecutive particles read the same mesh data; each particle's shares do not depend on the
+//! order. The result does not depend on the number of threads.
 
 use crate::clip::{box_polygon_flux, ClipScratch};
 use crate::cube::{cube_axis_fraction, khawaja_correction};
@@ -484,6 +487,16 @@ struct ChunkOut {
     partly_outside: usize,
 }
 
+/// What one batch of work items produced.
+struct BatchOut {
+    /// Index of the batch's first particle.
+    start: usize,
+    /// The particles in the order computed, when not in index order.
+    order: Option<Vec<u32>>,
+    /// The work items: `CHUNK` particles each, in that order.
+    chunks: Vec<ChunkOut>,
+}
+
 /// A mesh prepared for voidage computations: geometry, locator, face addressing, cell bounding
 /// boxes and a bin index.
 #[derive(Clone, Debug)]
@@ -716,34 +729,55 @@ impl VoidageMesh {
             particles_partly_outside: 0,
         };
         let n = particles.len();
-        let chunks: Vec<std::ops::Range<usize>> = (0..n)
-            .step_by(CHUNK)
-            .map(|s| s..(s + CHUNK).min(n))
+        let batches: Vec<std::ops::Range<usize>> = (0..n)
+            .step_by(CHUNK * BATCH)
+            .map(|s| s..(s + CHUNK * BATCH).min(n))
             .collect();
         let cells: &[Option<Label>] = cells;
+        // On a general mesh the particles of a batch are computed in the order of their
+        // centre's cell, so that consecutive particles read the same mesh data (random particle
+        // orders otherwise wait on memory); the shares are still added in particle order.
+        let sort = self.grid.is_none() && method != Method::Centre && n <= u32::MAX as usize;
         // A two-stage pipeline: while the threads compute batch b + 1, one of them adds batch
         // b to the solid volumes and the shares, in particle order.
-        let mut done: Option<Vec<ChunkOut>> = None;
-        for batch in chunks.chunks(BATCH).map(Some).chain([None]) {
+        let mut done: Option<BatchOut> = None;
+        for batch in batches.iter().map(Some).chain([None]) {
             let (next, ()) = rayon::join(
+                || batch.map(|b| self.batch(method, particles, cells, b.clone(), sort)),
                 || {
-                    batch.map(|batch| {
-                        batch
-                            .par_iter()
-                            .map_init(Scratch::default, |s, range| {
-                                self.chunk(method, particles, cells, range.clone(), s)
-                            })
-                            .collect::<Vec<ChunkOut>>()
-                    })
-                },
-                || {
-                    for o in done.take().into_iter().flatten() {
-                        for &(c, v) in &o.shares {
+                    let Some(out) = done.take() else { return };
+                    let mut add = |shares: &[(Label, f64)], counts: &[u32]| {
+                        for &(c, v) in shares {
                             solid[c as usize] += v;
                         }
                         if let Some(k) = keep.as_deref_mut() {
-                            k.append(&o.shares, &o.counts);
+                            k.append(shares, counts);
                         }
+                    };
+                    match &out.order {
+                        None => {
+                            for o in &out.chunks {
+                                add(&o.shares, &o.counts);
+                            }
+                        }
+                        Some(order) => {
+                            // Where each particle's shares are: (work item, first, count).
+                            let mut at = vec![(0u32, 0u32, 0u32); order.len()];
+                            for (k, o) in out.chunks.iter().enumerate() {
+                                let mut first = 0u32;
+                                for (j, &count) in o.counts.iter().enumerate() {
+                                    let i = order[k * CHUNK + j] as usize - out.start;
+                                    at[i] = (k as u32, first, count);
+                                    first += count;
+                                }
+                            }
+                            for &(k, first, count) in &at {
+                                let shares = &out.chunks[k as usize].shares;
+                                add(&shares[first as usize..(first + count) as usize], &[count]);
+                            }
+                        }
+                    }
+                    for o in &out.chunks {
                         dep.outside_volume += o.outside;
                         dep.particle_volume += o.volume;
                         dep.particles_outside += o.fully_outside;
@@ -768,23 +802,79 @@ impl VoidageMesh {
         voidage_field(&deposit.solid, self.cell_volumes(), alpha_min)
     }
 
-    fn chunk(
+    /// The work items of the particles `range`, in parallel: in index order, or with `sort` in
+    /// the order of their centre's cell (then `order` holds that order).
+    fn batch(
         &self,
         method: Method,
         p: &ParticleSet<'_>,
         cells: &[Option<Label>],
         range: std::ops::Range<usize>,
+        sort: bool,
+    ) -> BatchOut {
+        let start = range.start;
+        if !sort {
+            let items: Vec<std::ops::Range<usize>> = range
+                .clone()
+                .step_by(CHUNK)
+                .map(|s| s..(s + CHUNK).min(range.end))
+                .collect();
+            let chunks = items
+                .par_iter()
+                .map_init(Scratch::default, |s, r| {
+                    self.chunk(method, p, cells, r.clone(), r.len(), s)
+                })
+                .collect();
+            return BatchOut {
+                start,
+                order: None,
+                chunks,
+            };
+        }
+        let mut keys: Vec<u64> = range
+            .map(|i| (u64::from(cells[i].unwrap_or(Label::MAX)) << 32) | i as u64)
+            .collect();
+        keys.par_sort_unstable();
+        let order: Vec<u32> = keys.iter().map(|&k| k as u32).collect();
+        let chunks = order
+            .par_chunks(CHUNK)
+            .map_init(Scratch::default, |s, idx| {
+                self.chunk(
+                    method,
+                    p,
+                    cells,
+                    idx.iter().map(|&i| i as usize),
+                    idx.len(),
+                    s,
+                )
+            })
+            .collect();
+        BatchOut {
+            start,
+            order: Some(order),
+            chunks,
+        }
+    }
+
+    /// The shares of the particles `indices` (`len` of them), in that order.
+    fn chunk(
+        &self,
+        method: Method,
+        p: &ParticleSet<'_>,
+        cells: &[Option<Label>],
+        indices: impl Iterator<Item = usize>,
+        len: usize,
         s: &mut Scratch,
     ) -> ChunkOut {
         let mut out = ChunkOut {
-            shares: Vec::with_capacity(range.len() * 2),
-            counts: Vec::with_capacity(range.len()),
+            shares: Vec::with_capacity(len * 2),
+            counts: Vec::with_capacity(len),
             outside: 0.0,
             volume: 0.0,
             fully_outside: 0,
             partly_outside: 0,
         };
-        for i in range {
+        for i in indices {
             let (c, r) = (p.positions[i], p.radii[i]);
             let start = out.shares.len();
             if r == 0.0 {
