@@ -631,7 +631,7 @@ impl Locator {
             .with_min_len(1024)
             .map(|c| cell_excess(&tets, c, &face_normals, &face_certainty))
             .collect();
-        Ok(Self {
+        let mut locator = Self {
             tets,
             grid,
             bins,
@@ -641,7 +641,35 @@ impl Locator {
             cell_bounds,
             cell_excess,
             bounds,
-        })
+        };
+        if locator.grid.is_none() {
+            // Seeds that hold their bin's centre, where there is one: a walk from there is short.
+            let b = &locator.bins;
+            let seeds = (0..b.seeds.len())
+                .into_par_iter()
+                .with_min_len(256)
+                .map(|i| {
+                    let ijk = [
+                        i % b.dims[0],
+                        (i / b.dims[0]) % b.dims[1],
+                        i / (b.dims[0] * b.dims[1]),
+                    ];
+                    let centre = V3::from_fn(|a, _| {
+                        let inv = b.inv[a];
+                        if inv > 0.0 {
+                            b.origin[a] + (ijk[a] as f64 + 0.5) / inv
+                        } else {
+                            b.origin[a]
+                        }
+                    });
+                    locator
+                        .walk_or_search(centre, b.seeds[i])
+                        .unwrap_or(b.seeds[i])
+                })
+                .collect();
+            locator.bins.seeds = seeds;
+        }
+        Ok(locator)
     }
 
     /// The axis-aligned grid, when the mesh is one and the fast path is enabled.
