@@ -11,7 +11,9 @@
 //!   sphere ∩ cell volumes;
 //! * [`Locator`]: which cell holds a point, consistent with the tet decomposition and one
 //!   documented tie rule ([`tets`] module), with an axis-aligned-grid fast path ([`AxisGrid`]),
-//!   a bin index, a tet walk seeded by a previous cell, and parallel batch queries;
+//!   a bin index, a tet walk seeded by a previous cell, tests on the face planes that settle
+//!   most queries without the exact tet predicates, points near a located centre
+//!   ([`Locator::locate_near`]), and parallel batch queries;
 //! * [`build`]: programmatic meshes (graded Cartesian grids, single cells, affine maps).
 //!
 //! Invariant: geometry exactly as OpenFOAM computes it; no I/O (reading meshes is the `foam`

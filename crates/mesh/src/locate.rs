@@ -16,6 +16,13 @@
 //!   (particles move little between coupling steps). If the walk leaves the mesh through a
 //!   boundary face (non-convex domain, or outside) or does not settle, the cells whose bounding
 //!   boxes overlap the point's bin are tested one by one.
+//! * **Short cuts** that never change the answer: a point on the inner side of every face plane
+//!   of a cell by more than the planes of its fan triangles can tilt away and the rounding is in
+//!   that cell ([`Locator::cell_surely_holds`], tried on the start cell before any walk); one
+//!   beyond a face plane by more than every vertex of the cell is not
+//!   ([`Locator::cell_surely_lacks`], tried before a candidate's tets). Points around a located
+//!   centre, such as a particle's marker points, are tested only against the face planes that
+//!   pass near the centre ([`Locator::locate_near`]).
 
 use crate::error::MeshError;
 use crate::geometry::{Aabb, MeshGeometry};
@@ -29,6 +36,70 @@ use std::collections::VecDeque;
 const GREEDY_STEPS: usize = 512;
 /// Walk steps before giving up and testing candidate cells.
 const MAX_STEPS: usize = 8192;
+/// A face is planar when its points lie within this fraction of its size (largest distance of a
+/// point from the fan apex) of the plane through the apex normal to the area vector.
+const PLANAR_WARP: f64 = 1e-12;
+
+/// How far the planes of a face's fan triangles can be from the face plane P (through the fan
+/// apex a, unit normal n̂): a fan triangle's plane through its vertex v with unit normal n_t is
+/// at signed distance (x − a)·n̂ + (x − a)·(n_t − n̂) + (a − v)·n_t from P's, so by at most
+/// `tilt`·|x − a|₁ + `offset`, with `tilt` = max |n_t − n̂|∞ and `offset` = max |(a − v)·n_t|
+/// (degenerate triangles, which bound no tet, are skipped); `offset` also holds the rounding of
+/// p − a.
+#[derive(Clone, Copy, Debug)]
+struct FaceCertainty {
+    tilt: f64,
+    offset: f64,
+}
+
+impl FaceCertainty {
+    /// The margin at x − a = `x`, for points up to `reach` (L1) farther from the apex; it also
+    /// covers the rounding of the distance (1e-12 of |x − a|₁).
+    #[inline]
+    fn margin(&self, x: V3, reach: f64) -> f64 {
+        let l1 = x.abs().sum() + reach;
+        self.tilt * l1 + self.offset + 1e-12 * l1
+    }
+
+    /// The bounds of face `f` and whether it is planar ([`Locator::face_is_planar`]).
+    fn of(tets: &TetDecomposition, f: usize, n: V3) -> (FaceCertainty, bool) {
+        let face = tets.faces.face(f);
+        let apex = tets.face_apex[f];
+        let p = |i: usize| tets.points[face[i] as usize];
+        let (mut warp, mut size) = (0.0f64, 0.0f64);
+        for i in 0..face.len() {
+            let d = p(i) - apex;
+            warp = warp.max(d.dot(&n).abs());
+            size = size.max(d.norm());
+        }
+        let planar = n != V3::zeros() && warp <= PLANAR_WARP * size;
+        let mut c = FaceCertainty {
+            tilt: 0.0,
+            offset: 0.0,
+        };
+        let mut add = |t: [V3; 3]| {
+            let nt = (t[1] - t[0]).cross(&(t[2] - t[0]));
+            let m = nt.norm();
+            if m > 0.0 {
+                let nt = nt / m;
+                c.tilt = c.tilt.max((nt - n).amax());
+                c.offset = c.offset.max((apex - t[0]).dot(&nt).abs());
+            }
+        };
+        if n == V3::zeros() {
+            c.tilt = f64::INFINITY;
+        } else if face.len() == 3 {
+            add([p(0), p(1), p(2)]);
+        } else {
+            for i in 0..face.len() {
+                add([apex, p(i), p((i + 1) % face.len())]);
+            }
+        }
+        // The rounding of p − a relative to the magnitude of a.
+        c.offset += 1e-14 * apex.abs().sum();
+        (c, planar)
+    }
+}
 
 /// An axis-aligned tensor-product grid of hexahedral cells.
 #[derive(Clone, Debug, PartialEq)]
@@ -263,6 +334,47 @@ fn uniform_spacing(pl: &[f64]) -> Option<(f64, f64)> {
     (ok && h > 0.0).then(|| (pl[0], 1.0 / h))
 }
 
+/// How far a vertex of the tets of cell `c` (mesh points, fan apexes, the cell apex) lies
+/// beyond the plane of one of the cell's faces, at most, plus the margin by which a fan
+/// triangle's plane may differ from the face plane at that vertex ([`FaceCertainty`]). A point
+/// beyond a face plane by more than this and its own margin is beyond a fan triangle's plane
+/// farther than every vertex, so outside the convex hull of the tets, so outside the cell
+/// ([`Locator::cell_surely_lacks`]).
+fn cell_excess(
+    tets: &TetDecomposition,
+    c: Label,
+    normals: &[V3],
+    certainty: &[FaceCertainty],
+) -> f64 {
+    let faces = tets.cell_faces(c);
+    let mut excess = 0.0f64;
+    for &f in faces {
+        let f = f as usize;
+        let apex = tets.face_apex[f];
+        let n = if tets.owner[f] == c {
+            normals[f]
+        } else {
+            -normals[f]
+        };
+        let fc = certainty[f];
+        if !fc.tilt.is_finite() {
+            return f64::INFINITY;
+        }
+        let mut beyond = |v: V3| {
+            let x = v - apex;
+            excess = excess.max(x.dot(&n) + fc.margin(x, 0.0));
+        };
+        beyond(tets.cell_apex[c as usize]);
+        for &g in faces {
+            beyond(tets.face_apex[g as usize]);
+            for &q in tets.faces.face(g as usize) {
+                beyond(tets.points[q as usize]);
+            }
+        }
+    }
+    excess
+}
+
 /// Options for [`Locator::with_options`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LocatorOptions {
@@ -292,7 +404,7 @@ struct Bins {
 }
 
 impl Bins {
-    fn new(tets: &TetDecomposition, bounds: &Aabb) -> Bins {
+    fn new(tets: &TetDecomposition, bounds: &Aabb, cell_bounds: &[Aabb]) -> Bins {
         let n_cells = tets.n_cells();
         let ext = bounds.extent();
         let vol: f64 = ext.iter().map(|e| e.max(1e-300)).product();
@@ -322,11 +434,10 @@ impl Bins {
         };
         let n_bins: usize = dims.iter().product();
         // Candidate lists from cell bounding boxes (slightly enlarged against rounding).
-        let ranges: Vec<([usize; 3], [usize; 3])> = (0..n_cells as Label)
-            .into_par_iter()
+        let ranges: Vec<([usize; 3], [usize; 3])> = cell_bounds
+            .par_iter()
             .with_min_len(1024)
-            .map(|c| {
-                let b = tets.cell_bounds(c);
+            .map(|b| {
                 let pad: V3 = V3::from_fn(|a, _| 1e-9 * (b.max[a] - b.min[a]) + 1e-300);
                 (
                     bins.bin_of(b.min - pad),
@@ -450,6 +561,16 @@ pub struct Locator {
     bins: Bins,
     /// Unit normal of every face, out of its owner (zero for zero-area faces).
     face_normals: Vec<V3>,
+    /// Per face, how far the planes of its fan triangles may be from the face plane (through
+    /// the fan apex, normal `face_normals`) at a point x: `tilt·|x − apex|₁ + offset`.
+    face_certainty: Vec<FaceCertainty>,
+    /// Faces whose points lie in one plane ([`Locator::face_is_planar`]).
+    face_planar: Vec<bool>,
+    /// Bounding box of every cell's points.
+    cell_bounds: Vec<Aabb>,
+    /// Per cell, how far beyond one of its face planes a vertex of its tets may lie, plus the
+    /// certainty margin of those vertices ([`cell_excess`]); 0 up to rounding for convex cells.
+    cell_excess: Vec<f64>,
     /// Mesh bounds, enlarged slightly: points outside are outside the mesh.
     bounds: Aabb,
 }
@@ -481,8 +602,13 @@ impl Locator {
             min: (b.min - pad),
             max: V3::from_fn(|a, _| b.max[a] + pad[a]),
         };
-        let bins = Bins::new(&tets, &bounds);
-        let face_normals = geom
+        let cell_bounds: Vec<Aabb> = (0..tets.n_cells() as Label)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|c| tets.cell_bounds(c))
+            .collect();
+        let bins = Bins::new(&tets, &bounds, &cell_bounds);
+        let face_normals: Vec<V3> = geom
             .face_areas
             .par_iter()
             .with_min_len(4096)
@@ -495,13 +621,55 @@ impl Locator {
                 }
             })
             .collect();
-        Ok(Self {
+        let (face_certainty, face_planar): (Vec<FaceCertainty>, Vec<bool>) = (0..mesh.n_faces())
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|f| FaceCertainty::of(&tets, f, face_normals[f]))
+            .unzip();
+        let cell_excess = (0..tets.n_cells() as Label)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|c| cell_excess(&tets, c, &face_normals, &face_certainty))
+            .collect();
+        let mut locator = Self {
             tets,
             grid,
             bins,
             face_normals,
+            face_certainty,
+            face_planar,
+            cell_bounds,
+            cell_excess,
             bounds,
-        })
+        };
+        if locator.grid.is_none() {
+            // Seeds that hold their bin's centre, where there is one: a walk from there is short.
+            let b = &locator.bins;
+            let seeds = (0..b.seeds.len())
+                .into_par_iter()
+                .with_min_len(256)
+                .map(|i| {
+                    let ijk = [
+                        i % b.dims[0],
+                        (i / b.dims[0]) % b.dims[1],
+                        i / (b.dims[0] * b.dims[1]),
+                    ];
+                    let centre = V3::from_fn(|a, _| {
+                        let inv = b.inv[a];
+                        if inv > 0.0 {
+                            b.origin[a] + (ijk[a] as f64 + 0.5) / inv
+                        } else {
+                            b.origin[a]
+                        }
+                    });
+                    locator
+                        .walk_or_search(centre, b.seeds[i])
+                        .unwrap_or(b.seeds[i])
+                })
+                .collect();
+            locator.bins.seeds = seeds;
+        }
+        Ok(locator)
     }
 
     /// The axis-aligned grid, when the mesh is one and the fast path is enabled.
@@ -512,6 +680,59 @@ impl Locator {
     /// The tet decomposition the locator works on.
     pub fn tets(&self) -> &TetDecomposition {
         &self.tets
+    }
+
+    /// True when the points of face `face` lie in one plane, within 1e-12 of the face size (the
+    /// largest distance of a point from the fan apex) of the plane through the fan apex normal
+    /// to OpenFOAM's area vector. Such a face's fan triangles and its polygon are the same
+    /// region up to rounding.
+    #[inline]
+    pub fn face_is_planar(&self, face: Label) -> bool {
+        self.face_planar[face as usize]
+    }
+
+    /// True when `p` lies in cell `cell` beyond doubt: on the inner side of the plane of every
+    /// fan triangle of its faces, tested on the face planes (six dot products for a hexahedron)
+    /// with a margin for how far the fan triangles' planes tilt from them and for rounding;
+    /// hence in the kernel of the cell, hence in the cell under any tie rule. False says
+    /// nothing.
+    #[inline]
+    pub fn cell_surely_holds(&self, cell: Label, p: V3) -> bool {
+        self.tets.cell_faces(cell).iter().all(|&f| {
+            let (d, margin) = self.outward_distance(cell, f as usize, p);
+            d + margin < 0.0
+        })
+    }
+
+    /// The signed distance of `p` from the plane of face `f` of `cell`, positive on the outer
+    /// side, and the margin by which its fan triangles' planes may differ there
+    /// ([`FaceCertainty`]).
+    #[inline]
+    fn outward_distance(&self, cell: Label, f: usize, p: V3) -> (f64, f64) {
+        let x = p - self.tets.face_apex[f];
+        let d = x.dot(&self.face_normals[f]);
+        let d = if self.tets.owner[f] == cell { d } else { -d };
+        (d, self.face_certainty[f].margin(x, 0.0))
+    }
+
+    /// True when `p` lies outside cell `cell` beyond doubt: outside its bounding box, or beyond
+    /// one of its face planes by more than any vertex of its tets, the tilt of its fan
+    /// triangles' planes and the rounding. False says nothing.
+    #[inline]
+    pub fn cell_surely_lacks(&self, cell: Label, p: V3) -> bool {
+        if !self.cell_bounds[cell as usize].contains(p) {
+            return true;
+        }
+        let excess = self.cell_excess[cell as usize];
+        self.tets.cell_faces(cell).iter().any(|&f| {
+            let (d, margin) = self.outward_distance(cell, f as usize, p);
+            d - margin > excess
+        })
+    }
+
+    /// Bounding box of every cell's points (the tet decomposition's points), m.
+    pub fn cell_bounds(&self) -> &[Aabb] {
+        &self.cell_bounds
     }
 
     /// The cell holding `p`, `None` outside the mesh.
@@ -555,6 +776,92 @@ impl Locator {
             .collect()
     }
 
+    /// The cells holding the points `offsets` × `scale` + `centre`, each point within
+    /// `radius` of `centre`, which lies in cell `cell` (e.g. the marker points of a particle):
+    /// `f(i, cell)` for the i-th point, with the answers of [`Locator::locate`]. The distances of
+    /// `centre` from the cell's face planes are computed once; a point is then tested only
+    /// against the faces whose planes come within `radius` of `centre`, and is given `cell`
+    /// when it lies on their inner side by more than the rounding ([`Locator::cell_surely_holds`]);
+    /// the others are located from `cell`, or from the cell across the face they lie beyond.
+    // `!(x < 0.0)` is used on purpose: it is also true for NaN (a face that cannot certify).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    pub fn locate_near(
+        &self,
+        cell: Label,
+        centre: V3,
+        scale: f64,
+        offsets: &[V3],
+        mut f: impl FnMut(usize, Option<Label>),
+    ) {
+        const MAX: usize = 32;
+        if cell as usize >= self.tets.n_cells() {
+            for (i, o) in offsets.iter().enumerate() {
+                f(i, self.locate(V3::from_fn(|a, _| centre[a] + scale * o[a])));
+            }
+            return;
+        }
+        let faces = self.tets.cell_faces(cell);
+        let radius = scale
+            * offsets
+                .iter()
+                .map(|o| o.norm_squared())
+                .fold(0.0, f64::max)
+                .sqrt();
+        // The faces whose plane may pass between `centre` and a point: outward normal, signed
+        // distance of `centre` (positive outside), certainty margin over the ball, face label.
+        let mut near = [(V3::zeros(), 0.0, 0.0, 0usize); MAX];
+        let mut n = 0;
+        let mut usable = faces.len() <= MAX;
+        if usable {
+            let reach = 3f64.sqrt() * radius;
+            for &face in faces {
+                let face = face as usize;
+                let x = centre - self.tets.face_apex[face];
+                let normal = if self.tets.owner[face] == cell {
+                    self.face_normals[face]
+                } else {
+                    -self.face_normals[face]
+                };
+                let d = x.dot(&normal);
+                let margin = self.face_certainty[face].margin(x, reach);
+                if !(d + radius + margin < 0.0) {
+                    if !(d + margin < 0.0) {
+                        // `centre` itself is not surely inside this face.
+                        usable = false;
+                        break;
+                    }
+                    near[n] = (normal, d, margin, face);
+                    n += 1;
+                }
+            }
+        }
+        for (i, o) in offsets.iter().enumerate() {
+            let p = V3::from_fn(|a, _| centre[a] + scale * o[a]);
+            if !usable {
+                f(i, self.locate_from(p, cell));
+                continue;
+            }
+            // The face the point lies farthest beyond (or not surely inside).
+            let mut worst: Option<(f64, usize)> = None;
+            for &(normal, d, margin, face) in &near[..n] {
+                let e = d + scale * o.dot(&normal) + margin;
+                if !(e < 0.0) && worst.is_none_or(|w| e > w.0) {
+                    worst = Some((e, face));
+                }
+            }
+            f(
+                i,
+                match worst {
+                    None => Some(cell),
+                    Some((_, face)) => match self.tets.across(face, cell) {
+                        Some(next) => self.locate_from(p, next),
+                        None => self.locate_from(p, cell),
+                    },
+                },
+            );
+        }
+    }
+
     /// [`Locator::locate_from`] for every point, in parallel: `cells[i]` is the hint for
     /// `points[i]` on entry (`None`: no hint) and the answer on return.
     pub fn locate_all_from(&self, points: &[V3], cells: &mut [Option<Label>]) {
@@ -581,14 +888,19 @@ impl Locator {
     }
 
     fn walk_or_search(&self, p: V3, start: Label) -> Option<Label> {
+        if self.cell_surely_holds(start, p) {
+            return Some(start);
+        }
         let start = self.cell_walk(p, start);
+        if self.cell_surely_holds(start, p) {
+            return Some(start);
+        }
         match self.walk(p, start) {
             Walk::Found(t) => Some(t.cell),
-            Walk::Lost => {
-                self.bins.candidates(p).iter().copied().find(|&c| {
-                    self.tets.cell_bounds(c).contains(p) && self.tets.cell_contains(c, p)
-                })
-            }
+            Walk::Lost => self.bins.candidates(p).iter().copied().find(|&c| {
+                !self.cell_surely_lacks(c, p)
+                    && (self.cell_surely_holds(c, p) || self.tets.cell_contains(c, p))
+            }),
         }
     }
 

@@ -285,3 +285,117 @@ fn multi_block_grid_map_matches_cell_geometry() {
     // Block 0 cells come first in blockMesh numbering, so the map is not the identity.
     assert_ne!(grid.cells(), (0..54).collect::<Vec<Label>>());
 }
+
+/// `Locator::cell_surely_holds` never claims a cell that brute force does not give (nor
+/// `cell_surely_lacks` rejects one it gives), for points
+/// at every scale of distance from the faces (down to 1e-15 of the face size, on both sides),
+/// on meshes with warped faces, polyhedra and sheared cells; and it does claim points well
+/// inside (the cell centres of hexahedra with planar faces).
+#[test]
+fn surely_holds_agrees_with_brute_force_near_faces() {
+    for m in [
+        fixture_mesh("skewed_blocks"),
+        fixture_mesh("poly_dual"),
+        sheared_grid().0,
+    ] {
+        let g = MeshGeometry::new(&m).unwrap();
+        let loc = locator(&m, false);
+        let t = loc.tets();
+        let mut rng = Rng(11);
+        let mut claimed = 0;
+        for f in 0..m.n_faces() {
+            let apex = t.face_apexes()[f];
+            let a = V3::from(g.face_areas[f]);
+            let n = a / a.norm();
+            let size = a.norm().sqrt();
+            for _ in 0..6 {
+                let scale = 10f64.powf(rng.range(-15.0, -0.5)) * size;
+                let side = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+                // A point near the face plane, somewhere over the face.
+                let q = m.faces.face(f)[rng.below(m.faces.face(f).len())] as usize;
+                let s = rng.range(0.0, 1.0);
+                let p = apex + s * (t.points()[q] - apex) + side * scale * n;
+                let bf = brute_force(t, p);
+                let mut cells = vec![m.owner[f]];
+                if f < m.n_internal_faces() {
+                    cells.push(m.neighbour[f]);
+                }
+                for c in cells {
+                    if loc.cell_surely_holds(c, p) {
+                        assert_eq!(bf, vec![c], "face {f}, point {p:?}");
+                        claimed += 1;
+                    }
+                    if loc.cell_surely_lacks(c, p) {
+                        assert!(!bf.contains(&c), "face {f}, point {p:?}");
+                    }
+                }
+            }
+        }
+        assert!(claimed > 0);
+        for (c, centre) in g.cell_centres.iter().enumerate() {
+            if loc.cell_surely_holds(c as Label, V3::from(*centre)) {
+                assert_eq!(brute_force(t, V3::from(*centre)), vec![c as Label]);
+            }
+        }
+    }
+    let (m, _) = sheared_grid();
+    let g = MeshGeometry::new(&m).unwrap();
+    let loc = locator(&m, false);
+    for (c, centre) in g.cell_centres.iter().enumerate() {
+        assert!(loc.cell_surely_holds(c as Label, V3::from(*centre)));
+    }
+}
+
+/// `Locator::locate_near` gives `locate`'s answer for clusters of points around a located
+/// centre (marker-like offsets of every size, some reaching outside the mesh or exactly onto
+/// face planes of a grid).
+#[test]
+fn locate_near_agrees_with_locate() {
+    let planes = graded_planes(0.0, 1.0, 5, 1.0);
+    for m in [
+        fixture_mesh("skewed_blocks"),
+        fixture_mesh("poly_dual"),
+        sheared_grid().0,
+        hex_grid(&planes, &planes, &planes),
+    ] {
+        let g = MeshGeometry::new(&m).unwrap();
+        let loc = locator(&m, false);
+        let mut rng = Rng(12);
+        let h = (g.total_volume() / m.n_cells as f64).cbrt();
+        let offsets: Vec<V3> = (0..28)
+            .map(|k| {
+                if k < 6 {
+                    // Axis directions: on a grid of spacing 0.25 these land on planes.
+                    let mut v = V3::zeros();
+                    v[k / 2] = if k % 2 == 0 { 1.0 } else { -1.0 };
+                    v
+                } else {
+                    V3::from_fn(|_, _| rng.range(-0.6, 0.6))
+                }
+            })
+            .collect();
+        let centres = random_points(&mut rng, &g.bounds, 600, 0.0);
+        let mut checked = 0;
+        for (i, c) in centres.iter().enumerate() {
+            // Every third centre on the 1/8 lattice: on the grid, offsets along the axes of
+            // 0.25 then end exactly on face planes.
+            let c = &if i % 3 == 0 {
+                c.map(|x| (x * 8.0).round() / 8.0)
+            } else {
+                *c
+            };
+            let Some(cell) = loc.locate(*c) else { continue };
+            let scale = if i % 3 == 0 {
+                0.25
+            } else {
+                h * 10f64.powf(rng.range(-3.0, 0.3))
+            };
+            loc.locate_near(cell, *c, scale, &offsets, |k, got| {
+                let p = V3::from_fn(|a, _| c[a] + scale * offsets[k][a]);
+                assert_eq!(got, loc.locate(p), "centre {c:?}, offset {k}");
+                checked += 1;
+            });
+        }
+        assert!(checked > 1000);
+    }
+}

@@ -1,116 +1,154 @@
-//! Exact volume of an axis-aligned box ∩ tetrahedron by clipping: the cube methods on general
+//! Exact volume of an axis-aligned box ∩ polyhedron from its faces: the cube methods on general
 //! (non-axis-aligned) meshes.
 //!
-//! The tet is clipped successively by the six half-spaces of the box. Against one plane a tet
-//! keeps 0 to 4 vertices; the kept part is empty, the tet itself, a tet (1 vertex kept) or a
-//! triangular prism (2 or 3 kept), and a prism is split into 3 tets. The plane intersection
-//! points are linear interpolations along the cut edges, so the volume is exact up to rounding.
-//! Only planes that cut the current piece's bounding box are applied.
+//! # Method
+//! Let B = [l, h] be the box and P a closed polyhedron with outward-oriented planar faces. The
+//! vector field g(x) = (φ(x₁)·χ(x₂)·χ(x₃), 0, 0), with φ(x₁) = clamp(x₁ − l₁, 0, h₁ − l₁) and χ
+//! the indicators of [l₂, h₂] and [l₃, h₃], has divergence 1 inside B and 0 outside, so by the
+//! divergence theorem
+//!
+//! vol(B ∩ P) = Σ_F ∫_F g·n dS = Σ_F ∫_{F ∩ S} φ(x₁) n₁ dS,
+//!
+//! S the slab l₂ ≤ x₂ ≤ h₂, l₃ ≤ x₃ ≤ h₃. Each face is clipped to S (Sutherland–Hodgman, four
+//! planes, only those crossing the face's bounding box), and since φ(x₁) = ψ(x₁ − l₁) −
+//! ψ(x₁ − h₁) with ψ(t) = max(t, 0), the face term is M(l₁) − M(h₁) with
+//! M(a) = ∫_{F ∩ S ∩ {x₁ ≥ a}} (x₁ − a) n₁ dS, the first moment of the part beyond a: clipped
+//! once more and integrated exactly over its fan of triangles (area vector's x₁ component
+//! times the mean of x₁ − a at the vertices, exact for the linear integrand). Every step is
+//! linear interpolation and products, so the volume is exact up to rounding.
+//!
+//! The face term ([`box_polygon_flux`]) is odd under reversing the face's orientation, so a
+//! face shared by two cells is computed once; a tet's volume is the sum over its four faces
+//! ([`box_tet_volume`]).
 
-use mesh::tet_volume;
+use crate::sphere_poly::TET_FACES;
 use mesh::v3::V3;
 
-type Tet = [V3; 4];
+/// Scratch space for [`box_polygon_flux`]: two vertex buffers.
+#[derive(Clone, Debug, Default)]
+pub struct ClipScratch {
+    a: Vec<V3>,
+    b: Vec<V3>,
+}
+
+/// Keeps the part of the polygon `from` where `s·(x_axis − value) ≤ 0`, into `to`.
+fn clip_polygon(from: &[V3], to: &mut Vec<V3>, axis: usize, value: f64, s: f64) {
+    to.clear();
+    let n = from.len();
+    for i in 0..n {
+        let p = from[i];
+        let q = from[if i + 1 == n { 0 } else { i + 1 }];
+        let (dp, dq) = (s * (p[axis] - value), s * (q[axis] - value));
+        if dp <= 0.0 {
+            to.push(p);
+        }
+        if (dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0) {
+            let t = dp / (dp - dq);
+            let mut x = V3::from_fn(|a, _| p[a] + t * (q[a] - p[a]));
+            x[axis] = value;
+            to.push(x);
+        }
+    }
+}
+
+/// M(a) = ∫ (x₀ − a) n₀ dS over the part of the planar polygon `poly` with x₀ ≥ a (module
+/// docs): its fan triangles, clipped on the fly.
+fn moment_beyond(poly: &[V3], a: f64) -> f64 {
+    let mut first: Option<V3> = None;
+    let mut prev: Option<V3> = None;
+    let mut sum = 0.0;
+    let mut emit = |w: V3| {
+        match (first, prev) {
+            (Some(w0), Some(wk)) => {
+                let ax = (wk[1] - w0[1]) * (w[2] - w0[2]) - (wk[2] - w0[2]) * (w[1] - w0[1]);
+                sum += ax * ((w0[0] - a) + (wk[0] - a) + (w[0] - a));
+            }
+            (None, _) => first = Some(w),
+            _ => {}
+        }
+        prev = Some(w);
+    };
+    let n = poly.len();
+    for i in 0..n {
+        let p = poly[i];
+        let q = poly[if i + 1 == n { 0 } else { i + 1 }];
+        let (dp, dq) = (p[0] - a, q[0] - a);
+        if dp >= 0.0 {
+            emit(p);
+        }
+        if (dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0) {
+            let t = dp / (dp - dq);
+            emit(V3::new(
+                a,
+                p[1] + t * (q[1] - p[1]),
+                p[2] + t * (q[2] - p[2]),
+            ));
+        }
+    }
+    // ½ for the triangle area, ⅓ for the mean.
+    sum / 6.0
+}
+
+/// The term of the planar polygon `poly` (vertices counter-clockwise about its outward normal)
+/// in the volume of the axis-aligned box `lo`..`hi` ∩ a closed polyhedron having it as a face,
+/// m³ (module docs). Odd under reversing the vertex order; the terms of a closed polyhedron's
+/// faces sum to the volume of box ∩ polyhedron. `s` is scratch space.
+pub fn box_polygon_flux(
+    lo: impl Into<V3>,
+    hi: impl Into<V3>,
+    poly: &[V3],
+    s: &mut ClipScratch,
+) -> f64 {
+    let (lo, hi) = (lo.into(), hi.into());
+    if poly.len() < 3 {
+        return 0.0;
+    }
+    let mut pmin = poly[0];
+    let mut pmax = poly[0];
+    for p in &poly[1..] {
+        pmin = pmin.inf(p);
+        pmax = pmax.sup(p);
+    }
+    if pmax[0] <= lo[0] || (1..3).any(|a| pmax[a] <= lo[a] || pmin[a] >= hi[a]) {
+        return 0.0;
+    }
+    s.a.clear();
+    s.a.extend_from_slice(poly);
+    for axis in 1..3 {
+        for (value, sign, cuts) in [
+            (lo[axis], -1.0, pmin[axis] < lo[axis]),
+            (hi[axis], 1.0, pmax[axis] > hi[axis]),
+        ] {
+            if cuts {
+                clip_polygon(&s.a, &mut s.b, axis, value, sign);
+                std::mem::swap(&mut s.a, &mut s.b);
+                if s.a.len() < 3 {
+                    return 0.0;
+                }
+            }
+        }
+    }
+    let cur = &s.a[..];
+    let beyond_hi = if pmax[0] > hi[0] {
+        moment_beyond(cur, hi[0])
+    } else {
+        0.0
+    };
+    moment_beyond(cur, lo[0]) - beyond_hi
+}
 
 /// Volume of the axis-aligned box `lo`..`hi` ∩ the tetrahedron `tet`, m³, signed like
-/// [`mesh::tet_volume`] (negative for a negatively oriented tet). `stack` is scratch space.
+/// [`mesh::tet_volume`] (negative for a negatively oriented tet): the sum of the terms of its
+/// four faces ([`box_polygon_flux`]). `s` is scratch space.
 pub fn box_tet_volume(
     lo: impl Into<V3>,
     hi: impl Into<V3>,
-    tet: &Tet,
-    stack: &mut Vec<Tet>,
+    tet: &[V3; 4],
+    s: &mut ClipScratch,
 ) -> f64 {
     let (lo, hi) = (lo.into(), hi.into());
-    let full = tet_volume(tet);
-    let sign = if full < 0.0 { -1.0 } else { 1.0 };
-    let (tlo, thi) = bounds(tet);
-    if (0..3).any(|a| thi[a] <= lo[a] || tlo[a] >= hi[a]) {
-        return 0.0;
-    }
-    if (0..3).all(|a| tlo[a] >= lo[a] && thi[a] <= hi[a]) {
-        return full;
-    }
-    stack.clear();
-    stack.push(*tet);
-    for a in 0..3 {
-        // Keep x_a ≥ lo_a: distance f = lo_a − x_a ≤ 0; keep x_a ≤ hi_a: f = x_a − hi_a ≤ 0.
-        for (value, s) in [(lo[a], -1.0), (hi[a], 1.0)] {
-            let cuts = (s < 0.0 && tlo[a] < value) || (s > 0.0 && thi[a] > value);
-            if cuts {
-                clip(stack, |p: &V3| s * (p[a] - value));
-            }
-        }
-    }
-    sign * stack.iter().map(|t| tet_volume(t).abs()).sum::<f64>()
-}
-
-fn bounds(t: &Tet) -> (V3, V3) {
-    let mut lo = t[0];
-    let mut hi = t[0];
-    for p in &t[1..] {
-        for a in 0..3 {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
-    (lo, hi)
-}
-
-/// Replaces every tet of `stack` by its part where `f ≤ 0`.
-fn clip(stack: &mut Vec<Tet>, f: impl Fn(&V3) -> f64) {
-    let n = stack.len();
-    for idx in 0..n {
-        let t = stack[idx];
-        let d = t.map(|p| f(&p));
-        let (mut keep, mut drop) = ([0usize; 4], [0usize; 4]);
-        let (mut nk, mut nd) = (0, 0);
-        for (i, &di) in d.iter().enumerate() {
-            if di <= 0.0 {
-                keep[nk] = i;
-                nk += 1;
-            } else {
-                drop[nd] = i;
-                nd += 1;
-            }
-        }
-        // Point on edge i–j where f = 0.
-        let cut = |i: usize, j: usize| -> V3 {
-            let s = d[i] / (d[i] - d[j]);
-            V3::from_fn(|a, _| t[i][a] + s * (t[j][a] - t[i][a]))
-        };
-        match nk {
-            4 => continue,
-            0 => stack[idx] = [V3::zeros(); 4],
-            1 => {
-                let i = keep[0];
-                stack[idx] = [t[i], cut(i, drop[0]), cut(i, drop[1]), cut(i, drop[2])];
-            }
-            3 => {
-                let l = drop[0];
-                let [i, j, k] = [keep[0], keep[1], keep[2]];
-                let prism = [t[i], t[j], t[k], cut(i, l), cut(j, l), cut(k, l)];
-                stack[idx] = prism_tet(&prism, 0);
-                stack.push(prism_tet(&prism, 1));
-                stack.push(prism_tet(&prism, 2));
-            }
-            _ => {
-                let [i, j] = [keep[0], keep[1]];
-                let [k, l] = [drop[0], drop[1]];
-                let prism = [t[i], cut(i, k), cut(i, l), t[j], cut(j, k), cut(j, l)];
-                stack[idx] = prism_tet(&prism, 0);
-                stack.push(prism_tet(&prism, 1));
-                stack.push(prism_tet(&prism, 2));
-            }
-        }
-    }
-}
-
-/// Tet `k` (0..3) of the prism with triangles (p0, p1, p2) and (p3, p4, p5), pᵢ and pᵢ₊₃ joined
-/// by the side edges.
-fn prism_tet(p: &[V3; 6], k: usize) -> Tet {
-    match k {
-        0 => [p[0], p[1], p[2], p[3]],
-        1 => [p[1], p[2], p[3], p[4]],
-        _ => [p[2], p[3], p[4], p[5]],
-    }
+    TET_FACES
+        .iter()
+        .map(|f| box_polygon_flux(lo, hi, &[tet[f[0]], tet[f[1]], tet[f[2]]], s))
+        .sum()
 }

@@ -24,32 +24,47 @@
 //!   between the boxes around each grid node).
 //!
 //! # Methods on general meshes (any polyhedral cells)
-//! * `centre`, `divided`: [`mesh::Locator`] (markers are located starting from the centre's
-//!   cell);
+//! * `centre`: [`mesh::Locator`];
+//! * `divided`: the markers by [`mesh::Locator::locate_near`] from the centre's cell (each
+//!   marker tested only against the face planes that pass within the ball, the others located
+//!   from the cell across the face they lie beyond);
 //! * `trilinear`: not defined ([`crate::VoidageError::UnsupportedMesh`]);
-//! * `exact`: the face-flux form of [`crate::sphere_poly`] over the fan triangles of each cell's
-//!   faces — the boundary of the cell's tets in [`mesh::TetDecomposition`], so the shares are
-//!   those of Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`]. A ball inside the kernel of
-//!   its centre's cell (on the inner side of every fan triangle, at distance ≥ r) goes there
-//!   whole; a cell inside the ball gets its (OpenFOAM) volume;
-//! * `cube`: the exact volume of cube ∩ cell, by clipping the cell's tets with the cube
-//!   ([`crate::clip`]), divided by d³;
+//! * `exact`: Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`], computed from the terms
+//!   of the cells' faces (each face's polygon, or its fan triangles if warped: the boundary of
+//!   the cell's tets). In the cap form of [`crate::sphere_poly`] a face's term is zero unless the
+//!   face meets the ball, and the centre's cell adds the whole ball; the cells are found by a
+//!   walk from the centre's cell across the faces that meet the ball, which reaches every cell
+//!   the ball meets unless the ball crosses a boundary face (then the candidates below). Where a
+//!   face passes within 1e-9 (relative) of the centre, the side the centre lies on is not
+//!   certain from the face, and the particle takes the flux form over the candidates (the same
+//!   volumes, to rounding, with no such condition). A ball inside the kernel of its centre's
+//!   cell (on the inner side of every face plane, at distance ≥ r) goes there whole; a cell
+//!   inside the ball gets its (OpenFOAM) volume;
+//! * `cube`: the exact volume of cube ∩ cell from the terms of its faces (each face's polygon, or
+//!   its fan triangles if warped) clipped by the cube ([`crate::clip`]), divided by d³;
 //! * `corrected-cube`: the polynomial on those fractions plus one piece for the cube's part
 //!   outside the mesh (1 − Σφc), renormalised over all of them.
 //!
-//! Candidate cells for exact and cube on general meshes: a breadth-first walk over face
-//! neighbours from the centre's cell through cells whose bounding box meets the ball (cube).
-//! For a convex domain the cells meeting the ball are face-connected, so the walk finds them
-//! all; when the walk meets a boundary face whose box meets the ball (cube), or the centre lies
-//! outside the mesh, the candidates are taken instead from a bin index of cell bounding boxes,
-//! which finds every cell whose box meets the ball's box (any domain, convex or not).
+//! A face shared by two cells of one particle has its term computed once (odd under reversing
+//! the face, it enters the two cells with opposite signs, so interior faces cancel exactly and
+//! Σ shares + outside = particle volume to rounding).
+//!
+//! Candidate cells for cube (and exact when the walk above cannot be used): a breadth-first walk
+//! over face neighbours from the centre's cell through cells whose bounding box meets the ball
+//! (cube). For a convex domain the cells meeting the ball are face-connected, so the walk finds
+//! them all; when the walk meets a boundary face whose box meets the ball (cube), or the centre
+//! lies outside the mesh, the candidates are taken instead from a bin index of cell bounding
+//! boxes, which finds every cell whose box meets the ball's box (any domain, convex or not).
 //!
 //! # Parallelism and determinism
-//! Particles are processed in fixed chunks in parallel (rayon); each chunk produces a list of
-//! (cell, volume) shares, and the lists are added into the cell array in chunk order. The
-//! result does not depend on the number of threads.
+//! Particles are processed in batches of fixed chunks in parallel (rayon); each chunk produces a
+//! list of (cell, volume) shares, and the shares are added into the cell array in particle
+//! order while the next batch is computed. On general meshes (all methods but `centre`) the
+//! chunks of a batch take its particles in the order of their centre's cell, so that
+//! consecutive particles read the same mesh data; each particle's shares do not depend on the
+//! order. The result does not depend on the number of threads.
 
-use crate::clip::box_tet_volume;
+use crate::clip::{box_polygon_flux, ClipScratch};
 use crate::cube::{cube_axis_fraction, khawaja_correction};
 use crate::divided::{divided_offsets, DIVIDED_MARKERS};
 use crate::error::{ParticleProblem, VoidageError};
@@ -58,7 +73,7 @@ use crate::method::Method;
 use crate::sphere_box::{
     ball_volume, cut_ball_unit, interval_dist2, sphere_grid_volumes, GridScratch,
 };
-use crate::sphere_poly::{polygon_flux_unit, triangle_flux_unit, MAX_POLYGON};
+use crate::sphere_poly::{polygon_cap_unit, polygon_flux_unit, triangle_flux_unit, MAX_POLYGON};
 use crate::trilinear::{check_grid, grid_trilinear};
 use crate::vec3::{to_unit, V3};
 use foam::{FaceList, Label, PolyMesh};
@@ -382,8 +397,74 @@ struct Scratch {
     candidates: Vec<Label>,
     faces: LabelMap<f64>,
     fractions: Vec<f64>,
-    clip: Vec<[V3; 4]>,
+    clip: ClipScratch,
+    polygon: Vec<V3>,
     markers: Vec<(Label, u32)>,
+}
+
+/// The plane of one face of a cell, as seen from the cell.
+#[derive(Clone, Copy, Debug)]
+struct CellPlane {
+    /// Unit normal out of the cell (zero for a warped face).
+    n: V3,
+    /// n · (fan apex); NaN for a warped face, whose fan triangles have planes of their own.
+    k: f64,
+    /// The face.
+    face: Label,
+}
+
+impl CellPlane {
+    /// The table of every cell's face planes and each cell's first entry (one more for the
+    /// end).
+    fn table(
+        tets: &mesh::TetDecomposition,
+        owner: &[Label],
+        face_planes: &[(V3, f64)],
+        planar: &[bool],
+    ) -> (Vec<CellPlane>, Vec<u32>) {
+        let mut planes = Vec::new();
+        let mut start = Vec::with_capacity(tets.n_cells() + 1);
+        for cell in 0..tets.n_cells() as Label {
+            start.push(planes.len() as u32);
+            for &f in tets.cell_faces(cell) {
+                let (n, k) = face_planes[f as usize];
+                let own = owner[f as usize] == cell;
+                planes.push(if !planar[f as usize] {
+                    CellPlane {
+                        n: V3::zeros(),
+                        k: f64::NAN,
+                        face: f,
+                    }
+                } else if own {
+                    CellPlane { n, k, face: f }
+                } else {
+                    CellPlane {
+                        n: -n,
+                        k: -k,
+                        face: f,
+                    }
+                });
+            }
+        }
+        start.push(planes.len() as u32);
+        (planes, start)
+    }
+
+    /// Signed distance of `p` from the plane, positive outside the cell (NaN for a warped face).
+    #[inline]
+    fn outside(&self, p: V3) -> f64 {
+        self.n.dot(&p) - self.k
+    }
+}
+
+/// How a walk over the cells a ball meets ended ([`VoidageMesh::exact_walk`]).
+enum CapWalk {
+    /// Every cell found; the volume outside the mesh.
+    Done(f64),
+    /// The ball crosses a boundary face: the candidates must come from the bins.
+    Incomplete,
+    /// A face cannot tell the side of the centre: the flux form must be used.
+    Tie,
 }
 
 /// One particle being deposited: centre (m), radius (m, > 0), volume (m³), centre cell.
@@ -406,6 +487,16 @@ struct ChunkOut {
     partly_outside: usize,
 }
 
+/// What one batch of work items produced.
+struct BatchOut {
+    /// Index of the batch's first particle.
+    start: usize,
+    /// The particles in the order computed, when not in index order.
+    order: Option<Vec<u32>>,
+    /// The work items: `CHUNK` particles each, in that order.
+    chunks: Vec<ChunkOut>,
+}
+
 /// A mesh prepared for voidage computations: geometry, locator, face addressing, cell bounding
 /// boxes and a bin index.
 #[derive(Clone, Debug)]
@@ -417,11 +508,21 @@ pub struct VoidageMesh {
     owner: Vec<Label>,
     neighbour: Vec<Label>,
     cell_bounds: Vec<Aabb>,
+    /// Bounding box of every boundary face's points (face n_internal + i at i).
     boundary_bounds: Vec<Aabb>,
+    /// Unit normal of every face (OpenFOAM's area vector, out of the owner; zero for a
+    /// zero-area face) and its plane's offset n̂·(fan apex).
+    face_planes: Vec<(V3, f64)>,
+    /// The planes of every cell's faces as seen from the cell, in the order of the cell's faces
+    /// (cell i's from `cell_plane_start[i]`): kept together so that a cell's plane tests read
+    /// neighbouring memory.
+    cell_planes: Vec<CellPlane>,
+    cell_plane_start: Vec<u32>,
     bins: CellBins,
     markers: [V3; DIVIDED_MARKERS],
-    /// Faces whose points lie in one plane (within 1e-12 of the face size): their flux is taken
-    /// over the polygon's edges instead of the fan triangles.
+    /// Faces whose points lie in one plane ([`Locator::face_is_planar`]) with at most
+    /// [`MAX_POLYGON`] points: their flux is taken over the polygon's edges instead of the fan
+    /// triangles.
     planar: Vec<bool>,
 }
 
@@ -450,29 +551,26 @@ impl VoidageMesh {
             .collect();
         let points = tets.points();
         let boundary_bounds = (mesh.n_internal_faces()..mesh.n_faces())
+            .into_par_iter()
+            .with_min_len(4096)
             .map(|f| Aabb::of_points(mesh.faces.face(f).iter().map(|&p| &points[p as usize])))
             .collect();
-        let bins = CellBins::new(&geom.bounds, &cell_bounds);
-        let apexes = tets.face_apexes();
-        let planar = (0..mesh.n_faces())
+        let face_planes: Vec<(V3, f64)> = (0..mesh.n_faces())
             .into_par_iter()
+            .with_min_len(4096)
             .map(|f| {
-                let face = mesh.faces.face(f);
                 let a = geom.face_areas[f];
                 let m = a.norm();
-                if face.len() > MAX_POLYGON || !(m > 0.0) {
-                    return false;
-                }
-                let nh = a.map(|x| x / m);
-                let (mut warp, mut size) = (0.0f64, 0.0f64);
-                for &p in face {
-                    let d = points[p as usize] - apexes[f];
-                    warp = warp.max(d.dot(&nh).abs());
-                    size = size.max(d.norm());
-                }
-                warp <= 1e-12 * size
+                let n = if m > 0.0 { a / m } else { V3::zeros() };
+                (n, n.dot(&tets.face_apexes()[f]))
             })
             .collect();
+        let bins = CellBins::new(&geom.bounds, &cell_bounds);
+        let planar: Vec<bool> = (0..mesh.n_faces())
+            .map(|f| mesh.faces.face(f).len() <= MAX_POLYGON && locator.face_is_planar(f as Label))
+            .collect();
+        let (cell_planes, cell_plane_start) =
+            CellPlane::table(tets, &mesh.owner, &face_planes, &planar);
         Ok(VoidageMesh {
             geom,
             grid,
@@ -481,6 +579,9 @@ impl VoidageMesh {
             neighbour: mesh.neighbour.clone(),
             cell_bounds,
             boundary_bounds,
+            cell_planes,
+            cell_plane_start,
+            face_planes,
             bins,
             locator,
             markers: divided_offsets(),
@@ -628,34 +729,55 @@ impl VoidageMesh {
             particles_partly_outside: 0,
         };
         let n = particles.len();
-        let chunks: Vec<std::ops::Range<usize>> = (0..n)
-            .step_by(CHUNK)
-            .map(|s| s..(s + CHUNK).min(n))
+        let batches: Vec<std::ops::Range<usize>> = (0..n)
+            .step_by(CHUNK * BATCH)
+            .map(|s| s..(s + CHUNK * BATCH).min(n))
             .collect();
         let cells: &[Option<Label>] = cells;
+        // On a general mesh the particles of a batch are computed in the order of their
+        // centre's cell, so that consecutive particles read the same mesh data (random particle
+        // orders otherwise wait on memory); the shares are still added in particle order.
+        let sort = self.grid.is_none() && method != Method::Centre && n <= u32::MAX as usize;
         // A two-stage pipeline: while the threads compute batch b + 1, one of them adds batch
         // b to the solid volumes and the shares, in particle order.
-        let mut done: Option<Vec<ChunkOut>> = None;
-        for batch in chunks.chunks(BATCH).map(Some).chain([None]) {
+        let mut done: Option<BatchOut> = None;
+        for batch in batches.iter().map(Some).chain([None]) {
             let (next, ()) = rayon::join(
+                || batch.map(|b| self.batch(method, particles, cells, b.clone(), sort)),
                 || {
-                    batch.map(|batch| {
-                        batch
-                            .par_iter()
-                            .map_init(Scratch::default, |s, range| {
-                                self.chunk(method, particles, cells, range.clone(), s)
-                            })
-                            .collect::<Vec<ChunkOut>>()
-                    })
-                },
-                || {
-                    for o in done.take().into_iter().flatten() {
-                        for &(c, v) in &o.shares {
+                    let Some(out) = done.take() else { return };
+                    let mut add = |shares: &[(Label, f64)], counts: &[u32]| {
+                        for &(c, v) in shares {
                             solid[c as usize] += v;
                         }
                         if let Some(k) = keep.as_deref_mut() {
-                            k.append(&o.shares, &o.counts);
+                            k.append(shares, counts);
                         }
+                    };
+                    match &out.order {
+                        None => {
+                            for o in &out.chunks {
+                                add(&o.shares, &o.counts);
+                            }
+                        }
+                        Some(order) => {
+                            // Where each particle's shares are: (work item, first, count).
+                            let mut at = vec![(0u32, 0u32, 0u32); order.len()];
+                            for (k, o) in out.chunks.iter().enumerate() {
+                                let mut first = 0u32;
+                                for (j, &count) in o.counts.iter().enumerate() {
+                                    let i = order[k * CHUNK + j] as usize - out.start;
+                                    at[i] = (k as u32, first, count);
+                                    first += count;
+                                }
+                            }
+                            for &(k, first, count) in &at {
+                                let shares = &out.chunks[k as usize].shares;
+                                add(&shares[first as usize..(first + count) as usize], &[count]);
+                            }
+                        }
+                    }
+                    for o in &out.chunks {
                         dep.outside_volume += o.outside;
                         dep.particle_volume += o.volume;
                         dep.particles_outside += o.fully_outside;
@@ -680,23 +802,79 @@ impl VoidageMesh {
         voidage_field(&deposit.solid, self.cell_volumes(), alpha_min)
     }
 
-    fn chunk(
+    /// The work items of the particles `range`, in parallel: in index order, or with `sort` in
+    /// the order of their centre's cell (then `order` holds that order).
+    fn batch(
         &self,
         method: Method,
         p: &ParticleSet<'_>,
         cells: &[Option<Label>],
         range: std::ops::Range<usize>,
+        sort: bool,
+    ) -> BatchOut {
+        let start = range.start;
+        if !sort {
+            let items: Vec<std::ops::Range<usize>> = range
+                .clone()
+                .step_by(CHUNK)
+                .map(|s| s..(s + CHUNK).min(range.end))
+                .collect();
+            let chunks = items
+                .par_iter()
+                .map_init(Scratch::default, |s, r| {
+                    self.chunk(method, p, cells, r.clone(), r.len(), s)
+                })
+                .collect();
+            return BatchOut {
+                start,
+                order: None,
+                chunks,
+            };
+        }
+        let mut keys: Vec<u64> = range
+            .map(|i| (u64::from(cells[i].unwrap_or(Label::MAX)) << 32) | i as u64)
+            .collect();
+        keys.par_sort_unstable();
+        let order: Vec<u32> = keys.iter().map(|&k| k as u32).collect();
+        let chunks = order
+            .par_chunks(CHUNK)
+            .map_init(Scratch::default, |s, idx| {
+                self.chunk(
+                    method,
+                    p,
+                    cells,
+                    idx.iter().map(|&i| i as usize),
+                    idx.len(),
+                    s,
+                )
+            })
+            .collect();
+        BatchOut {
+            start,
+            order: Some(order),
+            chunks,
+        }
+    }
+
+    /// The shares of the particles `indices` (`len` of them), in that order.
+    fn chunk(
+        &self,
+        method: Method,
+        p: &ParticleSet<'_>,
+        cells: &[Option<Label>],
+        indices: impl Iterator<Item = usize>,
+        len: usize,
         s: &mut Scratch,
     ) -> ChunkOut {
         let mut out = ChunkOut {
-            shares: Vec::with_capacity(range.len() * 2),
-            counts: Vec::with_capacity(range.len()),
+            shares: Vec::with_capacity(len * 2),
+            counts: Vec::with_capacity(len),
             outside: 0.0,
             volume: 0.0,
             fully_outside: 0,
             partly_outside: 0,
         };
-        for i in range {
+        for i in indices {
             let (c, r) = (p.positions[i], p.radii[i]);
             let start = out.shares.len();
             if r == 0.0 {
@@ -765,17 +943,22 @@ impl VoidageMesh {
         }
         s.markers.clear();
         s.markers.push((c0, 1));
-        for off in &self.markers[1..] {
-            let p = V3::from_fn(|a, _| c[a] + r * off[a]);
-            let m = match &self.grid {
-                Some(g) => g.locate(p),
-                None => self.locator.locate_from(p, c0),
-            }
-            .unwrap_or(c0);
+        let mut add = |m: Option<Label>| {
+            let m = m.unwrap_or(c0);
             match s.markers.iter_mut().find(|(cell, _)| *cell == m) {
                 Some(e) => e.1 += 1,
                 None => s.markers.push((m, 1)),
             }
+        };
+        match &self.grid {
+            Some(g) => {
+                for off in &self.markers[1..] {
+                    add(g.locate(V3::from_fn(|a, _| c[a] + r * off[a])));
+                }
+            }
+            None => self
+                .locator
+                .locate_near(c0, c, r, &self.markers[1..], |_, m| add(m)),
         }
         let each = v / DIVIDED_MARKERS as f64;
         for &(m, k) in &s.markers {
@@ -858,6 +1041,96 @@ impl VoidageMesh {
         sum
     }
 
+    /// The cap-form term g = flux − Ω/3 of face `f` (owner orientation) for the unit ball
+    /// ([`crate::sphere_poly`], "Cap form"): over the polygon for planar faces, over the fan
+    /// triangles otherwise; zero without trigonometry unless the face meets the ball. `None`
+    /// when the centre or its foot point is within 1e-9 of the face (relative to the face's
+    /// extent in unit-ball coordinates): then which side of the face the centre lies on, by the
+    /// locator's tie rule, is not certain from the face alone.
+    fn face_cap_unit(&self, f: usize, c: V3, r: f64, poly: &mut Vec<V3>) -> Option<f64> {
+        const TIE: f64 = 1e-9;
+        let inv_r = 1.0 / r;
+        let tets = self.locator.tets();
+        let points = tets.points();
+        let face = self.faces.face(f);
+        if self.planar[f] {
+            let (nh, k) = self.face_planes[f];
+            let d = (k - nh.dot(&c)) * inv_r;
+            if !(d.abs() < 1.0) {
+                return Some(0.0);
+            }
+            poly.clear();
+            let mut extent = 0.0f64;
+            for &p in face {
+                let q = to_unit(points[p as usize], c, inv_r);
+                extent = extent.max(q.amax());
+                poly.push(q);
+            }
+            return polygon_cap_unit(poly, nh, d, TIE * (1.0 + extent));
+        }
+        let tri = |t: [V3; 3]| -> Option<f64> {
+            let nrm = (t[1] - t[0]).cross(&(t[2] - t[0]));
+            let m = nrm.norm();
+            if !(m > 0.0) {
+                return Some(0.0);
+            }
+            let nh = nrm / m;
+            let u = t.map(|p| to_unit(p, c, inv_r));
+            let d = u[0].dot(&nh);
+            if !(d.abs() < 1.0) {
+                return Some(0.0);
+            }
+            let extent = u.iter().map(|p| p.amax()).fold(0.0, f64::max);
+            polygon_cap_unit(&u, nh, d, TIE * (1.0 + extent))
+        };
+        let p = |i: usize| points[face[i] as usize];
+        if face.len() == 3 {
+            return tri([p(0), p(1), p(2)]);
+        }
+        let apex = tets.face_apexes()[f];
+        let n = face.len();
+        let mut sum = 0.0;
+        for i in 0..n {
+            sum += tri([apex, p(i), p(if i + 1 == n { 0 } else { i + 1 })])?;
+        }
+        Some(sum)
+    }
+
+    /// The term of face `f` (owner orientation) in the volume of the cube of half-side `r`
+    /// centred at `c` ∩ a cell ([`crate::clip`]), m³: over the polygon for planar faces, over
+    /// its fan triangles (the boundary of the cells' tets) otherwise; coordinates relative to
+    /// `c`.
+    fn face_cube_flux(
+        &self,
+        f: usize,
+        c: V3,
+        r: f64,
+        polygon: &mut Vec<V3>,
+        clip: &mut ClipScratch,
+    ) -> f64 {
+        let tets = self.locator.tets();
+        let points = tets.points();
+        let face = self.faces.face(f);
+        let (lo, hi) = (V3::from_element(-r), V3::from_element(r));
+        polygon.clear();
+        polygon.extend(face.iter().map(|&p| points[p as usize] - c));
+        if self.planar[f] || face.len() == 3 {
+            return box_polygon_flux(lo, hi, polygon, clip);
+        }
+        let apex = tets.face_apexes()[f] - c;
+        let n = face.len();
+        (0..n)
+            .map(|i| {
+                let tri = [
+                    apex,
+                    polygon[i],
+                    polygon[if i + 1 == n { 0 } else { i + 1 }],
+                ];
+                box_polygon_flux(lo, hi, &tri, clip)
+            })
+            .sum()
+    }
+
     /// True when a body centred at `c` lies in the kernel of `cell`: on the inner side of the
     /// plane of every fan triangle of its faces (of the whole face for planar faces) by at
     /// least its support `support(n)` along the plane's normal `n` (not normalised): r·|n| for
@@ -867,17 +1140,17 @@ impl VoidageMesh {
         let tets = self.locator.tets();
         let points = tets.points();
         let apexes = tets.face_apexes();
-        for &f in tets.cell_faces(cell) {
-            let f = f as usize;
-            let face = self.faces.face(f);
-            let sign = if self.owner[f] == cell { 1.0 } else { -1.0 };
-            let inside = |a: V3, nrm: V3| sign * (a - c).dot(&nrm) >= support(nrm);
-            if self.planar[f] {
-                if !inside(apexes[f], self.geom.face_areas[f]) {
+        for plane in self.planes_of(cell) {
+            if plane.k.is_finite() {
+                if !(-plane.outside(c) >= support(plane.n)) {
                     return false;
                 }
                 continue;
             }
+            let f = plane.face as usize;
+            let face = self.faces.face(f);
+            let sign = if self.owner[f] == cell { 1.0 } else { -1.0 };
+            let inside = |a: V3, nrm: V3| sign * (a - c).dot(&nrm) >= support(nrm);
             let p = |i: usize| points[face[i] as usize];
             let tri = |a: V3, b: V3, d: V3| (b - a).cross(&(d - a));
             let n = face.len();
@@ -895,6 +1168,25 @@ impl VoidageMesh {
             }
         }
         true
+    }
+
+    /// The face planes of `cell` ([`CellPlane`]).
+    #[inline]
+    fn planes_of(&self, cell: Label) -> &[CellPlane] {
+        let i = cell as usize;
+        &self.cell_planes[self.cell_plane_start[i] as usize..self.cell_plane_start[i + 1] as usize]
+    }
+
+    /// True when every point of `cell` lies in the ball (centre `c`, radius `r`), hence the
+    /// whole cell (its tets' other vertices, face and cell centres, are averages of its points).
+    fn cell_in_ball(&self, cell: Label, c: V3, r: f64) -> bool {
+        let points = self.locator.tets().points();
+        self.locator.tets().cell_faces(cell).iter().all(|&f| {
+            self.faces
+                .face(f as usize)
+                .iter()
+                .all(|&p| (points[p as usize] - c).norm_squared() <= r * r)
+        })
     }
 
     /// [`VoidageMesh::body_in_cell`] for the ball of radius `r`.
@@ -915,16 +1207,127 @@ impl VoidageMesh {
             hi: c.map(|x| x + r),
             ball: Some((c, r)),
         };
+        let start = out.len();
+        s.faces.clear();
+        let caps = match cell {
+            Some(c0) => match self.exact_walk(b, c0, s, out) {
+                CapWalk::Done(outside) => return outside,
+                CapWalk::Incomplete => true,
+                CapWalk::Tie => false,
+            },
+            None => true,
+        };
+        out.truncate(start);
         self.candidates(&q, cell, s);
+        if caps {
+            if let Some(outside) = self.exact_shares(b, true, s, out) {
+                return outside;
+            }
+            out.truncate(start);
+        }
+        s.faces.clear();
+        self.exact_shares(b, false, s, out)
+            .expect("the flux form has a value for every face")
+    }
+
+    /// The exact shares in the cap form by a walk from the centre's cell `c0` across the faces
+    /// that meet the ball (nonzero cap term): for a ball that crosses no boundary face every
+    /// cell it meets is reached this way (the segment from the centre to any point of the ball
+    /// in the mesh crosses only faces meeting the ball), and only those cells are visited.
+    fn exact_walk(
+        &self,
+        b: Ball,
+        c0: Label,
+        s: &mut Scratch,
+        out: &mut Vec<(Label, f64)>,
+    ) -> CapWalk {
+        let Ball { c, r, v, .. } = b;
+        let r3 = r * r * r;
+        let n_internal = self.neighbour.len();
+        s.visited.clear();
+        s.queue.clear();
+        s.queue.push(c0);
+        s.visited.insert(c0, ());
+        let mut sum = 0.0;
+        while let Some(cell) = s.queue.pop() {
+            let mut unit = 0.0;
+            for plane in self.planes_of(cell) {
+                if plane.outside(c).abs() >= r {
+                    // The plane misses the ball: no term.
+                    continue;
+                }
+                let f = plane.face;
+                let term = match s.faces.get(f) {
+                    Some(x) => x,
+                    None => match self.face_cap_unit(f as usize, c, r, &mut s.polygon) {
+                        Some(x) => {
+                            s.faces.insert(f, x);
+                            x
+                        }
+                        None => return CapWalk::Tie,
+                    },
+                };
+                let fu = f as usize;
+                let own = self.owner[fu] == cell;
+                unit += if own { term } else { -term };
+                if term != 0.0 {
+                    if fu >= n_internal {
+                        return CapWalk::Incomplete;
+                    }
+                    let next = if own {
+                        self.neighbour[fu]
+                    } else {
+                        self.owner[fu]
+                    };
+                    if s.visited.insert(next, ()) {
+                        s.queue.push(next);
+                    }
+                }
+            }
+            let vol = self.cap_cell_volume(cell, c0 == cell, unit * r3, b);
+            if vol > 0.0 {
+                out.push((cell, vol));
+                sum += vol;
+            }
+        }
+        CapWalk::Done(v - sum)
+    }
+
+    /// The share of `cell` from its cap-form sum `caps` (m³; plus the ball if `centre_cell`),
+    /// clamped to [0, min(cell volume, ball volume)], and exactly the cell volume for a cell
+    /// inside the ball: the cap form adds the ball and takes the caps off, a rounding of order
+    /// ulp(v) that the flux form's clamp at the cell volume removes.
+    fn cap_cell_volume(&self, cell: Label, centre_cell: bool, caps: f64, b: Ball) -> f64 {
+        let cv = self.geom.cell_volumes[cell as usize];
+        let vol = if centre_cell { b.v + caps } else { caps };
+        if vol >= cv - 1e-9 * b.v && self.cell_in_ball(cell, b.c, b.r) {
+            cv
+        } else {
+            vol.clamp(0.0, cv.min(b.v))
+        }
+    }
+
+    /// The exact shares of the candidate cells (module docs), in the cap form (`caps`: face
+    /// terms [`VoidageMesh::face_cap_unit`] plus the whole ball for the centre's cell; `None`
+    /// when a face cannot tell the side of the centre) or in the flux form
+    /// ([`VoidageMesh::face_flux_unit`]), the face terms cached in `s.faces` (which must hold
+    /// terms of the same form). Returns the volume outside the mesh.
+    fn exact_shares(
+        &self,
+        b: Ball,
+        caps: bool,
+        s: &mut Scratch,
+        out: &mut Vec<(Label, f64)>,
+    ) -> Option<f64> {
+        let Ball { c, r, v, cell: c0 } = b;
         let inv_r = 1.0 / r;
         let r3 = r * r * r;
         let tets = self.locator.tets();
-        s.faces.clear();
         let mut sum = 0.0;
         for &cell in &s.candidates {
-            let b = &self.cell_bounds[cell as usize];
+            let bb = &self.cell_bounds[cell as usize];
             let far: f64 = (0..3)
-                .map(|a| interval_dist2(b.min[a] - c[a], b.max[a] - c[a]).1)
+                .map(|a| interval_dist2(bb.min[a] - c[a], bb.max[a] - c[a]).1)
                 .sum();
             let cv = self.geom.cell_volumes[cell as usize];
             let vol = if far <= r * r {
@@ -932,28 +1335,36 @@ impl VoidageMesh {
             } else {
                 let mut unit = 0.0;
                 for &f in tets.cell_faces(cell) {
-                    let flux = match s.faces.get(f) {
+                    let term = match s.faces.get(f) {
                         Some(x) => x,
                         None => {
-                            let x = self.face_flux_unit(f as usize, c, inv_r);
+                            let x = if caps {
+                                self.face_cap_unit(f as usize, c, r, &mut s.polygon)?
+                            } else {
+                                self.face_flux_unit(f as usize, c, inv_r)
+                            };
                             s.faces.insert(f, x);
                             x
                         }
                     };
                     unit += if self.owner[f as usize] == cell {
-                        flux
+                        term
                     } else {
-                        -flux
+                        -term
                     };
                 }
-                (unit * r3).clamp(0.0, cv.min(v))
+                if caps {
+                    self.cap_cell_volume(cell, c0 == Some(cell), unit * r3, b)
+                } else {
+                    (unit * r3).clamp(0.0, cv.min(v))
+                }
             };
             if vol > 0.0 {
                 out.push((cell, vol));
                 sum += vol;
             }
         }
-        v - sum
+        Some(v - sum)
     }
 
     fn general_cube(
@@ -976,8 +1387,8 @@ impl VoidageMesh {
         let q = Query { lo, hi, ball: None };
         self.candidates(&q, cell, s);
         let cube = 8.0 * r * r * r;
-        let tets = self.locator.tets();
         s.fractions.clear();
+        s.faces.clear();
         let mut total = 0.0;
         for &cell in &s.candidates {
             let b = &self.cell_bounds[cell as usize];
@@ -985,10 +1396,24 @@ impl VoidageMesh {
             let vol = if (0..3).all(|a| b.min[a] >= lo[a] && b.max[a] <= hi[a]) {
                 cv
             } else {
-                tets.cell_tets(cell)
-                    .map(|t| box_tet_volume(lo, hi, &t.points, &mut s.clip))
-                    .sum::<f64>()
-                    .clamp(0.0, cv)
+                let mut sum = 0.0;
+                for &f in self.locator.tets().cell_faces(cell) {
+                    let flux = match s.faces.get(f) {
+                        Some(x) => x,
+                        None => {
+                            let x =
+                                self.face_cube_flux(f as usize, c, r, &mut s.polygon, &mut s.clip);
+                            s.faces.insert(f, x);
+                            x
+                        }
+                    };
+                    sum += if self.owner[f as usize] == cell {
+                        flux
+                    } else {
+                        -flux
+                    };
+                }
+                sum.clamp(0.0, cv)
             };
             let phi = (vol / cube).min(1.0);
             s.fractions.push(phi);

@@ -11,7 +11,8 @@
 //! * [`divided_offsets`]: CFDEM's 29 "divided" marker points ([`divided`]);
 //! * [`trilinear_weights`], [`cfdem_lower_corner`]: CFDEM's trilinear weights over the 8 cell
 //!   centres around a particle and its choice of their lower corner ([`trilinear`]);
-//! * [`box_tet_volume`]: exact axis-aligned box ∩ tetrahedron by clipping ([`clip`]).
+//! * [`box_polygon_flux`], [`box_tet_volume`]: exact axis-aligned box ∩ polyhedron /
+//!   tetrahedron from face terms ([`clip`]).
 //!
 //! # Models on a mesh
 //! [`VoidageMesh`] prepares an OpenFOAM [`foam::PolyMesh`] (geometry, [`mesh::Locator`],
@@ -51,7 +52,7 @@ pub mod sphere_poly;
 pub mod trilinear;
 mod vec3;
 
-pub use clip::box_tet_volume;
+pub use clip::{box_polygon_flux, box_tet_volume, ClipScratch};
 pub use engine::{
     voidage_field, CellShares, Deposit, MeshOptions, ParticleSet, Voidage, VoidageMesh,
 };

@@ -41,6 +41,22 @@
 //! Biomed. Eng. 30 (1983) 125–126); a tetrahedron inside the ball gives its volume; one whose
 //! bounding box misses the ball gives 0.
 //!
+//! # Cap form
+//! The solid angles of a closed cell's faces sum to 4π·w, w = 1 when the centre lies inside the
+//! cell and 0 outside, so
+//!
+//! vol(B ∩ P) = w·vol(B) + Σ_F g(F),  g(F) = flux(F) − R³Ω(F)/3 = d/3·area(F ∩ D) − R³/3·Ω(F ∩ D),
+//!
+//! in which a face that misses the ball (F ∩ D = ∅) has no term at all, where the flux form has
+//! its solid angle. Over the fan about p₀, F ∩ D is the parts of the fan triangles inside the
+//! disk: for each edge the section inside the disk (a flat triangle: area ½|p|Δτ, solid angle
+//! sign(d)Δφ − Δψ) and circular sectors (area ½ρ²Δφ, solid angle (sign(d) − d/R)Δφ); the sectors'
+//! angles sum to 2π·(winding number of p₀ in F) minus the sections' Δφ, so only edges crossing
+//! the disk cost trigonometry. The winding number comes from crossings of a ray, without angles.
+//! The form is exact, but w must be known: the caller takes it from point location, which is
+//! why a centre within rounding of a face (where w is not certain from the face) uses the flux
+//! form instead. Faces shared by two cells keep their term odd under reversal.
+//!
 //! Accuracy: absolute errors of a few ulps of R³; computed on the unit ball (coordinates
 //! relative to c divided by R), so any scale works.
 
@@ -58,63 +74,184 @@ fn solid_angle(v: &[V3; 3], l: [f64; 3], det: f64) -> f64 {
     2.0 * det.atan2(den)
 }
 
+/// An edge a → b of a face seen from the foot point p₀ of the centre on the face plane (unit
+/// ball, module docs): the sign of p (+1 when the fan triangle (p₀, a, b) turns positively about
+/// the face normal), |p| the distance from p₀ to the edge's line, and the parameters τ of a and
+/// b along the line (τ = 0 at the point nearest p₀).
+#[derive(Clone, Copy, Debug)]
+struct EdgeFrame {
+    s: f64,
+    ap: f64,
+    ta: f64,
+    tb: f64,
+}
+
+impl EdgeFrame {
+    /// The frame of a → b on the plane of unit normal `nh`; `None` for a zero-length edge. An
+    /// edge whose line passes through p₀ has `s` = 0 (its fan triangle is flat).
+    #[inline]
+    fn new(a: V3, b: V3, nh: V3) -> Option<EdgeFrame> {
+        let e = b - a;
+        let le = e.norm();
+        if !(le > 0.0) {
+            return None;
+        }
+        let t = V3::new(e[0] / le, e[1] / le, e[2] / le);
+        let p = a.dot(&t.cross(&nh));
+        Some(EdgeFrame {
+            s: if p > 0.0 {
+                1.0
+            } else if p < 0.0 {
+                -1.0
+            } else {
+                0.0
+            },
+            ap: p.abs(),
+            ta: a.dot(&t),
+            tb: b.dot(&t),
+        })
+    }
+
+    /// Distance from the centre to the point at τ = x, for a plane at signed distance `d`.
+    #[inline]
+    fn dist(&self, d: f64, x: f64) -> f64 {
+        (d * d + self.ap * self.ap + x * x).sqrt()
+    }
+
+    /// (Δφ, Δψ) over x1..x2 (x1 < x2), r1, r2 the distances from the centre to the points at
+    /// x1, x2: the angle at p₀ and the solid-angle primitive ψ(τ) = atan2(dτ, |p|·r(τ)) (module
+    /// docs), each one atan2 of an angle difference.
+    #[inline]
+    fn angles(&self, d: f64, x1: f64, x2: f64, r1: f64, r2: f64) -> (f64, f64) {
+        let ap = self.ap;
+        let dphi = (ap * (x2 - x1)).atan2(ap * ap + x1 * x2);
+        let (y1, w1) = (d * x1, ap * r1);
+        let (y2, w2) = (d * x2, ap * r2);
+        let dpsi = (y2 * w1 - y1 * w2).atan2(w1 * w2 + y1 * y2);
+        (dphi, dpsi)
+    }
+}
+
 /// The edge (a → b) terms of a face's flux on the unit ball (module docs): (area of the fan
 /// triangle (p₀, a, b) ∩ disk, solid angle of its part beyond the disk), signed; `nh` the face's
 /// unit normal, `d` the signed distance of the plane, `rho2` = 1 − d² > 0.
 #[inline]
 fn edge_terms(a: V3, b: V3, nh: V3, d: f64, rho2: f64) -> (f64, f64) {
-    let e = b - a;
-    let le = e.norm();
-    if !(le > 0.0) {
+    let Some(e) = EdgeFrame::new(a, b, nh).filter(|e| e.s != 0.0) else {
         return (0.0, 0.0);
-    }
-    let t = V3::new(e[0] / le, e[1] / le, e[2] / le);
-    let p = a.dot(&t.cross(&nh));
-    if p == 0.0 {
-        return (0.0, 0.0);
-    }
-    let ap = p.abs();
-    let (ta, tb) = (a.dot(&t), b.dot(&t));
+    };
+    let EdgeFrame { s, ap, ta, tb } = e;
     let mut ae = 0.0;
     let mut oe = 0.0;
-    // Arc part over [x1, x2] (x1 < x2), r1, r2 the distances from the centre to the points
-    // at x1, x2: (area, solid angle), with Δφ and Δψ each one atan2 of an angle difference.
-    let arc = |x1: f64, x2: f64, r1: f64, r2: f64| -> (f64, f64) {
-        if !(x2 > x1) {
-            return (0.0, 0.0);
+    // Arc part over [x1, x2]: (area, solid angle).
+    let mut arc = |ae: &mut f64, x1: f64, x2: f64, r1: f64, r2: f64| {
+        if x2 > x1 {
+            let (dphi, dpsi) = e.angles(d, x1, x2, r1, r2);
+            *ae += 0.5 * rho2 * dphi;
+            oe += d * dphi - dpsi;
         }
-        let dphi = (ap * (x2 - x1)).atan2(ap * ap + x1 * x2);
-        let (y1, w1) = (d * x1, ap * r1);
-        let (y2, w2) = (d * x2, ap * r2);
-        let dpsi = (y2 * w1 - y1 * w2).atan2(w1 * w2 + y1 * y2);
-        (0.5 * rho2 * dphi, d * dphi - dpsi)
     };
-    let mut add = |(a, o): (f64, f64)| {
-        ae += a;
-        oe += o;
-    };
-    let dist = |x: f64| (d * d + ap * ap + x * x).sqrt();
     if ap * ap < rho2 {
         let ts = (rho2 - ap * ap).sqrt();
         let (l1, l2) = (ta.max(-ts), tb.min(ts));
         if l2 > l1 {
-            add((0.5 * ap * (l2 - l1), 0.0));
+            ae += 0.5 * ap * (l2 - l1);
         }
         if ta < -ts {
             let x2 = tb.min(-ts);
-            let r2 = if x2 == -ts { 1.0 } else { dist(x2) };
-            add(arc(ta, x2, dist(ta), r2));
+            let r2 = if x2 == -ts { 1.0 } else { e.dist(d, x2) };
+            arc(&mut ae, ta, x2, e.dist(d, ta), r2);
         }
         if tb > ts {
             let x1 = ta.max(ts);
-            let r1 = if x1 == ts { 1.0 } else { dist(x1) };
-            add(arc(x1, tb, r1, dist(tb)));
+            let r1 = if x1 == ts { 1.0 } else { e.dist(d, x1) };
+            arc(&mut ae, x1, tb, r1, e.dist(d, tb));
         }
     } else {
-        add(arc(ta, tb, dist(ta), dist(tb)));
+        arc(&mut ae, ta, tb, e.dist(d, ta), e.dist(d, tb));
     }
-    let s = if p > 0.0 { 1.0 } else { -1.0 };
     (s * ae, s * oe)
+}
+
+/// The cap form of a planar polygon's term on the unit ball: g = flux − Ω/3 = (d·area(F ∩ D) −
+/// Ω(F ∩ D))/3, Ω(F) the polygon's signed solid angle seen from the centre and F ∩ D its part
+/// inside the disk the ball cuts from its plane (module docs, "Cap form"). `v` are the vertices
+/// (counter-clockwise about the outward unit normal `nh`), `d` the signed distance of the plane
+/// (n̂·v for any vertex v). Zero unless the polygon meets the ball, and then only the edges
+/// crossing the disk cost trigonometry.
+///
+/// `None` when the centre is within `tie` of the plane while the polygon meets the ball, or the
+/// foot point p₀ is within `tie` of an edge: the caller must then use the flux form.
+pub(crate) fn polygon_cap_unit(v: &[V3], nh: V3, d: f64, tie: f64) -> Option<f64> {
+    let n = v.len();
+    if n < 3 {
+        return Some(0.0);
+    }
+    if !(d.abs() < 1.0) {
+        return Some(0.0);
+    }
+    let rho2 = 1.0 - d * d;
+    let p0 = nh * d;
+    // The winding number of p₀ counts the crossings of the in-plane ray from p₀ along w × n̂,
+    // w = n̂ × (the axis least aligned with n̂).
+    let axis = (0..3).min_by(|&i, &j| nh[i].abs().total_cmp(&nh[j].abs()));
+    let w = nh.cross(&V3::ith(axis.unwrap_or(0), 1.0));
+    let (mut area_in, mut phi_in, mut psi_in) = (0.0, 0.0, 0.0);
+    let mut winding = 0i32;
+    let mut crossed = false;
+    for k in 0..n {
+        let a = v[k];
+        let b = v[if k + 1 == n { 0 } else { k + 1 }];
+        // Winding number of p₀ (crossings of the ray from p₀ along u).
+        let (ya, yb) = ((a - p0).dot(&w), (b - p0).dot(&w));
+        if (ya <= 0.0) != (yb <= 0.0) {
+            let left = (a - p0).cross(&(b - p0)).dot(&nh);
+            if ya <= 0.0 && left > 0.0 {
+                winding += 1;
+            } else if yb <= 0.0 && left < 0.0 {
+                winding -= 1;
+            }
+        }
+        // An edge beyond a face of the ball's box (with the tie margin) misses the disk.
+        let reach = 1.0 + 2.0 * tie;
+        if (0..3).any(|i| (a[i] > reach && b[i] > reach) || (a[i] < -reach && b[i] < -reach)) {
+            continue;
+        }
+        let Some(e) = EdgeFrame::new(a, b, nh) else {
+            continue;
+        };
+        if e.ap < tie && e.ta < tie && e.tb > -tie {
+            // p₀ on or next to the edge: its winding number is not certain.
+            return None;
+        }
+        if e.ap * e.ap >= rho2 {
+            continue;
+        }
+        let ts = (rho2 - e.ap * e.ap).sqrt();
+        let (l1, l2) = (e.ta.max(-ts), e.tb.min(ts));
+        if l2 > l1 {
+            let r1 = if l1 == -ts { 1.0 } else { e.dist(d, l1) };
+            let r2 = if l2 == ts { 1.0 } else { e.dist(d, l2) };
+            let (dphi, dpsi) = e.angles(d, l1, l2, r1, r2);
+            area_in += e.s * 0.5 * e.ap * (l2 - l1);
+            phi_in += e.s * dphi;
+            psi_in += e.s * dpsi;
+            crossed = true;
+        }
+    }
+    if winding == 0 && !crossed {
+        // No edge crosses the disk and p₀ is outside: the polygon misses the ball.
+        return Some(0.0);
+    }
+    if d.abs() < tie && winding != 0 {
+        // The centre next to the polygon: which side it is on is not certain.
+        return None;
+    }
+    let sd = d.signum();
+    let phi_arc = 2.0 * std::f64::consts::PI * winding as f64 - phi_in;
+    let area = area_in + 0.5 * rho2 * phi_arc;
+    let omega = sd * phi_in - psi_in + (sd - d) * phi_arc;
+    Some((d * area - omega) / 3.0)
 }
 
 /// Flux term of one oriented triangle on the unit ball centred at the origin (module docs):
@@ -250,4 +387,81 @@ pub fn sphere_tet_volume(centre: impl Into<V3>, r: f64, tet: &[V3; 4]) -> f64 {
 pub fn sphere_polyhedron_volume(centre: impl Into<V3>, r: f64, faces: &[[V3; 3]]) -> f64 {
     let centre = centre.into();
     faces.iter().map(|t| triangle_flux(centre, r, t)).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The signed solid angle of a planar polygon from the origin, by its fan.
+    fn polygon_solid_angle(v: &[V3]) -> f64 {
+        (1..v.len() - 1)
+            .map(|i| {
+                let t = [v[0], v[i], v[i + 1]];
+                let l = t.map(|p| p.norm());
+                solid_angle(&t, l, t[0].dot(&t[1].cross(&t[2])))
+            })
+            .sum()
+    }
+
+    /// SplitMix64 in [−1, 1).
+    fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        2.0 * (((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    }
+
+    /// The cap form plus a third of the solid angle is the flux form, for convex polygons of 3
+    /// to 7 vertices in random planes at every distance from the unit ball (crossing it,
+    /// inside it, beyond it, holding the disk, holding the foot point or not), both
+    /// orientations.
+    #[test]
+    fn cap_form_plus_solid_angle_is_the_flux_form() {
+        let mut rng = 5u64;
+        let mut checked = [0usize; 3];
+        for k in 0..20_000 {
+            let nh = V3::from_fn(|_, _| uniform(&mut rng)).normalize();
+            let d = 1.2 * uniform(&mut rng);
+            let u = nh.cross(&V3::new(0.3, -0.7, 0.2)).normalize();
+            let w = nh.cross(&u);
+            let centre = nh * d + (u * uniform(&mut rng) + w * uniform(&mut rng)) * 1.5;
+            let size = 0.05 + 2.0 * (0.5 + 0.5 * uniform(&mut rng));
+            let n = 3 + k % 5;
+            let turn = std::f64::consts::TAU / n as f64;
+            let mut v: Vec<V3> = (0..n)
+                .map(|i| {
+                    let a = turn * (i as f64 + 0.4 * uniform(&mut rng));
+                    centre + (u * a.cos() + w * a.sin()) * size
+                })
+                .collect();
+            let mut nrm = nh;
+            if k % 2 == 1 {
+                v.reverse();
+                nrm = -nh;
+            }
+            let area: V3 = (1..n - 1)
+                .map(|i| 0.5 * (v[i] - v[0]).cross(&(v[i + 1] - v[0])))
+                .sum();
+            let flux = polygon_flux_unit(&v, area);
+            let d_plane = v.iter().map(|p| p.dot(&nrm)).sum::<f64>() / n as f64;
+            let Some(cap) = polygon_cap_unit(&v, nrm, d_plane, 1e-9) else {
+                continue;
+            };
+            let via_cap = cap + polygon_solid_angle(&v) / 3.0;
+            assert!(
+                (via_cap - flux).abs() < 1e-12,
+                "case {k}: {via_cap} vs {flux} (cap {cap}, d {d}) {v:?} {nrm:?}"
+            );
+            checked[if cap == 0.0 {
+                0
+            } else if d.abs() < 1.0 {
+                1
+            } else {
+                2
+            }] += 1;
+        }
+        assert!(checked[0] > 1000 && checked[1] > 1000, "{checked:?}");
+    }
 }

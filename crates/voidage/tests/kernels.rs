@@ -666,7 +666,7 @@ fn cube_axis_fraction_cases() {
 fn box_tet_clipping_matches_box_overlaps() {
     // The 6 tets of box A clipped by box B sum to |A ∩ B| = Π per-axis overlaps.
     let mut rng = Rng::new(31);
-    let mut stack = vec![];
+    let mut stack = ClipScratch::default();
     for _ in 0..500 {
         let (_, _, alo, ahi) =
             random_case(&mut rng, [0.0, 0.0], [1.0, 1.0], [-1.0, 1.0], [0.1, 1.5]);

@@ -105,13 +105,14 @@ fn shares_into_a_reused_set_equal_fresh_shares() {
     }
 }
 
-#[test]
-fn many_batches_sum_in_particle_order_with_any_thread_count() {
-    // 150 000 particles: several batches of the engine's pipeline.
-    let (pos, rad) = cloud(9, 150_000);
+/// Shares of many particles (several batches of the engine's pipeline) against their serial sum
+/// in particle order and against 1 and 3 threads, on `vm` with `methods`.
+fn check_batches(vm: &VoidageMesh, methods: &[Method], n: usize, r: std::ops::Range<f64>) {
+    let (pos, _) = cloud(9, n);
+    let mut rng = Rng::new(10);
+    let rad: Vec<f64> = (0..n).map(|_| rng.uniform(r.start, r.end)).collect();
     let set = ParticleSet::new(&pos, &rad);
-    let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [10, 10, 10])).unwrap();
-    for m in [Method::Centre, Method::Divided] {
+    for &m in methods {
         let (sh, dep) = vm.shares(m, &set).unwrap();
         let mut solid = vec![0.0; vm.n_cells()];
         let mut volume = 0.0;
@@ -135,6 +136,31 @@ fn many_batches_sum_in_particle_order_with_any_thread_count() {
             assert_eq!((&again.0, &again.1), (&sh, &dep), "{m}, {threads} threads");
         }
     }
+}
+
+#[test]
+fn many_batches_sum_in_particle_order_with_any_thread_count() {
+    // 150 000 particles: several batches of the engine's pipeline.
+    let vm = VoidageMesh::new(&uniform_box([0.0; 3], [1.0; 3], [10, 10, 10])).unwrap();
+    check_batches(&vm, &[Method::Centre, Method::Divided], 150_000, 0.05..0.2);
+}
+
+/// On a general mesh the particles of a batch are computed in the order of their cells; the
+/// shares must still come out, and add up, in particle order.
+#[test]
+fn many_batches_on_a_general_mesh_sum_in_particle_order() {
+    let rot = map_points(
+        &uniform_box([0.0; 3], [1.0; 3], [8, 8, 8]),
+        affine(rotation([1.0, 2.0, 3.0], 0.4), [0.0; 3]),
+    );
+    let vm = VoidageMesh::new(&rot).unwrap();
+    assert!(vm.axis_grid().is_none());
+    check_batches(
+        &vm,
+        &[Method::Divided, Method::Cube, Method::Exact],
+        140_000,
+        0.01..0.05,
+    );
 }
 
 #[test]

@@ -264,3 +264,54 @@ pub fn tet_sum(vm: &voidage::VoidageMesh, cell: usize, c: V3, r: f64) -> f64 {
         .map(|t| voidage::sphere_tet_volume(c, r, &t.points))
         .sum()
 }
+
+/// Volume of the box `lo`..`hi` ∩ the tet `t` by clipping the tet with the six half-spaces
+/// (a kept part is a tet or a prism split into three tets): an independent reference for the
+/// face-term kernel of `voidage::clip`. Signed like the tet's volume.
+pub fn box_tet_by_clipping(lo: V3, hi: V3, t: &[V3; 4]) -> f64 {
+    let vol = |t: &[V3; 4]| (t[1] - t[0]).dot(&(t[2] - t[0]).cross(&(t[3] - t[0]))) / 6.0;
+    let sign = vol(t).signum();
+    let mut pieces = vec![*t];
+    for a in 0..3 {
+        for (value, s) in [(lo[a], -1.0), (hi[a], 1.0)] {
+            let mut next = Vec::new();
+            for t in &pieces {
+                let d = t.map(|p| s * (p[a] - value));
+                let keep: Vec<usize> = (0..4).filter(|&i| d[i] <= 0.0).collect();
+                let drop: Vec<usize> = (0..4).filter(|&i| d[i] > 0.0).collect();
+                let cut = |i: usize, j: usize| t[i] + (t[j] - t[i]) * (d[i] / (d[i] - d[j]));
+                let prism = |p: [V3; 6], next: &mut Vec<[V3; 4]>| {
+                    next.push([p[0], p[1], p[2], p[3]]);
+                    next.push([p[1], p[2], p[3], p[4]]);
+                    next.push([p[2], p[3], p[4], p[5]]);
+                };
+                match keep.len() {
+                    4 => next.push(*t),
+                    0 => {}
+                    1 => {
+                        let i = keep[0];
+                        next.push([t[i], cut(i, drop[0]), cut(i, drop[1]), cut(i, drop[2])]);
+                    }
+                    3 => {
+                        let l = drop[0];
+                        let [i, j, k] = [keep[0], keep[1], keep[2]];
+                        prism(
+                            [t[i], t[j], t[k], cut(i, l), cut(j, l), cut(k, l)],
+                            &mut next,
+                        );
+                    }
+                    _ => {
+                        let [i, j] = [keep[0], keep[1]];
+                        let [k, l] = [drop[0], drop[1]];
+                        prism(
+                            [t[i], cut(i, k), cut(i, l), t[j], cut(j, k), cut(j, l)],
+                            &mut next,
+                        );
+                    }
+                }
+            }
+            pieces = next;
+        }
+    }
+    sign * pieces.iter().map(|t| vol(t).abs()).sum::<f64>()
+}
