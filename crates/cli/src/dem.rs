@@ -133,12 +133,7 @@ impl Output {
             old.flush()?;
         }
         if let Some(p) = path {
-            let f = std::fs::OpenOptions::new()
-                .create(true)
-                .write(true)
-                .append(append)
-                .truncate(!append)
-                .open(p)
+            let f = dem::deck::open_output(p, append)
                 .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", p.display())))?;
             self.log = Some(std::io::BufWriter::new(f));
         }

@@ -206,12 +206,7 @@ impl DemLog {
         if let Some(mut f) = self.file.take() {
             let _ = f.flush();
         }
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .write(true)
-            .append(append)
-            .truncate(!append)
-            .open(path);
+        let file = dem::deck::open_output(path, append);
         match file {
             Ok(f) => self.file = Some(BufWriter::new(f)),
             Err(e) => {

@@ -9,3 +9,14 @@ pub mod print;
 pub mod restart;
 pub mod thermo;
 pub mod values;
+
+/// Opens an output file as LIGGGHTS's `log FILE [append yes]` and `fix print … file|append F`
+/// do: truncated, or appended to (created either way).
+pub fn open_output(path: &std::path::Path, append: bool) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new()
+        .create(true)
+        .write(true)
+        .append(append)
+        .truncate(!append)
+        .open(path)
+}

@@ -67,13 +67,7 @@ impl FixPrint {
                 if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
                     std::fs::create_dir_all(dir).map_err(err)?;
                 }
-                let f = std::fs::OpenOptions::new()
-                    .create(true)
-                    .write(true)
-                    .append(append)
-                    .truncate(!append)
-                    .open(&path)
-                    .map_err(err)?;
+                let f = crate::deck::open_output(&path, append).map_err(err)?;
                 let mut f = BufWriter::new(f);
                 if !append {
                     writeln!(f, "{title}")
