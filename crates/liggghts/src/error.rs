@@ -68,6 +68,9 @@ pub enum LiggghtsError {
         /// Actual length.
         found: usize,
     },
+    /// LIGGGHTS lacks what the coupling reads or writes (per-atom arrays, coupling fixes).
+    #[error("{0}")]
+    Coupling(String),
     /// A bad argument of the API (step counts, workdir, communicator).
     #[error("{0}")]
     Parameter(String),

@@ -9,12 +9,15 @@
 //! can be read before the first step).
 //!
 //! Each exchange: [`ParticleSide::advance`] issues `run N` the first time and `run N pre no
-//! post no` after; the state is then pulled (`id`, `x`, `v`, `radius`, `density`, each an
-//! allreduce over LIGGGHTS's ranks into `[maxtag][len]` buffers, maxtag re-queried after every
-//! run) and ordered by tag, absent tags (deleted particles) left out.
-//! [`ParticleSide::set_forces`] maps (F_ext, β, u_f) onto `dragforce`, `Ksl`, `uf`
-//! ([`crate::forces`]) and pushes them with `data_of_to_liggghts`, which SUMS the buffers of
-//! all ranks: each rank fills only its share ([`Share`]) and leaves zeros elsewhere.
+//! post no` after; the state is then read from the atoms this rank owns (LIGGGHTS's `nlocal`
+//! atoms: `id` (the tags), `x`, `v`, `radius`, `density` through `lammps_extract_atom`), ordered by tag.
+//! No rank ever holds another rank's particles: on N ranks each coupler rank sees exactly the
+//! particles its LIGGGHTS rank owns, and a particle is owned by one rank only (ghost copies are
+//! not read), so nothing is deposited twice. [`ParticleSide::set_forces`] maps (F_ext, β, u_f)
+//! onto the per-atom arrays `dragforce`, `Ksl`, `uf` of the coupling fix's `property/atom`
+//! fixes ([`crate::forces`]), written in place for the owned atoms (`lammps_extract_fix`), so
+//! nothing is communicated. Atoms do not move between the read and the write (both happen
+//! between two runs), so the local indices stay valid; they are read again after every run.
 //!
 //! # Process-wide effects
 //! LIGGGHTS resolves the deck's relative paths (read_data, dumps) against the process's
@@ -41,47 +44,21 @@ use crate::forces::{force_fields, ForceFields, ForceMode};
 use crate::particles::Particles;
 use crate::program::{absolute, log_tail, TAIL_LINES};
 
-/// Which particles (indices into [`ParticleSide::state`]) a rank's coupler fills when forces
-/// are pushed; the others are sent as zeros (LIGGGHTS sums over ranks).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Share {
-    /// Contiguous blocks: rank r of s fills indices `r·n/s .. (r+1)·n/s` (all on one rank).
-    Blocks,
-    /// Only rank 0 fills, with all particles (the others' forces are ignored).
-    Rank0,
-}
-
-impl Share {
-    /// The index range rank `rank` of `size` fills among `n` particles.
-    pub fn range(self, n: usize, rank: usize, size: usize) -> std::ops::Range<usize> {
-        match self {
-            Share::Blocks => (rank * n / size)..((rank + 1) * n / size),
-            Share::Rank0 if rank == 0 => 0..n,
-            Share::Rank0 => 0..0,
-        }
-    }
-}
-
 /// LIGGGHTS in this process (module docs).
 pub struct LiggghtsDem {
     lmp: *mut c_void,
     comm: SimpleCommunicator,
     workdir: PathBuf,
     mode: ForceMode,
-    share: Share,
     skipped: Vec<SkippedRun>,
     ran: bool,
     dt: f64,
     step: i64,
     maxtag: usize,
     particles: Particles,
-    /// State index + 1 per tag − 1 (0: absent).
-    slot: Vec<u32>,
+    /// LIGGGHTS's local index of each state entry (state order = tag order).
+    local: Vec<usize>,
     fields: ForceFields,
-    ibuf: Vec<i32>,
-    buf3: Vec<f64>,
-    buf1: Vec<f64>,
-    buf1b: Vec<f64>,
 }
 
 static EXIT_HOOK: Once = Once::new();
@@ -200,19 +177,14 @@ impl LiggghtsDem {
                 comm,
                 workdir,
                 mode,
-                share: Share::Blocks,
                 skipped: d.skipped_runs.clone(),
                 ran: false,
                 dt: 0.0,
                 step: 0,
                 maxtag: 0,
                 particles: Particles::default(),
-                slot: Vec::new(),
+                local: Vec::new(),
                 fields: ForceFields::default(),
-                ibuf: Vec::new(),
-                buf3: Vec::new(),
-                buf1: Vec::new(),
-                buf1b: Vec::new(),
             }
         };
         side.refresh()?;
@@ -229,21 +201,12 @@ impl LiggghtsDem {
         self.mode
     }
 
-    /// Sets which particles this rank fills when forces are pushed (default [`Share::Blocks`]).
-    pub fn set_share(&mut self, share: Share) {
-        self.share = share;
+    /// This rank and the number of LIGGGHTS ranks.
+    pub fn rank(&self) -> (usize, usize) {
+        (self.comm.rank() as usize, self.comm.size() as usize)
     }
 
-    /// The particles this rank fills (indices into the state).
-    pub fn share_range(&self) -> std::ops::Range<usize> {
-        self.share.range(
-            self.particles.len(),
-            self.comm.rank() as usize,
-            self.comm.size() as usize,
-        )
-    }
-
-    /// The largest tag now.
+    /// The largest tag now, over all ranks.
     pub fn max_tag(&self) -> usize {
         self.maxtag
     }
@@ -261,112 +224,121 @@ impl LiggghtsDem {
         Ok(())
     }
 
-    /// Pulls `name` (LIGGGHTS → coupler) into `buf` (`maxtag × len` values).
-    fn pull_double(&mut self, name: &str, kind: &str, len: usize, which: u8) {
-        let buf = match which {
-            3 => &mut self.buf3,
-            1 => &mut self.buf1,
-            _ => &mut self.buf1b,
-        };
-        buf.clear();
-        buf.resize(self.maxtag.max(1) * len, 0.0);
-        let mut rows: [*mut f64; 1] = [buf.as_mut_ptr()];
-        let mut data = rows.as_mut_ptr() as *mut c_void;
-        let (n, k, t) = (cstr(name), cstr(kind), cstr("double"));
-        unsafe {
-            ffi::data_liggghts_to_of(n.as_ptr(), k.as_ptr(), self.lmp, &mut data, t.as_ptr())
-        };
+    /// A per-atom array of LIGGGHTS (`lammps_extract_atom`); null if LIGGGHTS has none.
+    fn atom_array(&self, name: &str) -> *mut c_void {
+        let n = cstr(name);
+        unsafe { ffi::lammps_extract_atom(self.lmp, n.as_ptr()) }
     }
 
-    /// Reads dt, the step, maxtag and the particles again (every rank gets all of them);
+    /// The per-atom array of a `property/atom` fix (`lammps_extract_fix`, per-atom style;
+    /// `vector` for a per-atom vector, else a scalar): an error naming the fix if absent.
+    fn fix_array(&self, id: &str, vector: bool) -> Result<*mut c_void, LiggghtsError> {
+        let n = cstr(id);
+        let ptr = unsafe {
+            ffi::lammps_extract_fix(self.lmp, n.as_ptr(), 1, if vector { 2 } else { 1 }, 0, 0)
+        };
+        if ptr.is_null() {
+            return Err(LiggghtsError::Coupling(format!(
+                "LIGGGHTS has no per-atom fix `{id}` (the coupling fix `couple/cfd/force` creates \
+                 `dragforce`, and with `/implicit` `Ksl` and `uf`)"
+            )));
+        }
+        Ok(ptr)
+    }
+
+    /// Reads dt, the step, maxtag and this rank's own particles, ordered by tag;
     /// [`ParticleSide::advance`] does it after each run.
     pub fn refresh(&mut self) -> Result<(), LiggghtsError> {
         let _in = InLiggghts::enter(&self.workdir)?;
+        let nlocal;
         unsafe {
             self.dt = *(ffi::lammps_extract_global(self.lmp, cstr("dt").as_ptr()) as *const f64);
             self.step =
                 *(ffi::lammps_extract_global(self.lmp, cstr("ntimestep").as_ptr()) as *const i64);
             self.maxtag = ffi::liggghts_get_maxtag(self.lmp).max(0) as usize;
-        }
-        let m = self.maxtag;
-        self.ibuf.clear();
-        self.ibuf.resize(m.max(1), 0);
-        {
-            let mut rows: [*mut i32; 1] = [self.ibuf.as_mut_ptr()];
-            let mut data = rows.as_mut_ptr() as *mut c_void;
-            let (n, k, t) = (cstr("id"), cstr("scalar-atom"), cstr("int"));
-            unsafe {
-                ffi::data_liggghts_to_of(n.as_ptr(), k.as_ptr(), self.lmp, &mut data, t.as_ptr())
-            };
+            nlocal = *(ffi::lammps_extract_global(self.lmp, cstr("nlocal").as_ptr()) as *const i32)
+                .max(&0) as usize;
         }
         self.particles.clear();
-        self.slot.clear();
-        self.slot.resize(m, 0);
-        if m == 0 {
+        self.local.clear();
+        if nlocal == 0 {
             return Ok(());
         }
-        self.pull_double("radius", "scalar-atom", 1, 1);
-        self.pull_double("density", "scalar-atom", 1, 2);
-        // positions first into buf3, copied out before the velocities overwrite it
-        self.pull_double("x", "vector-atom", 3, 3);
-        for t in 0..m {
-            if self.ibuf[t] as usize == t + 1 {
-                let x = V3::new(self.buf3[3 * t], self.buf3[3 * t + 1], self.buf3[3 * t + 2]);
-                self.slot[t] = self.particles.len() as u32 + 1;
-                self.particles
-                    .push(t as u64 + 1, x, V3::zeros(), self.buf1[t], self.buf1b[t]);
-            }
+        let tag = self.atom_array("id") as *const i32;
+        let x = self.atom_array("x") as *const *const f64;
+        let v = self.atom_array("v") as *const *const f64;
+        let radius = self.atom_array("radius") as *const f64;
+        let density = self.atom_array("density") as *const f64;
+        if [
+            tag as *const c_void,
+            x as _,
+            v as _,
+            radius as _,
+            density as _,
+        ]
+        .iter()
+        .any(|p| p.is_null())
+        {
+            return Err(LiggghtsError::Coupling(
+                "LIGGGHTS's atoms lack tag, x, v, radius or density (the coupling needs \
+                 `atom_style granular` with `atom_modify map array`)"
+                    .into(),
+            ));
         }
-        self.pull_double("v", "vector-atom", 3, 3);
-        for t in 0..m {
-            if let Some(s) = self.slot[t].checked_sub(1) {
-                self.particles.velocity[s as usize] =
-                    V3::new(self.buf3[3 * t], self.buf3[3 * t + 1], self.buf3[3 * t + 2]);
+        // SAFETY: LIGGGHTS owns `nlocal` atoms; each array has at least that many rows (x and v
+        // rows of 3 doubles) until the next command changes the atoms.
+        unsafe {
+            self.local.extend(0..nlocal);
+            self.local.sort_unstable_by_key(|&i| *tag.add(i));
+            for &i in &self.local {
+                let row = |a: *const *const f64| {
+                    let r = *a.add(i);
+                    V3::new(*r, *r.add(1), *r.add(2))
+                };
+                self.particles.push(
+                    *tag.add(i) as u64,
+                    row(x),
+                    row(v),
+                    *radius.add(i),
+                    *density.add(i),
+                );
             }
         }
         Ok(())
     }
 
-    /// Pushes `name` (coupler → LIGGGHTS) from `buf`.
-    fn push_double(&self, name: &str, kind: &str, buf: &mut [f64]) {
-        let mut rows: [*mut f64; 1] = [buf.as_mut_ptr()];
-        let (n, k, t) = (cstr(name), cstr(kind), cstr("double"));
-        unsafe {
-            ffi::data_of_to_liggghts(
-                n.as_ptr(),
-                k.as_ptr(),
-                self.lmp,
-                rows.as_mut_ptr() as *mut c_void,
-                t.as_ptr(),
-            )
-        };
-    }
-
+    /// Writes the force fields into LIGGGHTS's per-atom arrays of this rank's atoms.
     fn push_fields(&mut self) -> Result<(), LiggghtsError> {
-        let m = self.maxtag.max(1);
-        let range = self.share_range();
-        let ids = &self.particles.ids;
-        let vec3 = |src: &[V3]| {
-            let mut b = vec![0.0; 3 * m];
-            for s in range.clone() {
-                let t = ids[s] as usize - 1;
-                b[3 * t..3 * t + 3].copy_from_slice(src[s].as_slice());
-            }
-            b
-        };
-        let mut drag = vec3(&self.fields.dragforce);
-        let implicit = (self.mode == ForceMode::Implicit).then(|| {
-            let mut ksl = vec![0.0; m];
-            for s in range.clone() {
-                ksl[ids[s] as usize - 1] = self.fields.ksl[s];
-            }
-            (ksl, vec3(&self.fields.uf))
-        });
         let _in = InLiggghts::enter(&self.workdir)?;
-        self.push_double("dragforce", "vector-atom", &mut drag);
-        if let Some((mut ksl, mut uf)) = implicit {
-            self.push_double("Ksl", "scalar-atom", &mut ksl);
-            self.push_double("uf", "vector-atom", &mut uf);
+        if self.local.is_empty() {
+            return Ok(());
+        }
+        let write_vectors = |arr: *mut c_void, src: &[V3], local: &[usize]| {
+            let rows = arr as *mut *mut f64;
+            // SAFETY: the fix's per-atom array has a 3-vector row for every local atom.
+            unsafe {
+                for (s, &i) in local.iter().enumerate() {
+                    let r = *rows.add(i);
+                    for (k, x) in src[s].iter().enumerate() {
+                        *r.add(k) = *x;
+                    }
+                }
+            }
+        };
+        write_vectors(
+            self.fix_array("dragforce", true)?,
+            &self.fields.dragforce,
+            &self.local,
+        );
+        if self.mode == ForceMode::Implicit {
+            let ksl = self.fix_array("Ksl", false)? as *mut f64;
+            // SAFETY: one double per local atom.
+            unsafe {
+                for (s, &i) in self.local.iter().enumerate() {
+                    *ksl.add(i) = self.fields.ksl[s];
+                }
+            }
+            write_vectors(self.fix_array("uf", true)?, &self.fields.uf, &self.local);
         }
         Ok(())
     }
@@ -425,27 +397,5 @@ impl ParticleSide for LiggghtsDem {
     fn command(&mut self, cmd: &str) -> Result<(), SideError> {
         LiggghtsDem::command(self, cmd)?;
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shares_are_disjoint_and_cover_all() {
-        for n in [0, 1, 7, 100] {
-            for size in 1..5 {
-                let mut covered = vec![0; n];
-                for r in 0..size {
-                    for i in Share::Blocks.range(n, r, size) {
-                        covered[i] += 1;
-                    }
-                }
-                assert!(covered.iter().all(|&c| c == 1), "n {n} size {size}");
-            }
-            assert_eq!(Share::Rank0.range(n, 0, 3), 0..n);
-            assert!(Share::Rank0.range(n, 2, 3).is_empty());
-        }
     }
 }

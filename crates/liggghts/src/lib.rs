@@ -14,9 +14,8 @@
 //!   let s = dem.state();                    // ids (tags, increasing), x, v, radius, density
 //!   dem.set_forces(&f_ext, &beta, &u_f)?;   // → dragforce, Ksl, uf (F = F_ext + β(u_f − v))
 //!   ```
-//!   With several ranks each calls every method together; the state is complete on every rank
-//!   and each rank's forces count only for its [`Share`] of the particles (LIGGGHTS sums what
-//!   the ranks send).
+//!   With several ranks each calls every method together; each rank's state holds only the
+//!   particles its LIGGGHTS rank owns, and its forces go to those particles only.
 //! - **File coupling** (always compiled): [`FileDem`] runs the `liggghts` binary as a child
 //!   process on a rewritten copy of the deck and exchanges through files (LIGGGHTS's
 //!   `couple/cfd … file` handshake). About 10 s per exchange by LIGGGHTS's design; for users
@@ -36,7 +35,8 @@
 //! SI (`units si` decks), ADR 0004. The DEM time is `step × dt` as for the native DEM.
 //!
 //! # Invariants
-//! The state is ordered by tag on every rank and backend; what a side hands to LIGGGHTS never
+//! The state is ordered by tag on every rank and backend; in-process, a rank's state is the
+//! particles its LIGGGHTS rank owns and nothing else; what a side hands to LIGGGHTS never
 //! contains a non-finite value or a negative β (errors name the particle by tag); a LIGGGHTS
 //! child that stops is an error carrying its log's tail, never a hang.
 
@@ -57,6 +57,6 @@ pub use error::LiggghtsError;
 pub use file::{FileDem, FileOptions, Rewritten};
 pub use forces::ForceMode;
 #[cfg(feature = "link")]
-pub use inproc::{LiggghtsDem, Share};
+pub use inproc::LiggghtsDem;
 pub use particles::Particles;
 pub use program::{run_deck, ProgramRun, LIGGGHTS_PROGRAM};

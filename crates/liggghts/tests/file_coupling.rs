@@ -20,7 +20,7 @@ fn two_exchanges_match_the_native_dem() {
     let dir = tempfile::tempdir().unwrap();
     let mut lig = FileDem::open(&deck, dir.path(), &[], FileOptions::new(200)).unwrap();
     assert_eq!(lig.force_mode(), ForceMode::Implicit);
-    assert_eq!(lig.rewritten().line, 25);
+    assert_eq!(lig.rewritten().line, 27);
     let copy = std::fs::read_to_string(&lig.rewritten().copy).unwrap();
     assert!(copy.contains(&format!(
         "couple/cfd couple_every 100 file {}",

@@ -1,12 +1,13 @@
 //! In-process LIGGGHTS on two MPI ranks (feature `link`, full tier): runs
-//! `examples/two_ranks.rs` under `mpirun -np 2` (each rank fills a disjoint share of the
-//! forces; the state is complete on both).
+//! `examples/two_ranks.rs` under `mpirun -np 2`: each rank holds and forces only the particles
+//! its LIGGGHTS rank owns (the three spheres lie at x = −0.02, 0, 0.02 m in a box LIGGGHTS cuts
+//! in two), every tag on exactly one rank.
 #![cfg(feature = "link")]
 
 use std::process::Command;
 
 #[test]
-fn two_ranks_fill_disjoint_shares() {
+fn each_rank_holds_and_forces_only_its_own_particles() {
     if !testkit::tool("liggghts") || !testkit::tool("mpirun") {
         return;
     }
@@ -34,12 +35,16 @@ fn two_ranks_fill_disjoint_shares() {
         "{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(
-        stdout.contains("rank 0 of 2: share 0..1, ids [1, 2, 3]"),
-        "{stdout}"
-    );
-    assert!(
-        stdout.contains("rank 1 of 2: share 1..3, ids [1, 2, 3]"),
-        "{stdout}"
-    );
+    for rank in 0..2 {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("rank {rank} of 2: ids [")))
+            .unwrap_or_else(|| panic!("no line of rank {rank}: {stdout}"));
+        assert!(line.ends_with("owners per tag [1, 1, 1]"), "{line}");
+        // neither rank holds all three particles, and neither is empty
+        assert!(
+            !line.contains("ids [1, 2, 3]") && !line.contains("ids []"),
+            "{line}"
+        );
+    }
 }
