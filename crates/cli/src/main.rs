@@ -40,7 +40,8 @@ enum Command {
     /// dumps, write_data, a progress bar (`foamgrain dem DECK -var NAME VALUE …`).
     Dem(dem::DemArgs),
     /// Run a coupled CFD-DEM case (CFDEM layout: CASE/CFD, CASE/DEM) and check it against
-    /// its references (CASE/validationDict).
+    /// its references (CASE/validationDict). `mpirun -np N foamgrain run CASE --dem liggghts`
+    /// runs LIGGGHTS on N ranks, each coupling its own particles (fluid on rank 0).
     Run(run::RunArgs),
     /// Grid Convergence Index (Celik et al. 2008) of a grid-refinement study from a CSV table.
     Gci(gci::GciArgs),

@@ -29,6 +29,12 @@ pub enum DemBackend {
 }
 
 /// Arguments of `foamgrain run`.
+///
+/// Parallel: `mpirun -np N foamgrain run CASE --dem liggghts [--fluid openfoam|native]` runs
+/// LIGGGHTS in-process on the N ranks (the deck's `processors` grid, or LIGGGHTS's choice), each
+/// rank coupling only the particles its LIGGGHTS rank owns; the fluid runs on rank 0 — the
+/// native fluid with threads, grainPisoFoam spawned on `--np` ranks of its own. The native DEM
+/// runs on one process (threads), not under mpirun.
 #[derive(Args, Debug)]
 pub struct RunArgs {
     /// The case directory (CFDEM layout: CFD/ with constant/couplingProperties, DEM/ with
@@ -134,6 +140,10 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
         .with_context(|| format!("running {}", a.case.display()))?;
     if let Some(b) = &bar {
         b.finish_and_clear();
+    }
+    if report.rank > 0 {
+        // on N ranks rank 0 reports for the run
+        return Ok(());
     }
     let share = |x: f64| {
         if report.loop_seconds > 0.0 {

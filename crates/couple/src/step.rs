@@ -12,13 +12,17 @@
 //! 5. the fluid advances one coupling interval, `couplingInterval × dt_DEM`.
 //!
 //! [`Coupler::exchange`] does steps 2–4 for given states without touching either side (what a
-//! one-way replay needs). [`Coupler::run`] repeats [`Coupler::step`], handing each finished
+//! one-way replay needs). On several ranks ([`Coupler::set_ranks`], [`crate::ranks`]) each
+//! rank runs the same steps on its own particles; steps 2 and 4 then sum the cells' shares on
+//! rank 0, which holds the fluid (the other ranks' fluid side is a stand-in that only counts
+//! time). [`Coupler::run`] repeats [`Coupler::step`], handing each finished
 //! step back ([`Coupler::recycle`]) so its per-particle buffers are reused.
 
 use crate::error::CoupleError;
 use crate::exchange::Exchange;
 use crate::forces::{couplings_and_exchange, ForceSet, ParticleCoupling, Physics};
 use crate::interpolate::Placement;
+use crate::ranks::{pick, Ranks, Serial};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 use foam::{Label, PolyMesh};
 use mesh::v3::V3;
@@ -61,7 +65,26 @@ pub struct Coupler {
     hints: Vec<Option<Label>>,
     steps: u64,
     spare: Spare,
+    ranks: Box<dyn Ranks>,
+    /// On ranks other than 0: ε and the fluid at the cells this rank's particles touch
+    /// (received from rank 0; other cells hold stale values that are never read).
+    remote: Remote,
 }
+
+/// A rank's copy of ε, U, p, ∇p and ∇·τ at the cells it touches (dense, `n_cells` long).
+#[derive(Default)]
+struct Remote {
+    eps: Vec<f64>,
+    u: Vec<V3>,
+    p: Vec<f64>,
+    grad_p: Vec<V3>,
+    div_tau: Vec<V3>,
+}
+
+/// Values per cell rank 0 sends each rank: ε, U (3), p, ∇p (3), ∇·τ (3).
+const FLUID_WIDTH: usize = 11;
+/// Values per cell each rank sends rank 0 after the forces: Ksl, Ksl·Us (3), f (3).
+const EXCHANGE_WIDTH: usize = 7;
 
 /// Per-particle buffers kept from one step to the next ([`Coupler::recycle`]): for 10⁶
 /// particles they hold about 200 MB, which fresh allocations would page-fault in again every
@@ -97,7 +120,20 @@ impl Coupler {
             hints: Vec::new(),
             steps: 0,
             spare: Spare::default(),
+            ranks: Box::new(Serial::default()),
+            remote: Remote::default(),
         })
+    }
+
+    /// Runs this coupler as one of several ranks ([`crate::ranks`]): from now on every
+    /// exchange is collective over `ranks`.
+    pub fn set_ranks(&mut self, ranks: Box<dyn Ranks>) {
+        self.ranks = ranks;
+    }
+
+    /// The coupler's ranks ([`Serial`] unless [`Coupler::set_ranks`] gave others).
+    pub fn ranks(&self) -> &dyn Ranks {
+        self.ranks.as_ref()
     }
 
     /// The voidage mesh (geometry, cell volumes).
@@ -122,6 +158,12 @@ impl Coupler {
 
     /// Steps 2–4 of the module docs for `particles` in `fluid`: placement, ε, forces and
     /// exchange fields. Updates the coupler's ε; touches neither side.
+    ///
+    /// On several ranks, `particles` are this rank's and `fluid` is read on rank 0 only. Rank
+    /// 0's result holds the global deposit, ε and exchange fields and its own particles'
+    /// placement and forces; another rank's holds its own particles' placement, deposit
+    /// (`solid`) and forces, the global accounting totals and ε statistics, and an empty
+    /// `voidage.epsilon` and its own (partial) exchange fields.
     pub fn exchange(
         &mut self,
         particles: &ParticleState<'_>,
@@ -129,6 +171,9 @@ impl Coupler {
     ) -> Result<CouplingStep, CoupleError> {
         check_particles(particles)?;
         let n_cells = self.vm.n_cells();
+        if self.ranks.size() > 1 && self.ranks.rank() > 0 {
+            return self.exchange_remote(particles);
+        }
         for (what, len) in [
             ("fluid U", fluid.u.len()),
             ("fluid p", fluid.p.len()),
@@ -143,6 +188,70 @@ impl Coupler {
                 });
             }
         }
+        let (shares, mut deposit) = self.place(particles)?;
+        let parallel = self.ranks.size() > 1;
+        let touched = if parallel {
+            let touched = touched_cells(&shares, &self.hints);
+            self.sum_deposit(&touched, &mut deposit);
+            touched
+        } else {
+            Vec::new()
+        };
+        let mut voidage = self.vm.voidage(&deposit, self.settings.alpha_min)?;
+        if parallel {
+            self.broadcast_voidage_stats(&mut voidage);
+            let (eps, fluid) = (&voidage.epsilon, *fluid);
+            self.ranks.scatter_from_root(
+                FLUID_WIDTH,
+                &|c, out| fluid_record(eps, &fluid, c as usize, out),
+                &mut Vec::new(),
+            );
+        }
+        let (placement, forces, mut exchange) =
+            self.forces(shares, fluid, &voidage.epsilon, particles);
+        if parallel {
+            self.sum_exchange(&touched, &mut exchange);
+        }
+        self.voidage.clone_from(&voidage.epsilon);
+        Ok(CouplingStep {
+            placement,
+            deposit,
+            voidage,
+            forces,
+            exchange,
+        })
+    }
+
+    /// Step 3: the particles' placement (centre cells from `self.hints`), forces and this
+    /// coupler's exchange fields, for `fluid` and ε `eps`.
+    fn forces(
+        &mut self,
+        shares: CellShares,
+        fluid: &FluidState<'_>,
+        eps: &[f64],
+        particles: &ParticleState<'_>,
+    ) -> (Placement, ForceSet, Exchange) {
+        let mut centre = std::mem::take(&mut self.spare.centre);
+        centre.clone_from(&self.hints);
+        let placement = Placement { centre, shares };
+        let (forces, exchange) = couplings_and_exchange(
+            &self.settings.physics,
+            &placement,
+            fluid,
+            eps,
+            particles,
+            self.vm.cell_volumes(),
+            std::mem::take(&mut self.spare.couplings),
+        );
+        (placement, forces, exchange)
+    }
+
+    /// Step 2's placement: each particle's cells and volume shares (centre cells in
+    /// `self.hints`) and the deposit.
+    fn place(
+        &mut self,
+        particles: &ParticleState<'_>,
+    ) -> Result<(CellShares, Deposit), CoupleError> {
         if self.hints.len() != particles.len() {
             self.hints = vec![None; particles.len()];
         }
@@ -161,20 +270,56 @@ impl Coupler {
         let deposit = self
             .vm
             .shares_with_cells_into(method, &set, &mut self.hints, &mut shares)?;
-        let voidage = self.vm.voidage(&deposit, self.settings.alpha_min)?;
-        let mut centre = std::mem::take(&mut self.spare.centre);
-        centre.clone_from(&self.hints);
-        let placement = Placement { centre, shares };
-        let (forces, exchange) = couplings_and_exchange(
-            &self.settings.physics,
-            &placement,
-            fluid,
-            &voidage.epsilon,
-            particles,
-            self.vm.cell_volumes(),
-            std::mem::take(&mut self.spare.couplings),
-        );
-        self.voidage.clone_from(&voidage.epsilon);
+        Ok((shares, deposit))
+    }
+
+    /// [`Coupler::exchange`] on a rank other than 0 (module docs of [`crate::ranks`]).
+    fn exchange_remote(
+        &mut self,
+        particles: &ParticleState<'_>,
+    ) -> Result<CouplingStep, CoupleError> {
+        let n_cells = self.vm.n_cells();
+        let (shares, mut deposit) = self.place(particles)?;
+        let touched = touched_cells(&shares, &self.hints);
+        self.sum_deposit(&touched, &mut deposit);
+        let mut voidage = Voidage {
+            epsilon: Vec::new(),
+            alpha_min: self.settings.alpha_min,
+            clipped_volume: 0.0,
+            clipped_cells: 0,
+            min_epsilon: 1.0,
+            negative_cells: 0,
+        };
+        self.broadcast_voidage_stats(&mut voidage);
+        let mut got = Vec::with_capacity(touched.len() * FLUID_WIDTH);
+        self.ranks
+            .scatter_from_root(FLUID_WIDTH, &|_, _| {}, &mut got);
+        let mut remote = std::mem::take(&mut self.remote);
+        let r = &mut remote;
+        if r.eps.len() != n_cells {
+            r.eps = vec![1.0; n_cells];
+            r.u = vec![V3::zeros(); n_cells];
+            r.p = vec![0.0; n_cells];
+            r.grad_p = vec![V3::zeros(); n_cells];
+            r.div_tau = vec![V3::zeros(); n_cells];
+        }
+        for (k, &c) in touched.iter().enumerate() {
+            let (c, g) = (c as usize, &got[k * FLUID_WIDTH..(k + 1) * FLUID_WIDTH]);
+            r.eps[c] = g[0];
+            r.u[c] = V3::new(g[1], g[2], g[3]);
+            r.p[c] = g[4];
+            r.grad_p[c] = V3::new(g[5], g[6], g[7]);
+            r.div_tau[c] = V3::new(g[8], g[9], g[10]);
+        }
+        let fluid = FluidState {
+            u: &r.u,
+            p: &r.p,
+            grad_p: &r.grad_p,
+            div_tau: &r.div_tau,
+        };
+        let (placement, forces, mut exchange) = self.forces(shares, &fluid, &r.eps, particles);
+        self.remote = remote;
+        self.sum_exchange(&touched, &mut exchange);
         Ok(CouplingStep {
             placement,
             deposit,
@@ -182,6 +327,94 @@ impl Coupler {
             forces,
             exchange,
         })
+    }
+
+    /// Step 1 of [`crate::ranks`]: the touched cells' solid volume summed on rank 0 (which
+    /// gets the global `solid`), and the accounting totals summed on every rank.
+    fn sum_deposit(&mut self, touched: &[Label], deposit: &mut Deposit) {
+        let mut values = Vec::with_capacity(touched.len());
+        pick(touched, &deposit.solid, 1, &mut values);
+        if self.ranks.rank() == 0 {
+            self.ranks
+                .sum_to_root(touched, &values, 1, &mut deposit.solid);
+        } else {
+            self.ranks.sum_to_root(touched, &values, 1, &mut []);
+        }
+        let mut totals = [
+            deposit.particles as f64,
+            deposit.particle_volume,
+            deposit.deposited_volume,
+            deposit.outside_volume,
+            deposit.particles_outside as f64,
+            deposit.particles_partly_outside as f64,
+        ];
+        self.ranks.all_sum(&mut totals);
+        deposit.particles = totals[0] as usize;
+        deposit.particle_volume = totals[1];
+        deposit.deposited_volume = totals[2];
+        deposit.outside_volume = totals[3];
+        deposit.particles_outside = totals[4] as usize;
+        deposit.particles_partly_outside = totals[5] as usize;
+    }
+
+    /// Rank 0's ε statistics (clipping, minimum, negative cells) on every rank.
+    fn broadcast_voidage_stats(&self, v: &mut Voidage) {
+        let mut stats = [
+            v.clipped_volume,
+            v.clipped_cells as f64,
+            v.min_epsilon,
+            v.negative_cells as f64,
+        ];
+        self.ranks.broadcast(&mut stats);
+        v.clipped_volume = stats[0];
+        v.clipped_cells = stats[1] as usize;
+        v.min_epsilon = stats[2];
+        v.negative_cells = stats[3] as usize;
+    }
+
+    /// Step 3 of [`crate::ranks`]: the touched cells' Ksl, Ksl·Us and f summed on rank 0
+    /// (which gets the global exchange fields), the outside accounting on every rank.
+    fn sum_exchange(&mut self, touched: &[Label], exchange: &mut Exchange) {
+        let mut values = Vec::with_capacity(touched.len() * EXCHANGE_WIDTH);
+        for &c in touched {
+            let c = c as usize;
+            let (k, u, f) = (exchange.ksl[c], exchange.us[c], exchange.f[c]);
+            values.extend_from_slice(&[k, k * u[0], k * u[1], k * u[2], f[0], f[1], f[2]]);
+        }
+        let root = self.ranks.rank() == 0;
+        let mut sums = vec![
+            0.0;
+            if root {
+                exchange.ksl.len() * EXCHANGE_WIDTH
+            } else {
+                0
+            }
+        ];
+        self.ranks
+            .sum_to_root(touched, &values, EXCHANGE_WIDTH, &mut sums);
+        if root {
+            for (c, s) in sums.chunks_exact(EXCHANGE_WIDTH).enumerate() {
+                exchange.ksl[c] = s[0];
+                exchange.us[c] = if s[0] > 0.0 {
+                    V3::new(s[1] / s[0], s[2] / s[0], s[3] / s[0])
+                } else {
+                    V3::zeros()
+                };
+                exchange.f[c] = V3::new(s[4], s[5], s[6]);
+            }
+        }
+        let o = &mut exchange.outside;
+        let mut out = [
+            o.particles as f64,
+            o.beta,
+            o.force[0],
+            o.force[1],
+            o.force[2],
+        ];
+        self.ranks.all_sum(&mut out);
+        o.particles = out[0] as usize;
+        o.beta = out[1];
+        o.force = V3::new(out[2], out[3], out[4]);
     }
 
     /// One coupling step (module docs).
@@ -251,6 +484,23 @@ impl Coupler {
         self.spare.centre = step.placement.centre;
         self.spare.shares = Some(step.placement.shares);
     }
+}
+
+/// The cells a rank's particles touch: their shares' cells and their centre cells, increasing.
+fn touched_cells(shares: &CellShares, centre: &[Option<Label>]) -> Vec<Label> {
+    let mut cells: Vec<Label> = shares.cells.clone();
+    cells.extend(centre.iter().flatten());
+    cells.sort_unstable();
+    cells.dedup();
+    cells
+}
+
+/// ε, U, p, ∇p and ∇·τ of cell `c` ([`FLUID_WIDTH`] values), appended to `out`.
+fn fluid_record(eps: &[f64], fluid: &FluidState<'_>, c: usize, out: &mut Vec<f64>) {
+    let (u, g, t) = (fluid.u[c], fluid.grad_p[c], fluid.div_tau[c]);
+    out.extend_from_slice(&[
+        eps[c], u[0], u[1], u[2], fluid.p[c], g[0], g[1], g[2], t[0], t[1], t[2],
+    ]);
 }
 
 fn particle_err(source: crate::error::SideError) -> CoupleError {

@@ -58,6 +58,126 @@ impl DemBackend {
     }
 }
 
+/// Ranks `mpirun` (Open MPI, MPICH/PMI) says this process is one of, without initialising MPI:
+/// 1 when launched alone.
+pub fn launched_ranks() -> usize {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.parse().ok())
+        .unwrap_or(1)
+}
+
+/// How this process runs: alone, or as one rank of `mpirun -np N foamgrain run …`. Holds the
+/// MPI environment (initialised once, when the backends or the launch need it) for the whole
+/// run: the LIGGGHTS ranks, the coupler's ranks and grainPisoFoam's spawn share it.
+pub struct Launch {
+    #[cfg(any(feature = "mpi", feature = "liggghts"))]
+    universe: Option<mpi::environment::Universe>,
+    rank: usize,
+    size: usize,
+}
+
+impl Launch {
+    /// Initialises MPI if `fluid`/`dem` or an `mpirun` launch need it. Refuses what N ranks
+    /// cannot run: a build without MPI under `mpirun -np N` (N > 1), and the native DEM or the
+    /// file coupling on N ranks (the native DEM uses threads in one process; LIGGGHTS
+    /// in-process is the DEM that runs on N ranks).
+    pub fn init(fluid: FluidBackend, dem: DemBackend) -> Result<Launch, RunError> {
+        let launched = launched_ranks();
+        if launched > 1 && dem != DemBackend::Liggghts {
+            return Err(RunError::Backend(format!(
+                "launched on {launched} ranks, but --dem {} runs on one process (the native \
+                 DEM uses threads: run `foamgrain run CASE --np THREADS` without mpirun); \
+                 `mpirun -np N` runs --dem liggghts, LIGGGHTS on the N ranks",
+                dem.name()
+            )));
+        }
+        #[cfg(any(feature = "mpi", feature = "liggghts"))]
+        {
+            let needs =
+                launched > 1 || fluid == FluidBackend::OpenFoam || dem == DemBackend::Liggghts;
+            if needs {
+                #[cfg(feature = "mpi")]
+                foam_link::prepare_environment();
+                let universe = mpi::initialize().ok_or_else(|| {
+                    RunError::Backend("MPI is already initialised in this process".into())
+                })?;
+                use mpi::topology::Communicator;
+                let world = universe.world();
+                let (rank, size) = (world.rank() as usize, world.size() as usize);
+                return Ok(Launch {
+                    universe: Some(universe),
+                    rank,
+                    size,
+                });
+            }
+            Ok(Launch {
+                universe: None,
+                rank: 0,
+                size: 1,
+            })
+        }
+        #[cfg(not(any(feature = "mpi", feature = "liggghts")))]
+        {
+            let _ = fluid;
+            if launched > 1 {
+                return Err(RunError::Backend(format!(
+                    "launched on {launched} ranks, but this foamgrain was built without MPI; \
+                     build it with `cargo build --release -p cli --features mpi,liggghts`"
+                )));
+            }
+            Ok(Launch { rank: 0, size: 1 })
+        }
+    }
+
+    /// This rank (0 alone).
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+
+    /// Number of ranks (1 alone).
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// Whether every rank's `ok` is true (collective; `ok` itself alone). A rank that failed
+    /// before a collective section tells the others this way, so that none waits for it.
+    pub fn all_ok(&self, ok: bool) -> bool {
+        #[cfg(any(feature = "mpi", feature = "liggghts"))]
+        if let Some(u) = &self.universe {
+            use mpi::collective::{CommunicatorCollectives, SystemOperation};
+            let mut all = 0i32;
+            u.world()
+                .all_reduce_into(&(ok as i32), &mut all, SystemOperation::min());
+            return all == 1;
+        }
+        ok
+    }
+
+    /// The MPI world, when MPI is initialised.
+    #[cfg(any(feature = "mpi", feature = "liggghts"))]
+    pub(crate) fn world(&self) -> Option<mpi::topology::SimpleCommunicator> {
+        self.universe.as_ref().map(|u| u.world())
+    }
+
+    /// Ends every rank at once after `err` on this one (MPI_Abort, so that no rank waits in a
+    /// collective for this one), after printing it with this rank's number; alone, returns it.
+    pub fn fail_together(&self, err: RunError) -> RunError {
+        #[cfg(any(feature = "mpi", feature = "liggghts"))]
+        if self.size > 1 {
+            if let Some(world) = self.world() {
+                use mpi::topology::Communicator;
+                eprintln!(
+                    "foamgrain rank {} of {}: error: {err}",
+                    self.rank, self.size
+                );
+                world.abort(1);
+            }
+        }
+        err
+    }
+}
+
 fn unavailable(fluid: FluidBackend, dem: DemBackend, why: &str) -> RunError {
     RunError::Backend(format!(
         "--fluid {} --dem {}: {why}",
@@ -134,6 +254,7 @@ pub(crate) fn run_pair(
     model: fv::Model,
     fluid: FluidBackend,
     dem: DemBackend,
+    launch: &Launch,
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
     let layout = ctx.layout;
@@ -171,15 +292,18 @@ pub(crate) fn run_pair(
             "file coupling is offered with the native fluid only",
         )),
         #[cfg(any(feature = "mpi", feature = "liggghts"))]
-        (fluid, dem) => mpi_pair::run(ctx, run_deck, model, fluid, dem, events),
+        (fluid, dem) => mpi_pair::run(ctx, run_deck, model, fluid, dem, launch, events),
         #[cfg(not(any(feature = "mpi", feature = "liggghts")))]
-        (fluid, dem) => Err(unavailable(
-            fluid,
-            dem,
-            "this foamgrain was built without MPI backends; build it with \
-             `cargo build --release -p cli --features mpi,liggghts` (needs openmpi-bin \
-             libopenmpi-dev libclang-dev, and libliggghts-dev for `liggghts`)",
-        )),
+        (fluid, dem) => {
+            let _ = launch;
+            Err(unavailable(
+                fluid,
+                dem,
+                "this foamgrain was built without MPI backends; build it with \
+                 `cargo build --release -p cli --features mpi,liggghts` (needs openmpi-bin \
+                 libopenmpi-dev libclang-dev, and libliggghts-dev for `liggghts`)",
+            ))
+        }
     }
 }
 
@@ -188,35 +312,32 @@ pub(crate) fn run_pair(
 mod mpi_pair {
     use super::*;
 
-    /// Runs one MPI pair: initialises MPI once for this process (both backends share the
-    /// universe), opens the sides and runs the loop.
+    /// Runs one MPI pair on the MPI environment of `launch`: opens the sides and runs the
+    /// loop. On N ranks (`mpirun -np N`, LIGGGHTS on all of them) rank 0 holds the fluid and
+    /// the others a stand-in ([`crate::fluid::StandInFluid`]); an error on any rank ends all
+    /// of them ([`Launch::fail_together`]).
     pub(super) fn run(
         ctx: LoopContext<'_>,
         #[cfg_attr(not(feature = "mpi"), allow(unused_variables))] run_deck: &Deck,
         #[cfg_attr(not(feature = "liggghts"), allow(unused_variables))] model: fv::Model,
         fluid: FluidBackend,
         dem: DemBackend,
+        launch: &Launch,
         events: &mut dyn FnMut(Event),
     ) -> Result<RunReport, RunError> {
-        #[cfg(feature = "mpi")]
-        foam_link::prepare_environment();
-        let universe = mpi::initialize().ok_or_else(|| {
-            RunError::Backend("MPI is already initialised in this process".into())
-        })?;
-        let world = universe.world();
+        let world = launch
+            .world()
+            .ok_or_else(|| RunError::Backend("MPI was not initialised for this pair".into()))?;
+        if launch.size() > 1 {
+            return ranked(ctx, model, fluid, launch, &world, events)
+                .map_err(|e| launch.fail_together(e));
+        }
         let layout = ctx.layout;
-        let report = match (fluid, dem) {
+        match (fluid, dem) {
             #[cfg(feature = "liggghts")]
             (FluidBackend::Native, DemBackend::Liggghts) => {
                 let dem = open_liggghts(&world, layout)?;
-                let fluid = NativeFluid::open(
-                    &layout.cfd,
-                    model,
-                    ctx.ddt_voidage,
-                    ctx.solve_flow,
-                    ctx.settings.physics.rho,
-                )
-                .map_err(RunError::Fluid)?;
+                let fluid = open_native_fluid(&ctx, model)?;
                 couple_loop(ctx, dem, fluid, events)
             }
             #[cfg(feature = "mpi")]
@@ -238,10 +359,75 @@ mod mpi_pair {
                 "this foamgrain lacks the cargo feature for one of these backends; build it \
                  with `--features mpi,liggghts`",
             )),
-        };
-        drop(world);
-        drop(universe);
-        report
+        }
+    }
+
+    /// N coupler ranks, LIGGGHTS on all of them, each coupling the particles its LIGGGHTS
+    /// rank owns ([`couple::ranks`]); the fluid on rank 0 (grainPisoFoam spawned from rank 0
+    /// alone, on its own `--np` ranks).
+    #[cfg(feature = "liggghts")]
+    fn ranked(
+        mut ctx: LoopContext<'_>,
+        model: fv::Model,
+        fluid: FluidBackend,
+        launch: &Launch,
+        world: &mpi::topology::SimpleCommunicator,
+        events: &mut dyn FnMut(Event),
+    ) -> Result<RunReport, RunError> {
+        let layout = ctx.layout;
+        let dem = open_liggghts(world, layout)?;
+        ctx.ranks = Some(Box::new(crate::ranks::MpiRanks::new(world)));
+        if launch.rank() > 0 {
+            let stand_in = crate::fluid::StandInFluid::open(&layout.cfd)?;
+            return couple_loop(ctx, dem, stand_in, events);
+        }
+        match fluid {
+            FluidBackend::Native => {
+                let fluid = open_native_fluid(&ctx, model)?;
+                couple_loop(ctx, dem, fluid, events)
+            }
+            #[cfg(feature = "mpi")]
+            FluidBackend::OpenFoam => {
+                let alone = mpi::topology::SimpleCommunicator::self_comm();
+                let fluid = open_foam(&alone, layout, ctx.opts.fluid_ranks)?;
+                couple_loop(ctx, dem, fluid, events)
+            }
+            #[cfg(not(feature = "mpi"))]
+            FluidBackend::OpenFoam => Err(unavailable(
+                fluid,
+                DemBackend::Liggghts,
+                "this foamgrain lacks the cargo feature `mpi`",
+            )),
+        }
+    }
+
+    #[cfg(not(feature = "liggghts"))]
+    fn ranked(
+        _ctx: LoopContext<'_>,
+        _model: fv::Model,
+        fluid: FluidBackend,
+        _launch: &Launch,
+        _world: &mpi::topology::SimpleCommunicator,
+        _events: &mut dyn FnMut(Event),
+    ) -> Result<RunReport, RunError> {
+        Err(unavailable(
+            fluid,
+            DemBackend::Liggghts,
+            "N ranks run LIGGGHTS in-process: build foamgrain with `--features mpi,liggghts`",
+        ))
+    }
+
+    /// The native fluid of the run's case with the coupling's settings.
+    #[cfg(feature = "liggghts")]
+    fn open_native_fluid(ctx: &LoopContext<'_>, model: fv::Model) -> Result<NativeFluid, RunError> {
+        NativeFluid::open(
+            &ctx.layout.cfd,
+            model,
+            ctx.ddt_voidage,
+            ctx.solve_flow,
+            ctx.settings.physics.rho,
+        )
+        .map_err(RunError::Fluid)
     }
 
     #[cfg(feature = "liggghts")]

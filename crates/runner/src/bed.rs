@@ -38,20 +38,49 @@ impl Bed {
         floor: f64,
         area: f64,
     ) -> Option<Bed> {
+        Bed::measure_on(
+            &couple::Serial::default(),
+            positions,
+            axis,
+            radii,
+            densities,
+            floor,
+            area,
+        )
+    }
+
+    /// [`Bed::measure`] of the particles of all `ranks`, each giving its own (collective; the
+    /// bins' tops are gathered on rank 0, whose result is the bed; other ranks get the sums
+    /// and rank 0's height).
+    pub fn measure_on(
+        ranks: &dyn couple::Ranks,
+        positions: &[V3],
+        axis: V3,
+        radii: &[f64],
+        densities: &[f64],
+        floor: f64,
+        area: f64,
+    ) -> Option<Bed> {
         let n = positions.len();
-        if n == 0 || radii.len() != n || densities.len() != n || area.is_nan() || area <= 0.0 {
+        let consistent = radii.len() == n && densities.len() == n;
+        let mut sums = [
+            n as f64,
+            radii.iter().map(|&r| ball_volume(r)).sum(),
+            radii
+                .iter()
+                .zip(densities)
+                .map(|(&r, &d)| d * ball_volume(r))
+                .sum(),
+            radii.iter().map(|r| (2.0 * r).powi(3)).sum(),
+            radii.iter().map(|r| (2.0 * r).powi(2)).sum(),
+            f64::from(u8::from(!consistent)),
+        ];
+        ranks.all_sum(&mut sums);
+        let [count, solid_volume, mass, d3, d2, inconsistent] = sums;
+        if count == 0.0 || inconsistent > 0.0 || area.is_nan() || area <= 0.0 {
             return None;
         }
-        let solid_volume: f64 = radii.iter().map(|&r| ball_volume(r)).sum();
-        let mass: f64 = radii
-            .iter()
-            .zip(densities)
-            .map(|(&r, &d)| d * ball_volume(r))
-            .sum();
-        let d3: f64 = radii.iter().map(|r| (2.0 * r).powi(3)).sum();
-        let d2: f64 = radii.iter().map(|r| (2.0 * r).powi(2)).sum();
         let sauter = d3 / d2;
-        // Two unit vectors across the column.
         let t = if axis[0].abs() < 0.9 {
             V3::x()
         } else {
@@ -60,7 +89,7 @@ impl Bed {
         let e1 = unit(axis.cross(&t))?;
         let e2 = axis.cross(&e1);
         let bin = 2.0 * sauter;
-        let mut tops: std::collections::HashMap<(i64, i64), f64> = Default::default();
+        let mut tops: std::collections::BTreeMap<(i64, i64), f64> = Default::default();
         for (x, r) in positions.iter().zip(radii) {
             let key = (
                 ((*x).dot(&e1) / bin).floor() as i64,
@@ -70,13 +99,33 @@ impl Bed {
             let e = tops.entry(key).or_insert(f64::NEG_INFINITY);
             *e = e.max(top);
         }
-        let height = tops.values().sum::<f64>() / tops.len() as f64;
+        // (bin i, bin j, top) per bin; bins indices are far below 2⁵³, exact as f64
+        let flat: Vec<f64> = tops
+            .iter()
+            .flat_map(|(&(i, j), &top)| [i as f64, j as f64, top])
+            .collect();
+        let mut merged: std::collections::BTreeMap<(i64, i64), f64> = Default::default();
+        for part in ranks.gather(&flat) {
+            for t in part.chunks_exact(3) {
+                let e = merged
+                    .entry((t[0] as i64, t[1] as i64))
+                    .or_insert(f64::NEG_INFINITY);
+                *e = e.max(t[2]);
+            }
+        }
+        let mut height = [if merged.is_empty() {
+            0.0
+        } else {
+            merged.values().sum::<f64>() / merged.len() as f64
+        }];
+        ranks.broadcast(&mut height);
+        let height = height[0];
         Some(Bed {
             height,
             voidage: 1.0 - solid_volume / (area * height),
             solid_volume,
             mass,
-            particles: n,
+            particles: count as usize,
             sauter_diameter: sauter,
         })
     }

@@ -36,3 +36,78 @@ pub trait RunFluid: FluidSide {
         Ok(())
     }
 }
+
+/// The fluid side of a coupler rank other than 0 in an N-rank run ([`couple::ranks`]): rank 0
+/// holds the fluid and sends each rank the cells it needs, so this side only has the mesh (for
+/// locating particles), the clock, and zero fields of the mesh's size that the coupler never
+/// reads. It writes nothing and observes no patch.
+pub struct StandInFluid {
+    mesh: PolyMesh,
+    time: f64,
+    u: Vec<mesh::v3::V3>,
+    p: Vec<f64>,
+}
+
+impl StandInFluid {
+    /// The mesh and start time (`system/controlDict`) of the OpenFOAM case `cfd`.
+    pub fn open(cfd: &Path) -> Result<StandInFluid, crate::run::RunError> {
+        let case = foam::Case::open(cfd)?;
+        let settings = fv::settings::Settings::read(&case)
+            .map_err(|e| crate::run::RunError::Fluid(Box::new(e)))?;
+        let mesh = case.read_mesh()?;
+        let n = mesh.n_cells;
+        Ok(StandInFluid {
+            mesh,
+            time: settings.start_time,
+            u: vec![mesh::v3::V3::zeros(); n],
+            p: vec![0.0; n],
+        })
+    }
+}
+
+impl FluidSide for StandInFluid {
+    fn mesh(&self) -> &PolyMesh {
+        &self.mesh
+    }
+
+    fn set_exchange(&mut self, _fields: &couple::ExchangeFields<'_>) -> Result<(), SideError> {
+        Ok(())
+    }
+
+    fn advance(&mut self, dt: f64) -> Result<(), SideError> {
+        self.time += dt;
+        Ok(())
+    }
+
+    fn state(&self) -> couple::FluidState<'_> {
+        couple::FluidState {
+            u: &self.u,
+            p: &self.p,
+            grad_p: &self.u,
+            div_tau: &self.u,
+        }
+    }
+}
+
+impl RunFluid for StandInFluid {
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn patch_pressure(&self, _name: &str) -> Option<f64> {
+        None
+    }
+
+    fn inflow_velocity(&self, _name: &str) -> Option<f64> {
+        None
+    }
+
+    fn write_time(
+        &mut self,
+        _cfd: &Path,
+        _mesh: &PolyMesh,
+        _step: &CouplingStep,
+    ) -> Result<String, SideError> {
+        Ok(couple::output::time_name(self.time))
+    }
+}

@@ -14,6 +14,8 @@ mod monitors;
 pub mod native;
 pub mod patches;
 pub mod plot;
+#[cfg(any(feature = "mpi", feature = "liggghts"))]
+pub mod ranks;
 pub mod reference;
 pub mod run;
 pub mod sample;

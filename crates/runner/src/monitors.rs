@@ -293,14 +293,15 @@ impl RunMonitors {
     }
 
     /// Writes the monitors' fields into the time directory `dir` (named `time`), the
-    /// particles (`basicIO`), and rewrites the text files.
+    /// particles (`basicIO`; `None` on N ranks, where rank 0 does not hold them: the run
+    /// warns), and rewrites the text files.
     pub(crate) fn write_time(
         &self,
         dir: &Path,
         time: &str,
         mesh: &PolyMesh,
         f: &StepFields<'_>,
-        particles: &ParticleState<'_>,
+        particles: Option<&ParticleState<'_>>,
     ) -> Result<(), RunError> {
         let n = mesh.n_cells;
         let fmt = Format::Ascii;
@@ -338,7 +339,7 @@ impl RunMonitors {
             let field = format!("volAverage_{name}");
             write_cell_field(dir, time, mesh, &field, dimensions(name), values, fmt)?;
         }
-        if self.cfg.basic_io {
+        if let (true, Some(particles)) = (self.cfg.basic_io, particles) {
             write_basic_io(dir, f.step, particles)?;
         }
         self.write_logs()

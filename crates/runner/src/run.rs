@@ -119,13 +119,16 @@ pub enum Event {
 /// The outcome of a run.
 #[derive(Clone, Debug)]
 pub struct RunReport {
+    /// This process's rank in an `mpirun -np N` run (0 alone); only rank 0's report holds
+    /// the samples and checks.
+    pub rank: usize,
     /// Coupling steps done.
     pub steps: u64,
     /// Simulated time reached, s.
     pub time: f64,
     /// True when a stop request ended the run early.
     pub stopped: bool,
-    /// Particles in the coupled stage.
+    /// Particles in the coupled stage (over all ranks).
     pub particles: usize,
     /// Fluid cells.
     pub cells: usize,
@@ -223,16 +226,20 @@ struct Observer {
 }
 
 impl Observer {
+    /// The step's integrals. Collective on N ranks (each gives its own particles); rank 0's
+    /// sample is the run's.
     fn sample<P: ParticleSide, F: RunFluid>(
         &self,
         time: f64,
         fluid: &F,
         dem: &P,
         step: &CouplingStep,
+        ranks: &dyn couple::Ranks,
     ) -> Sample {
         let ps = dem.state();
         let ax = self.column.axis;
-        let bed = crate::bed::Bed::measure(
+        let bed = crate::bed::Bed::measure_on(
+            ranks,
             ps.position,
             ax,
             ps.radius,
@@ -249,6 +256,18 @@ impl Observer {
             axial += ps.velocity[i].dot(&ax);
         }
         let force: f64 = step.forces.particles.iter().map(|c| c.total.dot(&ax)).sum();
+        let mut sums = [ke, axial, force, ps.len() as f64];
+        ranks.all_sum(&mut sums);
+        let [ke, axial, force, count] = sums;
+        let count = count as usize;
+        // the first particle: of the first rank that has one (ranks hold disjoint tags, each
+        // in its state's order)
+        let first = ps.velocity.first().map(|v| (*v).dot(&ax));
+        let first_axial_velocity = ranks
+            .gather(first.as_slice())
+            .iter()
+            .find_map(|v| v.first().copied())
+            .unwrap_or(0.0);
         let p_mean = |name: &Option<String>| name.as_deref().and_then(|n| fluid.patch_pressure(n));
         let pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
             (Some(a), Some(b)) => Some(self.rho * (a - b)),
@@ -262,19 +281,19 @@ impl Observer {
             bed_height: bed.map(|b| b.height),
             bed_voidage: bed.map(|b| b.voidage),
             kinetic_energy: ke,
-            mean_axial_velocity: if ps.is_empty() {
+            mean_axial_velocity: if count == 0 {
                 0.0
             } else {
-                axial / ps.len() as f64
+                axial / count as f64
             },
-            first_axial_velocity: ps.velocity.first().map_or(0.0, |v| (*v).dot(&ax)),
+            first_axial_velocity,
             fluid_force_axial: force,
             particle_volume: step.deposit.particle_volume,
             deposited_volume: step.deposit.deposited_volume,
             outside_volume: step.deposit.outside_volume,
             clipped_volume: step.voidage.clipped_volume,
             min_voidage: step.voidage.min_epsilon,
-            particles: ps.len(),
+            particles: count,
             sauter_diameter: bed.map(|b| b.sauter_diameter),
             mean_density: bed.map(|b| b.mass / b.solid_volume),
             weight_per_area: bed.map(|b| b.weight_per_area(self.rho, self.g, self.column.area)),
@@ -289,6 +308,16 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
     }
 }
 
+/// Which particle file a rank writes at an output time: one `particles_<time>.vtp` alone; on N
+/// ranks each rank its own particles as `particles_<time>_<rank>.vtp`, the parts of that time
+/// in `particles.pvd` (written by rank 0).
+struct Pieces {
+    rank: usize,
+    ranks: usize,
+    /// The output time's name from the coupling clock (the same on every rank).
+    name: String,
+}
+
 /// Writes one output time: fluid U and p, the exchange fields and the particles.
 fn write_time<P: ParticleSide, F: RunFluid>(
     layout: &CaseLayout,
@@ -297,6 +326,7 @@ fn write_time<P: ParticleSide, F: RunFluid>(
     dem: &P,
     step: &CouplingStep,
     vtp: &mut Vec<(f64, PathBuf)>,
+    pieces: &Pieces,
 ) -> Result<String, RunError> {
     let name = fluid
         .write_time(&layout.cfd, mesh, step)
@@ -304,7 +334,14 @@ fn write_time<P: ParticleSide, F: RunFluid>(
     let ps = dem.state();
     let pdir = layout.post_processing().join("particles");
     std::fs::create_dir_all(&pdir).map_err(io_err(&pdir))?;
-    let file = pdir.join(format!("particles_{name}.vtp"));
+    let piece = |r: usize| {
+        if pieces.ranks == 1 {
+            format!("particles_{name}.vtp")
+        } else {
+            format!("particles_{}_{r}.vtp", pieces.name)
+        }
+    };
+    let file = pdir.join(piece(pieces.rank));
     let ids: Vec<i64> = ps.ids.iter().map(|&i| i as i64).collect();
     let fluid_force: Vec<V3> = step.forces.particles.iter().map(|c| c.total).collect();
     vtk::write_vtp(
@@ -317,11 +354,12 @@ fn write_time<P: ParticleSide, F: RunFluid>(
             vtk::DataArray::vector("fluidForce", as_arrays(&fluid_force)),
         ],
     )?;
-    vtp.push((
-        fluid.time(),
-        PathBuf::from(file.file_name().unwrap_or_default()),
-    ));
-    vtk::write_pvd(pdir.join("particles.pvd"), vtp)?;
+    if pieces.rank == 0 {
+        for r in 0..pieces.ranks {
+            vtp.push((fluid.time(), PathBuf::from(piece(r))));
+        }
+        vtk::write_pvd(pdir.join("particles.pvd"), vtp)?;
+    }
     Ok(name)
 }
 
@@ -331,6 +369,30 @@ pub fn run(
     case: &Path,
     opts: &RunOptions,
     stop: &AtomicBool,
+    events: &mut dyn FnMut(Event),
+) -> Result<RunReport, RunError> {
+    let launch = crate::backend::Launch::init(opts.fluid, opts.dem)?;
+    // On N ranks only rank 0 speaks (the others' log lines would repeat it N times), and an
+    // error on any rank ends every rank with its cause (no rank waits for a dead one).
+    let mut quiet = |_: Event| {};
+    let events: &mut dyn FnMut(Event) = if launch.rank() > 0 {
+        &mut quiet
+    } else {
+        events
+    };
+    let result = run_launched(case, opts, stop, &launch, events);
+    if launch.size() > 1 {
+        return result.map_err(|e| launch.fail_together(e));
+    }
+    result
+}
+
+/// [`run`] in the process layout `launch`.
+fn run_launched(
+    case: &Path,
+    opts: &RunOptions,
+    stop: &AtomicBool,
+    launch: &crate::backend::Launch,
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
     let layout = CaseLayout::open(case)?;
@@ -346,56 +408,71 @@ pub fn run(
 
     // Stage 1: the packed bed.
     let run_deck = Deck::read(&layout.run_deck)?;
-    let mut init_seconds = 0.0;
-    if let Some((data, exists)) = start_file(&run_deck, &layout.dem) {
-        if opts.repack || !exists {
-            let Some(init) = &layout.init_deck else {
-                return Err(setup_err(
-                    &layout.run_deck,
-                    format!("reads {} which does not exist, and there is no DEM/in.liggghts_init to make it", data.display()),
-                ));
-            };
-            let t = Instant::now();
-            let packed = if opts.dem == DemBackend::Native {
+    // On N ranks rank 0 packs alone; the others wait for it (and learn if it failed).
+    let stage1 = |events: &mut dyn FnMut(Event)| -> Result<f64, RunError> {
+        let mut init_seconds = 0.0;
+        if let Some((data, exists)) = start_file(&run_deck, &layout.dem) {
+            if opts.repack || !exists {
+                let Some(init) = &layout.init_deck else {
+                    return Err(setup_err(
+                        &layout.run_deck,
+                        format!("reads {} which does not exist, and there is no DEM/in.liggghts_init to make it", data.display()),
+                    ));
+                };
+                let t = Instant::now();
+                let packed = if opts.dem == DemBackend::Native {
+                    events(Event::Message(format!(
+                        "stage 1: running {} natively (writes {})",
+                        init.display(),
+                        data.display()
+                    )));
+                    let deck = Deck::read_with_vars(init, &opts.init_vars)?;
+                    let dem = crate::native::run_native_deck(&deck, &layout.dem, &mut |w| {
+                        events(Event::Message(format!("warning: {w}")))
+                    })?;
+                    format!("{} particles packed", dem.sim().particles.len())
+                } else {
+                    events(Event::Message(format!(
+                        "stage 1: running {} with the liggghts binary (writes {})",
+                        init.display(),
+                        data.display()
+                    )));
+                    crate::backend::pack_with_liggghts(init, &layout.dem, &opts.init_vars)?;
+                    "packed by LIGGGHTS".to_owned()
+                };
+                init_seconds = t.elapsed().as_secs_f64();
+                if !start_file(&run_deck, &layout.dem).is_some_and(|(_, exists)| exists) {
+                    return Err(setup_err(
+                        init,
+                        format!(
+                            "ran, but did not write {} (needs `write_data` or `write_restart`)",
+                            data.display()
+                        ),
+                    ));
+                }
                 events(Event::Message(format!(
-                    "stage 1: running {} natively (writes {})",
-                    init.display(),
-                    data.display()
+                    "stage 1: {packed} in {init_seconds:.1} s"
                 )));
-                let deck = Deck::read_with_vars(init, &opts.init_vars)?;
-                let dem = crate::native::run_native_deck(&deck, &layout.dem, &mut |w| {
-                    events(Event::Message(format!("warning: {w}")))
-                })?;
-                format!("{} particles packed", dem.sim().particles.len())
             } else {
                 events(Event::Message(format!(
-                    "stage 1: running {} with the liggghts binary (writes {})",
-                    init.display(),
+                    "stage 1: using the existing {} (--repack to pack again)",
                     data.display()
                 )));
-                crate::backend::pack_with_liggghts(init, &layout.dem, &opts.init_vars)?;
-                "packed by LIGGGHTS".to_owned()
-            };
-            init_seconds = t.elapsed().as_secs_f64();
-            if !start_file(&run_deck, &layout.dem).is_some_and(|(_, exists)| exists) {
-                return Err(setup_err(
-                    init,
-                    format!(
-                        "ran, but did not write {} (needs `write_data` or `write_restart`)",
-                        data.display()
-                    ),
-                ));
             }
-            events(Event::Message(format!(
-                "stage 1: {packed} in {init_seconds:.1} s"
-            )));
-        } else {
-            events(Event::Message(format!(
-                "stage 1: using the existing {} (--repack to pack again)",
-                data.display()
-            )));
         }
+        Ok(init_seconds)
+    };
+    let packed = if launch.rank() == 0 {
+        stage1(events)
+    } else {
+        Ok(0.0)
+    };
+    if !launch.all_ok(packed.is_ok()) && packed.is_ok() {
+        return Err(RunError::Backend(
+            "rank 0 failed in stage 1 (its error is above)".into(),
+        ));
     }
+    let init_seconds = packed?;
 
     // Stage 2: the coupled run.
     let deck_coupling = run_deck.coupling().ok_or_else(|| {
@@ -454,8 +531,9 @@ pub fn run(
         opts,
         stop,
         init_seconds,
+        ranks: None,
     };
-    crate::backend::run_pair(ctx, &run_deck, model, opts.fluid, opts.dem, events)
+    crate::backend::run_pair(ctx, &run_deck, model, opts.fluid, opts.dem, launch, events)
 }
 
 /// Coupling intervals of `dt_c` seconds from `start` to `end` (the last one may end past
@@ -482,6 +560,8 @@ pub(crate) struct LoopContext<'a> {
     pub(crate) opts: &'a RunOptions,
     pub(crate) stop: &'a AtomicBool,
     pub(crate) init_seconds: f64,
+    /// The coupler's ranks on N ranks (`None`: one process).
+    pub(crate) ranks: Option<Box<dyn couple::Ranks>>,
 }
 
 /// Runs one of `liggghtsCommands`' commands on the particle side. The folder of a file it
@@ -527,6 +607,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         opts,
         stop,
         init_seconds,
+        ranks,
         ..
     } = ctx;
     let mesh = fluid.mesh().clone();
@@ -556,10 +637,31 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     };
     let method_name = settings.method.name();
     let mut coupler = Coupler::new(&mesh, settings)?;
+    if let Some(ranks) = ranks {
+        coupler.set_ranks(ranks);
+    }
+    let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
     // The voidage of the initial particles, so that the first coupling interval blends from it
     // (not from an empty domain, which would make ∂ε/∂t a spurious source).
     coupler.exchange(&dem.state(), &fluid.state())?;
-    let n_particles = dem.state().len();
+    let n_particles = {
+        let mut n = [dem.state().len() as f64];
+        coupler.ranks().all_sum(&mut n);
+        n[0] as usize
+    };
+    if n_ranks > 1 {
+        events(Event::Message(format!(
+            "{n_ranks} ranks: LIGGGHTS on each, each rank couples the particles its LIGGGHTS \
+             rank owns; the fluid on rank 0"
+        )));
+        if monitors.basic_io {
+            events(Event::Message(
+                "warning: basicIO's particle files are not written on several ranks (no rank \
+                 holds all particles); the deck's dumps have them"
+                    .into(),
+            ));
+        }
+    }
     events(Event::Message(format!(
         "stage 2: {n_particles} particles, {} cells, {steps} coupling steps of {dt_c} s ({} DEM + {} fluid steps each), model {model_name}, voidage {method_name}",
         mesh.n_cells,
@@ -619,11 +721,16 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     for k in 1..=steps {
         let step = coupler.step(&mut dem, &mut fluid)?;
         let time = fluid.inner.time();
-        let sample = observer.sample(time, &fluid.inner, &dem, &step);
+        let sample = observer.sample(time, &fluid.inner, &dem, &step, coupler.ranks());
         samples.push(sample);
-        let stop_now = stop.load(Ordering::SeqCst);
+        // every rank stops at the same step (a signal reaches the ranks at different steps)
+        let stop_now = {
+            let mut s = [f64::from(u8::from(stop.load(Ordering::SeqCst)))];
+            coupler.ranks().all_max(&mut s);
+            s[0] > 0.0
+        };
         let write_now = k % write_every == 0 || k == steps || stop_now;
-        if !monitors.is_empty() {
+        if !monitors.is_empty() && rank == 0 {
             let eps = &step.voidage.epsilon;
             if monitors.needs_ddt {
                 for c in 0..eps.len() {
@@ -661,9 +768,24 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         }
         if write_now {
             let t = Instant::now();
-            let name = write_time(layout, &mut fluid.inner, &mesh, &dem, &step, &mut vtp)?;
-            write_csv(&csv, &samples).map_err(io_err(&csv))?;
-            if !monitors.is_empty() {
+            let pieces = Pieces {
+                rank,
+                ranks: n_ranks,
+                name: couple::output::time_name(start + k as f64 * dt_c),
+            };
+            let name = write_time(
+                layout,
+                &mut fluid.inner,
+                &mesh,
+                &dem,
+                &step,
+                &mut vtp,
+                &pieces,
+            )?;
+            if rank == 0 {
+                write_csv(&csv, &samples).map_err(io_err(&csv))?;
+            }
+            if !monitors.is_empty() && rank == 0 {
                 let fields = StepFields {
                     eps: &step.voidage.epsilon,
                     ddt_eps: &ddt_eps,
@@ -672,7 +794,9 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
                     rho: settings.physics.rho,
                 };
                 let dir = layout.cfd.join(&name);
-                monitors.write_time(&dir, &name, &mesh, &fields, &dem.state())?;
+                let particles = dem.state();
+                let particles = (n_ranks == 1).then_some(&particles);
+                monitors.write_time(&dir, &name, &mesh, &fields, particles)?;
             }
             output_seconds += t.elapsed().as_secs_f64();
         }
@@ -697,7 +821,9 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     }
     fluid.inner.finish().map_err(RunError::Fluid)?;
     let loop_seconds = t_loop.elapsed().as_secs_f64();
-    monitors.write_logs()?;
+    if rank == 0 {
+        monitors.write_logs()?;
+    }
     let n_steps = samples.len() as u64;
     let coupling_seconds = (loop_seconds - dem.seconds - fluid.seconds - output_seconds).max(0.0);
     let sections = [
@@ -707,14 +833,19 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         ("Coupling", coupling_seconds, n_steps),
         ("Output", output_seconds, n_steps),
     ];
-    if let Some(lines) = monitors.clock(&layout.cfd, &sections)? {
+    let clock = if rank == 0 {
+        monitors.clock(&layout.cfd, &sections)?
+    } else {
+        None
+    };
+    if let Some(lines) = clock {
         for line in lines {
             events(Event::Message(line));
         }
     }
 
     let mut checks = Vec::new();
-    if !stopped {
+    if !stopped && rank == 0 {
         if let Some(spec) = &spec {
             checks = checks::evaluate(spec, &settings, &samples, &post, dt_c)?;
             write_json(&post.join("validation.json"), &checks)
@@ -722,6 +853,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         }
     }
     Ok(RunReport {
+        rank,
         steps: samples.len() as u64,
         time: samples.last().map_or(start, |s| s.time),
         stopped,

@@ -1,0 +1,138 @@
+//! The coupler on several ranks: each rank couples the particles its DEM rank owns, rank 0
+//! holds the fluid.
+//!
+//! A parallel run (`mpirun -np N foamgrain run …` with LIGGGHTS on the N ranks) gives every
+//! coupler rank the particles LIGGGHTS owns there, and no rank ever holds them all. A particle is
+//! owned by one rank, so its volume, β and force are deposited once. What crosses ranks per
+//! coupling step is sparse, proportional to the cells a rank's particles touch:
+//!
+//! 1. each rank sends rank 0 the solid volume its particles put in each cell it touches
+//!    ([`Ranks::sum_to_root`]); rank 0 sums them (in rank order) into the global deposit, and
+//!    computes ε with the `alphaMin` floor;
+//! 2. rank 0 sends each rank ε, U, p, ∇p and ∇·τ of the cells that rank touches
+//!    ([`Ranks::scatter_from_root`]);
+//! 3. each rank computes its particles' forces, and sends rank 0 its Σ w β, Σ w β v and
+//!    Σ w F per touched cell, which rank 0 turns into Ksl, Us and f for the fluid.
+//!
+//! The volume and force accounting (particles, volume outside the mesh, clipped volume,
+//! β and force outside the mesh) is summed over ranks, so nothing lost on one rank goes
+//! unreported. [`Serial`] is the one-rank case (nothing to exchange); an MPI implementation
+//! lives with the MPI crates (`runner`'s `ranks` module), so this crate stays free of MPI.
+//!
+//! Sums over ranks run in rank order: a run is deterministic for a fixed rank count, and
+//! differs from the one-rank run by round-off only (the order of the per-cell additions).
+
+use foam::Label;
+
+/// The coupler's ranks (module docs). Every method is collective: all ranks call it, in the
+/// same order.
+pub trait Ranks {
+    /// This rank (0 holds the fluid).
+    fn rank(&self) -> usize;
+    /// Number of coupler ranks.
+    fn size(&self) -> usize;
+    /// Per-cell sums onto rank 0: each rank gives the cells it touches (`cells`, increasing,
+    /// no repeats) and `width` values per cell (`values.len() == cells.len() * width`); rank 0
+    /// gets in `root` (`n_cells × width`, overwritten) the sums over ranks, zero for cells no
+    /// rank touches. `root` is left alone on the other ranks. Each rank's list is kept for the
+    /// next [`Ranks::scatter_from_root`].
+    fn sum_to_root(&mut self, cells: &[Label], values: &[f64], width: usize, root: &mut [f64]);
+    /// Rank 0 sends each rank `width` values per cell of the list that rank gave to the last
+    /// [`Ranks::sum_to_root`], which `value(cell, buffer)` appends (called on rank 0 only);
+    /// every other rank gets its values in `out`, in its list's order (rank 0's `out` is left
+    /// alone: it reads its own fields).
+    fn scatter_from_root(
+        &mut self,
+        width: usize,
+        value: &dyn Fn(Label, &mut Vec<f64>),
+        out: &mut Vec<f64>,
+    );
+    /// Element-wise sum of `x` over ranks, on every rank.
+    fn all_sum(&self, x: &mut [f64]);
+    /// Element-wise maximum of `x` over ranks, on every rank.
+    fn all_max(&self, x: &mut [f64]);
+    /// Rank 0's `x` on every rank.
+    fn broadcast(&self, x: &mut [f64]);
+    /// Every rank's `x` on rank 0, in rank order (empty on the other ranks).
+    fn gather(&self, x: &[f64]) -> Vec<Vec<f64>>;
+}
+
+/// One rank: every operation is the identity.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Serial {
+    cells: usize,
+}
+
+impl Ranks for Serial {
+    fn rank(&self) -> usize {
+        0
+    }
+
+    fn size(&self) -> usize {
+        1
+    }
+
+    fn sum_to_root(&mut self, cells: &[Label], values: &[f64], width: usize, root: &mut [f64]) {
+        root.fill(0.0);
+        scatter_add(cells, values, width, root);
+        self.cells = cells.len();
+    }
+
+    fn scatter_from_root(
+        &mut self,
+        _width: usize,
+        _value: &dyn Fn(Label, &mut Vec<f64>),
+        _out: &mut Vec<f64>,
+    ) {
+    }
+
+    fn all_sum(&self, _x: &mut [f64]) {}
+
+    fn all_max(&self, _x: &mut [f64]) {}
+
+    fn broadcast(&self, _x: &mut [f64]) {}
+
+    fn gather(&self, x: &[f64]) -> Vec<Vec<f64>> {
+        vec![x.to_vec()]
+    }
+}
+
+/// Adds `width` values per cell of `cells` into the dense `dense` (`n_cells × width`).
+pub fn scatter_add(cells: &[Label], values: &[f64], width: usize, dense: &mut [f64]) {
+    for (k, &c) in cells.iter().enumerate() {
+        let c = c as usize;
+        for j in 0..width {
+            dense[c * width + j] += values[k * width + j];
+        }
+    }
+}
+
+/// `width` values per cell of `cells` taken from the dense `dense` (`n_cells × width`),
+/// appended to `out`.
+pub fn pick(cells: &[Label], dense: &[f64], width: usize, out: &mut Vec<f64>) {
+    for &c in cells {
+        let c = c as usize;
+        out.extend_from_slice(&dense[c * width..(c + 1) * width]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scatter_add_and_pick_are_inverse_on_the_listed_cells() {
+        let cells = [1, 3];
+        let values = [1.0, 2.0, 3.0, 4.0];
+        let mut dense = vec![0.0; 8];
+        scatter_add(&cells, &values, 2, &mut dense);
+        assert_eq!(dense, [0.0, 0.0, 1.0, 2.0, 0.0, 0.0, 3.0, 4.0]);
+        let mut out = Vec::new();
+        pick(&cells, &dense, 2, &mut out);
+        assert_eq!(out, values);
+        let mut s = Serial::default();
+        let mut root = vec![9.0; 8];
+        s.sum_to_root(&cells, &values, 2, &mut root);
+        assert_eq!(root, dense);
+    }
+}
