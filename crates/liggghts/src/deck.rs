@@ -309,9 +309,9 @@ impl CouplingDeck {
             message: format!(
                 "`processors {}` asks for {}{fixed} LIGGGHTS ranks, but LIGGGHTS runs on {ranks} \
                  here (foamgrain runs LIGGGHTS on its own MPI ranks: launch \
-                 `mpirun -np {fixed} foamgrain run …` once LIGGGHTS runs on several ranks, or run \
-                 this deck on the native DEM, `--dem native`, which ignores `processors` and uses \
-                 threads, or change the line to `processors * * *`)",
+                 `mpirun -np {fixed} foamgrain run CASE --dem liggghts`, or run this deck on the \
+                 native DEM, `--dem native`, which ignores `processors` and uses threads, or \
+                 change the line to `processors * * *`)",
                 shown.join(" "),
                 if free { "a multiple of " } else { "" },
             ),

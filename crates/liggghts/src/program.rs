@@ -25,15 +25,32 @@ pub struct ProgramRun {
     pub elapsed: Duration,
 }
 
-/// The command line `liggghts -in DECK -var … -log LOG -screen SCREEN` (paths as given).
+/// The command line `liggghts -in DECK -var … -log LOG -screen SCREEN` (paths as given), as
+/// a program of its own: without the variables by which `mpirun` tells its ranks which job
+/// they belong to ([`alone`]).
 pub fn command(deck: &Path, vars: &[(String, String)], log: &Path, screen: &Path) -> Command {
     let mut c = Command::new(LIGGGHTS_PROGRAM);
+    alone(&mut c);
     c.arg("-in").arg(deck);
     for (k, v) in vars {
         c.arg("-var").arg(k).arg(v);
     }
     c.arg("-log").arg(log).arg("-screen").arg(screen);
     c
+}
+
+/// Removes from `c`'s environment what `mpirun` sets for its ranks (Open MPI's `OMPI_*` but
+/// the run-as-root permissions, PMIx's `PMIX_*`, PMI's `PMI_*`): a `liggghts` started by a
+/// foamgrain rank would otherwise take itself for a rank of foamgrain's job and fail in
+/// `MPI_Init` ("ompi_rte_init failed"). Started so, it is an MPI singleton of its own.
+pub fn alone(c: &mut Command) {
+    for (key, _) in std::env::vars_os() {
+        let Some(k) = key.to_str() else { continue };
+        let launcher = ["OMPI_", "PMIX_", "PMI_"].iter().any(|p| k.starts_with(p));
+        if launcher && !k.starts_with("OMPI_ALLOW_RUN_AS_ROOT") {
+            c.env_remove(&key);
+        }
+    }
 }
 
 /// Runs `deck` with the `liggghts` binary in `workdir` (relative paths in the deck resolve
