@@ -47,7 +47,7 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value = "native")]
     pub dem: DemBackend,
     /// Number of threads of the native backends (default: all cores) and MPI ranks of
-    /// grainPisoFoam (default 1).
+    /// grainPisoFoam (default: `numberOfSubdomains` of CFD/system/decomposeParDict, else 1).
     #[arg(long)]
     pub np: Option<usize>,
     /// Stop at this simulated time instead of the controlDict's endTime (s).
@@ -87,7 +87,7 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
             DemBackend::Liggghts => runner::backend::DemBackend::Liggghts,
             DemBackend::LiggghtsFile => runner::backend::DemBackend::LiggghtsFile,
         },
-        fluid_ranks: a.np.unwrap_or(1),
+        fluid_ranks: a.np.unwrap_or(0),
     };
     let stop = Arc::new(AtomicBool::new(false));
     {

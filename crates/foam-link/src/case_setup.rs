@@ -99,24 +99,43 @@ pub struct Decomposition {
     pub wrote_dict: bool,
 }
 
+/// `numberOfSubdomains` of the case's `system/decomposeParDict` (`case` is the case root), or
+/// `None` without that file; a dictionary without a valid count is an error naming it.
+pub fn decomposed_ranks(case: &Path) -> Result<Option<usize>, LinkError> {
+    let path = case.join("system/decomposeParDict");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let dict = foam::parse_file(&path)?.body;
+    let config = |message: String| LinkError::Config {
+        path: path.clone(),
+        message,
+    };
+    let n = dict
+        .label("numberOfSubdomains")
+        .map_err(|e| config(e.to_string()))?;
+    if n < 1 {
+        return Err(config(format!(
+            "numberOfSubdomains {n} is not a rank count"
+        )));
+    }
+    Ok(Some(n as usize))
+}
+
 /// Decomposes `case` for `ranks` ranks with `decomposePar -force` (existing `processor*`
 /// directories are replaced). A `system/decomposeParDict` with another `numberOfSubdomains`
 /// is an error naming the file; without one, a `simple` one is written.
 pub fn decompose(case: &Case, mesh: &PolyMesh, ranks: usize) -> Result<Decomposition, LinkError> {
     let path = case.root().join("system/decomposeParDict");
-    let wrote_dict = if path.is_file() {
-        let dict = foam::parse_file(&path)?.body;
-        let config = |message: String| LinkError::Config {
-            path: path.clone(),
-            message,
-        };
-        let n = dict
-            .label("numberOfSubdomains")
-            .map_err(|e| config(e.to_string()))?;
-        if n != ranks as i64 {
-            return Err(config(format!(
-                "numberOfSubdomains {n}, but the link was asked for {ranks} ranks"
-            )));
+    let wrote_dict = if let Some(n) = decomposed_ranks(case.root())? {
+        if n != ranks {
+            return Err(LinkError::Config {
+                path,
+                message: format!(
+                    "numberOfSubdomains {n}, but the link was asked for {ranks} ranks (give \
+                     --np {n}, or leave --np out to use the dictionary's count)"
+                ),
+            });
         }
         false
     } else {

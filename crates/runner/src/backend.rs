@@ -446,7 +446,13 @@ mod mpi_pair {
         ranks: usize,
     ) -> Result<crate::foam_fluid::FoamFluid, RunError> {
         let solver = solver_path()?;
-        let fluid = foam_link::OpenFoamFluid::spawn(world, &layout.cfd, ranks.max(1), &solver)
+        let ranks = match ranks {
+            0 => foam_link::case_setup::decomposed_ranks(&layout.cfd)
+                .map_err(|e| backend_err("grainPisoFoam", e))?
+                .unwrap_or(1),
+            n => n,
+        };
+        let fluid = foam_link::OpenFoamFluid::spawn(world, &layout.cfd, ranks, &solver)
             .map_err(|e| backend_err("grainPisoFoam", e))?;
         Ok(crate::foam_fluid::FoamFluid::new(fluid))
     }

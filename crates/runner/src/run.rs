@@ -92,7 +92,8 @@ pub struct RunOptions {
     pub fluid: FluidBackend,
     /// The particle backend.
     pub dem: DemBackend,
-    /// MPI ranks of the fluid solver (OpenFOAM backend; 0 or 1: serial).
+    /// MPI ranks of the fluid solver (OpenFOAM backend; 0: `numberOfSubdomains` of the case's
+    /// `system/decomposeParDict`, 1 without one).
     pub fluid_ranks: usize,
 }
 
