@@ -26,7 +26,11 @@ src_root="$cache/openfoam-$version"
 bin_dir="$cache/bin"
 cxx="${CXX:-g++}"
 packages=(openfoam libopenfoam openmpi-bin libopenmpi-dev g++ dpkg-dev bzip2)
-libs_with_headers=(OpenFOAM OSspecific/POSIX finiteVolume meshTools)
+# Source trees extracted from the openfoam source package, and those of them that get an
+# lnInclude (wmake's flat header directory).
+src_trees=(OpenFOAM OSspecific/POSIX finiteVolume meshTools TurbulenceModels transportModels)
+libs_with_headers=(OpenFOAM OSspecific/POSIX finiteVolume meshTools
+                   TurbulenceModels/turbulenceModels TurbulenceModels/incompressible)
 
 say() { printf 'build.sh: %s\n' "$*" >&2; }
 
@@ -61,7 +65,12 @@ case "$installed" in
 esac
 
 # --- 2. headers from Debian's source package ----------------------------------------------
-if [ ! -f "$src_root/.extracted" ]; then
+# A cache made before the turbulence models were used lacks some trees: extract those.
+missing_trees=()
+for tree in "${src_trees[@]}"; do
+    [ -f "$src_root/.extracted" ] && [ -d "$src_root/src/$tree" ] || missing_trees+=("$tree")
+done
+if [ "${#missing_trees[@]}" -gt 0 ]; then
     has_deb_src() {
         grep -rqsE '^(deb-src[[:space:]]|Types:.*deb-src)' /etc/apt/sources.list /etc/apt/sources.list.d/
     }
@@ -88,8 +97,8 @@ SOURCES
     tarball="$(ls "$download"/openfoam_"$version".orig.tar.*)"
     top="openfoam-OpenFOAM-v$version"
     patterns=()
-    for lib in "${libs_with_headers[@]}"; do patterns+=("$top/src/$lib/*"); done
-    say "extracting src/{$(IFS=,; echo "${libs_with_headers[*]}")} from $(basename "$tarball")"
+    for tree in "${src_trees[@]}"; do patterns+=("$top/src/$tree/*"); done
+    say "extracting src/{$(IFS=,; echo "${src_trees[*]}")} from $(basename "$tarball")"
     tar -xf "$tarball" -C "$src_root.partial" --strip-components=1 --wildcards "${patterns[@]}"
     touch "$src_root.partial/.extracted"
     rm -rf "$src_root"
@@ -119,11 +128,16 @@ cxxflags=(-std=c++14 -pthread -m64 -DOPENFOAM=1912 -DWM_DP -DWM_LABEL_SIZE=32 -D
           -ftemplate-depth-100 -fPIC -O3 -Wall -Wno-unused-parameter -Wno-attributes)
 includes=(-I"$solver_dir")
 for lib in "${libs_with_headers[@]}"; do includes+=(-I"$src_root/src/$lib/lnInclude"); done
+# pisoFoam's include directories for the transport model (Make/options of v1912).
+includes+=(-I"$src_root/src/transportModels"
+           -I"$src_root/src/transportModels/incompressible/singlePhaseTransportModel")
 # Open MPI (the same library Debian's libPstream uses); word splitting of mpicxx's flags intended.
 read -r -a mpi_compile <<<"$(mpicxx --showme:compile)"
 read -r -a mpi_link <<<"$(mpicxx --showme:link)"
 includes+=("${mpi_compile[@]}")
-ldlibs=(-L/usr/lib -lfiniteVolume -lmeshTools -lOpenFOAM -lPstream "${mpi_link[@]}" -ldl -lm)
+ldlibs=(-L/usr/lib -lturbulenceModels -lincompressibleTurbulenceModels
+        -lincompressibleTransportModels -lfiniteVolume -lmeshTools -lOpenFOAM -lPstream
+        "${mpi_link[@]}" -ldl -lm)
 target="$bin_dir/grainPisoFoam"
 stamp="$target.sources.sha256"
 digest="$( { cat "$solver_dir"/*.C "$solver_dir"/*.H; echo "${cxxflags[*]} ${includes[*]} ${ldlibs[*]}";

@@ -188,27 +188,27 @@ fn vec_list(i: &Item) -> Option<Vec<V3>> {
 }
 
 /// The entry of `patch` in `boundaryField`, with the patch's kind of error context.
-struct PatchEntry<'a> {
-    file: &'a Path,
-    name: String,
-    dict: &'a Dict,
-    n: usize,
+pub(crate) struct PatchEntry<'a> {
+    pub(crate) file: &'a Path,
+    pub(crate) name: String,
+    pub(crate) dict: &'a Dict,
+    pub(crate) n: usize,
 }
 
 impl PatchEntry<'_> {
-    fn err(&self, key: &str, msg: impl Into<String>) -> FvError {
+    pub(crate) fn err(&self, key: &str, msg: impl Into<String>) -> FvError {
         FvError::setting(self.file, format!("boundaryField.{}.{key}", self.name), msg)
     }
 
-    fn kind(&self) -> Result<&str> {
+    pub(crate) fn kind(&self) -> Result<&str> {
         self.dict.word("type").map_err(|e| self.err("type", e.0))
     }
 
-    fn stream(&self, key: &str) -> Result<&[Item]> {
+    pub(crate) fn stream(&self, key: &str) -> Result<&[Item]> {
         self.dict.stream(key).map_err(|e| self.err(key, e.0))
     }
 
-    fn values<T: Clone>(
+    pub(crate) fn values<T: Clone>(
         &self,
         key: &str,
         one: impl Fn(&Item) -> Option<T>,
@@ -225,7 +225,10 @@ impl PatchEntry<'_> {
         })
     }
 
-    fn series<T: Copy>(&self, one: impl Fn(&Item) -> Option<T>) -> Result<TimeSeries<T>> {
+    pub(crate) fn series<T: Copy>(
+        &self,
+        one: impl Fn(&Item) -> Option<T>,
+    ) -> Result<TimeSeries<T>> {
         read_series(self.stream("uniformValue")?, one).ok_or_else(|| {
             self.err(
                 "uniformValue",
@@ -234,7 +237,7 @@ impl PatchEntry<'_> {
         })
     }
 
-    fn unsupported(&self, t: &str, supported: &str) -> FvError {
+    pub(crate) fn unsupported(&self, t: &str, supported: &str) -> FvError {
         self.err(
             "type",
             format!("`{t}` is not supported (supported: {supported})"),
@@ -296,7 +299,7 @@ const P_SUPPORTED: &str = "fixedValue, uniformFixedValue, zeroGradient, fixedFlu
 
 /// Reads one condition per patch with `parse` (given the entry and its `type`), checking that
 /// `empty` patches and `empty` conditions go together.
-fn read_all<T>(
+pub(crate) fn read_all<T>(
     file: &Path,
     field: &foam::VolField,
     mesh: &foam::PolyMesh,

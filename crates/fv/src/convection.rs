@@ -186,19 +186,13 @@ impl Convection {
             Convection::Upwind | Convection::LinearUpwind | Convection::LinearUpwindV => {
                 phi[..ni].iter().map(|&p| pos0(p)).collect()
             }
-            Convection::LimitedLinear(psi) => {
-                // φ = |U|² with its Gauss linear gradient (`grad(magSqr(U))`).
+            Convection::LimitedLinear(_) => {
+                // The scalar limiter on φ = |U|² with its Gauss linear gradient
+                // (`grad(magSqr(U))`).
                 let m: Vec<f64> = u.iter().map(|&v| mag_sqr(v)).collect();
                 let mb: Vec<f64> = u_b.iter().map(|&v| mag_sqr(v)).collect();
-                let gm = fvc::grad_scalar(g, &m, &mb);
-                (0..ni)
-                    .into_par_iter()
-                    .map(|f| {
-                        let (o, n) = pairs(f);
-                        let r = r_scalar(phi[f], m[o], m[n], gm[o], gm[n], g.delta[f]);
-                        limited_weight(limited_linear(r, psi), g.weight[f], phi[f])
-                    })
-                    .collect()
+                self.scalar_weights(g, phi, &m, &mb)
+                    .expect("limitedLinear has scalar weights")
             }
             Convection::LimitedLinearV(psi) => (0..ni)
                 .into_par_iter()
@@ -208,6 +202,38 @@ impl Convection {
                     limited_weight(limited_linear(r, psi), g.weight[f], phi[f])
                 })
                 .collect(),
+        }
+    }
+
+    /// The owner weight w_f of every internal face for the transport of a cell scalar `x`
+    /// (boundary values `x_b`) by the flux `phi`: `Linear`, `Upwind` and `LimitedLinear(ψ)`
+    /// (limited on x itself, with its Gauss linear gradient, as OpenFOAM's scalar
+    /// `limitedLinear`); `None` for the schemes of vectors or with an explicit correction.
+    pub fn scalar_weights(
+        self,
+        g: &FvGeometry,
+        phi: &[f64],
+        x: &[f64],
+        x_b: &[f64],
+    ) -> Option<Vec<f64>> {
+        let ni = g.n_internal;
+        match self {
+            Convection::Linear => Some(g.weight[..ni].to_vec()),
+            Convection::Upwind => Some(phi[..ni].iter().map(|&p| pos0(p)).collect()),
+            Convection::LimitedLinear(psi) => {
+                let gx = fvc::grad_scalar(g, x, x_b);
+                Some(
+                    (0..ni)
+                        .into_par_iter()
+                        .map(|f| {
+                            let (o, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                            let r = r_scalar(phi[f], x[o], x[n], gx[o], gx[n], g.delta[f]);
+                            limited_weight(limited_linear(r, psi), g.weight[f], phi[f])
+                        })
+                        .collect(),
+                )
+            }
+            _ => None,
         }
     }
 

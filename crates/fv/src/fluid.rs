@@ -24,6 +24,7 @@ use crate::geometry::{FvGeometry, V3};
 use crate::ldu::Ldu;
 use crate::linsolve::{self, SolveStats};
 use crate::settings::{Settings, SnGrad, TimeScheme};
+use crate::turbulence::{k_epsilon, KEpsilon, TurbulenceSettings};
 use foam::{Case, FieldValues, VolField};
 use rayon::prelude::*;
 use std::path::Path;
@@ -85,6 +86,8 @@ pub struct StepReport {
     /// Σ|∇·φ + ∂ε/∂t| V-weighted continuity error after the last corrector (m³/s), relative to
     /// Σ|φ| over the faces.
     pub continuity: f64,
+    /// The turbulence model's solves after the correctors (ε, then k; empty when laminar).
+    pub turbulence: Vec<SolveStats>,
 }
 
 /// The native fluid solver on one case.
@@ -146,6 +149,8 @@ pub struct Fluid {
     eps_bc: Vec<Option<Vec<f64>>>,
     /// Laplacian delta coefficient per face for the chosen snGrad scheme.
     lap_dc: Vec<f64>,
+    /// The k–ε model when `turbulenceProperties` selects it.
+    turbulence: Option<KEpsilon>,
 }
 
 impl Fluid {
@@ -158,6 +163,16 @@ impl Fluid {
         let g = FvGeometry::new(&mesh)?;
         let start = start_dir(&case, settings.start_time)?;
         let fields = crate::fields::read_fields(&start, &mesh, &g)?;
+        let turbulence = match &settings.turbulence {
+            TurbulenceSettings::KEpsilon(s) => Some(KEpsilon::read(
+                &start,
+                &mesh,
+                &g,
+                (**s).clone(),
+                settings.nu,
+            )?),
+            _ => None,
+        };
         let (pref_cell, _) = settings.p_ref;
         if pref_cell >= g.n_cells {
             return Err(FvError::setting(
@@ -166,7 +181,7 @@ impl Fluid {
                 format!("cell {pref_cell} does not exist ({} cells)", g.n_cells),
             ));
         }
-        Self::build(case, settings, g, fields)
+        Self::build(case, settings, g, fields, turbulence)
     }
 
     fn build(
@@ -174,6 +189,7 @@ impl Fluid {
         settings: Settings,
         g: FvGeometry,
         fields: crate::fields::CaseFields,
+        turbulence: Option<KEpsilon>,
     ) -> Result<Fluid> {
         let n = g.n_cells;
         let nb = g.n_boundary();
@@ -209,6 +225,7 @@ impl Fluid {
             us: vec![V3::zeros(); n],
             force: vec![V3::zeros(); n],
             lap_dc,
+            turbulence,
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
@@ -283,10 +300,42 @@ impl Fluid {
         &self.grad_p
     }
 
-    /// ∇·τ at cells (m/s²): ∇·(ν(∇U + ∇Uᵀ)) of the current velocity ([`fvc::div_viscous_stress`]).
+    /// The effective viscosity νeff = ν + νt (m²/s) at cells and on boundary faces (ν alone
+    /// without a turbulence model).
+    pub fn nu_eff(&self) -> (Vec<f64>, Vec<f64>) {
+        let nu = self.settings.nu;
+        match &self.turbulence {
+            Some(t) => (
+                t.nut().iter().map(|&n| n + nu).collect(),
+                t.nut_boundary().iter().map(|&n| n + nu).collect(),
+            ),
+            None => (vec![nu; self.g.n_cells], vec![nu; self.g.n_boundary()]),
+        }
+    }
+
+    /// The k–ε model's state, when the case selects it.
+    pub fn turbulence(&self) -> Option<&KEpsilon> {
+        self.turbulence.as_ref()
+    }
+
+    /// ε νeff at faces (m²/s): the product formed at cells and boundary faces (ε of the
+    /// boundary the `voidfraction` condition's) and interpolated linearly, as
+    /// grainPisoFoam's and CFDEM's `voidfraction*nuEff` fields are; also the cell and
+    /// boundary values.
+    fn eps_nu_eff(&self, ef: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let g = &self.g;
+        let (nu_c, nu_b) = self.nu_eff();
+        let a_c: Vec<f64> = (0..g.n_cells).map(|c| self.eps[c] * nu_c[c]).collect();
+        let a_b: Vec<f64> = (0..g.n_boundary())
+            .map(|b| ef[g.n_internal + b] * nu_b[b])
+            .collect();
+        let a_f = fvc::interpolate(g, Field::new(&a_c, &a_b));
+        (a_f, a_c, a_b)
+    }
+
+    /// ∇·τ at cells (m/s²): ∇·(νeff(∇U + ∇Uᵀ)) of the current velocity ([`fvc::div_viscous_stress`]).
     pub fn div_tau(&self) -> Vec<V3> {
-        let nu_c = vec![self.settings.nu; self.g.n_cells];
-        let nu_b = vec![self.settings.nu; self.g.n_boundary()];
+        let (nu_c, nu_b) = self.nu_eff();
         fvc::div_viscous_stress(
             &self.g,
             Field::new(&nu_c, &nu_b),
@@ -442,7 +491,6 @@ impl Fluid {
         let u_old = self.u.clone();
         let u_b_old = self.u_b.clone();
         let phi_old = self.phi.clone();
-        let nu = self.settings.nu;
         let rho = self.settings.rho;
         self.update_u_boundary(t_new);
         let ef = self.eps_faces(&self.eps);
@@ -454,7 +502,8 @@ impl Fluid {
             TimeScheme::CrankNicolson(psi) => 1.0 - 0.5 * psi,
         };
         let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
-        let (cd, cd_diag, cd_b) = self.conv_diff(&ef, &grad_u);
+        let (nu_f, nu_c, nu_bf) = self.eps_nu_eff(&ef);
+        let (cd, cd_diag, cd_b) = self.conv_diff(&nu_f, &grad_u);
         let g = &self.g;
         let mut m = cd.clone();
         m.upper.iter_mut().for_each(|x| *x *= theta);
@@ -462,9 +511,12 @@ impl Fluid {
         let mut diag: Vec<V3> = vec![V3::zeros(); n];
         let mut b: Vec<V3> = vec![V3::zeros(); n];
         let stress = if self.settings.full_stress {
-            let nu_f: Vec<f64> = ef.iter().map(|e| e * nu).collect();
-            let fl =
-                fvc::transpose_stress_flux(g, &nu_f, Field::new(&self.u, &self.u_b), &grad_u, true);
+            let fl = fvc::dev2_transpose_flux(
+                g,
+                Field::new(&nu_c, &nu_bf),
+                Field::new(&self.u, &self.u_b),
+                &grad_u,
+            );
             fvc::surface_integrate(g, &fl)
         } else {
             vec![V3::zeros(); n]
@@ -475,8 +527,8 @@ impl Fluid {
             let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
             let mut old = vec![V3::zeros(); n];
             let mut new = vec![V3::zeros(); n];
-            self.add_boundary_terms(&ef, &vi, &u_b_old, None, &mut old);
-            self.add_boundary_terms(&ef, &vi, &self.u_b, None, &mut new);
+            self.add_boundary_terms(&nu_f, &vi, &u_b_old, None, &mut old);
+            self.add_boundary_terms(&nu_f, &vi, &self.u_b, None, &mut new);
             (0..n)
                 .map(|c| V3::from_fn(|k, _| (1.0 - theta) * (old[c][k] - new[c][k])))
                 .collect()
@@ -510,6 +562,7 @@ impl Fluid {
             momentum: Vec::new(),
             pressure: Vec::new(),
             continuity: 0.0,
+            turbulence: Vec::new(),
         };
         let kappa_p = |c: usize| match self.model {
             Model::A => self.eps[c],
@@ -849,17 +902,30 @@ impl Fluid {
                 "velocity is not finite at t = {t_new}"
             )));
         }
+        if let Some(t) = &mut self.turbulence {
+            let flow = k_epsilon::Flow {
+                u: &self.u,
+                u_b: &self.u_b,
+                phi: &self.phi,
+                nu: self.settings.nu,
+                dt,
+                lap_dc: &self.lap_dc,
+                corrected: self.settings.sn_grad == SnGrad::Corrected,
+            };
+            if let Some(r) = t.correct(&self.g, &flow)? {
+                report.turbulence = vec![r.epsilon, r.k];
+            }
+        }
         self.time = t_new;
         self.time_index += 1;
         Ok(report)
     }
 
-    /// Convection (flux φ, current) and diffusion (εν) of the momentum equation: off-diagonal
-    /// matrix, per-component diagonal and source (including boundary contributions and the
-    /// explicit non-orthogonal correction).
-    fn conv_diff(&self, ef: &[f64], grad_u: &[crate::fvc::Tensor]) -> (Ldu, Vec<V3>, Vec<V3>) {
+    /// Convection (flux φ, current) and diffusion (ε νeff at faces, `nu_f`) of the momentum
+    /// equation: off-diagonal matrix, per-component diagonal and source (including boundary
+    /// contributions and the explicit non-orthogonal correction).
+    fn conv_diff(&self, nu_f: &[f64], grad_u: &[crate::fvc::Tensor]) -> (Ldu, Vec<V3>, Vec<V3>) {
         let g = &self.g;
-        let nu = self.settings.nu;
         let mut m = Ldu::zeros(g);
         let mut diag = vec![V3::zeros(); g.n_cells];
         let mut b = vec![V3::zeros(); g.n_cells];
@@ -870,7 +936,7 @@ impl Fluid {
             let (o, nn) = (g.owner[f] as usize, g.neighbour[f] as usize);
             let phi = self.phi[f];
             let w = weights[f];
-            let gam = nu * ef[f] * g.mag_sf[f] * self.lap_dc[f];
+            let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
             m.upper[f] = phi * (1.0 - w) - gam;
             m.lower[f] = -phi * w - gam;
             let d_o = phi * w + gam;
@@ -882,7 +948,7 @@ impl Fluid {
             if corrected {
                 let wf = g.weight[f];
                 let kv = g.corr_vec[f];
-                let c = nu * ef[f] * g.mag_sf[f];
+                let c = nu_f[f] * g.mag_sf[f];
                 for j in 0..3 {
                     let mut s = 0.0;
                     for i in 0..3 {
@@ -895,7 +961,7 @@ impl Fluid {
             }
         }
         let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
-        self.add_boundary_terms(ef, &vi, &self.u_b, Some(&mut diag), &mut b);
+        self.add_boundary_terms(nu_f, &vi, &self.u_b, Some(&mut diag), &mut b);
         // linearUpwind's explicit part: the source loses V ∇·(φ c) (OpenFOAM's
         // `fvm += fvc::surfaceIntegrate(faceFlux*correction)`).
         if let Some(corr) = conv.correction(g, &self.phi, &self.u, grad_u) {
@@ -922,18 +988,17 @@ impl Fluid {
 
     /// Adds the boundary faces' part of convection and diffusion: with the face value
     /// U_b = vi ⊙ U_P + vb (vi from [`bc::velocity_value_coeffs`], `u_b` the face values), the
-    /// implicit φ vi + νε_f|S|δ (1 − vi) to `diag` (when given) and the explicit
-    /// (−φ + νε_f|S|δ) vb to `b`.
+    /// implicit φ vi + a_f|S|δ (1 − vi) to `diag` (when given) and the explicit
+    /// (−φ + a_f|S|δ) vb to `b` (a_f = ε νeff at the face, `nu_f`).
     fn add_boundary_terms(
         &self,
-        ef: &[f64],
+        nu_f: &[f64],
         vi: &[V3],
         u_b: &[V3],
         mut diag: Option<&mut Vec<V3>>,
         b: &mut [V3],
     ) {
         let g = &self.g;
-        let nu = self.settings.nu;
         for f in g.n_internal..g.n_faces() {
             let bi = f - g.n_internal;
             if g.boundary_empty[bi] {
@@ -941,7 +1006,7 @@ impl Fluid {
             }
             let o = g.owner[f] as usize;
             let phi = self.phi[f];
-            let gam = nu * ef[f] * g.mag_sf[f] * self.lap_dc[f];
+            let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
             for k in 0..3 {
                 if let Some(d) = diag.as_deref_mut() {
                     d[o][k] += phi * vi[bi][k] + gam * (1.0 - vi[bi][k]);
@@ -976,6 +1041,9 @@ impl Fluid {
             })?;
         p.write(&dir.join("p"), fmt)?;
         crate::fields::write_phi(&dir.join("phi"), &self.g, &self.phi, fmt)?;
+        if let Some(t) = &self.turbulence {
+            t.write(&self.g, &dir, fmt)?;
+        }
         Ok(())
     }
 

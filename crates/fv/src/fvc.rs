@@ -310,6 +310,14 @@ pub fn sn_grad_vector(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -
     out
 }
 
+/// The linear interpolation w(T_P − T_N) + T_N of a cell tensor field to the internal face `f`
+/// (OpenFOAM's operation order, entry by entry).
+fn interpolate_tensor(g: &FvGeometry, f: usize, t: &[Tensor]) -> Tensor {
+    let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
+    let w = g.weight[f];
+    Tensor::from_fn(|i, j| w * (t[p][(i, j)] - t[n][(i, j)]) + t[n][(i, j)])
+}
+
 /// The face flux of the transposed stress part, `ν_f (G_f · S_f)` with the vector
 /// `(G_f·S_f)_j = Σ_i S_i G_f,ji` (G = ∇U, face values linearly interpolated, boundary faces from
 /// [`boundary_grad`]); with `dev2` the flux of `ν dev2(∇Uᵀ) = ν (∇Uᵀ − ⅔ tr(∇U) I)` as in
@@ -326,15 +334,7 @@ pub fn transpose_stress_flux(
         .into_par_iter()
         .map(|f| {
             let gf = if f < g.n_internal {
-                let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
-                let w = g.weight[f];
-                let mut t = Tensor::zeros();
-                for i in 0..3 {
-                    for j in 0..3 {
-                        t[(i, j)] = w * (grad_u[p][(i, j)] - grad_u[n][(i, j)]) + grad_u[n][(i, j)];
-                    }
-                }
-                t
+                interpolate_tensor(g, f, grad_u)
             } else {
                 grad_b[f - g.n_internal]
             };
@@ -345,6 +345,46 @@ pub fn transpose_stress_flux(
                 v -= 2.0 / 3.0 * tr * s;
             }
             nu_f[f] * v
+        })
+        .collect()
+}
+
+/// The face flux of OpenFOAM's `fvc::div(nuEff*dev2(T(fvc::grad(U))))` (Gauss linear): the
+/// tensor a dev2(∇Uᵀ) = a (∇Uᵀ − ⅔ tr(∇U) I) formed at cells (a per cell) and on boundary faces
+/// (a per boundary face, ∇U from [`boundary_grad`]), interpolated linearly to the faces and
+/// dotted with S_f: one vector per face (m⁴/s² for a in m²/s). The product is interpolated,
+/// not a and ∇U apart, as pisoFoam's, grainPisoFoam's and CFDEM's solvers do (a = ε νeff in
+/// the volume-averaged stress).
+pub fn dev2_transpose_flux(
+    g: &FvGeometry,
+    a: Field<'_, f64>,
+    u: Field<'_, V3>,
+    grad_u: &[Tensor],
+) -> Vec<V3> {
+    a.check(g);
+    let dev2t = |t: &Tensor, s: f64| {
+        let mut m = t.transpose();
+        let tr = m[(0, 0)] + m[(1, 1)] + m[(2, 2)];
+        for i in 0..3 {
+            m[(i, i)] -= 2.0 / 3.0 * tr;
+        }
+        s * m
+    };
+    let cells: Vec<Tensor> = (0..g.n_cells)
+        .map(|c| dev2t(&grad_u[c], a.cells[c]))
+        .collect();
+    let grad_b = boundary_grad(g, u, grad_u);
+    (0..g.n_faces())
+        .into_par_iter()
+        .map(|f| {
+            let t = if f < g.n_internal {
+                interpolate_tensor(g, f, &cells)
+            } else {
+                let b = f - g.n_internal;
+                dev2t(&grad_b[b], a.boundary[b])
+            };
+            let s = g.sf[f];
+            V3::from_fn(|j, _| s[0] * t[(0, j)] + s[1] * t[(1, j)] + s[2] * t[(2, j)])
         })
         .collect()
 }

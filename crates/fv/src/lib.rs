@@ -16,6 +16,7 @@
 //!   [`amg`], an aggregation multigrid;
 //! * [`bc`]: boundary conditions of U and p; [`fields`]: U, p and phi of a time directory;
 //! * [`settings`]: what `system/` and `constant/` ask for, refusing what is not supported;
+//! * [`turbulence`]: `turbulenceProperties` and the k–ε model with wall functions;
 //! * [`fluid`]: the PISO step ([`Fluid`]).
 //!
 //! Verified against Debian's OpenFOAM v1912 on the same meshes: the lid-driven cavity and an
@@ -41,6 +42,7 @@ pub mod ldu;
 pub mod linsolve;
 pub mod settings;
 pub mod testfields;
+pub mod turbulence;
 
 pub use error::{FvError, Result};
 pub use fluid::{Fluid, Model, PorousTimeFlux, StepReport};

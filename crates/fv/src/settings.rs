@@ -8,10 +8,11 @@
 //! `div(phi,U)` ([`crate::convection`]), the laminar stress divergence, the momentum and
 //! pressure Laplacians under the names icoFoam, pisoFoam and cfdemSolverPiso give them,
 //! `grad(p)`, `grad(U)`, the gradient a scheme names (`linearUpwind grad(U)`,
-//! `grad(magSqr(U))` for `limitedLinear`) — each its own entry, else `default`. Entries for
-//! fields the laminar solver never solves (CFDEM's tutorials carry `div(phi,k)`,
-//! `div(phi,epsilon)`, `laplacian(DkEff,k)`, …), `fluxRequired`, `wallDist` and
-//! `interpolate(U)` are accepted and not used.
+//! `grad(magSqr(U))` for `limitedLinear`) — each its own entry, else `default`. With
+//! `simulationType RAS` (k–ε) the k and ε equations' entries too
+//! ([`crate::turbulence::properties`]); without it, entries for fields the laminar solver never
+//! solves (CFDEM's tutorials carry `div(phi,k)`, `div(phi,epsilon)`, `laplacian(DkEff,k)`, …),
+//! `fluxRequired`, `wallDist` and `interpolate(U)` are accepted and not used.
 //!
 //! fvSolution: the `p`, `pFinal` and `U` solvers (exact keys, else pattern keys such as
 //! `"(U|k|epsilon)"`, `$p` inherited) with `tolerance`, `relTol`, `maxIter`, `minIter`; `PISO`
@@ -116,9 +117,12 @@ pub struct Settings {
     /// selected by `constant/turbulenceProperties` `simulationType laminar`); icoFoam has only
     /// the Laplacian.
     pub full_stress: bool,
+    /// What `constant/turbulenceProperties` selects (none, laminar, k–ε) with the k–ε
+    /// equations' schemes and solvers ([`crate::turbulence::properties`]).
+    pub turbulence: crate::turbulence::TurbulenceSettings,
 }
 
-fn err(file: &Path, key: &str, msg: impl Into<String>) -> FvError {
+pub(crate) fn err(file: &Path, key: &str, msg: impl Into<String>) -> FvError {
     FvError::setting(file, key, msg)
 }
 
@@ -142,7 +146,12 @@ fn dimensioned(d: &Dict, file: &Path, key: &str) -> Result<Option<f64>> {
 /// else `default`), numbers written as words (`Gauss limitedLinearV 1` is three words, so an
 /// unsupported scheme is named whole), with the dotted key that supplied them (for error
 /// messages).
-fn scheme_words(d: &Dict, file: &Path, sub: &str, key: &str) -> Result<(Vec<String>, String)> {
+pub(crate) fn scheme_words(
+    d: &Dict,
+    file: &Path,
+    sub: &str,
+    key: &str,
+) -> Result<(Vec<String>, String)> {
     let s = d.dict(sub).map_err(|e| err(file, sub, e.0))?;
     let (stream, used) = match s.stream(key) {
         Ok(st) => (st, format!("{sub}.{key}")),
@@ -197,7 +206,7 @@ const STRESS_DIVERGENCES: &[&str] = &[
 /// those entries that is there, else the `default` (an error when there is none), each with
 /// the dotted key that supplied it. A solver looks up one of the names, so only entries that
 /// exist are checked: a `default none` with the term named is fine.
-fn scheme_group(
+pub(crate) fn scheme_group(
     sch: &Dict,
     file: &Path,
     sub: &str,
@@ -232,7 +241,13 @@ fn gauss_linear_grad(sch: &Dict, file: &Path, key: &str) -> Result<()> {
 /// unsupported entry is refused naming it and listing the supported ones
 /// ([`crate::convection::SUPPORTED`]).
 fn convection_scheme(sch: &Dict, file: &Path) -> Result<(Convection, bool)> {
-    let (words, key) = scheme_words(sch, file, "divSchemes", "div(phi,U)")?;
+    convection_of(sch, file, "div(phi,U)")
+}
+
+/// The convection scheme of the `divSchemes` entry `entry` (else `default`) and whether it is
+/// `bounded`; see [`convection_scheme`].
+pub(crate) fn convection_of(sch: &Dict, file: &Path, entry: &str) -> Result<(Convection, bool)> {
+    let (words, key) = scheme_words(sch, file, "divSchemes", entry)?;
     let w: Vec<&str> = words.iter().map(String::as_str).collect();
     let (bounded, rest) = match w.as_slice() {
         ["bounded", rest @ ..] => (true, rest),
@@ -379,7 +394,7 @@ fn gamg_smoother(d: &Dict, file: &Path, dotted: &str) -> Result<()> {
     Ok(())
 }
 
-fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
+pub(crate) fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearSolver> {
     let key = |k: &str| format!("solvers.{name}.{k}");
     let s = match d.lookup_path(&format!("solvers.{name}")) {
         Some(foam::Value::Dict(s)) => s,
@@ -668,37 +683,13 @@ impl Settings {
         let u_solver = linear_solver(&sol, &sol_file, "U")?;
         momentum_relaxation(&sol, &sol_file)?;
 
-        let full_stress = match case.read_dict("constant/turbulenceProperties") {
-            Ok(d) => {
-                let f = path("constant/turbulenceProperties");
-                match d.word("simulationType") {
-                    Ok("laminar") => {
-                        if let Ok(m) = d
-                            .dict("laminar")
-                            .and_then(|l| l.word("laminarModel").or_else(|_| l.word("model")))
-                        {
-                            if m != "Stokes" {
-                                return Err(err(
-                                    &f,
-                                    "laminar.laminarModel",
-                                    format!("`{m}` is not supported (Stokes)"),
-                                ));
-                            }
-                        }
-                        true
-                    }
-                    Ok(other) => {
-                        return Err(err(
-                            &f,
-                            "simulationType",
-                            format!("`{other}` is not supported (laminar)"),
-                        ))
-                    }
-                    Err(e) => return Err(err(&f, "simulationType", e.0)),
-                }
-            }
-            Err(_) => false,
-        };
+        let mom_lap = scheme_group(&sch, &sch_file, "laplacianSchemes", MOMENTUM_LAPLACIANS)?
+            .into_iter()
+            .next()
+            .map(|(w, _)| w)
+            .unwrap_or_default();
+        let turbulence = crate::turbulence::properties::read(case, &sch, &sol, &mom_lap)?;
+        let full_stress = turbulence.full_stress();
         if full_stress {
             for (w, used) in scheme_group(&sch, &sch_file, "divSchemes", STRESS_DIVERGENCES)? {
                 if w != ["Gauss", "linear"] {
@@ -730,6 +721,7 @@ impl Settings {
             p_final,
             u_solver,
             full_stress,
+            turbulence,
         })
     }
 }

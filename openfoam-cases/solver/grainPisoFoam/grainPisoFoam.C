@@ -23,6 +23,10 @@
   gradient of the half cell next to them (porousFaces.H). Between clear cells the forms above
   are pisoFoam's.
 
+  Turbulence: constant/turbulenceProperties when present (laminar or RAS, e.g. kEpsilon with
+  wall functions), νeff = ν + νt in the stress above (ν → νeff), k–ε solved after the
+  correctors on the flux φ as CFDEM's cfdemSolverPiso does; without the file, ν alone.
+
   Fields: U, p as pisoFoam; voidfraction, Ksl, Us, f read from the start time (couplingFields.H)
   and updated each step by the selected couplingSource (couplingSource.H), which also drives
   the time loop (the mpi source: as the coupler commands, mpiCouplingSource.H).
@@ -30,6 +34,8 @@
 
 #include "fvCFD.H"
 #include "pisoControl.H"
+#include "singlePhaseTransportModel.H"
+#include "turbulentTransportModel.H"
 #include "vansSettings.H"
 #include "couplingFields.H"
 #include "couplingSource.H"
@@ -87,6 +93,13 @@ int main(int argc, char *argv[])
                 {
                     #include "pEqn.H"
                 }
+            }
+
+            // The turbulence model after the correctors, as pisoFoam and cfdemSolverPiso.
+            if (turbulence.valid())
+            {
+                laminarTransport->correct();
+                turbulence->correct();
             }
 
             source->send(U, p, phi);

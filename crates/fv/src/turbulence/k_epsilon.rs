@@ -1,0 +1,524 @@
+//! The standard k–ε model (Launder & Spalding 1974, Comput. Methods Appl. Mech. Eng. 3,
+//! 269–289) as OpenFOAM v1912's incompressible `kEpsilon` solves it once per time step after
+//! the PISO correctors (pisoFoam's `turbulence->correct()`), with k (m²/s²), ε (m²/s³),
+//! νt = Cμ k²/ε (m²/s):
+//!
+//! ```text
+//! ∂ε/∂t + ∇·(φε) − ∇·((ν + νt/σε)∇ε) = C1 Cμ k (G/νt) − (⅔C1 − C3)(∇·φ) ε − C2 ε²/k
+//! ∂k/∂t + ∇·(φk) − ∇·((ν + νt/σk)∇k) = G − ⅔(∇·φ) k − ε k/k
+//! G = νt (∇U : dev(∇U + ∇Uᵀ))      (G/νt evaluated with the current U, νt of the last step)
+//! ```
+//!
+//! in this order: ε first (with k of the last step), then k with the new ε; the sinks C2 ε/k
+//! and ε/k implicit, the ∇·φ terms implicit where positive (`SuSp`); ε and k bounded below by
+//! `epsilonMin`/`kMin` ([`super::bound`]); then νt. The wall functions
+//! ([`super::wall_functions`]) set ε in the wall cells (the rows of the ε equation fixed there)
+//! and G there before the equations are assembled. Coefficients (OpenFOAM's defaults): Cμ 0.09,
+//! C1 1.44, C2 1.92, C3 0, σk 1, σε 1.3.
+//!
+//! Volume-averaged flows: CFDEMcoupling's cfdemSolverPiso (CFDEMcoupling-PUBLIC and
+//! CFDEMcoupling-PFM, `createFields.H`: `incompressible::turbulenceModel::New(U, phi,
+//! laminarTransport)`) hands the model the solver's flux φ = (εU)_f·S and no voidage: the k and
+//! ε equations are the single-phase ones above, convected by the superficial flux (∇·φ = −∂ε/∂t
+//! enters through the SuSp terms), with G from the interstitial velocity. This module does the
+//! same: it is given the fluid's φ. Only the momentum stress carries the voidage,
+//! −∇·(ε νeff ∇U) − ∇·(ε νeff dev2(∇Uᵀ)) with νeff = ν + νt (`cfdemCloud::divVoidfractionTau`).
+
+use super::bound::bound;
+use super::properties::KEpsilonSettings;
+use super::scalar_bc::{self, ScalarBc, TurbulenceField};
+use super::scalar_eqn::{ScalarEqn, Transport};
+use super::wall_functions;
+use crate::error::{FvError, Result};
+use crate::fvc::{self, Field};
+use crate::geometry::{FvGeometry, V3};
+use crate::linsolve::SolveStats;
+use foam::{FieldValues, Item, Value, VolField};
+use std::path::Path;
+
+/// The model coefficients (dimensionless but the bounds: `k_min` m²/s², `epsilon_min` m²/s³).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KEpsilonCoeffs {
+    /// Cμ.
+    pub cmu: f64,
+    /// C1 (production of ε).
+    pub c1: f64,
+    /// C2 (destruction of ε).
+    pub c2: f64,
+    /// C3 (compressibility of ε).
+    pub c3: f64,
+    /// σk (turbulent Prandtl number of k).
+    pub sigma_k: f64,
+    /// σε (turbulent Prandtl number of ε).
+    pub sigma_eps: f64,
+    /// Lower bound of k (`kMin`, OpenFOAM's SMALL = 1e-15 by default).
+    pub k_min: f64,
+    /// Lower bound of ε (`epsilonMin`).
+    pub epsilon_min: f64,
+}
+
+impl Default for KEpsilonCoeffs {
+    fn default() -> Self {
+        KEpsilonCoeffs {
+            cmu: 0.09,
+            c1: 1.44,
+            c2: 1.92,
+            c3: 0.0,
+            sigma_k: 1.0,
+            sigma_eps: 1.3,
+            k_min: 1e-15,
+            epsilon_min: 1e-15,
+        }
+    }
+}
+
+/// What the model needs of the flow at the end of a time step.
+pub struct Flow<'a> {
+    /// Cell velocities (m/s).
+    pub u: &'a [V3],
+    /// Boundary-face velocities (m/s).
+    pub u_b: &'a [V3],
+    /// Face fluxes φ (m³/s).
+    pub phi: &'a [f64],
+    /// Kinematic viscosity ν (m²/s).
+    pub nu: f64,
+    /// Time step (s).
+    pub dt: f64,
+    /// Laplacian delta coefficient per face (1/m).
+    pub lap_dc: &'a [f64],
+    /// Explicit non-orthogonal correction of the Laplacians.
+    pub corrected: bool,
+}
+
+/// One cell scalar with its boundary values, conditions and the file it came from.
+#[derive(Clone, Debug)]
+struct ScalarField {
+    cells: Vec<f64>,
+    boundary: Vec<f64>,
+    bcs: Vec<ScalarBc>,
+    file: VolField,
+}
+
+impl ScalarField {
+    fn read(
+        dir: &Path,
+        name: &str,
+        mesh: &foam::PolyMesh,
+        g: &FvGeometry,
+        which: TurbulenceField,
+    ) -> Result<Self> {
+        let path = dir.join(name);
+        let file = VolField::read(&path)?;
+        let cells = match file.internal(g.n_cells) {
+            Ok(FieldValues::Scalar(v)) => v,
+            Ok(FieldValues::Vector(_)) => {
+                return Err(FvError::setting(
+                    &path,
+                    "class",
+                    format!("{name} must be a volScalarField"),
+                ))
+            }
+            Err(m) => return Err(FvError::setting(&path, "internalField", m)),
+        };
+        if let Some(c) = cells.iter().position(|v| !v.is_finite()) {
+            return Err(FvError::setting(
+                &path,
+                "internalField",
+                format!("cell {c}: not finite"),
+            ));
+        }
+        let bcs = scalar_bc::read(&path, &file, mesh, g, which)?;
+        // Start values: prescribed ones, the file's `value` of inletOutlet/calculated/wall
+        // functions where it has one, else the owner's value (OpenFOAM's start-up).
+        let mut boundary: Vec<f64> = g.owner[g.n_internal..]
+            .iter()
+            .map(|&o| cells[o as usize])
+            .collect();
+        let bf = file.boundary();
+        for (p, bc) in g.patches.iter().zip(&bcs) {
+            let keeps_file_value = matches!(
+                bc,
+                ScalarBc::InletOutlet(_) | ScalarBc::Calculated | ScalarBc::NutkWallFunction(_)
+            );
+            if !keeps_file_value {
+                continue;
+            }
+            let value = bf
+                .dict(&p.name)
+                .ok()
+                .and_then(|d| d.stream("value").ok())
+                .and_then(|s| patch_values(s, p.faces.len()));
+            if let Some(v) = value {
+                boundary[p.boundary_range(g.n_internal)].copy_from_slice(&v);
+            }
+        }
+        let mut f = ScalarField {
+            cells,
+            boundary,
+            bcs,
+            file,
+        };
+        let zero_phi = vec![0.0; g.n_faces()];
+        // Fixed values and zero gradients now (inletOutlet keeps its file value until the
+        // first solve, as OpenFOAM's starts with valueFraction 0).
+        let mut b = f.boundary.clone();
+        scalar_bc::evaluate(g, &f.bcs, &f.cells, &zero_phi, &mut b);
+        for (p, bc) in g.patches.iter().zip(&f.bcs) {
+            if !matches!(bc, ScalarBc::InletOutlet(_)) {
+                for i in p.boundary_range(g.n_internal) {
+                    f.boundary[i] = b[i];
+                }
+            }
+        }
+        Ok(f)
+    }
+
+    fn evaluate(&mut self, g: &FvGeometry, phi: &[f64]) {
+        scalar_bc::evaluate(g, &self.bcs, &self.cells, phi, &mut self.boundary);
+    }
+
+    fn write(&self, g: &FvGeometry, path: &Path, format: foam::Format) -> Result<()> {
+        let mut f = self.file.clone();
+        f.set_internal(FieldValues::Scalar(self.cells.clone()))
+            .map_err(|m| FvError::Value {
+                what: path.display().to_string(),
+                msg: m,
+            })?;
+        if let Some(Value::Dict(bf)) = f.body.get_mut("boundaryField") {
+            for p in g.patches.iter().filter(|p| !p.is_empty()) {
+                if let Some(Value::Dict(e)) = bf.get_mut(&p.name) {
+                    let v = self.boundary[p.boundary_range(g.n_internal)].to_vec();
+                    e.set(
+                        "value",
+                        Value::Stream(vec![
+                            Item::Word("nonuniform".into()),
+                            Item::Word("List<scalar>".into()),
+                            Item::Scalars(v),
+                        ]),
+                    );
+                }
+            }
+        }
+        f.write(path, format)?;
+        Ok(())
+    }
+}
+
+/// `uniform X` or `nonuniform List<scalar> N(…)` with `n` values.
+fn patch_values(items: &[Item], n: usize) -> Option<Vec<f64>> {
+    match items.first().and_then(Item::as_word) {
+        Some("uniform") => items.get(1).and_then(Item::as_f64).map(|v| vec![v; n]),
+        Some("nonuniform") => items
+            .get(2)
+            .and_then(Item::as_f64_list)
+            .filter(|v| v.len() == n),
+        _ => None,
+    }
+}
+
+/// The k–ε model's state on a mesh.
+#[derive(Clone, Debug)]
+pub struct KEpsilon {
+    settings: KEpsilonSettings,
+    k: ScalarField,
+    epsilon: ScalarField,
+    nut: ScalarField,
+    /// Wall distance of each boundary face's owner centre, n̂·(C_f − C_P) (m).
+    y: Vec<f64>,
+    /// 1/(number of `epsilonWallFunction` faces of the owner) on those faces, else 0.
+    wall_weight: Vec<f64>,
+}
+
+/// What one call of [`KEpsilon::correct`] solved.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CorrectReport {
+    /// The ε solve.
+    pub epsilon: SolveStats,
+    /// The k solve.
+    pub k: SolveStats,
+}
+
+impl KEpsilon {
+    /// Reads `k`, `epsilon` and `nut` of the time directory `dir`, bounds k and ε and computes
+    /// νt (OpenFOAM's constructor and `validate()`); `nu` is the kinematic viscosity (m²/s).
+    pub fn read(
+        dir: &Path,
+        mesh: &foam::PolyMesh,
+        g: &FvGeometry,
+        settings: KEpsilonSettings,
+        nu: f64,
+    ) -> Result<KEpsilon> {
+        let k = ScalarField::read(dir, "k", mesh, g, TurbulenceField::K)?;
+        let epsilon = ScalarField::read(dir, "epsilon", mesh, g, TurbulenceField::Epsilon)?;
+        let nut = ScalarField::read(dir, "nut", mesh, g, TurbulenceField::Nut)?;
+        for (pi, (p, bc)) in g.patches.iter().zip(&epsilon.bcs).enumerate() {
+            if matches!(bc, ScalarBc::EpsilonWallFunction { .. })
+                && !matches!(nut.bcs[pi], ScalarBc::NutkWallFunction(_))
+            {
+                return Err(FvError::setting(
+                    dir.join("nut"),
+                    format!("boundaryField.{}.type", p.name),
+                    "epsilonWallFunction in `epsilon` needs nutkWallFunction here",
+                ));
+            }
+        }
+        let y: Vec<f64> = (g.n_internal..g.n_faces())
+            .map(|f| g.nhat(f).dot(&(g.cf[f] - g.c[g.owner[f] as usize])).abs())
+            .collect();
+        let mut count = vec![0usize; g.n_cells];
+        for (p, bc) in g.patches.iter().zip(&epsilon.bcs) {
+            if matches!(bc, ScalarBc::EpsilonWallFunction { .. }) {
+                for f in p.faces.clone() {
+                    count[g.owner[f] as usize] += 1;
+                }
+            }
+        }
+        let mut wall_weight = vec![0.0; g.n_boundary()];
+        for (p, bc) in g.patches.iter().zip(&epsilon.bcs) {
+            if matches!(bc, ScalarBc::EpsilonWallFunction { .. }) {
+                for f in p.faces.clone() {
+                    wall_weight[f - g.n_internal] = 1.0 / count[g.owner[f] as usize] as f64;
+                }
+            }
+        }
+        let mut m = KEpsilon {
+            settings,
+            k,
+            epsilon,
+            nut,
+            y,
+            wall_weight,
+        };
+        let c = m.settings.coeffs;
+        bound(g, &mut m.k.cells, &mut m.k.boundary, c.k_min);
+        bound(
+            g,
+            &mut m.epsilon.cells,
+            &mut m.epsilon.boundary,
+            c.epsilon_min,
+        );
+        m.correct_nut(g, nu);
+        Ok(m)
+    }
+
+    /// Turbulent viscosity νt at cells (m²/s).
+    pub fn nut(&self) -> &[f64] {
+        &self.nut.cells
+    }
+
+    /// νt on the boundary faces (m²/s; the wall function's value on walls).
+    pub fn nut_boundary(&self) -> &[f64] {
+        &self.nut.boundary
+    }
+
+    /// k at cells (m²/s²).
+    pub fn k(&self) -> &[f64] {
+        &self.k.cells
+    }
+
+    /// ε at cells (m²/s³).
+    pub fn epsilon(&self) -> &[f64] {
+        &self.epsilon.cells
+    }
+
+    /// The settings the model runs with.
+    pub fn settings(&self) -> &KEpsilonSettings {
+        &self.settings
+    }
+
+    /// νt = Cμ k²/ε at cells; on the boundary: `calculated` from the faces' k and ε,
+    /// zero gradient, fixed values kept, `nutkWallFunction` from the wall cell's k
+    /// (OpenFOAM's `correctNut`).
+    fn correct_nut(&mut self, g: &FvGeometry, nu: f64) {
+        let cmu = self.settings.coeffs.cmu;
+        for c in 0..g.n_cells {
+            let k = self.k.cells[c];
+            self.nut.cells[c] = cmu * (k * k) / self.epsilon.cells[c];
+        }
+        for (p, bc) in g.patches.iter().zip(&self.nut.bcs) {
+            for f in p.faces.clone() {
+                let b = f - g.n_internal;
+                let o = g.owner[f] as usize;
+                match bc {
+                    ScalarBc::Calculated => {
+                        let k = self.k.boundary[b];
+                        self.nut.boundary[b] = cmu * (k * k) / self.epsilon.boundary[b];
+                    }
+                    ScalarBc::ZeroGradient => self.nut.boundary[b] = self.nut.cells[o],
+                    ScalarBc::NutkWallFunction(law) => {
+                        self.nut.boundary[b] =
+                            wall_functions::nut_wall(law, self.y[b], self.k.cells[o], nu);
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+
+    /// The face diffusivity ν + νt/σ (m²/s) of a k or ε equation, linearly interpolated.
+    fn diffusivity(&self, g: &FvGeometry, sigma: f64, nu: f64) -> Vec<f64> {
+        let cells: Vec<f64> = self.nut.cells.iter().map(|&n| n / sigma + nu).collect();
+        let b: Vec<f64> = self.nut.boundary.iter().map(|&n| n / sigma + nu).collect();
+        fvc::interpolate(g, Field::new(&cells, &b))
+    }
+
+    /// One step of the model with the flow at the end of the PISO correctors (see the module
+    /// doc for the equations and their order). With `turbulence off` nothing changes.
+    pub fn correct(&mut self, g: &FvGeometry, flow: &Flow<'_>) -> Result<Option<CorrectReport>> {
+        if !self.settings.active {
+            return Ok(None);
+        }
+        let n = g.n_cells;
+        let c = self.settings.coeffs;
+        let div_u = fvc::surface_integrate(g, flow.phi);
+        let grad_u = fvc::grad_vector(g, flow.u, flow.u_b);
+        // G/νt = ∇U : dev(∇U + ∇Uᵀ) (1/s²).
+        let g_by_nu: Vec<f64> = grad_u
+            .iter()
+            .map(|t| {
+                let s = t + t.transpose();
+                let tr = s[(0, 0)] + s[(1, 1)] + s[(2, 2)];
+                let mut d = s;
+                for i in 0..3 {
+                    d[(i, i)] -= tr / 3.0;
+                }
+                let mut sum = 0.0;
+                for i in 0..3 {
+                    for j in 0..3 {
+                        sum += t[(i, j)] * d[(i, j)];
+                    }
+                }
+                sum
+            })
+            .collect();
+        let mut prod: Vec<f64> = (0..n).map(|i| self.nut.cells[i] * g_by_nu[i]).collect();
+        let k_old = self.k.cells.clone();
+        let eps_old = self.epsilon.cells.clone();
+
+        // Wall functions: ε and G in the wall cells, ε on the wall faces.
+        let mut eps0 = vec![0.0; n];
+        let mut g0 = vec![0.0; n];
+        let mut wall_cells = Vec::new();
+        for (pi, (p, bc)) in g.patches.iter().zip(&self.epsilon.bcs).enumerate() {
+            let ScalarBc::EpsilonWallFunction { low_re } = *bc else {
+                continue;
+            };
+            let ScalarBc::NutkWallFunction(law) = self.nut.bcs[pi] else {
+                unreachable!("checked on read");
+            };
+            for f in p.faces.clone() {
+                let b = f - g.n_internal;
+                let o = g.owner[f] as usize;
+                let grad_w = g.delta_coeff[f] * (flow.u_b[b] - flow.u[o]);
+                let (e, gg) = wall_functions::epsilon_and_g(
+                    &law,
+                    low_re,
+                    self.wall_weight[b],
+                    self.y[b],
+                    self.k.cells[o],
+                    flow.nu,
+                    self.nut.boundary[b],
+                    grad_w.norm(),
+                );
+                eps0[o] += e;
+                g0[o] += gg;
+                wall_cells.push(o);
+            }
+        }
+        for (p, bc) in g.patches.iter().zip(&self.epsilon.bcs) {
+            if matches!(bc, ScalarBc::EpsilonWallFunction { .. }) {
+                for f in p.faces.clone() {
+                    self.epsilon.boundary[f - g.n_internal] = eps0[g.owner[f] as usize];
+                }
+            }
+        }
+        for &o in &wall_cells {
+            prod[o] = g0[o];
+            self.epsilon.cells[o] = eps0[o];
+        }
+        let transport = Transport {
+            phi: flow.phi,
+            lap_dc: flow.lap_dc,
+            corrected: flow.corrected,
+            dt: flow.dt,
+        };
+
+        // ε equation.
+        let gamma = self.diffusivity(g, c.sigma_eps, flow.nu);
+        let mut eqn = ScalarEqn::transport(
+            g,
+            &transport,
+            &self.settings.epsilon,
+            &self.epsilon.cells,
+            &eps_old,
+            &self.epsilon.boundary,
+            &self.epsilon.bcs,
+            &gamma,
+        );
+        let src: Vec<f64> = (0..n)
+            .map(|i| c.c1 * g_by_nu[i] * c.cmu * k_old[i])
+            .collect();
+        eqn.add_source(g, &src);
+        let susp: Vec<f64> = div_u
+            .iter()
+            .map(|d| ((2.0 / 3.0) * c.c1 - c.c3) * d)
+            .collect();
+        eqn.add_susp(g, &susp, &self.epsilon.cells);
+        let sp: Vec<f64> = (0..n)
+            .map(|i| c.c2 * self.epsilon.cells[i] / k_old[i])
+            .collect();
+        eqn.add_sp(g, &sp);
+        let values: Vec<f64> = wall_cells.iter().map(|&o| self.epsilon.cells[o]).collect();
+        eqn.set_values(g, &wall_cells, &values, &mut self.epsilon.cells);
+        let solver = self.settings.epsilon.solver;
+        let eps_stats = eqn.solve(g, &solver, &mut self.epsilon.cells, "epsilon")?;
+        self.epsilon.evaluate(g, flow.phi);
+        bound(
+            g,
+            &mut self.epsilon.cells,
+            &mut self.epsilon.boundary,
+            c.epsilon_min,
+        );
+
+        // k equation.
+        let gamma = self.diffusivity(g, c.sigma_k, flow.nu);
+        let mut eqn = ScalarEqn::transport(
+            g,
+            &transport,
+            &self.settings.k,
+            &self.k.cells,
+            &k_old,
+            &self.k.boundary,
+            &self.k.bcs,
+            &gamma,
+        );
+        eqn.add_source(g, &prod);
+        let susp: Vec<f64> = div_u.iter().map(|d| (2.0 / 3.0) * d).collect();
+        eqn.add_susp(g, &susp, &self.k.cells);
+        let sp: Vec<f64> = (0..n).map(|i| self.epsilon.cells[i] / k_old[i]).collect();
+        eqn.add_sp(g, &sp);
+        let solver = self.settings.k.solver;
+        let k_stats = eqn.solve(g, &solver, &mut self.k.cells, "k")?;
+        self.k.evaluate(g, flow.phi);
+        bound(g, &mut self.k.cells, &mut self.k.boundary, c.k_min);
+
+        self.correct_nut(g, flow.nu);
+        if let Some(i) = self.nut.cells.iter().position(|v| !v.is_finite()) {
+            return Err(FvError::Diverged(format!(
+                "k-epsilon: nut is not finite in cell {i}"
+            )));
+        }
+        Ok(Some(CorrectReport {
+            epsilon: eps_stats,
+            k: k_stats,
+        }))
+    }
+
+    /// Writes `k`, `epsilon` and `nut` into the time directory `dir` (cell values and the
+    /// patches' `value` entries).
+    pub fn write(&self, g: &FvGeometry, dir: &Path, format: foam::Format) -> Result<()> {
+        self.k.write(g, &dir.join("k"), format)?;
+        self.epsilon.write(g, &dir.join("epsilon"), format)?;
+        self.nut.write(g, &dir.join("nut"), format)
+    }
+}

@@ -1,0 +1,21 @@
+//! Turbulence of the native fluid: what `constant/turbulenceProperties` selects
+//! ([`properties`]) and the standard k–ε model with wall functions ([`k_epsilon`]), as
+//! OpenFOAM v1912's pisoFoam runs it.
+//!
+//! * [`properties`]: laminar, RAS kEpsilon (others refused), the schemes and solvers of k, ε;
+//! * [`k_epsilon`]: the model's equations, solved after the PISO correctors;
+//! * [`wall_functions`]: `nutkWallFunction`, `epsilonWallFunction` (log law);
+//! * [`scalar_bc`]: boundary conditions of k, ε and νt;
+//! * [`scalar_eqn`]: the transport equation of a cell scalar (ddt, convection, Laplacian,
+//!   `setValues`);
+//! * [`bound`]: OpenFOAM's `bound` of k and ε.
+
+pub mod bound;
+pub mod k_epsilon;
+pub mod properties;
+pub mod scalar_bc;
+pub mod scalar_eqn;
+pub mod wall_functions;
+
+pub use k_epsilon::{KEpsilon, KEpsilonCoeffs};
+pub use properties::{KEpsilonSettings, TurbulenceSettings};
