@@ -719,8 +719,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let mut eps_before = coupler.voidage().to_vec();
     let mut ddt_eps = vec![0.0; mesh.n_cells];
     let mut writes = 0;
+    let mut held_max = 0;
     for k in 1..=steps {
         let step = coupler.step(&mut dem, &mut fluid)?;
+        held_max = held_max.max(dem.state().len());
         let time = fluid.inner.time();
         let sample = observer.sample(time, &fluid.inner, &dem, &step, coupler.ranks());
         samples.push(sample);
@@ -824,6 +826,22 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let loop_seconds = t_loop.elapsed().as_secs_f64();
     if rank == 0 {
         monitors.write_logs()?;
+    }
+    if n_ranks > 1 {
+        let per_rank = crate::ranks_report::gather(
+            coupler.ranks(),
+            dem.state().len(),
+            held_max,
+            coupler.touched_cells(),
+            samples.len() as u64,
+        );
+        if rank == 0 {
+            let file = post.join("ranks.csv");
+            crate::ranks_report::write_csv(&file, &per_rank).map_err(io_err(&file))?;
+            for line in crate::ranks_report::table(&per_rank) {
+                events(Event::Message(line));
+            }
+        }
     }
     let n_steps = samples.len() as u64;
     let coupling_seconds = (loop_seconds - dem.seconds - fluid.seconds - output_seconds).max(0.0);
