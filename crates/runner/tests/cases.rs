@@ -491,6 +491,11 @@ fn a_run_restarted_from_its_write_time_is_the_uninterrupted_run() {
     );
     assert!(split.join("CFD/0.005/grad(p)").is_file());
 
+    // the written voidage keeps the start file's boundary conditions (the fluid's boundary
+    // voidage at a restart): `top` stays fixedValue 1, not the zeroGradient of Ksl, Us, f
+    let eps = foam::VolField::read(&split.join("CFD/0.005/voidfraction")).unwrap();
+    let top = eps.boundary().dict("top").unwrap();
+    assert_eq!(top.word("type").unwrap(), "fixedValue");
     for f in ["U", "p", "phi", "grad(p)", "voidfraction", "Ksl", "Us", "f"] {
         let a = std::fs::read_to_string(whole.join("CFD/0.01").join(f)).unwrap();
         let b = std::fs::read_to_string(split.join("CFD/0.01").join(f)).unwrap();
