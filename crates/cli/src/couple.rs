@@ -105,6 +105,7 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
             fluid.mesh(),
             &step,
             Format::Ascii,
+            None,
         )?;
         write_forces(&case, &time, &replay, &step, fluid.mesh())?;
         let r = report(&coupler, &replay, &fluid, &step, &time);

@@ -7,14 +7,17 @@ use foam::{default_boundary, FieldValues, Format, PolyMesh, VolField};
 use std::path::Path;
 
 /// Writes ε, Ksl, Us and f of `step` into the time directory `dir` (created if needed),
-/// whose name `time` becomes each file's `location`. Boundaries are `zeroGradient`. Each file
-/// is written atomically.
+/// whose name `time` becomes each file's `location`. Boundaries are `zeroGradient`, except
+/// that `voidfraction` keeps the boundaryField of `voidfraction_template` when given (the
+/// start time's file, as OpenFOAM writes a field with its boundary conditions: a fluid
+/// started from this time reads its boundary voidage there). Each file is written atomically.
 pub fn write_fields(
     dir: &Path,
     time: &str,
     mesh: &PolyMesh,
     step: &CouplingStep,
     format: Format,
+    voidfraction_template: Option<&VolField>,
 ) -> Result<(), CoupleError> {
     std::fs::create_dir_all(dir).map_err(|source| CoupleError::Io {
         path: dir.to_owned(),
@@ -43,7 +46,16 @@ pub fn write_fields(
         ),
     ];
     for (name, dims, values) in fields {
-        write_cell_field(dir, time, mesh, name, dims, values, format)?;
+        match voidfraction_template {
+            Some(template) if name == "voidfraction" => {
+                let mut field = template.clone();
+                field
+                    .set_internal(values)
+                    .map_err(|m| CoupleError::Parameter(format!("voidfraction: {m}")))?;
+                field.write(&dir.join(name), format)?;
+            }
+            _ => write_cell_field(dir, time, mesh, name, dims, values, format)?,
+        }
     }
     Ok(())
 }
