@@ -14,8 +14,9 @@ pub struct RankFigures {
     pub particles: usize,
     /// The most it held after any coupling step.
     pub particles_max: usize,
-    /// Cells its particles touched in the last exchange.
-    pub cells_touched: usize,
+    /// Cells its particles touched in the last exchange (`None` on one rank, where the coupler
+    /// does not list them).
+    pub cells_touched: Option<usize>,
     /// Bytes it sent to other coupler ranks per coupling step (mean over the run).
     pub sent_per_step: f64,
     /// Bytes it received from other coupler ranks per coupling step (mean over the run).
@@ -38,7 +39,7 @@ pub fn gather(
     ranks: &dyn Ranks,
     particles: usize,
     particles_max: usize,
-    cells_touched: usize,
+    cells_touched: Option<usize>,
     steps: u64,
 ) -> Vec<RankFigures> {
     let (sent, received) = ranks.traffic();
@@ -46,7 +47,7 @@ pub fn gather(
     let record = [
         particles as f64,
         particles_max as f64,
-        cells_touched as f64,
+        cells_touched.map_or(f64::NAN, |c| c as f64),
         per_step(sent),
         per_step(received),
         peak_mib().unwrap_or(f64::NAN),
@@ -60,7 +61,7 @@ pub fn gather(
             rank,
             particles: r[0] as usize,
             particles_max: r[1] as usize,
-            cells_touched: r[2] as usize,
+            cells_touched: r[2].is_finite().then_some(r[2] as usize),
             sent_per_step: r[3],
             received_per_step: r[4],
             peak_mib: r[5].is_finite().then_some(r[5]),
@@ -79,7 +80,7 @@ pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
             f.rank,
             f.particles,
             f.particles_max,
-            f.cells_touched,
+            f.cells_touched.map_or(String::new(), |c| c.to_string()),
             f.sent_per_step,
             f.received_per_step,
             f.peak_mib.map_or(String::new(), |m| format!("{m:.1}"))
@@ -96,11 +97,11 @@ pub fn table(figures: &[RankFigures]) -> Vec<String> {
     ];
     for f in figures {
         lines.push(format!(
-            "{:4}  {:9} ({:9})  {:13}  {:12.1}  {:16.1}  {}",
+            "{:4}  {:9} ({:9})  {:>13}  {:12.1}  {:16.1}  {}",
             f.rank,
             f.particles,
             f.particles_max,
-            f.cells_touched,
+            f.cells_touched.map_or("—".into(), |c| c.to_string()),
             f.sent_per_step / 1e3,
             f.received_per_step / 1e3,
             f.peak_mib.map_or("—".into(), |m| format!("{m:.0}"))
@@ -115,11 +116,11 @@ mod tests {
 
     #[test]
     fn one_rank_reports_itself_and_an_unmeasured_memory_stays_empty() {
-        let f = gather(&couple::Serial::default(), 7, 9, 3, 2);
+        let f = gather(&couple::Serial::default(), 7, 9, None, 2);
         assert_eq!(f.len(), 1);
         assert_eq!(
             (f[0].particles, f[0].particles_max, f[0].cells_touched),
-            (7, 9, 3)
+            (7, 9, None)
         );
         assert_eq!((f[0].sent_per_step, f[0].received_per_step), (0.0, 0.0));
         let dir = tempfile::tempdir().unwrap();
@@ -130,6 +131,6 @@ mod tests {
         };
         write_csv(&path, &[unmeasured]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(text.lines().nth(1), Some("0,7,9,3,0,0,"));
+        assert_eq!(text.lines().nth(1), Some("0,7,9,,0,0,"));
     }
 }

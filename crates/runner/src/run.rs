@@ -883,19 +883,21 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     if rank == 0 {
         monitors.write_logs()?;
     }
-    if n_ranks > 1 {
+    {
         let per_rank = crate::ranks_report::gather(
             coupler.ranks(),
             dem.state().len(),
             held_max,
-            coupler.touched_cells(),
+            (n_ranks > 1).then(|| coupler.touched_cells()),
             samples.len() as u64,
         );
         if rank == 0 {
             let file = post.join("ranks.csv");
             crate::ranks_report::write_csv(&file, &per_rank).map_err(io_err(&file))?;
-            for line in crate::ranks_report::table(&per_rank) {
-                events(Event::Message(line));
+            if n_ranks > 1 {
+                for line in crate::ranks_report::table(&per_rank) {
+                    events(Event::Message(line));
+                }
             }
         }
     }
