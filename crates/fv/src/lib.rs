@@ -14,9 +14,12 @@
 //! * [`linsolve`]: PCG, PBiCG, BiCGStab and smoothSolver with OpenFOAM's residual and
 //!   iteration counting (DIC/DILU preconditioning and smoothing), and `GAMG` through
 //!   [`amg`], an aggregation multigrid;
+//! * [`cyclic`]: translational `cyclic` patch pairs, solved as internal faces;
 //! * [`bc`]: boundary conditions of U and p; [`fields`]: U, p and phi of a time directory;
 //! * [`settings`]: what `system/` and `constant/` ask for, refusing what is not supported;
 //! * [`turbulence`]: `turbulenceProperties` and the k–ε model with wall functions;
+//! * [`fv_options`]: `fvOptions` sources holding a mean velocity (`meanVelocityForce`,
+//!   CFDEM's `meanSupVelocityForce`);
 //! * [`fluid`]: the PISO step ([`Fluid`]).
 //!
 //! Verified against Debian's OpenFOAM v1912 on the same meshes: the lid-driven cavity and an
@@ -33,9 +36,11 @@
 pub mod amg;
 pub mod bc;
 pub mod convection;
+pub mod cyclic;
 pub mod error;
 pub mod fields;
 pub mod fluid;
+pub mod fv_options;
 pub mod fvc;
 pub mod geometry;
 pub mod ldu;
@@ -46,4 +51,4 @@ pub mod turbulence;
 
 pub use error::{FvError, Result};
 pub use fluid::{Fluid, Model, PorousTimeFlux, StepReport};
-pub use geometry::{FvGeometry, FvPatch, V3};
+pub use geometry::{CyclicSide, FvGeometry, FvPatch, V3};

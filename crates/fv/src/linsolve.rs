@@ -234,7 +234,8 @@ fn check_finite(what: &str, r: f64) -> Result<()> {
 /// The diagonal incomplete factorisation (DIC for a symmetric matrix, DILU in general; the
 /// no-fill ILU(0) of Meijerink & van der Vorst 1977 that keeps only a modified diagonal):
 /// `M = (D* + L) D*⁻¹ (D* + U)` with the reciprocal diagonal
-/// `r_c = 1 / (a_cc − Σ_{j<c} a_cj a_jc r_j)`.
+/// `r_c = 1 / (a_cc − Σ_{j<c} a_cj a_jc r_j)`. Interface entries (cyclic pairs) are left
+/// out, as OpenFOAM's `DICPreconditioner`/`DILUPreconditioner` loop over internal faces only.
 struct Dilu {
     /// r_c (the reciprocal of D*).
     rd: Vec<f64>,
@@ -289,7 +290,7 @@ impl Dilu {
             prev = s;
         }
         for c in (0..n).rev() {
-            let (m, e) = (rows.mid[c] as usize, rows.start[c + 1] as usize);
+            let (m, e) = (rows.mid[c] as usize, rows.end[c] as usize);
             let mut s = w[c];
             if e > m {
                 for (&j, &v) in rows.col[m + 1..e].iter().zip(&self.rdc[m + 1..e]).rev() {
@@ -644,10 +645,26 @@ pub fn smooth(
         return Ok(stats);
     }
     let sweeps = smoother.sweeps.max(1);
-    let relax = |x: &mut [f64], c: usize| {
-        let mut s = b[c];
-        for k in m.rows.row(c) {
-            s -= m.coef[k] * x[m.rows.col[k] as usize];
+    // b′ = b − (interface part of A) x with x at the start of the sweep: OpenFOAM's
+    // Gauss–Seidel smoothers update the coupled (cyclic) interfaces once per sweep.
+    let rows = m.rows;
+    let has_iface = (0..x.len()).any(|c| rows.end[c] < rows.start[c + 1]);
+    let mut b_prime = b.to_vec();
+    let interfaces = |x: &[f64], bp: &mut [f64]| {
+        if has_iface {
+            for c in 0..x.len() {
+                let mut s = b[c];
+                for k in rows.end[c] as usize..rows.start[c + 1] as usize {
+                    s -= m.coef[k] * x[rows.col[k] as usize];
+                }
+                bp[c] = s;
+            }
+        }
+    };
+    let relax = |x: &mut [f64], bp: &[f64], c: usize| {
+        let mut s = bp[c];
+        for k in rows.start[c] as usize..rows.end[c] as usize {
+            s -= m.coef[k] * x[rows.col[k] as usize];
         }
         x[c] = s / m.diag[c];
     };
@@ -672,12 +689,13 @@ pub fn smooth(
         match (smoother.kind, &factor) {
             (SmootherKind::GaussSeidel | SmootherKind::SymGaussSeidel, _) => {
                 for _ in 0..sweeps {
+                    interfaces(x, &mut b_prime);
                     for c in 0..x.len() {
-                        relax(x, c);
+                        relax(x, &b_prime, c);
                     }
                     if smoother.kind == SmootherKind::SymGaussSeidel {
                         for c in (0..x.len()).rev() {
-                            relax(x, c);
+                            relax(x, &b_prime, c);
                         }
                     }
                 }
@@ -688,8 +706,9 @@ pub fn smooth(
                 }
                 if smoother.kind == SmootherKind::FactorGaussSeidel {
                     for _ in 0..sweeps {
+                        interfaces(x, &mut b_prime);
                         for c in 0..x.len() {
-                            relax(x, c);
+                            relax(x, &b_prime, c);
                         }
                     }
                 }
