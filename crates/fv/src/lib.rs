@@ -26,7 +26,9 @@
 //! O-grid pipe agree with icoFoam to round-off (same solvers, same iteration counts), restarts
 //! from our time directories too; a skewed, graded cavity at Re 1000 with a non-orthogonal
 //! corrector agrees with pisoFoam to round-off for every convection scheme and every momentum
-//! solver above (`tests/schemes.rs`), and to the solver tolerance with GAMG; plane and
+//! solver above (`tests/schemes.rs`), and to the solver tolerance with GAMG; periodic
+//! channels (`cyclic` pairs, `meanVelocityForce`; laminar, sheared and k–ε) to round-off
+//! (`tests/periodic.rs`); plane and
 //! Hagen–Poiseuille profiles, Ergun's pressure drop through a porous block and the time order
 //! of Euler and Crank–Nicolson against closed forms.
 //! Speed: `cargo bench -p fv`, `examples/bench_vs_pisofoam.rs` against pisoFoam (PCG or
