@@ -228,7 +228,7 @@ fn periodic_frozen_bed_holds_the_superficial_velocity_in_both_solvers() {
     let g_parallel: f64 = log
         .lines()
         .filter_map(|l| l.split("gradient ").nth(1))
-        .last()
+        .next_back()
         .and_then(|g| g.trim().parse().ok())
         .expect("a `Mean force` line in the parallel log");
     let dp_parallel = RHO * g_parallel * H;
