@@ -135,9 +135,11 @@ fn pressure_boundary(
                     let u = u_b[b];
                     p0[i] - 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
                 }
-                PressureBc::ZeroGradient | PressureBc::FixedFluxPressure | PressureBc::Empty => {
-                    owner
-                }
+                // A cyclic patch has no boundary faces (its pairs are internal faces).
+                PressureBc::ZeroGradient
+                | PressureBc::FixedFluxPressure
+                | PressureBc::Empty
+                | PressureBc::Cyclic => owner,
             };
         }
     }

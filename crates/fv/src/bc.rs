@@ -9,7 +9,8 @@
 //! `noSlip`, `slip`, `zeroGradient`, `inletOutlet`; p — `fixedValue`, `uniformFixedValue`,
 //! `zeroGradient`, `fixedFluxPressure`, `totalPressure` (incompressible: p = p0 − ½|U|² on
 //! inflow faces, p0 on outflow faces); both — `empty`, `symmetryPlane`/`symmetry` (slip for U,
-//! zeroGradient for p) and `calculated` is refused. Anything else is an error naming the file and
+//! zeroGradient for p), `cyclic` on the patches of a translational cyclic pair (whose faces
+//! the solver holds as internal faces, [`crate::cyclic`]) and `calculated` is refused. Anything else is an error naming the file and
 //! `boundaryField.<patch>.type`.
 
 use crate::error::{FvError, Result};
@@ -65,6 +66,8 @@ pub enum VelocityBc {
     InletOutlet(Vec<V3>),
     /// Faces of an `empty` patch (2-D): not part of the equations.
     Empty,
+    /// A `cyclic` patch: its faces are internal faces of the solver.
+    Cyclic,
 }
 
 /// Pressure boundary condition of one patch (kinematic pressure, m²/s²).
@@ -82,6 +85,8 @@ pub enum PressureBc {
     TotalPressure(Vec<f64>),
     /// Faces of an `empty` patch.
     Empty,
+    /// A `cyclic` patch: its faces are internal faces of the solver.
+    Cyclic,
 }
 
 impl VelocityBc {
@@ -272,7 +277,7 @@ fn patch_entries<'a>(
                     "expected a dictionary",
                 ));
             };
-            if p.patch_type == "cyclic" || p.patch_type.starts_with("processor") {
+            if p.patch_type.starts_with("processor") {
                 return Err(FvError::setting(
                     file,
                     format!("boundaryField.{}", p.name),
@@ -293,12 +298,14 @@ fn patch_entries<'a>(
 }
 
 const U_SUPPORTED: &str = "fixedValue, uniformFixedValue, noSlip, slip, zeroGradient, \
-                           inletOutlet, empty, symmetryPlane, symmetry";
+                           inletOutlet, empty, symmetryPlane, symmetry, cyclic";
 const P_SUPPORTED: &str = "fixedValue, uniformFixedValue, zeroGradient, fixedFluxPressure, \
-                           totalPressure, empty, symmetryPlane, symmetry";
+                           totalPressure, empty, symmetryPlane, symmetry, cyclic";
 
 /// Reads one condition per patch with `parse` (given the entry and its `type`), checking that
-/// `empty` patches and `empty` conditions go together.
+/// `empty` patches and `empty` conditions go together, and so do `cyclic` patches and
+/// `cyclic` conditions (as OpenFOAM requires of constraint patches): `parse` sees the type
+/// `cyclic` only on a cyclic patch, whose faces are internal faces of the solver.
 pub(crate) fn read_all<T>(
     file: &Path,
     field: &foam::VolField,
@@ -310,7 +317,18 @@ pub(crate) fn read_all<T>(
         .into_iter()
         .zip(&g.patches)
         .map(|(e, p)| {
-            let (bc, is_empty) = parse(&e, e.kind()?)?;
+            let kind = e.kind()?;
+            if (kind == "cyclic") != p.is_cyclic() {
+                return Err(e.err(
+                    "type",
+                    if p.is_cyclic() {
+                        format!("a `cyclic` patch needs the `cyclic` condition, not `{kind}`")
+                    } else {
+                        "the `cyclic` condition needs a `cyclic` patch".to_string()
+                    },
+                ));
+            }
+            let (bc, is_empty) = parse(&e, kind)?;
             check_empty(&e, p.is_empty(), is_empty)?;
             Ok(bc)
         })
@@ -333,6 +351,7 @@ pub fn read_velocity(
             "zeroGradient" => VelocityBc::ZeroGradient,
             "inletOutlet" => VelocityBc::InletOutlet(e.values("inletValue", as_v3, vec_list)?),
             "empty" => VelocityBc::Empty,
+            "cyclic" => VelocityBc::Cyclic,
             _ => return Err(e.unsupported(t, U_SUPPORTED)),
         };
         let empty = bc == VelocityBc::Empty;
@@ -358,11 +377,13 @@ pub fn read_voidage(
             }
             Ok((Some(v), false))
         }
-        "zeroGradient" | "calculated" | "slip" | "symmetryPlane" | "symmetry" => Ok((None, false)),
+        "zeroGradient" | "calculated" | "slip" | "symmetryPlane" | "symmetry" | "cyclic" => {
+            Ok((None, false))
+        }
         "empty" => Ok((None, true)),
         _ => Err(e.unsupported(
             t,
-            "fixedValue, zeroGradient, calculated, slip, symmetry, empty",
+            "fixedValue, zeroGradient, calculated, slip, symmetry, empty, cyclic",
         )),
     })
 }
@@ -405,6 +426,7 @@ pub fn read_pressure(
                 PressureBc::TotalPressure(e.values("p0", Item::as_f64, Item::as_f64_list)?)
             }
             "empty" => PressureBc::Empty,
+            "cyclic" => PressureBc::Cyclic,
             _ => return Err(e.unsupported(t, P_SUPPORTED)),
         };
         let empty = bc == PressureBc::Empty;
@@ -448,7 +470,7 @@ pub fn eval_velocity(
                     let n = g.nhat(f);
                     up - (n.dot(&up) * n)
                 }
-                VelocityBc::ZeroGradient | VelocityBc::Empty => up,
+                VelocityBc::ZeroGradient | VelocityBc::Empty | VelocityBc::Cyclic => up,
                 VelocityBc::InletOutlet(v) => {
                     if phi[f] < 0.0 {
                         v[i]
@@ -517,9 +539,10 @@ pub fn eval_pressure(
                 PressureBc::UniformFixedValue(s) => s.at(t),
                 PressureBc::TotalPressure(p0) if phi[f] < 0.0 => p0[i] - 0.5 * u_b[b].dot(&u_b[b]),
                 PressureBc::TotalPressure(p0) => p0[i],
-                PressureBc::ZeroGradient | PressureBc::FixedFluxPressure | PressureBc::Empty => {
-                    p[g.owner[f] as usize]
-                }
+                PressureBc::ZeroGradient
+                | PressureBc::FixedFluxPressure
+                | PressureBc::Empty
+                | PressureBc::Cyclic => p[g.owner[f] as usize],
             };
         }
     }

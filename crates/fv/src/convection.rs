@@ -252,12 +252,9 @@ impl Convection {
                 (0..ni)
                     .into_par_iter()
                     .map(|f| {
-                        let c = if phi[f] > 0.0 {
-                            g.owner[f]
-                        } else {
-                            g.neighbour[f]
-                        } as usize;
-                        dot_t(g.cf[f] - g.c[c], &grad_u[c])
+                        let up = phi[f] > 0.0;
+                        let c = if up { g.owner[f] } else { g.neighbour[f] } as usize;
+                        dot_t(g.face_from_cell(f, up), &grad_u[c])
                     })
                     .collect(),
             ),
@@ -270,10 +267,13 @@ impl Convection {
                         let (max_corr, mut corr) = if phi[f] > 0.0 {
                             (
                                 (1.0 - w) * (u[n] - u[o]),
-                                dot_t(g.cf[f] - g.c[o], &grad_u[o]),
+                                dot_t(g.face_from_cell(f, true), &grad_u[o]),
                             )
                         } else {
-                            (w * (u[o] - u[n]), dot_t(g.cf[f] - g.c[n], &grad_u[n]))
+                            (
+                                w * (u[o] - u[n]),
+                                dot_t(g.face_from_cell(f, false), &grad_u[n]),
+                            )
                         };
                         let corrs = mag_sqr(corr);
                         let max_corrs = dot(corr, max_corr);

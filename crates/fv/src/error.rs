@@ -59,6 +59,19 @@ impl FvError {
         }
     }
 
+    /// The error with a file named relative to a case (such as
+    /// [`crate::cyclic::BOUNDARY_FILE`]) named inside the case directory `root`.
+    pub fn in_case(self, root: &std::path::Path) -> Self {
+        match self {
+            FvError::Setting { file, key, msg } if file.is_relative() => FvError::Setting {
+                file: root.join(file),
+                key,
+                msg,
+            },
+            other => other,
+        }
+    }
+
     /// Checks that `got == expected`.
     pub fn check_len(what: &str, got: usize, expected: usize) -> Result<(), FvError> {
         if got == expected {

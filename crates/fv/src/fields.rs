@@ -144,26 +144,33 @@ pub fn read_phi(path: &Path, g: &FvGeometry) -> Result<Vec<f64>> {
     let internal = body
         .stream("internalField")
         .map_err(|e| FvError::setting(path, "internalField", e.0))?;
-    let mut phi = values(internal, g.n_internal, "internalField")?;
+    let mut phi = values(internal, g.n_mesh_internal, "internalField")?;
     phi.resize(g.n_faces(), 0.0);
     let bf = body
         .dict("boundaryField")
         .map_err(|e| FvError::setting(path, "boundaryField", e.0))?;
+    // A cyclic pair's flux is the one of its first patch (the second holds its negative).
     for p in g.patches.iter().filter(|p| !p.is_empty()) {
+        let target = match &p.cyclic {
+            Some(c) if c.owner_side => c.pair_faces.clone(),
+            Some(_) => continue,
+            None => p.faces.clone(),
+        };
         let key = format!("boundaryField.{}.value", p.name);
         let items = bf
             .dict(&p.name)
             .and_then(|d| d.stream("value"))
             .map_err(|e| FvError::setting(path, &key, e.0))?;
-        let v = values(items, p.faces.len(), &key)?;
-        phi[p.faces.clone()].copy_from_slice(&v);
+        let v = values(items, target.len(), &key)?;
+        phi[target].copy_from_slice(&v);
     }
     Ok(phi)
 }
 
 /// Writes the face fluxes `phi` (m³/s, one per face) as OpenFOAM's `surfaceScalarField` file
 /// `path`: internal faces in `internalField`, each patch `calculated` with its faces' values
-/// (`empty` patches: `empty` with no values), as pisoFoam writes `phi`. OpenFOAM's solvers
+/// (`empty` patches: `empty` with no values; `cyclic` patches: `cyclic` with the flux out of
+/// each side, [`crate::FvPatch::face_fluxes`]), as pisoFoam writes `phi`. OpenFOAM's solvers
 /// read it back at a restart (`createPhi` reads `phi` when present), so a run continued by
 /// OpenFOAM keeps the Rhie–Chow fluxes instead of recomputing them from U.
 pub fn write_phi(path: &Path, g: &FvGeometry, phi: &[f64], format: foam::Format) -> Result<()> {
@@ -182,6 +189,9 @@ pub fn write_phi(path: &Path, g: &FvGeometry, phi: &[f64], format: foam::Format)
         if p.is_empty() {
             e.set_item("type", Item::Word("empty".into()));
             e.set("value", list(&[]));
+        } else if p.is_cyclic() {
+            e.set_item("type", Item::Word("cyclic".into()));
+            e.set("value", list(&p.face_fluxes(phi)));
         } else {
             e.set_item("type", Item::Word("calculated".into()));
             e.set("value", list(&phi[p.faces.clone()]));
@@ -193,7 +203,7 @@ pub fn write_phi(path: &Path, g: &FvGeometry, phi: &[f64], format: foam::Format)
         "dimensions",
         Item::Dims([0, 3, -1, 0, 0, 0, 0].map(Item::Label).to_vec()),
     );
-    body.set("internalField", list(&phi[..g.n_internal]));
+    body.set("internalField", list(&phi[..g.n_mesh_internal]));
     body.set("boundaryField", Value::Dict(boundary));
     let header = foam::Header {
         format,

@@ -19,6 +19,7 @@
 
 use crate::bc::{self, PressureBc, VelocityBc};
 use crate::error::{FvError, Result};
+use crate::fv_options::MeanForce;
 use crate::fvc::{self, Field};
 use crate::geometry::{FvGeometry, V3};
 use crate::ldu::Ldu;
@@ -152,6 +153,8 @@ pub struct Fluid {
     lap_dc: Vec<f64>,
     /// The k–ε model when `turbulenceProperties` selects it.
     turbulence: Option<KEpsilon>,
+    /// The `fvOptions` mean-velocity sources ([`crate::fv_options`]).
+    mean_forces: Vec<MeanForce>,
 }
 
 impl Fluid {
@@ -161,7 +164,7 @@ impl Fluid {
         let case = Case::open(dir.as_ref())?;
         let settings = Settings::read(&case)?;
         let mesh = case.read_mesh()?;
-        let g = FvGeometry::new(&mesh)?;
+        let g = FvGeometry::new(&mesh).map_err(|e| e.in_case(case.root()))?;
         let start = start_dir(&case, settings.start_time)?;
         let fields = crate::fields::read_fields(&start, &mesh, &g)?;
         let turbulence = match &settings.turbulence {
@@ -182,7 +185,14 @@ impl Fluid {
                 format!("cell {pref_cell} does not exist ({} cells)", g.n_cells),
             ));
         }
-        Self::build(case, settings, g, fields, turbulence)
+        let mean_forces = settings
+            .fv_options
+            .iter()
+            .map(|s| MeanForce::new(s.clone(), g.n_cells, &start))
+            .collect::<Result<Vec<_>>>()?;
+        let mut fl = Self::build(case, settings, g, fields, turbulence)?;
+        fl.mean_forces = mean_forces;
+        Ok(fl)
     }
 
     fn build(
@@ -227,6 +237,7 @@ impl Fluid {
             force: vec![V3::zeros(); n],
             lap_dc,
             turbulence,
+            mean_forces: Vec::new(),
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
@@ -318,6 +329,11 @@ impl Fluid {
             ),
             None => (vec![nu; self.g.n_cells], vec![nu; self.g.n_boundary()]),
         }
+    }
+
+    /// The `fvOptions` mean-velocity sources (their force G and last uncorrected mean).
+    pub fn mean_forces(&self) -> &[MeanForce] {
+        &self.mean_forces
     }
 
     /// The k–ε model's state, when the case selects it.
@@ -553,6 +569,9 @@ impl Fluid {
                     + ksl * self.us[c][k]
                     + v * self.force[c][k] / rho
                     + v * stress[c][k];
+                for s in &self.mean_forces {
+                    rhs += v * s.source(c)[k];
+                }
                 if theta < 1.0 {
                     let r_old = cd_diag[c][k] * uk[c] + cd.off_row(g, c, &uk);
                     rhs -= (1.0 - theta) * r_old;
@@ -575,6 +594,14 @@ impl Fluid {
             Model::A => self.eps[c],
             Model::B => 1.0,
         };
+        // The mean-velocity sources take 1/A of this matrix (fvOptions.constrain).
+        let a_mean: Vec<f64> = (0..n)
+            .map(|c| (diag[c][0] + diag[c][1] + diag[c][2]) / 3.0 / g.v[c])
+            .collect();
+        let r_au: Vec<f64> = a_mean.iter().map(|a| 1.0 / a).collect();
+        for s in &mut self.mean_forces {
+            s.constrain(&r_au);
+        }
         if self.settings.momentum_predictor {
             let solver = self.settings.u_solver;
             for k in (0..3).filter(|&k| g.solution_dirs[k]) {
@@ -594,6 +621,9 @@ impl Fluid {
             let mut ub = std::mem::take(&mut self.u_b);
             bc::eval_velocity(&self.g, &self.u_bc, t_new, &self.u, &self.phi, &mut ub);
             self.u_b = ub;
+            for s in &mut self.mean_forces {
+                s.correct(&self.g.v, &self.eps, &mut self.u);
+            }
         }
 
         // --- PISO correctors.
@@ -601,10 +631,6 @@ impl Fluid {
         let fixed_flux = bc::flux_fixed(g, &self.u_bc, &self.phi);
         let fixes_p = self.p_bc.iter().any(PressureBc::fixes_value);
         let uf_old = fvc::interpolate(g, Field::new(&u_old, &u_b_old));
-        let a_mean: Vec<f64> = (0..n)
-            .map(|c| (diag[c][0] + diag[c][1] + diag[c][2]) / 3.0 / g.v[c])
-            .collect();
-        let r_au: Vec<f64> = a_mean.iter().map(|a| 1.0 / a).collect();
         let kappa: Vec<f64> = (0..n).map(|c| kappa_p(c) * r_au[c]).collect();
         let kappa_b: Vec<f64> = g.owner[g.n_internal..]
             .iter()
@@ -891,6 +917,9 @@ impl Fluid {
                 }
             }
             self.update_u_boundary(t_new);
+            for s in &mut self.mean_forces {
+                s.correct(&self.g.v, &self.eps, &mut self.u);
+            }
         }
         let g = &self.g;
         let div = fvc::surface_integrate(g, &self.phi);
@@ -1032,8 +1061,8 @@ impl Fluid {
             .map(|p| foam::Patch {
                 name: p.name.clone(),
                 patch_type: p.patch_type.clone(),
-                n_faces: p.faces.len(),
-                start_face: p.faces.start,
+                n_faces: p.mesh_faces.len(),
+                start_face: p.mesh_faces.start,
                 extra: Vec::new(),
             })
             .collect()
@@ -1073,6 +1102,9 @@ impl Fluid {
         crate::fields::write_phi(&dir.join("phi"), &self.g, &self.phi, fmt)?;
         if let Some(t) = &self.turbulence {
             t.write(&self.g, &dir, fmt)?;
+        }
+        for s in &self.mean_forces {
+            s.write(&dir, fmt)?;
         }
         if self.harmonic_faces {
             let grad = VolField::new(

@@ -177,7 +177,7 @@ pub fn grad_least_squares(g: &FvGeometry, cells: &[f64], boundary: &[f64]) -> Ve
                 let f = f as usize;
                 let (d, dphi) = if f < g.n_internal {
                     let n = g.other(c, f);
-                    ((g.c[n] - g.c[c]), cells[n] - cells[c])
+                    (g.to_other(c, f), cells[n] - cells[c])
                 } else {
                     ((g.cf[f] - g.c[c]), boundary[f - g.n_internal] - cells[c])
                 };

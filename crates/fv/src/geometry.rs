@@ -20,10 +20,28 @@ pub use mesh::v3::V3;
 pub struct FvPatch {
     /// Patch name from `constant/polyMesh/boundary`.
     pub name: String,
-    /// The patch `type` (`patch`, `wall`, `empty`, `symmetryPlane`, …).
+    /// The patch `type` (`patch`, `wall`, `empty`, `symmetryPlane`, `cyclic`, …).
     pub patch_type: String,
-    /// Absolute face range of the patch.
+    /// Face range of the patch in the solver's face numbering ([`FvGeometry`]); empty for a
+    /// `cyclic` patch, whose faces are internal faces of the solver ([`Self::cyclic`]).
     pub faces: std::ops::Range<usize>,
+    /// Face range of the patch in the mesh (`startFace`, `nFaces`).
+    pub mesh_faces: std::ops::Range<usize>,
+    /// For a `cyclic` patch: where its faces went.
+    pub cyclic: Option<CyclicSide>,
+}
+
+/// A `cyclic` patch's faces as internal faces of the solver: face i of the patch is the
+/// solver face `pair_faces.start + i`, whose owner is the patch's cell on the side listed
+/// first in `boundary` (`owner_side`) and whose area vector points out of that cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CyclicSide {
+    /// The partner patch (`neighbourPatch`), by index.
+    pub neighbour_patch: usize,
+    /// The solver faces of the pairs, in patch face order.
+    pub pair_faces: std::ops::Range<usize>,
+    /// True for the patch listed first (the pair faces carry its S_f and flux sign).
+    pub owner_side: bool,
 }
 
 impl FvPatch {
@@ -32,22 +50,46 @@ impl FvPatch {
         self.patch_type == "empty"
     }
 
+    /// True for a `cyclic` patch (its faces are internal faces of the solver).
+    pub fn is_cyclic(&self) -> bool {
+        self.cyclic.is_some()
+    }
+
     /// The patch faces as indices into boundary arrays (face − number of internal faces).
     pub fn boundary_range(&self, n_internal: usize) -> std::ops::Range<usize> {
         self.faces.start - n_internal..self.faces.end - n_internal
+    }
+
+    /// The flux of each face of the patch out of the domain on this side (m³/s) from the solver
+    /// face fluxes `phi`: the boundary faces' own, or ± the pair faces' for a cyclic patch
+    /// (as OpenFOAM holds `phi` on both sides of a cyclic).
+    pub fn face_fluxes(&self, phi: &[f64]) -> Vec<f64> {
+        match &self.cyclic {
+            Some(c) if c.owner_side => phi[c.pair_faces.clone()].to_vec(),
+            Some(c) => phi[c.pair_faces.clone()].iter().map(|x| -x).collect(),
+            None => phi[self.faces.clone()].to_vec(),
+        }
     }
 }
 
 /// Geometry and interpolation data of a polyMesh for the finite-volume operators.
 ///
-/// Faces are numbered as in OpenFOAM: internal faces `0..n_internal`, then boundary faces patch
-/// by patch. Arrays named "boundary" are indexed by `face − n_internal`.
+/// Faces are numbered as in OpenFOAM — internal faces, then boundary faces patch by patch —
+/// except that each pair of `cyclic` faces is one internal face ([`crate::cyclic`]): the
+/// mesh's internal faces `0..n_mesh_internal` keep their numbers, the pair faces follow
+/// (`n_mesh_internal..n_internal`, pair by pair in the order of their first patch, face by
+/// face), then the faces of the other patches in mesh order. Arrays named "boundary" are
+/// indexed by `face − n_internal`. Without cyclic patches the numbering is the mesh's.
 #[derive(Clone, Debug)]
 pub struct FvGeometry {
     /// Number of cells.
     pub n_cells: usize,
-    /// Number of internal faces.
+    /// Number of internal faces, cyclic pair faces included.
     pub n_internal: usize,
+    /// Number of the mesh's own internal faces (the first ones); the faces from
+    /// `n_mesh_internal` to `n_internal` are cyclic pairs, which the matrices hold as
+    /// interfaces ([`RowAddressing`]).
+    pub n_mesh_internal: usize,
     /// Owner cell of every face.
     pub owner: Vec<u32>,
     /// Neighbour cell of every internal face.
@@ -64,9 +106,11 @@ pub struct FvGeometry {
     pub v: Vec<f64>,
     /// Owner weight of linear interpolation on internal faces,
     /// w = |S·(C_N − C_f)| / (|S·(C_f − C_P)| + |S·(C_N − C_f)|), so
-    /// φ_f = w φ_P + (1 − w) φ_N (OpenFOAM `surfaceInterpolation::makeWeights`).
+    /// φ_f = w φ_P + (1 − w) φ_N (OpenFOAM `surfaceInterpolation::makeWeights`); on cyclic
+    /// pair faces [`crate::cyclic::PairGeometry::weight`].
     pub weight: Vec<f64>,
-    /// Delta vector of every face (m): C_N − C_P on internal faces; on boundary faces the
+    /// Delta vector of every face (m): C_N − C_P on internal faces ((C_f − C_P) −
+    /// (C_f,N − C_N) across a cyclic pair, v1912's `cyclicFvPatch::delta`); on boundary faces the
     /// normal projection n̂ (n̂·(C_f − C_P)) of the centre-to-face vector (OpenFOAM's
     /// `fvPatch::delta` for non-coupled patches).
     pub delta: Vec<V3>,
@@ -106,17 +150,39 @@ impl FvGeometry {
     pub fn from_geometry(mesh: &PolyMesh, g: &MeshGeometry) -> Result<Self> {
         g.check_matches(mesh)?;
         let n_cells = mesh.n_cells;
-        let n_faces = mesh.n_faces();
-        let n_internal = mesh.n_internal_faces();
-        let owner = mesh.owner.clone();
-        let neighbour = mesh.neighbour.clone();
-        let sf = g.face_areas.clone();
-        let cf = g.face_centres.clone();
+        let n_mesh_internal = mesh.n_internal_faces();
+        let pairs = crate::cyclic::pairs(mesh, g)?;
+        // The solver's faces as mesh faces: internal, the first side of each cyclic pair, the
+        // faces of the other patches.
+        let mut mesh_face: Vec<usize> = (0..n_mesh_internal).collect();
+        let mut partner: Vec<usize> = Vec::new();
+        let mut pair_start = vec![usize::MAX; mesh.boundary.len()];
+        for pr in &pairs {
+            pair_start[pr.first] = mesh_face.len();
+            pair_start[pr.second] = mesh_face.len();
+            let (a, b) = (&mesh.boundary[pr.first], &mesh.boundary[pr.second]);
+            mesh_face.extend(a.faces());
+            partner.extend(b.faces());
+        }
+        let n_internal = mesh_face.len();
+        let mut patch_start = vec![0; mesh.boundary.len()];
+        for (i, p) in mesh.boundary.iter().enumerate() {
+            patch_start[i] = mesh_face.len();
+            if p.patch_type != "cyclic" {
+                mesh_face.extend(p.faces());
+            }
+        }
+        let n_faces = mesh_face.len();
+        let owner: Vec<u32> = mesh_face.iter().map(|&f| mesh.owner[f]).collect();
+        let mut neighbour = mesh.neighbour.clone();
+        neighbour.extend(partner.iter().map(|&f| mesh.owner[f]));
+        let sf: Vec<V3> = mesh_face.iter().map(|&f| g.face_areas[f]).collect();
+        let cf: Vec<V3> = mesh_face.iter().map(|&f| g.face_centres[f]).collect();
         let c = g.cell_centres.clone();
         let mag_sf: Vec<f64> = sf.iter().map(|&s| s.norm()).collect();
         if let Some(f) = mag_sf.iter().position(|&a| a.is_nan() || a <= 0.0) {
             return Err(FvError::Value {
-                what: format!("face {f}"),
+                what: format!("face {}", mesh_face[f]),
                 msg: "zero area".into(),
             });
         }
@@ -126,13 +192,21 @@ impl FvGeometry {
         let mut corr_vec = vec![V3::zeros(); n_internal];
         for f in 0..n_internal {
             let (p, n) = (owner[f] as usize, neighbour[f] as usize);
-            let sfd_own = sf[f].dot(&(cf[f] - c[p])).abs();
-            let sfd_nei = sf[f].dot(&(c[n] - cf[f])).abs();
-            if sfd_own + sfd_nei > mesh::geometry::ROOTVSMALL {
-                weight[f] = sfd_nei / (sfd_own + sfd_nei);
-            }
-            let d = c[n] - c[p];
             let nhat = 1.0 / mag_sf[f] * sf[f];
+            let d = if f < n_mesh_internal {
+                let sfd_own = sf[f].dot(&(cf[f] - c[p])).abs();
+                let sfd_nei = sf[f].dot(&(c[n] - cf[f])).abs();
+                if sfd_own + sfd_nei > mesh::geometry::ROOTVSMALL {
+                    weight[f] = sfd_nei / (sfd_own + sfd_nei);
+                }
+                c[n] - c[p]
+            } else {
+                let k = f - n_mesh_internal;
+                let pg =
+                    crate::cyclic::CyclicPair::face_geometry(g, p, n, mesh_face[f], partner[k]);
+                weight[f] = pg.weight;
+                pg.delta
+            };
             delta[f] = d;
             delta_coeff[f] = 1.0 / nhat.dot(&d).max(0.05 * d.norm());
             corr_vec[f] = nhat - (delta_coeff[f] * d);
@@ -148,10 +222,28 @@ impl FvGeometry {
         let patches: Vec<FvPatch> = mesh
             .boundary
             .iter()
-            .map(|p| FvPatch {
-                name: p.name.clone(),
-                patch_type: p.patch_type.clone(),
-                faces: p.faces(),
+            .enumerate()
+            .map(|(i, p)| {
+                let cyclic = pairs
+                    .iter()
+                    .find(|pr| pr.first == i || pr.second == i)
+                    .map(|pr| CyclicSide {
+                        neighbour_patch: if pr.first == i { pr.second } else { pr.first },
+                        pair_faces: pair_start[i]..pair_start[i] + p.n_faces,
+                        owner_side: pr.first == i,
+                    });
+                let start = patch_start[i];
+                FvPatch {
+                    name: p.name.clone(),
+                    patch_type: p.patch_type.clone(),
+                    faces: if cyclic.is_some() {
+                        start..start
+                    } else {
+                        start..start + p.n_faces
+                    },
+                    mesh_faces: p.faces(),
+                    cyclic,
+                }
             })
             .collect();
         let mut boundary_empty = vec![false; n_faces - n_internal];
@@ -191,11 +283,12 @@ impl FvGeometry {
         }
         // Faces were visited in increasing order, so each cell's list is sorted: sums over a
         // cell's faces run in face order, as OpenFOAM's face loops accumulate them.
-        let rows = RowAddressing::new(n_cells, &owner[..n_internal], &neighbour);
+        let rows = RowAddressing::new(n_cells, &owner[..n_internal], &neighbour, n_mesh_internal);
         let solution_dirs = solution_dirs(&sf, &boundary_empty, n_internal);
         Ok(FvGeometry {
             n_cells,
             n_internal,
+            n_mesh_internal,
             owner,
             neighbour,
             sf,
@@ -262,6 +355,41 @@ impl FvGeometry {
     #[inline]
     pub fn nhat(&self, f: usize) -> V3 {
         1.0 / self.mag_sf[f] * self.sf[f]
+    }
+
+    /// True when internal face `f` is a cyclic pair ([`crate::cyclic`]).
+    #[inline]
+    pub fn is_pair(&self, f: usize) -> bool {
+        (self.n_mesh_internal..self.n_internal).contains(&f)
+    }
+
+    /// The vector from the centre of the cell on the `owner_side` (else the neighbour side)
+    /// of internal face `f` to the face centre (m). Across a cyclic pair the neighbour's centre
+    /// is taken where the translation puts it, C_f − d − C_P (as v1912's `linearUpwind` forms it
+    /// on coupled patches).
+    #[inline]
+    pub fn face_from_cell(&self, f: usize, owner_side: bool) -> V3 {
+        let (o, n) = (self.owner[f] as usize, self.neighbour[f] as usize);
+        match (owner_side, self.is_pair(f)) {
+            (true, _) => self.cf[f] - self.c[o],
+            (false, false) => self.cf[f] - self.c[n],
+            (false, true) => self.cf[f] - self.delta[f] - self.c[o],
+        }
+    }
+
+    /// The vector from cell `c` to the cell across internal face `f` (m): C_N − C_P seen
+    /// from c (the pair's delta across a cyclic).
+    #[inline]
+    pub fn to_other(&self, c: usize, f: usize) -> V3 {
+        if self.is_pair(f) {
+            if self.owner[f] as usize == c {
+                self.delta[f]
+            } else {
+                -self.delta[f]
+            }
+        } else {
+            self.c[self.other(c, f)] - self.c[c]
+        }
     }
 }
 

@@ -22,14 +22,28 @@ use rayon::prelude::*;
 pub const PAR_MIN: usize = 50_000;
 
 /// Row-wise (CSR) addressing of the LDU matrix of a mesh, computed once per mesh.
+///
+/// The faces of cyclic pairs (faces `n_plain..` of the internal faces, see
+/// [`crate::FvGeometry`]) are the matrix's *interfaces*, as OpenFOAM keeps coupled patches
+/// apart from the triangular face loops: their entries come last in each row
+/// (`end[c]..start[c + 1]`), the matrix products include them, and the incomplete
+/// factorisations and Gauss–Seidel sweeps treat them as v1912 treats `cyclic` interfaces (left
+/// out of DIC/DILU, explicit with the values of the sweep's start in Gauss–Seidel).
 #[derive(Clone, Debug, PartialEq)]
 pub struct RowAddressing {
     /// Start of each row's entries (length `n_cells + 1`).
     pub start: Vec<u32>,
     /// First upper entry of each row: entries `start[c]..mid[c]` are the faces with `c` as
-    /// neighbour (column: the owner), `mid[c]..start[c + 1]` the faces `c` owns (column: the
+    /// neighbour (column: the owner), `mid[c]..end[c]` the faces `c` owns (column: the
     /// neighbour), each in increasing face order.
     pub mid: Vec<u32>,
+    /// End of each row's triangular entries: `end[c]..start[c + 1]` are its interface entries
+    /// (cyclic pair faces with `c` on either side, in face order; column: the other cell).
+    pub end: Vec<u32>,
+    /// Per entry: true when its coefficient is the face's `lower` one (row = the face's
+    /// neighbour), false for `upper` (row = owner); a face coupling a cell with itself has
+    /// one entry of each.
+    pub is_lower: Vec<bool>,
     /// Column (the other cell) of each entry.
     pub col: Vec<u32>,
     /// Internal face of each entry.
@@ -37,41 +51,67 @@ pub struct RowAddressing {
 }
 
 impl RowAddressing {
-    /// The addressing of the internal faces `owner[f] < neighbour[f]` of a mesh of `n_cells`.
-    pub fn new(n_cells: usize, owner: &[u32], neighbour: &[u32]) -> Self {
+    /// The addressing of the internal faces of a mesh of `n_cells`: faces `0..n_plain` with
+    /// `owner[f] < neighbour[f]`, the rest interfaces (any two cells).
+    pub fn new(n_cells: usize, owner: &[u32], neighbour: &[u32], n_plain: usize) -> Self {
         let mut n_lower = vec![0u32; n_cells];
         let mut n_upper = vec![0u32; n_cells];
-        for (&o, &n) in owner.iter().zip(neighbour) {
-            n_upper[o as usize] += 1;
-            n_lower[n as usize] += 1;
+        let mut n_iface = vec![0u32; n_cells];
+        for (f, (&o, &n)) in owner.iter().zip(neighbour).enumerate() {
+            if f < n_plain {
+                n_upper[o as usize] += 1;
+                n_lower[n as usize] += 1;
+            } else {
+                n_iface[o as usize] += 1;
+                n_iface[n as usize] += 1;
+            }
         }
         let mut start = vec![0u32; n_cells + 1];
         let mut mid = vec![0u32; n_cells];
+        let mut end = vec![0u32; n_cells];
         for c in 0..n_cells {
             mid[c] = start[c] + n_lower[c];
-            start[c + 1] = mid[c] + n_upper[c];
+            end[c] = mid[c] + n_upper[c];
+            start[c + 1] = end[c] + n_iface[c];
         }
         let total = start[n_cells] as usize;
         let mut col = vec![0u32; total];
         let mut face = vec![0u32; total];
+        let mut is_lower = vec![false; total];
         let mut next_lower: Vec<u32> = start[..n_cells].to_vec();
         let mut next_upper = mid.clone();
+        let mut next_iface = end.clone();
+        let mut put = |slot: &mut u32, c: u32, f: usize, lower: bool| {
+            let k = *slot as usize;
+            *slot += 1;
+            col[k] = c;
+            face[k] = f as u32;
+            is_lower[k] = lower;
+        };
         for (f, (&o, &n)) in owner.iter().zip(neighbour).enumerate() {
-            let k = next_lower[n as usize] as usize;
-            next_lower[n as usize] += 1;
-            col[k] = o;
-            face[k] = f as u32;
-            let k = next_upper[o as usize] as usize;
-            next_upper[o as usize] += 1;
-            col[k] = n;
-            face[k] = f as u32;
+            if f < n_plain {
+                put(&mut next_lower[n as usize], o, f, true);
+                put(&mut next_upper[o as usize], n, f, false);
+            } else {
+                // Both sides of an interface face go into the interface part.
+                put(&mut next_iface[n as usize], o, f, true);
+                put(&mut next_iface[o as usize], n, f, false);
+            }
         }
         RowAddressing {
             start,
             mid,
+            end,
+            is_lower,
             col,
             face,
         }
+    }
+
+    /// True when row `c`'s entry `k` is an interface entry.
+    #[inline]
+    pub fn is_interface(&self, c: usize, k: usize) -> bool {
+        k >= self.end[c] as usize
     }
 
     /// Number of rows.
@@ -117,13 +157,21 @@ impl Ldu {
     pub fn off_row(&self, g: &FvGeometry, c: usize, x: &[f64]) -> f64 {
         let r = &g.rows;
         let mut s = 0.0;
-        for k in r.start[c] as usize..r.mid[c] as usize {
-            s += self.lower[r.face[k] as usize] * x[r.col[k] as usize];
-        }
-        for k in r.mid[c] as usize..r.start[c + 1] as usize {
-            s += self.upper[r.face[k] as usize] * x[r.col[k] as usize];
+        for k in r.row(c) {
+            s += self.coef(r, k) * x[r.col[k] as usize];
         }
         s
+    }
+
+    /// The coefficient of entry `k` of the row addressing `r`.
+    #[inline]
+    pub fn coef(&self, r: &RowAddressing, k: usize) -> f64 {
+        let f = r.face[k] as usize;
+        if r.is_lower[k] {
+            self.lower[f]
+        } else {
+            self.upper[f]
+        }
     }
 
     /// `y = A x` (the same bits as [`RowMatrix::mul`]).
@@ -147,20 +195,7 @@ impl<'a> RowMatrix<'a> {
     /// The row form of `a` on the mesh of `g`.
     pub fn new(a: &'a Ldu, g: &'a FvGeometry) -> Self {
         let r = &g.rows;
-        let mut coef = vec![0.0; r.col.len()];
-        for c in 0..r.n_rows() {
-            let (s, m, e) = (
-                r.start[c] as usize,
-                r.mid[c] as usize,
-                r.start[c + 1] as usize,
-            );
-            for k in s..m {
-                coef[k] = a.lower[r.face[k] as usize];
-            }
-            for k in m..e {
-                coef[k] = a.upper[r.face[k] as usize];
-            }
-        }
+        let coef = (0..r.col.len()).map(|k| a.coef(r, k)).collect();
         RowMatrix {
             rows: r,
             diag: &a.diag,

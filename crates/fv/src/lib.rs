@@ -14,16 +14,21 @@
 //! * [`linsolve`]: PCG, PBiCG, BiCGStab and smoothSolver with OpenFOAM's residual and
 //!   iteration counting (DIC/DILU preconditioning and smoothing), and `GAMG` through
 //!   [`amg`], an aggregation multigrid;
+//! * [`cyclic`]: translational `cyclic` patch pairs, solved as internal faces;
 //! * [`bc`]: boundary conditions of U and p; [`fields`]: U, p and phi of a time directory;
 //! * [`settings`]: what `system/` and `constant/` ask for, refusing what is not supported;
 //! * [`turbulence`]: `turbulenceProperties` and the k–ε model with wall functions;
+//! * [`fv_options`]: `fvOptions` sources holding a mean velocity (`meanVelocityForce`,
+//!   CFDEM's `meanSupVelocityForce`);
 //! * [`fluid`]: the PISO step ([`Fluid`]).
 //!
 //! Verified against Debian's OpenFOAM v1912 on the same meshes: the lid-driven cavity and an
 //! O-grid pipe agree with icoFoam to round-off (same solvers, same iteration counts), restarts
 //! from our time directories too; a skewed, graded cavity at Re 1000 with a non-orthogonal
 //! corrector agrees with pisoFoam to round-off for every convection scheme and every momentum
-//! solver above (`tests/schemes.rs`), and to the solver tolerance with GAMG; plane and
+//! solver above (`tests/schemes.rs`), and to the solver tolerance with GAMG; periodic
+//! channels (`cyclic` pairs, `meanVelocityForce`; laminar, sheared and k–ε) to round-off
+//! (`tests/periodic.rs`); plane and
 //! Hagen–Poiseuille profiles, Ergun's pressure drop through a porous block and the time order
 //! of Euler and Crank–Nicolson against closed forms.
 //! Speed: `cargo bench -p fv`, `examples/bench_vs_pisofoam.rs` against pisoFoam (PCG or
@@ -33,9 +38,11 @@
 pub mod amg;
 pub mod bc;
 pub mod convection;
+pub mod cyclic;
 pub mod error;
 pub mod fields;
 pub mod fluid;
+pub mod fv_options;
 pub mod fvc;
 pub mod geometry;
 pub mod ldu;
@@ -46,4 +53,4 @@ pub mod turbulence;
 
 pub use error::{FvError, Result};
 pub use fluid::{Fluid, Model, PorousTimeFlux, StepReport};
-pub use geometry::{FvGeometry, FvPatch, V3};
+pub use geometry::{CyclicSide, FvGeometry, FvPatch, V3};

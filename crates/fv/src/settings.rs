@@ -22,7 +22,8 @@
 //! (`cacheAgglomeration`, `nCellsInCoarsestLevel`, `agglomerator`, `mergeLevels`, sweeps …)
 //! change the path, not the answer, and are accepted. `relaxationFactors` are accepted when
 //! they do not change the PISO solution (U's equation factor 1, any field factor).
-//! An active source in `system/fvOptions` or `constant/fvOptions` is refused.
+//! `fvOptions` (`constant/`, else `system/`): the mean-velocity sources of
+//! [`crate::fv_options`]; any other active source is refused.
 
 use crate::error::{FvError, Result};
 use crate::linsolve::{Method, Preconditioner, Smoother, SmootherKind, SolverControls};
@@ -120,6 +121,8 @@ pub struct Settings {
     /// What `constant/turbulenceProperties` selects (none, laminar, k–ε) with the k–ε
     /// equations' schemes and solvers ([`crate::turbulence::properties`]).
     pub turbulence: crate::turbulence::TurbulenceSettings,
+    /// The active `fvOptions` sources (mean-velocity forces, [`crate::fv_options`]).
+    pub fv_options: Vec<crate::fv_options::MeanForceSettings>,
 }
 
 pub(crate) fn err(file: &Path, key: &str, msg: impl Into<String>) -> FvError {
@@ -294,29 +297,6 @@ pub(crate) fn convection_of(sch: &Dict, file: &Path, entry: &str) -> Result<(Con
         _ => return Err(unsupported()),
     };
     Ok((convection, bounded))
-}
-
-/// Refuses an fvOptions dictionary with an active source (CFDEM's periodicChannel drives its
-/// flow with `meanSupVelocityForce` there): the native solver has no fvOptions, and running
-/// without the source would be a different flow. Sources switched off (`active no;`) are
-/// accepted.
-fn no_fv_options(d: &Dict, file: &Path) -> Result<()> {
-    for e in d.entries() {
-        let foam::Value::Dict(src) = &e.value else {
-            continue;
-        };
-        if src.switch("active").unwrap_or(true) {
-            let kind = src.word("type").unwrap_or("?");
-            return Err(err(
-                file,
-                &e.keyword,
-                format!(
-                    "the source `{kind}` is not supported (the native solver has no fvOptions)"
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// Checks `relaxationFactors` of fvSolution: pisoFoam and cfdemSolverPiso relax the momentum
@@ -633,11 +613,7 @@ impl Settings {
             }
         }
 
-        for rel in ["system/fvOptions", "constant/fvOptions"] {
-            if root.join(rel).is_file() {
-                no_fv_options(&case.read_dict(rel)?, &path(rel))?;
-            }
-        }
+        let fv_options = crate::fv_options::read(case)?;
         let sol_file = path("system/fvSolution");
         let sol = case.read_dict("system/fvSolution")?;
         let algo = match (sol.dict("PISO"), sol.dict("PIMPLE")) {
@@ -722,6 +698,7 @@ impl Settings {
             u_solver,
             full_stress,
             turbulence,
+            fv_options,
         })
     }
 }

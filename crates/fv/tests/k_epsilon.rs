@@ -16,31 +16,7 @@
 
 mod common;
 
-use foam::{FieldValues, VolField};
-use std::path::Path;
-
-fn scalars(path: &Path, n: usize) -> Vec<f64> {
-    match VolField::read(path).unwrap().internal(n).unwrap() {
-        FieldValues::Scalar(v) => v,
-        FieldValues::Vector(_) => panic!("{}: scalar field expected", path.display()),
-    }
-}
-
-fn vectors(path: &Path, n: usize) -> Vec<[f64; 3]> {
-    match VolField::read(path).unwrap().internal(n).unwrap() {
-        FieldValues::Vector(v) => v,
-        FieldValues::Scalar(_) => panic!("{}: vector field expected", path.display()),
-    }
-}
-
-/// max |a − b| / max |b|.
-fn rel(a: &[f64], b: &[f64]) -> f64 {
-    let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
-        / scale
-}
+use common::compare::{rel, scalars, vectors};
 
 #[test]
 fn channel_matches_pisofoam_fixture() {
@@ -54,11 +30,7 @@ fn channel_matches_pisofoam_fixture() {
     let n = fluid.geometry().n_cells;
     let ours = dir.path().join("5");
     let theirs = case.join("5");
-    let flat = |v: Vec<[f64; 3]>| v.into_iter().flatten().collect::<Vec<f64>>();
-    let du = rel(
-        &flat(vectors(&ours.join("U"), n)),
-        &flat(vectors(&theirs.join("U"), n)),
-    );
+    let du = rel(&vectors(&ours.join("U"), n), &vectors(&theirs.join("U"), n));
     let dp = rel(&scalars(&ours.join("p"), n), &scalars(&theirs.join("p"), n));
     let dk = rel(&scalars(&ours.join("k"), n), &scalars(&theirs.join("k"), n));
     let de = rel(

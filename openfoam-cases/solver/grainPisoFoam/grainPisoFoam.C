@@ -23,6 +23,9 @@
   gradient of the half cell next to them (porousFaces.H). Between clear cells the forms above
   are pisoFoam's.
 
+  fvOptions: meanVelocityForce and CFDEM's meanSupVelocityForce, holding a mean (superficial)
+  velocity in periodic channels (meanForceSources.H); other sources are refused.
+
   Turbulence: constant/turbulenceProperties when present (laminar or RAS, e.g. kEpsilon with
   wall functions), νeff = ν + νt in the stress above (ν → νeff), k–ε solved after the
   correctors on the flux φ as CFDEM's cfdemSolverPiso does; without the file, ν alone.
@@ -40,6 +43,7 @@
 #include "couplingFields.H"
 #include "couplingSource.H"
 #include "porousFaces.H"
+#include "meanForceSources.H"
 
 int main(int argc, char *argv[])
 {
@@ -104,6 +108,7 @@ int main(int argc, char *argv[])
 
             source->send(U, p, phi);
 
+            meanForces.write();
             runTime.write();
 
             runTime.printExecutionTime(Info);

@@ -185,7 +185,7 @@ impl ScalarField {
                 msg: m,
             })?;
         if let Some(Value::Dict(bf)) = f.body.get_mut("boundaryField") {
-            for p in g.patches.iter().filter(|p| !p.is_empty()) {
+            for p in g.patches.iter().filter(|p| !p.is_empty() && !p.is_cyclic()) {
                 if let Some(Value::Dict(e)) = bf.get_mut(&p.name) {
                     let v = self.boundary[p.boundary_range(g.n_internal)].to_vec();
                     e.set(

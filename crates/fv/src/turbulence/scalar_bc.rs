@@ -8,7 +8,8 @@
 //! 1 − pos0(φ)), `calculated` (νt: the value of the formula, k/ε: refused as OpenFOAM would
 //! need a value to solve), `kqRWallFunction` (k: zero gradient), `epsilonWallFunction` (ε:
 //! wall-cell values from the log law, [`super::wall_functions`]), `nutkWallFunction` (νt from
-//! the wall cell's k), `empty`, `symmetryPlane`/`symmetry` (zero gradient of a scalar).
+//! the wall cell's k), `empty`, `symmetryPlane`/`symmetry` (zero gradient of a scalar),
+//! `cyclic` (the patches of a cyclic pair, whose faces are internal faces of the solver).
 //! Anything else is an error naming the file and `boundaryField.<patch>.type`.
 
 use crate::bc::{read_all, PatchEntry};
@@ -59,6 +60,8 @@ pub enum ScalarBc {
     NutkWallFunction(LogLaw),
     /// Faces of an `empty` patch.
     Empty,
+    /// A `cyclic` patch: its faces are internal faces of the solver.
+    Cyclic,
 }
 
 impl ScalarBc {
@@ -103,15 +106,15 @@ impl TurbulenceField {
         match self {
             TurbulenceField::K => {
                 "fixedValue, zeroGradient, inletOutlet, kqRWallFunction, empty, symmetryPlane, \
-                 symmetry"
+                 symmetry, cyclic"
             }
             TurbulenceField::Epsilon => {
                 "fixedValue, zeroGradient, inletOutlet, epsilonWallFunction, empty, \
-                 symmetryPlane, symmetry"
+                 symmetryPlane, symmetry, cyclic"
             }
             TurbulenceField::Nut => {
                 "calculated, fixedValue, zeroGradient, nutkWallFunction, empty, symmetryPlane, \
-                 symmetry"
+                 symmetry, cyclic"
             }
         }
     }
@@ -186,6 +189,7 @@ pub fn read(
                 })
             }
             ("empty", _) => ScalarBc::Empty,
+            ("cyclic", _) => ScalarBc::Cyclic,
             _ => return Err(e.unsupported(t, which.supported())),
         };
         let empty = bc == ScalarBc::Empty;
@@ -208,7 +212,8 @@ pub fn evaluate(g: &FvGeometry, bcs: &[ScalarBc], x: &[f64], phi: &[f64], out: &
                 ScalarBc::Calculated
                 | ScalarBc::EpsilonWallFunction { .. }
                 | ScalarBc::NutkWallFunction(_)
-                | ScalarBc::Empty => {}
+                | ScalarBc::Empty
+                | ScalarBc::Cyclic => {}
             }
         }
     }

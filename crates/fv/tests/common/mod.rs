@@ -1,6 +1,8 @@
 //! Writes small OpenFOAM cases for the solver tests: a generated hex mesh, `0/U`, `0/p` with
 //! per-patch conditions given as dictionary text, and the system/constant dictionaries.
 
+pub mod compare;
+
 use foam::PolyMesh;
 use std::fmt::Write;
 use std::path::Path;
