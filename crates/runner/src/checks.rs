@@ -62,14 +62,17 @@ pub fn evaluate(
             expanded_bed_height,
             bed_height_tolerance,
             pressure_drop_tolerance,
+            packed_bed_tolerance,
             averaging_time,
             ..
         } => crate::fluidised::checks(
+            settings,
             samples,
             crate::fluidised::Targets {
                 expanded_bed_height: *expanded_bed_height,
                 bed_height_tolerance: *bed_height_tolerance,
                 pressure_drop_tolerance: *pressure_drop_tolerance,
+                packed_bed_tolerance: *packed_bed_tolerance,
                 averaging_time: *averaging_time,
             },
             post,

@@ -76,7 +76,9 @@ pub enum ValidationSpec {
     },
     /// `type fluidisedBed;`: a bed fluidised at a constant inlet velocity (the last plateau of
     /// the inlet's table), averaged over that plateau's second half: Δp against the bed's
-    /// weight per area, and the mean bed height against the experiment's expanded bed.
+    /// weight per area, and the mean bed height against the experiment's expanded bed; and
+    /// on the way (the inlet's ramp below fluidisation) the packed bed's Δp against the case's
+    /// drag law on the bed measured from the particles.
     FluidisedBed {
         /// Inlet patch name.
         inlet: String,
@@ -88,7 +90,10 @@ pub enum ValidationSpec {
         bed_height_tolerance: f64,
         /// Accepted relative error of the mean Δp.
         pressure_drop_tolerance: f64,
-        /// Shortest averaging window for the bed-height check, s (a bubbling bed's surface
+        /// Accepted relative error of the packed bed's Δp against the case's drag law (the
+        /// inlet ramp below fluidisation).
+        packed_bed_tolerance: f64,
+        /// Shortest averaging window for the fluidised checks, s (a bubbling bed's surface
         /// rises and falls with each bubble; a shorter window is not a time average).
         averaging_time: f64,
     },
@@ -154,6 +159,7 @@ impl ValidationSpec {
                 expanded_bed_height: tolerance(&d, path, "expandedBedHeight")?,
                 bed_height_tolerance: tolerance(&d, path, "bedHeightTolerance")?,
                 pressure_drop_tolerance: tolerance(&d, path, "pressureDropTolerance")?,
+                packed_bed_tolerance: tolerance(&d, path, "packedBedTolerance")?,
                 averaging_time: tolerance(&d, path, "averagingTime")?,
             }),
             other => Err(entry_err(

@@ -360,7 +360,10 @@ fn fluidised_bed_couples_its_committed_pack() {
         ..RunOptions::default()
     };
     let report = run(&case, &opts, &stop, &mut |_| {}).unwrap();
-    assert_eq!((report.particles, report.steps, report.cells), (9240, 1, 312));
+    assert_eq!(
+        (report.particles, report.steps, report.cells),
+        (9240, 1, 312)
+    );
     let s = &report.samples[0];
     assert!(
         (s.deposited_volume + s.outside_volume - s.particle_volume).abs()
