@@ -148,7 +148,9 @@ pub fn packed_bed_velocity_for(
     }
     let f = |u: f64| packed_bed_pressure_gradient_with(beta, u, eps, d, rho, mu) * l - dp;
     let (mut lo, mut hi) = (0.0, 1000.0);
-    if !(f(hi) >= 0.0) {
+    let top = f(hi);
+    if top.is_nan() || top < 0.0 {
+        // not reached below 1000 m/s (or a NaN input): no root to bracket
         return f64::NAN;
     }
     while hi - lo > 1e-12 * hi {
