@@ -210,11 +210,11 @@ pub fn checks(
         ));
     } else {
         notes.push(format!(
-            "fluidised bed: Δp and bed height are not checked: the averaging window ({span:.3} \
-             s) is shorter than averagingTime ({} s); run to t ≥ {:.3} s",
+            "fluidised bed: Δp and bed height are not checked: the averaging window (the second \
+             half of the last inlet-velocity plateau) lasts {span:.3} s, shorter than \
+             averagingTime ({} s); the plateau must last {} s",
             targets.averaging_time,
-            // the window is the second half of the plateau: the plateau must last twice as long
-            t1 + 2.0 * (targets.averaging_time - span),
+            2.0 * targets.averaging_time,
         ));
     }
     plots(samples, targets, post, (t0, t1), curve)?;
