@@ -2,7 +2,8 @@
 //! (U, p of a case time directory). Per snapshot it writes, into the time directory
 //! `timestep × DEM step`, the fields `voidfraction`, `Ksl`, `Us`, `f` and a LIGGGHTS text dump
 //! `particleForces` (id, position, velocity, radius, total fluid force fx fy fz, β), and reports
-//! the volume and momentum accounting.
+//! the volume and momentum accounting. In a decomposed case the four fields also go into each
+//! `processorN/` piece (the frozen fluid is read from the reconstructed time).
 
 use anyhow::{bail, Context};
 use clap::Args;
@@ -96,6 +97,7 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
     let fluid = FrozenFluid::read(case.root(), &a.time, settings.physics.nu)
         .with_context(|| format!("frozen fluid of time {}", a.time))?;
     let mut coupler = Coupler::new(fluid.mesh(), settings)?;
+    let pieces = foam::decomposed::pieces(&case, fluid.mesh().n_cells)?;
     loop {
         let step = coupler.exchange(&replay.state(), &fluid.state())?;
         let time = time_name(replay.timestep() as f64 * dem_dt);
@@ -105,7 +107,9 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
             fluid.mesh(),
             &step,
             Format::Ascii,
+            None,
         )?;
+        couple::output::write_fields_decomposed(&pieces, &time, &step, Format::Ascii)?;
         write_forces(&case, &time, &replay, &step, fluid.mesh())?;
         let r = report(&coupler, &replay, &fluid, &step, &time);
         if a.json {

@@ -28,7 +28,8 @@ pub struct VoidageArgs {
     #[arg(long, value_parser = PossibleValuesParser::new(Method::ALL.map(|m| m.name()))
         .map(|s| s.parse::<Method>().expect("a possible value")))]
     pub method: Method,
-    /// Time directory to write `voidfraction` into (created if missing).
+    /// Time directory to write `voidfraction` into (created if missing). A decomposed case
+    /// (`processorN/`) also gets each piece's share of the field in `processorN/<time>/`.
     #[arg(long, value_name = "NAME", default_value = "0")]
     pub time: String,
     /// Lower bound for the void fraction: cells below it are clipped and the solid volume
@@ -46,6 +47,8 @@ struct Report {
     method: &'static str,
     case: String,
     output: String,
+    /// Processor pieces of a decomposed case that got their part of the field.
+    pieces: usize,
     dump: String,
     timestep: u64,
     cells: usize,
@@ -106,10 +109,22 @@ pub fn run(a: &VoidageArgs) -> anyhow::Result<()> {
     let voidage_seconds = t.elapsed().as_secs_f64();
     let eps = vm.voidage(&dep, a.alpha_min)?;
     let output = write_field(&case, &a.time, &mesh, eps.epsilon.clone())?;
+    let pieces = foam::decomposed::pieces(&case, mesh.n_cells)?;
+    for piece in &pieces {
+        piece.write_cell_field(
+            &a.time,
+            "voidfraction",
+            [0; 7],
+            FieldValues::Scalar(piece.pick(&eps.epsilon, 1)),
+            "zeroGradient",
+            Format::Ascii,
+        )?;
+    }
     let r = Report {
         method: a.method.name(),
         case: case.root().display().to_string(),
         output: output.display().to_string(),
+        pieces: pieces.len(),
         dump: a.dump.dump.display().to_string(),
         timestep: snap.timestep,
         cells: vm.n_cells(),
@@ -188,4 +203,10 @@ fn print_text(r: &Report) {
         "  wrote {} (voidage {:.3} s, total {:.3} s)",
         r.output, r.voidage_seconds, r.total_seconds
     );
+    if r.pieces > 0 {
+        println!(
+            "  and its part into each of the {} processor pieces",
+            r.pieces
+        );
+    }
 }

@@ -6,13 +6,6 @@
 use std::process::Command;
 use testkit::{copy_dir, fixture, openfoam, run_ok, tool};
 
-const BLOCK_MESH: &str = r#"FoamFile { version 2.0; format ascii; class dictionary; object blockMeshDict; }
-vertices ((-0.01 -0.01 0) (0.01 -0.01 0) (0.01 0.01 0) (-0.01 0.01 0)
-          (-0.01 -0.01 0.03) (0.01 -0.01 0.03) (0.01 0.01 0.03) (-0.01 0.01 0.03));
-blocks (hex (0 1 2 3 4 5 6 7) (10 10 15) simpleGrading (1 1 1));
-boundary ( walls { type wall; faces ((0 4 7 3) (2 6 5 1) (1 5 4 0) (3 7 6 2) (0 3 2 1) (4 5 6 7)); } );
-"#;
-
 const FUNCTIONS: &str = r#"
 functions
 {
@@ -37,7 +30,11 @@ fn openfoam_integral_of_written_voidage_equals_deposited_volume() {
     let dir = tempfile::tempdir().unwrap();
     copy_dir(&fixture("foam/cavity/system"), &dir.path().join("system"));
     std::fs::create_dir(dir.path().join("constant")).unwrap();
-    std::fs::write(dir.path().join("system/blockMeshDict"), BLOCK_MESH).unwrap();
+    std::fs::write(
+        dir.path().join("system/blockMeshDict"),
+        testkit::BOX_BLOCK_MESH,
+    )
+    .unwrap();
     let cd = dir.path().join("system/controlDict");
     let text = std::fs::read_to_string(&cd).unwrap() + FUNCTIONS;
     std::fs::write(&cd, text).unwrap();

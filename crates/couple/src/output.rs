@@ -7,20 +7,66 @@ use foam::{default_boundary, FieldValues, Format, PolyMesh, VolField};
 use std::path::Path;
 
 /// Writes ε, Ksl, Us and f of `step` into the time directory `dir` (created if needed),
-/// whose name `time` becomes each file's `location`. Boundaries are `zeroGradient`. Each file
-/// is written atomically.
+/// whose name `time` becomes each file's `location`. Boundaries are `zeroGradient`, except
+/// that `voidfraction` keeps the boundaryField of `voidfraction_template` when given (the
+/// start time's file, as OpenFOAM writes a field with its boundary conditions: a fluid
+/// started from this time reads its boundary voidage there). Each file is written atomically.
 pub fn write_fields(
     dir: &Path,
     time: &str,
     mesh: &PolyMesh,
     step: &CouplingStep,
     format: Format,
+    voidfraction_template: Option<&VolField>,
 ) -> Result<(), CoupleError> {
     std::fs::create_dir_all(dir).map_err(|source| CoupleError::Io {
         path: dir.to_owned(),
         source,
     })?;
-    let fields = [
+    for (name, dims, values) in fields_of(step) {
+        match voidfraction_template {
+            Some(template) if name == "voidfraction" => {
+                let mut field = template.clone();
+                field
+                    .set_internal(values)
+                    .map_err(|m| CoupleError::Parameter(format!("voidfraction: {m}")))?;
+                field.write(&dir.join(name), format)?;
+            }
+            _ => write_cell_field(dir, time, mesh, name, dims, values, format)?,
+        }
+    }
+    Ok(())
+}
+
+/// Writes the fields of [`write_fields`] (with `zeroGradient` boundaries) into the time
+/// directory `time` of each piece of a decomposed case ([`foam::decomposed::pieces`]), each
+/// piece's cells picked from the whole mesh's fields: the files `decomposePar` would make of
+/// the whole case's.
+pub fn write_fields_decomposed(
+    pieces: &[foam::decomposed::Piece],
+    time: &str,
+    step: &CouplingStep,
+    format: Format,
+) -> Result<(), CoupleError> {
+    for (name, dims, values) in fields_of(step) {
+        for piece in pieces {
+            let picked = match &values {
+                FieldValues::Scalar(v) => FieldValues::Scalar(piece.pick(v, 1)),
+                FieldValues::Vector(v) => {
+                    let flat: Vec<f64> = v.iter().flatten().copied().collect();
+                    let mine = piece.pick(&flat, 3);
+                    FieldValues::Vector(mine.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+                }
+            };
+            piece.write_cell_field(time, name, dims, picked, "zeroGradient", format)?;
+        }
+    }
+    Ok(())
+}
+
+/// ε, Ksl, Us and f of `step` with their names and dimensions.
+fn fields_of(step: &CouplingStep) -> [(&'static str, [i32; 7], FieldValues); 4] {
+    [
         (
             "voidfraction",
             [0; 7],
@@ -41,11 +87,7 @@ pub fn write_fields(
             [1, -2, -2, 0, 0, 0, 0],
             FieldValues::Vector(mesh::v3::to_arrays(&step.exchange.f)),
         ),
-    ];
-    for (name, dims, values) in fields {
-        write_cell_field(dir, time, mesh, name, dims, values, format)?;
-    }
-    Ok(())
+    ]
 }
 
 /// Writes one cell field `name` (dimensions `dims`, OpenFOAM's 7 exponents) with

@@ -55,6 +55,10 @@ pub trait Ranks {
     fn broadcast(&self, x: &mut [f64]);
     /// Every rank's `x` on rank 0, in rank order (empty on the other ranks).
     fn gather(&self, x: &[f64]) -> Vec<Vec<f64>>;
+    /// Bytes this rank has sent and received through these operations so far (0 alone).
+    fn traffic(&self) -> (u64, u64) {
+        (0, 0)
+    }
 }
 
 /// One rank: every operation is the identity.

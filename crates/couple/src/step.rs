@@ -66,6 +66,8 @@ pub struct Coupler {
     steps: u64,
     spare: Spare,
     ranks: Box<dyn Ranks>,
+    /// Cells this rank's particles touched in the last exchange on several ranks.
+    touched: usize,
     /// On ranks other than 0: ε and the fluid at the cells this rank's particles touch
     /// (received from rank 0; other cells hold stale values that are never read).
     remote: Remote,
@@ -121,6 +123,7 @@ impl Coupler {
             steps: 0,
             spare: Spare::default(),
             ranks: Box::new(Serial::default()),
+            touched: 0,
             remote: Remote::default(),
         })
     }
@@ -129,6 +132,11 @@ impl Coupler {
     /// exchange is collective over `ranks`.
     pub fn set_ranks(&mut self, ranks: Box<dyn Ranks>) {
         self.ranks = ranks;
+    }
+
+    /// Cells this rank's particles touched in the last exchange (on several ranks; 0 alone).
+    pub fn touched_cells(&self) -> usize {
+        self.touched
     }
 
     /// The coupler's ranks ([`Serial`] unless [`Coupler::set_ranks`] gave others).
@@ -332,6 +340,7 @@ impl Coupler {
     /// Step 1 of [`crate::ranks`]: the touched cells' solid volume summed on rank 0 (which
     /// gets the global `solid`), and the accounting totals summed on every rank.
     fn sum_deposit(&mut self, touched: &[Label], deposit: &mut Deposit) {
+        self.touched = touched.len();
         let mut values = Vec::with_capacity(touched.len());
         pick(touched, &deposit.solid, 1, &mut values);
         if self.ranks.rank() == 0 {

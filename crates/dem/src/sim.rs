@@ -120,6 +120,11 @@ pub struct HalfStep {
     pub force: Vec<V3>,
     /// The torques of the current step (N·m).
     pub torque: Vec<V3>,
+    /// The part of `force` the CFD coupling contributed, F_ext + β(u_f − v) with the coupling
+    /// the forces were evaluated with (N); empty when unknown (files without it). The coupler
+    /// sets the next interval's coupling before the state is written, so the set-up must
+    /// take the recorded coupling force apart from the forces it evaluates again.
+    pub coupling: Vec<V3>,
 }
 
 /// Largest difference, relative to the largest force (torque), between forces evaluated again
@@ -144,6 +149,9 @@ pub struct Simulation {
     /// Per-thread force and torque accumulators of the pair loop.
     acc: Vec<Vec<[V3; 2]>>,
     coupling: Coupling,
+    /// The coupling the current forces were evaluated with, when it was replaced since
+    /// ([`Simulation::set_coupling`] between two steps); `None`: the current one.
+    forces_coupling: Option<Coupling>,
     forces_valid: bool,
     /// The state the next set-up evaluates the forces from ([`Simulation::set_half_step`]).
     replay: Option<HalfStep>,
@@ -184,6 +192,7 @@ impl Simulation {
             pairs: PairList::new(cfg.skin),
             acc: Vec::new(),
             coupling: Coupling::default(),
+            forces_coupling: None,
             forces_valid: false,
             replay: None,
             pending_inserts: Vec::new(),
@@ -326,8 +335,13 @@ impl Simulation {
         n != self.dumps.len()
     }
 
-    /// Sets the coupling forces, in particle index order (see [`Coupling::set`]).
+    /// Sets the coupling forces, in particle index order (see [`Coupling::set`]). They act from
+    /// the next force evaluation on; the current forces keep the coupling they were evaluated
+    /// with (recorded for [`Simulation::half_step`]).
     pub fn set_coupling(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), DemError> {
+        if self.forces_valid && self.forces_coupling.is_none() {
+            self.forces_coupling = Some(self.coupling.clone());
+        }
         self.coupling.set(
             f_ext,
             beta,
@@ -347,7 +361,8 @@ impl Simulation {
     /// the half-step velocity it was evaluated at (N): LIGGGHTS's global vector of `fix
     /// couple/cfd/force[/implicit]` (`f_ID[1..3]`). Zero without coupling.
     pub fn coupling_force_total(&self) -> V3 {
-        if !self.coupling.is_active() {
+        let coupling = self.forces_coupling();
+        if !coupling.is_active() {
             return V3::zeros();
         }
         let p = &self.particles;
@@ -358,12 +373,20 @@ impl Simulation {
         };
         (0..p.len()).fold(V3::zeros(), |sum, i| {
             let v = p.v[i] - (half / p.mass[i]) * p.f[i];
-            sum + self.coupling.force(i, v)
+            sum + coupling.force(i, v)
         })
     }
 
-    /// Removes the coupling forces.
+    /// The coupling the current forces were evaluated with.
+    fn forces_coupling(&self) -> &Coupling {
+        self.forces_coupling.as_ref().unwrap_or(&self.coupling)
+    }
+
+    /// Removes the coupling forces (from the next force evaluation on).
     pub fn clear_coupling(&mut self) {
+        if self.forces_valid && self.forces_coupling.is_none() {
+            self.forces_coupling = Some(std::mem::take(&mut self.coupling));
+        }
         self.coupling = Coupling::default();
     }
 
@@ -508,11 +531,17 @@ impl Simulation {
             v.push(p.v[i] - a * p.f[i]);
             w.push(p.omega[i] - ai * p.torque[i]);
         }
+        let c = self.forces_coupling();
+        let coupling = match c.is_active() {
+            true => (0..p.len()).map(|i| c.force(i, v[i])).collect(),
+            false => Vec::new(),
+        };
         Some(HalfStep {
             v,
             omega: w,
             force: p.f.clone(),
             torque: p.torque.clone(),
+            coupling,
         })
     }
 
@@ -521,8 +550,11 @@ impl Simulation {
     /// velocities without advancing the contact history ([`HistoryUse::Replay`]); if they are
     /// the recorded ones to a relative 10⁻⁹ (the same set-up), the recorded forces are used as
     /// they are, so the run continues bit for bit; otherwise (the deck changed gravity, walls or
-    /// materials) the new ones are. Without it the set-up is LIGGGHTS's, at the end-of-step
-    /// velocities. Editing velocities or radii ([`Simulation::invalidate_forces`]) cancels it.
+    /// materials) the new ones are. When `h.coupling` records the coupling part of the forces
+    /// (a coupled run writes its state after an exchange, when the coupling already holds the
+    /// next interval's values), the other forces are evaluated again and that part added.
+    /// Without it the set-up is LIGGGHTS's, at the end-of-step velocities. Editing velocities
+    /// or radii ([`Simulation::invalidate_forces`]) cancels it.
     pub fn set_half_step(&mut self, h: HalfStep) {
         self.replay = Some(h);
         self.forces_valid = false;
@@ -541,17 +573,35 @@ impl Simulation {
         let full_w: Vec<V3> = p.omega[..n].to_vec();
         p.v[..n].copy_from_slice(&h.v[..n]);
         p.omega[..n].copy_from_slice(&h.omega[..n]);
-        self.compute_forces(HistoryUse::Replay, None);
-        let p = &mut self.particles;
-        p.v[..n].copy_from_slice(&full_v);
-        p.omega[..n].copy_from_slice(&full_w);
+        // With the recorded coupling force, the other forces are evaluated again and the
+        // recorded coupling force added: the coupling now set is the next interval's.
+        let recorded_coupling = h.coupling.len() >= n && self.coupling.is_active();
+        if recorded_coupling {
+            let next = std::mem::take(&mut self.coupling);
+            self.compute_forces(HistoryUse::Replay, None);
+            self.coupling = next;
+            for (f, c) in self.particles.f[..n].iter_mut().zip(&h.coupling) {
+                *f += c;
+            }
+        } else {
+            self.compute_forces(HistoryUse::Replay, None);
+        }
         let same = |now: &[V3], recorded: &[V3]| {
             let scale = recorded.iter().map(|f| f.norm()).fold(0.0, f64::max);
             now.iter()
                 .zip(recorded)
                 .all(|(a, b)| (a - b).norm() <= SAME_FORCES * scale)
         };
-        if same(&p.f[..n], &h.force[..n]) && same(&p.torque[..n], &h.torque[..n]) {
+        let p = &self.particles;
+        let matches = same(&p.f[..n], &h.force[..n]) && same(&p.torque[..n], &h.torque[..n]);
+        if !matches && recorded_coupling {
+            // another set-up: the forces at the half-step velocities with the coupling now set
+            self.compute_forces(HistoryUse::Replay, None);
+        }
+        let p = &mut self.particles;
+        p.v[..n].copy_from_slice(&full_v);
+        p.omega[..n].copy_from_slice(&full_w);
+        if matches {
             p.f[..n].copy_from_slice(&h.force[..n]);
             p.torque[..n].copy_from_slice(&h.torque[..n]);
         }
@@ -754,5 +804,6 @@ impl Simulation {
                 .for_each(|(i, ((a, b), wh))| gather(i, a, b, wh));
         }
         self.forces_valid = true;
+        self.forces_coupling = None;
     }
 }

@@ -17,6 +17,7 @@ use dem::Simulation;
 use dem_io::restart::{read_restart, write_restart_file, FixAtomData};
 use dem_io::{read_snapshot, ReadOptions, Selection, Snapshot};
 use liggghts_deck::Deck;
+use mesh::v3::V3;
 
 fn fixture(name: &str) -> PathBuf {
     testkit::fixture("dem/restart").join(name)
@@ -351,6 +352,99 @@ fn native_run_continued_from_its_restart_file_is_the_uninterrupted_run() {
             );
         }
     }
+}
+
+/// The coupling forces of the k-th interval for the particles of `sim` (index order): an
+/// explicit force of about twice the weight, sideways from k = 1, and a drag β = 50 m (1/s,
+/// β·dt/m = 5e-5) towards a fluid velocity that grows with k.
+fn coupling_of(sim: &Simulation, k: u32) -> (Vec<V3>, Vec<f64>, Vec<V3>) {
+    let p = &sim.particles;
+    let k = f64::from(k);
+    let f_ext = p
+        .mass
+        .iter()
+        .map(|&m| m * V3::new(0.5 * k, 0.0, 20.0))
+        .collect();
+    let beta = p.mass.iter().map(|m| 50.0 * m).collect();
+    let u_f = (0..p.len()).map(|_| V3::new(0.0, 0.01 * k, 0.02)).collect();
+    (f_ext, beta, u_f)
+}
+
+/// CFDEM's `writeLiggghts` writes the state after an exchange, when the DEM already holds the
+/// next interval's coupling forces: a coupled native run continued from that file (the
+/// coupling forces read back from LIGGGHTS's `dragforce`, `Ksl`, `uf` blocks, the coupling part
+/// of the last forces from the half-step block) is the uninterrupted run bit for bit
+/// (measured: 0 after 2 + 2 intervals of 100 steps, on one thread).
+#[test]
+fn coupled_run_continued_from_its_restart_file_is_the_uninterrupted_run() {
+    let dir = workdir(&["continue.in", "restart.25000"]);
+    let d = dir.path();
+    let text = std::fs::read_to_string(fixture("continue.in"))
+        .unwrap()
+        .replace(
+            "fix             integr",
+            "fix             cfd all couple/cfd couple_every 100 mpi\n\
+             fix             cfd2 all couple/cfd/force/implicit\n\
+             fix             integr",
+        );
+    std::fs::write(d.join("coupled.in"), text).unwrap();
+    let interval = |sim: &mut Simulation, k: u32, set: bool| {
+        if set {
+            let (f, b, u) = coupling_of(sim, k);
+            sim.set_coupling(&f, &b, &u).unwrap();
+        }
+        sim.run(100).unwrap();
+    };
+    let mut whole = native(d, "coupled.in", &[("n", "0")], 1);
+    for k in 0..4 {
+        interval(&mut whole, k, true);
+    }
+    let mut first = native(d, "coupled.in", &[("n", "0")], 1);
+    for k in 0..2 {
+        interval(&mut first, k, true);
+    }
+    let (f, b, u) = coupling_of(&first, 2);
+    first.set_coupling(&f, &b, &u).unwrap();
+    dem::deck::restart::write(&first, "post/restart/coupled.restart", d).unwrap();
+    let file = d.join("post/restart/coupled.restart");
+    let restart = read_restart(&file).unwrap();
+    for id in ["dragforce", "Ksl", "uf"] {
+        assert!(restart.peratom_fix(id).is_some(), "{id}");
+    }
+    let mut second = native(
+        d,
+        "coupled.in",
+        &[("n", "0"), ("restart", "post/restart/coupled.restart")],
+        1,
+    );
+    assert!(second.warnings().is_empty(), "{:?}", second.warnings());
+    assert_eq!(second.coupling().beta, b, "Ksl read back as β");
+    for k in 2..4 {
+        // the third interval's coupling comes from the file
+        interval(&mut second, k, k > 2);
+    }
+    let diff = max_diff(&sim_rows(&second), &sim_rows(&whole));
+    eprintln!("coupled, continued vs uninterrupted {diff:?}");
+    assert_eq!(diff, [0.0; 3]);
+
+    // the same deck without the coupling fixes drops the saved coupling forces, and says so
+    let deck = Deck::read_with_vars(
+        d.join("continue.in"),
+        &vars(&[("n", "0"), ("restart", "post/restart/coupled.restart")]),
+    )
+    .unwrap();
+    let mut warnings = Vec::new();
+    let plain = Simulation::from_deck_observed(&deck, d, &mut |e| {
+        if let dem::deck::exec::DeckEvent::Warning { message, .. } = e {
+            warnings.push(message);
+        }
+    })
+    .unwrap();
+    assert!(!plain.coupling().is_active());
+    assert!(
+        warnings.iter().any(|w| w.contains("dragforce")),
+        "{warnings:?}"
+    );
 }
 
 /// A restart file written by the native DEM holds LIGGGHTS's layout and the state: read back

@@ -35,6 +35,23 @@ fn rho_from_the_zero_folder_and_missing_coupling_fields() {
     assert_eq!(d, 0.0, "p");
     let (a, b) = (ours.vectors("0.02", "U"), cfdem.vectors("0.02", "U"));
     assert_eq!(a, b);
+    // a restart from the last written time, which has no rho (CFDEM's ErgunTestMPI_restart
+    // restarts at 0.05 with only 0/rho): the density of 0/rho
+    let restart = cfdem.duplicate();
+    restart.edit(
+        "system/controlDict",
+        "startFrom       startTime;",
+        "startFrom       latestTime;",
+    );
+    restart.edit(
+        "system/controlDict",
+        "endTime         0.02;",
+        "endTime         0.03;",
+    );
+    assert!(!restart.dir.join("0.02/rho").exists());
+    let log = restart.run(&solver);
+    assert!(log.contains("rho 10 kg/m^3"), "{log}");
+    assert!(log.contains("Time = 0.03\n"), "{log}");
     // a varying 0/rho is refused, naming it
     let bad = TestCase::new("column");
     bad.edit("constant/transportProperties", "rho             10;", "");

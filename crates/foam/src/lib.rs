@@ -16,6 +16,7 @@ pub use poly_mesh_io::{read_poly_mesh, write_poly_mesh};
 
 pub mod binary;
 pub mod case;
+pub mod decomposed;
 pub mod dict;
 pub mod error;
 pub mod field;

@@ -28,7 +28,20 @@ pub struct CaseFields {
     pub eps_bc: Vec<Option<Vec<f64>>>,
     /// The face fluxes of the time directory's `phi` if it has one (a restart), one per face.
     pub phi: Option<Vec<f64>>,
+    /// The `voidfraction` file if the time directory has one (its boundaryField is kept when
+    /// a coupled run writes the voidage).
+    pub eps_file: Option<VolField>,
+    /// The pressure gradient the solver used last, from the time directory's `grad(p)` if it
+    /// has one (m/s², per cell; written by coupled runs, [`GRAD_P_FILE`]).
+    pub grad_p: Option<Vec<V3>>,
 }
+
+/// The file of the pressure gradient a coupled run's solver used last (m/s², volVectorField;
+/// OpenFOAM's `grad(p)` function object writes a file of that name). With harmonic faces
+/// ([`crate::Fluid::harmonic_faces`]) the gradient depends on the last step's coefficients,
+/// not on p alone, so a restart reads it instead of computing it from p: the restarted run
+/// then predicts the momentum with the gradient the uninterrupted run used.
+pub const GRAD_P_FILE: &str = "grad(p)";
 
 fn internal(path: &Path, f: &VolField, n: usize) -> Result<FieldValues> {
     f.internal(n)
@@ -58,14 +71,29 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
     let u_bc = bc::read_velocity(&u_path, &u_file, mesh, g)?;
     let p_bc = bc::read_pressure(&p_path, &p_file, mesh, g)?;
     let eps_path = dir.join("voidfraction");
-    let eps_bc = if eps_path.is_file() {
-        bc::read_voidage(&eps_path, &VolField::read(&eps_path)?, mesh, g)?
+    let (eps_bc, eps_file) = if eps_path.is_file() {
+        let file = VolField::read(&eps_path)?;
+        (bc::read_voidage(&eps_path, &file, mesh, g)?, Some(file))
     } else {
-        vec![None; g.patches.len()]
+        (vec![None; g.patches.len()], None)
     };
     let phi_path = dir.join("phi");
     let phi = if phi_path.is_file() {
         Some(read_phi(&phi_path, g)?)
+    } else {
+        None
+    };
+    let grad_path = dir.join(GRAD_P_FILE);
+    let grad_p = if grad_path.is_file() {
+        let file = VolField::read(&grad_path)?;
+        let FieldValues::Vector(v) = internal(&grad_path, &file, g.n_cells)? else {
+            return Err(FvError::setting(
+                &grad_path,
+                "class",
+                "grad(p) must be a volVectorField",
+            ));
+        };
+        Some(mesh::v3::from_arrays(&v))
     } else {
         None
     };
@@ -78,6 +106,8 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
         p_bc,
         eps_bc,
         phi,
+        eps_file,
+        grad_p,
     })
 }
 

@@ -132,6 +132,7 @@ pub struct Fluid {
     p_bc: Vec<PressureBc>,
     u_file: VolField,
     p_file: VolField,
+    eps_file: Option<VolField>,
     time: f64,
     time_index: usize,
     u: Vec<V3>,
@@ -232,6 +233,7 @@ impl Fluid {
             eps_bc: fields.eps_bc,
             u_file: fields.u_file,
             p_file: fields.p_file,
+            eps_file: fields.eps_file,
             u: fields.u,
             p: fields.p,
         };
@@ -245,7 +247,12 @@ impl Fluid {
         fl.update_u_boundary(fl.time);
         let gamma_b = vec![0.0; nb];
         fl.update_p_boundary(fl.time, &gamma_b, &fl.phi.clone());
-        fl.grad_p = fvc::grad_scalar(&fl.g, &fl.p, &fl.p_b);
+        // The gradient the last step used when the start time has it (a coupled run's
+        // restart, fields::GRAD_P_FILE), else the Gauss gradient of p.
+        fl.grad_p = match fields.grad_p {
+            Some(g) => g,
+            None => fvc::grad_scalar(&fl.g, &fl.p, &fl.p_b),
+        };
         Ok(fl)
     }
 
@@ -1017,8 +1024,31 @@ impl Fluid {
         }
     }
 
+    /// The patches as `constant/polyMesh/boundary` names them (name, type, faces).
+    fn patches(&self) -> Vec<foam::Patch> {
+        self.g
+            .patches
+            .iter()
+            .map(|p| foam::Patch {
+                name: p.name.clone(),
+                patch_type: p.patch_type.clone(),
+                n_faces: p.faces.len(),
+                start_face: p.faces.start,
+                extra: Vec::new(),
+            })
+            .collect()
+    }
+
+    /// The start time's `voidfraction` file, if it has one (its boundaryField is what the
+    /// solver takes the boundary voidage from).
+    pub fn voidfraction_file(&self) -> Option<&VolField> {
+        self.eps_file.as_ref()
+    }
+
     /// Writes `U` and `p` (and `phi` as a surfaceScalarField) into the time directory `name`
-    /// of the case, keeping the start files' boundaryField entries.
+    /// of the case, keeping the start files' boundaryField entries; with
+    /// [`Self::harmonic_faces`] also the pressure gradient of the last step,
+    /// [`crate::fields::GRAD_P_FILE`], which a run started from that time reads.
     pub fn write(&self, name: &str) -> Result<()> {
         let dir = self.case.time_path(name);
         std::fs::create_dir_all(&dir).map_err(|e| FvError::Value {
@@ -1043,6 +1073,16 @@ impl Fluid {
         crate::fields::write_phi(&dir.join("phi"), &self.g, &self.phi, fmt)?;
         if let Some(t) = &self.turbulence {
             t.write(&self.g, &dir, fmt)?;
+        }
+        if self.harmonic_faces {
+            let grad = VolField::new(
+                crate::fields::GRAD_P_FILE,
+                name,
+                [0, 1, -2, 0, 0, 0, 0],
+                FieldValues::Vector(mesh::v3::to_arrays(&self.grad_p)),
+                foam::field::default_boundary(&self.patches(), "zeroGradient", None),
+            );
+            grad.write(&dir.join(crate::fields::GRAD_P_FILE), fmt)?;
         }
         Ok(())
     }

@@ -89,6 +89,8 @@ impl Bed {
         let e1 = unit(axis.cross(&t))?;
         let e2 = axis.cross(&e1);
         let bin = 2.0 * sauter;
+        // ordered bins: the sum over them is the same in every process (a HashMap's order,
+        // random per process, made the last bit of the height differ between two runs)
         let mut tops: std::collections::BTreeMap<(i64, i64), f64> = Default::default();
         for (x, r) in positions.iter().zip(radii) {
             let key = (

@@ -17,6 +17,7 @@ pub mod patches;
 pub mod plot;
 #[cfg(any(feature = "mpi", feature = "liggghts"))]
 pub mod ranks;
+pub mod ranks_report;
 pub mod reference;
 pub mod run;
 pub mod sample;

@@ -117,12 +117,13 @@ impl FluidSide for NativeFluid {
         }
         let mut eps = Vec::new();
         for k in 1..=n {
-            blend_scalar(
-                &self.eps_old,
-                &self.eps_new,
-                fraction(k as f64 * h, 0.0, dt),
-                &mut eps,
-            );
+            // the last step ends on the new field exactly (k·h/dt may round below 1), as a
+            // run restarted at the interval's end starts from it
+            let alpha = match k == n {
+                true => 1.0,
+                false => fraction(k as f64 * h, 0.0, dt),
+            };
+            blend_scalar(&self.eps_old, &self.eps_new, alpha, &mut eps);
             self.fluid.set_voidage(&eps, &self.eps_last)?;
             self.fluid.advance(h)?;
             std::mem::swap(&mut self.eps_last, &mut eps);
@@ -188,7 +189,14 @@ impl RunFluid for NativeFluid {
     ) -> Result<String, SideError> {
         let name = self.fluid.time_name();
         self.fluid.write(&name)?;
-        couple::output::write_fields(&cfd.join(&name), &name, mesh, step, foam::Format::Ascii)?;
+        couple::output::write_fields(
+            &cfd.join(&name),
+            &name,
+            mesh,
+            step,
+            foam::Format::Ascii,
+            self.fluid.voidfraction_file(),
+        )?;
         Ok(name)
     }
 }

@@ -176,6 +176,10 @@ impl Ranks for MpiRanks {
         self.comm.process_at_rank(0).broadcast_into(x);
     }
 
+    fn traffic(&self) -> (u64, u64) {
+        (self.traffic.sent, self.traffic.received)
+    }
+
     fn gather(&self, x: &[f64]) -> Vec<Vec<f64>> {
         let r0 = self.comm.process_at_rank(0);
         let n = x.len() as Count;

@@ -364,6 +364,29 @@ fn write_time<P: ParticleSide, F: RunFluid>(
     Ok(name)
 }
 
+/// The entries of a `.pvd` series written by an earlier run ([`vtk::write_pvd`]) up to time
+/// `start` (s, to a relative 10⁻⁹): (time, file name) of each `<DataSet>`; none without the
+/// file.
+fn pvd_entries_until(path: &Path, start: f64) -> Vec<(f64, PathBuf)> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Vec::new();
+    };
+    let attr = |line: &str, key: &str| -> Option<String> {
+        let from = line.find(&format!(" {key}=\""))? + key.len() + 3;
+        let len = line[from..].find('"')?;
+        Some(line[from..from + len].to_owned())
+    };
+    let until = start + 1e-9 * start.abs();
+    text.lines()
+        .filter(|l| l.trim_start().starts_with("<DataSet"))
+        .filter_map(|l| {
+            let time = attr(l, "timestep")?.parse::<f64>().ok()?;
+            let file = attr(l, "file")?;
+            (time <= until && !file.contains('&')).then(|| (time, PathBuf::from(file)))
+        })
+        .collect()
+}
+
 /// Runs the case at `case` (CFDEM layout) natively. `stop` is polled after every coupling step;
 /// `events` receives log lines and progress.
 pub fn run(
@@ -513,6 +536,23 @@ fn run_launched(
     };
     let fluid_settings = fv::settings::Settings::read(&foam::Case::open(&layout.cfd)?)
         .map_err(|e| RunError::Fluid(Box::new(e)))?;
+    if fluid_settings.start_time > 0.0 {
+        // a restart: each side starts from what its own input names
+        let dem_start = start_file(&run_deck, &layout.dem).map_or_else(
+            || "the state its deck builds".to_owned(),
+            |(f, _)| f.display().to_string(),
+        );
+        events(Event::Message(format!(
+            "restart: the fluid starts at t = {} s from {} (system/controlDict), the particles \
+             from {dem_start} ({})",
+            fluid_settings.start_time,
+            layout
+                .cfd
+                .join(couple::output::time_name(fluid_settings.start_time))
+                .display(),
+            layout.run_deck.display(),
+        )));
+    }
     if !config.solve_flow && opts.fluid != FluidBackend::Native {
         return Err(setup_err(
             &config.file,
@@ -710,7 +750,23 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let post = layout.post_processing();
     let csv = post.join("integrals.csv");
     let mut samples = Vec::with_capacity(steps as usize);
-    let mut vtp = Vec::new();
+    // A run started from a later time (`startFrom latestTime`, a restart) continues the
+    // earlier run's series: its rows and particle files up to the start time are kept.
+    let restart = start > 0.0;
+    let (kept_rows, mut vtp) = match restart {
+        true => (
+            crate::sample::rows_until(&csv, start),
+            pvd_entries_until(&post.join("particles/particles.pvd"), start),
+        ),
+        false => (Vec::new(), Vec::new()),
+    };
+    if restart {
+        events(Event::Message(format!(
+            "restart at t = {start} s: {} rows of integrals.csv and {} particle files kept",
+            kept_rows.len(),
+            vtp.len()
+        )));
+    }
     let mut output_seconds = 0.0;
     let mut stopped = false;
     let t_loop = Instant::now();
@@ -720,8 +776,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let mut eps_before = coupler.voidage().to_vec();
     let mut ddt_eps = vec![0.0; mesh.n_cells];
     let mut writes = 0;
+    let mut held_max = 0;
     for k in 1..=steps {
         let step = coupler.step(&mut dem, &mut fluid)?;
+        held_max = held_max.max(dem.state().len());
         let time = fluid.inner.time();
         let sample = observer.sample(time, &fluid.inner, &dem, &step, coupler.ranks());
         samples.push(sample);
@@ -785,7 +843,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
                 &pieces,
             )?;
             if rank == 0 {
-                write_csv(&csv, &samples).map_err(io_err(&csv))?;
+                write_csv(&csv, &kept_rows, &samples).map_err(io_err(&csv))?;
             }
             if !monitors.is_empty() && rank == 0 {
                 let fields = StepFields {
@@ -825,6 +883,24 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let loop_seconds = t_loop.elapsed().as_secs_f64();
     if rank == 0 {
         monitors.write_logs()?;
+    }
+    {
+        let per_rank = crate::ranks_report::gather(
+            coupler.ranks(),
+            dem.state().len(),
+            held_max,
+            (n_ranks > 1).then(|| coupler.touched_cells()),
+            samples.len() as u64,
+        );
+        if rank == 0 {
+            let file = post.join("ranks.csv");
+            crate::ranks_report::write_csv(&file, &per_rank).map_err(io_err(&file))?;
+            if n_ranks > 1 {
+                for line in crate::ranks_report::table(&per_rank) {
+                    events(Event::Message(line));
+                }
+            }
+        }
     }
     let n_steps = samples.len() as u64;
     let coupling_seconds = (loop_seconds - dem.seconds - fluid.seconds - output_seconds).max(0.0);

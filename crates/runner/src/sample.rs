@@ -48,14 +48,41 @@ pub struct Sample {
 
 const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area";
 
-/// Writes all samples as CSV (header line, one row per coupling step), atomically.
-pub fn write_csv(path: &Path, samples: &[Sample]) -> std::io::Result<()> {
+/// The rows of an earlier run's CSV at `path` up to time `start` (s; to a relative 10⁻⁹),
+/// as text: what a run restarted at `start` keeps (none when there is no such file or its
+/// header is another one).
+pub fn rows_until(path: &Path, start: f64) -> Vec<String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Vec::new();
+    };
+    let mut lines = text.lines();
+    if lines.next() != Some(HEADER) {
+        return Vec::new();
+    }
+    let until = start + 1e-9 * start.abs().max(1e-300);
+    lines
+        .take_while(|l| {
+            l.split(',')
+                .next()
+                .and_then(|t| t.parse::<f64>().ok())
+                .is_some_and(|t| t <= until)
+        })
+        .map(str::to_owned)
+        .collect()
+}
+
+/// Writes the samples as CSV (header line, the `kept` rows of an earlier run, one row per
+/// coupling step), atomically.
+pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::Result<()> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }
     atomic_write::write_atomically(path, |w| {
         use std::io::Write;
         writeln!(w, "{HEADER}")?;
+        for row in kept {
+            writeln!(w, "{row}")?;
+        }
         // an unmeasured quantity is an empty cell
         let o = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:?}"));
         for s in samples {
@@ -100,7 +127,7 @@ mod tests {
             particles: 7,
             ..Sample::default()
         };
-        write_csv(&p, &[s, s]).unwrap();
+        write_csv(&p, &[], &[s, s]).unwrap();
         let text = std::fs::read_to_string(&p).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 3);
@@ -114,5 +141,29 @@ mod tests {
         // not measured: empty, not 0
         assert_eq!(at("inlet_velocity"), "");
         assert_eq!(at("bed_height"), "");
+    }
+
+    /// A restarted run keeps the earlier rows up to its start time and appends its own.
+    #[test]
+    fn a_restart_keeps_the_rows_until_its_start() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("integrals.csv");
+        let at = |time| Sample {
+            time,
+            ..Sample::default()
+        };
+        write_csv(&p, &[], &[at(0.001), at(0.002), at(0.003)]).unwrap();
+        // 0.002 as a sum of steps: within round-off of the start time 0.002
+        let kept = rows_until(&p, 0.0020000000000000005);
+        assert_eq!(kept.len(), 2);
+        write_csv(&p, &kept, &[at(0.003)]).unwrap();
+        let times: Vec<f64> = std::fs::read_to_string(&p)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(times, [0.001, 0.002, 0.003]);
+        assert!(rows_until(&dir.path().join("none.csv"), 1.0).is_empty());
     }
 }

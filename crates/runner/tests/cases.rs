@@ -136,18 +136,19 @@ fn a_deck_whose_coupling_interval_disagrees_warns_or_is_refused() {
     );
 }
 
+/// CFDEM's `liggghtsCommands` of ErgunTestMPI_restart's first run: a LIGGGHTS restart file
+/// at every write time, overwritten (`DEM/post/restart/liggghts.restartCFDEM`).
+const WRITE_LIGGGHTS: &str =
+    "FoamFile { version 2.0; format ascii; class dictionary; object liggghtsCommands; }\n\
+     liggghtsCommandModels ( runLiggghts writeLiggghts );\n\
+     writeLiggghtsProps { writeLastOnly off; writeName \"post/restart/liggghts.restartCFDEM\"; overwrite on; }\n";
+
 /// CFDEM's liggghtsCommands: writeLiggghts writes a LIGGGHTS restart file of the particles at
 /// the write times (here the one step a stop request leaves), which the native DEM reads back.
 #[test]
 fn write_liggghts_writes_a_restart_file_at_the_write_time() {
     let (_tmp, case) = case_copy("settling");
-    std::fs::write(
-        case.join("CFD/constant/liggghtsCommands"),
-        "FoamFile { version 2.0; format ascii; class dictionary; object liggghtsCommands; }\n\
-         liggghtsCommandModels ( runLiggghts writeLiggghts );\n\
-         writeLiggghtsProps { writeLastOnly off; writeName \"post/restart/liggghts.restartCFDEM\"; overwrite on; }\n",
-    )
-    .unwrap();
+    std::fs::write(case.join("CFD/constant/liggghtsCommands"), WRITE_LIGGGHTS).unwrap();
     let stop = AtomicBool::new(true);
     let (report, log) = run_logged(&case, &stop);
     assert!(report.stopped || report.steps == 1);
@@ -339,10 +340,215 @@ fn a_packed_bed_whose_density_is_in_0_rho_keeps_erguns_pressure_drop() {
     );
 }
 
+/// The particles of the restart fixture: two layers of 9 spheres (d = 1.5 mm, 2000 kg/m³)
+/// over the settling case's box, the upper layer landing on the lower one.
+const RESTART_SETUP: &str = "\
+atom_style      granular
+atom_modify     map array
+communicate     single vel yes
+boundary        f f f
+newton          off
+units           si
+";
+
+/// Materials, contacts, gravity and the six walls of the restart fixture's decks.
+const RESTART_PHYSICS: &str = "\
+neighbor        0.0002 bin
+neigh_modify    delay 0
+fix             m1 all property/global youngsModulus peratomtype 5.e6
+fix             m2 all property/global poissonsRatio peratomtype 0.45
+fix             m3 all property/global coefficientRestitution peratomtypepair 1 0.3
+fix             m4 all property/global coefficientFriction peratomtypepair 1 0.5
+pair_style      gran model hertz tangential history
+pair_coeff      * *
+timestep        0.00001
+fix             gravi all gravity 9.81 vector 0.0 -1.0 0.0
+fix             ywall1 all wall/gran model hertz tangential history primitive type 1 yplane 0.0
+fix             ywall2 all wall/gran model hertz tangential history primitive type 1 yplane 0.05
+fix             xwall1 all wall/gran model hertz tangential history primitive type 1 xplane 0.0
+fix             xwall2 all wall/gran model hertz tangential history primitive type 1 xplane 0.01
+fix             zwall1 all wall/gran model hertz tangential history primitive type 1 zplane 0.0
+fix             zwall2 all wall/gran model hertz tangential history primitive type 1 zplane 0.01
+";
+
+/// The settling case turned into a small restart case in the layout of CFDEM's
+/// ErgunTestMPI_restart: `in.liggghts_init` packs 18 spheres and writes
+/// `post/restart/liggghts.restart`, `in.liggghts_run` reads it, `in.liggghts_restart` reads
+/// what `writeLiggghts` writes (`post/restart/liggghts.restartCFDEM`, overwritten at every
+/// write time), with the tutorial's model A and forces (KochHillDrag, gradPForce, viscForce,
+/// Archimedes, implicit drag). The coupled decks issue no `run` (see the restart test).
+fn restart_case() -> (tempfile::TempDir, PathBuf) {
+    let (tmp, case) = case_copy("settling");
+    std::fs::remove_file(case.join("validationDict")).unwrap();
+    let mut init = format!(
+        "{RESTART_SETUP}region reg block 0 0.01 0 0.05 0 0.01 units box\ncreate_box 1 reg\n"
+    );
+    // the upper layer shifted by 0.4 mm so that its spheres land on the lower ones' sides
+    for (y, shift) in [(0.004, 0.0), (0.007, 0.0004)] {
+        for x in [0.0025, 0.005, 0.0075] {
+            for z in [0.0025, 0.005, 0.0075] {
+                let x = x + shift;
+                init.push_str(&format!("create_atoms 1 single {x} {y} {z} units box\n"));
+            }
+        }
+    }
+    init.push_str("set group all diameter 0.0015 density 2000\n");
+    init.push_str(RESTART_PHYSICS);
+    init.push_str(
+        "fix integr all nve/sphere\nrun 4000\nwrite_restart post/restart/liggghts.restart\n",
+    );
+    std::fs::write(case.join("DEM/in.liggghts_init"), init).unwrap();
+    for (deck, file) in [
+        ("in.liggghts_run", "liggghts.restart"),
+        ("in.liggghts_restart", "liggghts.restartCFDEM"),
+    ] {
+        std::fs::write(
+            case.join("DEM").join(deck),
+            format!(
+                "{RESTART_SETUP}read_restart ../DEM/post/restart/{file}\n{RESTART_PHYSICS}\
+                 fix cfd all couple/cfd couple_every 100 mpi\n\
+                 fix cfd2 all couple/cfd/force/implicit\n\
+                 fix integr all nve/sphere\n"
+            ),
+        )
+        .unwrap();
+    }
+    let cp = case.join("CFD/constant/couplingProperties");
+    let text = std::fs::read_to_string(&cp)
+        .unwrap()
+        .replace("\"B\"", "\"A\"")
+        .replace(
+            "    DiFeliceDrag\n    Archimedes\n",
+            "    KochHillDrag\n    gradPForce\n    viscForce\n    Archimedes\n",
+        );
+    std::fs::write(
+        &cp,
+        format!(
+            "{text}\nKochHillDragProps {{ }}\ngradPForceProps {{ }}\nviscForceProps {{ }}\n\
+             twoWayMPIProps {{ liggghtsPath \"../DEM/in.liggghts_run\"; }}\n"
+        ),
+    )
+    .unwrap();
+    std::fs::write(case.join("CFD/constant/liggghtsCommands"), WRITE_LIGGGHTS).unwrap();
+    set_control(&case, "startTime", "0.01", "0.005");
+    (tmp, case)
+}
+
+/// Rewrites `CFD/system/controlDict`: `startFrom`, `endTime` and `writeInterval`.
+fn set_control(case: &std::path::Path, start_from: &str, end: &str, write: &str) {
+    let path = case.join("CFD/system/controlDict");
+    let text: String = std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let key = l.split_whitespace().next().unwrap_or("");
+            match key {
+                "startFrom" => format!("startFrom       {start_from};"),
+                "endTime" => format!("endTime         {end};"),
+                "writeInterval" => format!("writeInterval   {write};"),
+                _ => l.to_owned(),
+            }
+        })
+        .map(|l| l + "\n")
+        .collect();
+    std::fs::write(path, text).unwrap();
+}
+
+/// CFDEM's ErgunTestMPI_restart on the native stack: a coupled run to 0.01 s, against the
+/// same case run to 0.005 s and restarted with `startFrom latestTime` (the fluid from
+/// `CFD/0.005`: U, p, phi, grad(p), the voidage boundary) and the coupled deck that reads the
+/// restart `writeLiggghts` wrote at 0.005 s (particles, contact histories, the coupling
+/// forces). Measured: the fields of `CFD/0.01` are the same text (bit for bit), the
+/// particles' positions and velocities equal bit for bit, and `integrals.csv` the same rows
+/// but for the time column's last digits (the restarted clock starts at 0.005 exactly, the
+/// uninterrupted one summed five steps).
+#[test]
+fn a_run_restarted_from_its_write_time_is_the_uninterrupted_run() {
+    let stop = AtomicBool::new(false);
+    let (_a, whole) = restart_case();
+    set_control(&whole, "startTime", "0.01", "0.005");
+    let (report, log) = run_logged(&whole, &stop);
+    assert_eq!(report.steps, 10, "{log:?}");
+    assert_eq!(report.particles, 18);
+
+    let (_b, split) = restart_case();
+    set_control(&split, "startTime", "0.005", "0.005");
+    let (first, _) = run_logged(&split, &stop);
+    assert_eq!(first.steps, 5);
+    // the tutorial's second half: the restart deck and startFrom latestTime
+    let cp = split.join("CFD/constant/couplingProperties");
+    let text = std::fs::read_to_string(&cp)
+        .unwrap()
+        .replace("in.liggghts_run", "in.liggghts_restart");
+    std::fs::write(&cp, text).unwrap();
+    set_control(&split, "latestTime", "0.01", "0.005");
+    let (second, log) = run_logged(&split, &stop);
+    assert_eq!(second.steps, 5, "{log:?}");
+    assert!(
+        log.iter()
+            .any(|m| m.starts_with("restart: the fluid starts at t = 0.005")),
+        "{log:?}"
+    );
+    assert!(split.join("CFD/0.005/grad(p)").is_file());
+
+    // the written voidage keeps the start file's boundary conditions (the fluid's boundary
+    // voidage at a restart): `top` stays fixedValue 1, not the zeroGradient of Ksl, Us, f
+    let eps = foam::VolField::read(&split.join("CFD/0.005/voidfraction")).unwrap();
+    let top = eps.boundary().dict("top").unwrap();
+    assert_eq!(top.word("type").unwrap(), "fixedValue");
+    for f in ["U", "p", "phi", "grad(p)", "voidfraction", "Ksl", "Us", "f"] {
+        let a = std::fs::read_to_string(whole.join("CFD/0.01").join(f)).unwrap();
+        let b = std::fs::read_to_string(split.join("CFD/0.01").join(f)).unwrap();
+        assert!(a == b, "CFD/0.01/{f} differs");
+    }
+    let state = |case: &std::path::Path| {
+        dem_io::restart::read_restart(case.join("DEM/post/restart/liggghts.restartCFDEM")).unwrap()
+    };
+    let (a, b) = (state(&whole), state(&split));
+    assert_eq!(a.header.timestep, b.header.timestep);
+    assert_eq!(a.atoms.len(), 18);
+    let mut dx: f64 = 0.0;
+    let mut dv: f64 = 0.0;
+    for (p, q) in a.atoms.iter().zip(&b.atoms) {
+        assert_eq!(p.tag, q.tag);
+        for k in 0..3 {
+            dx = dx.max((p.x[k] - q.x[k]).abs());
+            dv = dv.max((p.v[k] - q.v[k]).abs());
+        }
+    }
+    eprintln!("restarted vs uninterrupted: |Δx| {dx:e} m, |Δv| {dv:e} m/s");
+    assert_eq!((dx, dv), (0.0, 0.0));
+
+    let rows = |case: &std::path::Path| -> Vec<Vec<f64>> {
+        std::fs::read_to_string(case.join("postProcessing/integrals.csv"))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| {
+                l.split(',')
+                    .map(|c| c.parse().unwrap_or(f64::NAN))
+                    .collect()
+            })
+            .collect()
+    };
+    let (ra, rb) = (rows(&whole), rows(&split));
+    assert_eq!(ra.len(), 10);
+    assert_eq!(rb.len(), 10, "the restart keeps the first half's rows");
+    for (x, y) in ra.iter().zip(&rb) {
+        assert!((x[0] - y[0]).abs() < 1e-15, "time {} vs {}", x[0], y[0]);
+        for (u, w) in x[1..].iter().zip(&y[1..]) {
+            assert!(u == w || (u.is_nan() && w.is_nan()), "{x:?}\n{y:?}");
+        }
+    }
+    let pvd =
+        std::fs::read_to_string(split.join("postProcessing/particles/particles.pvd")).unwrap();
+    assert_eq!(pvd.matches("<DataSet").count(), 2, "{pvd}");
+}
+
 /// The bubbling fluidised bed (Khawaja 2015, case B) from its committed LIGGGHTS pack, one
-/// coupling step (the full run and the reduced CI run are in `.ci/cli-smoke`): the case opens
-/// and couples, every particle's volume is in a cell, and the packed bed is as high as 9240
-/// spheres of d 1.2 mm in the 0.0432 × 0.01 m column at a random packing's voidage
+/// coupling step (the reduced run to 0.1 s is in `.ci/cli-smoke`, the full run in
+/// `docs/fluidised-bed.md`): the case opens and couples, every particle's volume is in a cell,
+/// and the packed bed is as high as 9240 spheres of d 1.2 mm in the 0.0432 × 0.01 m column at a random packing's voidage
 /// (0.36–0.42, close to loose random packing: Scott & Kilgour 1969, Onoda & Liniger 1990):
 /// L = N π d³/6 / (A (1 − ε)) = 0.0302 … 0.0333 m; Khawaja reports 0.03 m.
 #[test]

@@ -164,6 +164,15 @@ pub fn is_run_output(rel: &Path) -> bool {
     })
 }
 
+/// A `blockMeshDict` of a 20 × 20 × 30 mm box (corner (−0.01, −0.01, 0) m) of 10 × 10 × 15
+/// cells with one `wall` patch: it holds the LIGGGHTS fixture `liggghts/settle.txt`.
+pub const BOX_BLOCK_MESH: &str = r#"FoamFile { version 2.0; format ascii; class dictionary; object blockMeshDict; }
+vertices ((-0.01 -0.01 0) (0.01 -0.01 0) (0.01 0.01 0) (-0.01 0.01 0)
+          (-0.01 -0.01 0.03) (0.01 -0.01 0.03) (0.01 0.01 0.03) (-0.01 0.01 0.03));
+blocks (hex (0 1 2 3 4 5 6 7) (10 10 15) simpleGrading (1 1 1));
+boundary ( walls { type wall; faces ((0 4 7 3) (2 6 5 1) (1 5 4 0) (3 7 6 2) (0 3 2 1) (4 5 6 7)); } );
+"#;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1571,7 +1571,8 @@ impl Session<'_> {
         }
         sim.add_particles(&p.particles)?;
         if let Some(r) = p.restart.take() {
-            self.build_warnings.extend(r.apply(&mut sim)?);
+            let coupled = self.registry.has_force_fix();
+            self.build_warnings.extend(r.apply(&mut sim, coupled)?);
         }
         for ins in p.inserts.drain(..) {
             sim.add_insertion(ins);

@@ -15,7 +15,12 @@
 //!   `fix W wall/gran …` that the deck defines again with the same id before the first run,
 //!   as LIGGGHTS hands a fix's saved state to the fix of the same id and style;
 //! - the pair style (`pair_style gran …` and `pair_coeff * *` may then be left out, as in
-//!   LIGGGHTS).
+//!   LIGGGHTS);
+//! - the CFD coupling forces (`fix property/atom` blocks `dragforce`, `Ksl`, `uf`, which
+//!   LIGGGHTS's `couple/cfd/force[/implicit]` saves; the native DEM's F_ext, β, u_f) when the
+//!   deck defines a `couple/cfd/force…` fix before the first run, as LIGGGHTS hands them to
+//!   the fix that registers them again. A coupled run (CFDEM's `writeLiggghts`) writes the
+//!   state after an exchange, so these are the next interval's forces.
 //!
 //! What the native DEM has no place for is reported as a warning, never dropped silently:
 //! groups other than `all`, image flags, per-type masses, the global state of other fixes
@@ -35,7 +40,9 @@
 //! from the uninterrupted `run A+B` by the dashpot forces' change over half a step (see
 //! `tests/fixtures/dem/restart/README.md`). Reading a LIGGGHTS file, the native DEM does the
 //! same and so continues exactly as LIGGGHTS does. Its own files carry one more per-atom block,
-//! [`HALF_STEP_ID`]: the velocities half a step earlier and the forces of the step. With them
+//! [`HALF_STEP_ID`]: the velocities half a step earlier, the forces of the step and the part
+//! of them the CFD coupling contributed (the coupling was replaced by the next interval's
+//! since; files without that part, 12 values per atom, are read too). With them
 //! the set-up evaluates the forces of the file's step again
 //! ([`HistoryUse::Replay`](crate::contact::HistoryUse)); when they are the recorded ones to
 //! round-off (the deck set up the same contacts, walls, gravity) the recorded forces are used,
@@ -80,8 +87,17 @@ const WALL_HISTORY_PREFIX: &str = "history_";
 pub const HALF_STEP_ID: &str = "foamgrain_halfstep";
 /// See [`HALF_STEP_ID`].
 pub const HALF_STEP_STYLE: &str = "foamgrain/halfstep";
-/// Values per atom of the [`HALF_STEP_ID`] block.
-const HALF_STEP_VALUES: usize = 12;
+/// Values per atom of the [`HALF_STEP_ID`] block: the [`HalfStep`] velocities, angular
+/// velocities, forces, torques and the coupling part of the forces.
+const HALF_STEP_VALUES: usize = 15;
+/// Values per atom of the block written before the coupling part was recorded (still read).
+const HALF_STEP_VALUES_NO_COUPLING: usize = 12;
+
+/// The per-atom blocks of the CFD coupling, as LIGGGHTS's `fix couple/cfd/force[/implicit]`
+/// registers them (`fix property/atom`, saved in restart files): id and values per atom. The
+/// particle feels F = dragforce + Ksl (uf − v) (N), the native [`crate::coupling::Coupling`]'s
+/// F_ext, β (kg/s) and u_f (m/s).
+const COUPLING_BLOCKS: [(&str, usize); 3] = [("dragforce", 3), ("Ksl", 1), ("uf", 3)];
 
 /// A saved pair contact: holder id, partner id, history values as seen from the holder.
 type SavedContact = (u64, u64, Vec<f64>);
@@ -111,8 +127,14 @@ pub struct Loaded {
     contacts: Option<(usize, Vec<SavedContact>)>,
     /// Wall histories by wall id: values per particle (same order as `particles`).
     walls: Vec<(String, usize, Vec<Vec<f64>>)>,
-    /// The [`HalfStep`] values per particle (same order), if recorded.
+    /// The [`HalfStep`] values per particle (same order), if recorded (the coupling part zero
+    /// when the file has 12 values per atom, `coupling_recorded` false).
     half_step: Option<Vec<[f64; HALF_STEP_VALUES]>>,
+    /// Whether the half-step block records the coupling part of the forces.
+    coupling_recorded: bool,
+    /// The coupling blocks ([`COUPLING_BLOCKS`] order) per particle (same order), those the
+    /// file has.
+    coupling: [Option<Vec<Vec<f64>>>; 3],
 }
 
 /// Reads `path` for `read_restart`; returns the state and the warnings about what the native
@@ -201,24 +223,46 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
     let mut walls = Vec::new();
     let mut unused = Vec::new();
     let mut half_step = None;
+    let mut coupling_recorded = true;
+    let mut coupling: [Option<Vec<Vec<f64>>>; 3] = Default::default();
     for (k, fix) in f.peratom_fixes.iter().enumerate() {
         let wall_id = fix.id.strip_prefix(WALL_HISTORY_PREFIX);
+        let coupling_block = COUPLING_BLOCKS.iter().position(|b| b.0 == fix.id);
         if fix.id == HALF_STEP_ID && fix.style == HALF_STEP_STYLE {
             let mut per = Vec::with_capacity(f.atoms.len());
             for a in &f.atoms {
                 match &a.fix_data[k] {
-                    FixAtomData::Values(v) if v.len() == HALF_STEP_VALUES => {
-                        per.push(std::array::from_fn(|j| v[j]))
+                    FixAtomData::Values(v)
+                        if v.len() == HALF_STEP_VALUES
+                            || v.len() == HALF_STEP_VALUES_NO_COUPLING =>
+                    {
+                        coupling_recorded &= v.len() == HALF_STEP_VALUES;
+                        per.push(std::array::from_fn(|j| v.get(j).copied().unwrap_or(0.0)))
                     }
                     _ => {
                         return refuse(format!(
-                            "fix {}: {HALF_STEP_VALUES} values per atom expected",
+                            "fix {}: {HALF_STEP_VALUES} (or {HALF_STEP_VALUES_NO_COUPLING}) \
+                             values per atom expected",
                             fix.id
                         ))
                     }
                 }
             }
             half_step = Some(per);
+        } else if let (Some(b), PROPERTY_ATOM_STYLE) = (coupling_block, fix.style.as_str()) {
+            let (id, width) = COUPLING_BLOCKS[b];
+            let mut per = Vec::with_capacity(f.atoms.len());
+            for a in &f.atoms {
+                match &a.fix_data[k] {
+                    FixAtomData::Values(v) if v.len() == width => per.push(v.clone()),
+                    _ => {
+                        return refuse(format!(
+                            "fix {id} (property/atom): {width} values per atom expected"
+                        ))
+                    }
+                }
+            }
+            coupling[b] = Some(per);
         } else if fix.style == CONTACT_HISTORY_STYLE {
             let dnum = f
                 .global_fix(&fix.id, &fix.style)
@@ -300,6 +344,8 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
             contacts,
             walls,
             half_step,
+            coupling_recorded,
+            coupling,
         },
         warnings,
     ))
@@ -374,9 +420,11 @@ fn from_history(h: &History, len: usize) -> Vec<f64> {
 
 impl Loaded {
     /// Applies what the particles alone do not carry — masses, the step, the pair and wall
-    /// contact histories — to a simulation just built from the deck (walls defined, the
-    /// restart's particles added). Returns warnings.
-    pub fn apply(self, sim: &mut Simulation) -> Res<Vec<String>> {
+    /// contact histories, and with `coupled` (the deck defines `fix couple/cfd/force…`, which
+    /// takes the saved `dragforce`, `Ksl` and `uf` up in LIGGGHTS) the coupling forces — to a
+    /// simulation just built from the deck (walls defined, the restart's particles added).
+    /// Returns warnings.
+    pub fn apply(self, sim: &mut Simulation, coupled: bool) -> Res<Vec<String>> {
         let name = self.file.display().to_string();
         let mut warnings = Vec::new();
         sim.set_step(self.step);
@@ -467,6 +515,32 @@ impl Loaded {
                 }
             }
         }
+        let saved_coupling = self.coupling.iter().any(Option::is_some);
+        if saved_coupling && !coupled {
+            warnings.push(format!(
+                "{name}: the saved coupling forces (dragforce, Ksl, uf) are dropped: the deck \
+                 defines no `fix … couple/cfd/force` before the first run"
+            ));
+        }
+        if coupled && saved_coupling {
+            // particles not from the file get no coupling force until the next exchange
+            let n = sim.particles.len();
+            let (mut f_ext, mut beta, mut u_f) =
+                (vec![V3::zeros(); n], vec![0.0; n], vec![V3::zeros(); n]);
+            let [drag, ksl, uf] = &self.coupling;
+            for (k, id) in self.ids.iter().enumerate() {
+                let Some(&i) = index.get(id) else { continue };
+                let v3 = |b: &Option<Vec<Vec<f64>>>| {
+                    b.as_ref()
+                        .map_or(V3::zeros(), |b| V3::new(b[k][0], b[k][1], b[k][2]))
+                };
+                f_ext[i] = v3(drag);
+                u_f[i] = v3(uf);
+                beta[i] = ksl.as_ref().map_or(0.0, |b| b[k][0]);
+            }
+            sim.set_coupling(&f_ext, &beta, &u_f)
+                .map_err(|e| format!("{name}: the saved coupling forces: {e}"))?;
+        }
         if let Some(hs) = &self.half_step {
             // particles not from the file (created after read_restart) keep their velocities
             // and zero recorded forces, which differ from the evaluated ones: the set-up then
@@ -477,7 +551,11 @@ impl Loaded {
                 v: p.v.clone(),
                 omega: p.omega.clone(),
                 force: zero.clone(),
-                torque: zero,
+                torque: zero.clone(),
+                coupling: match self.coupling_recorded {
+                    true => zero,
+                    false => Vec::new(),
+                },
             };
             for (id, r) in self.ids.iter().zip(hs) {
                 if let Some(&i) = index.get(id) {
@@ -485,6 +563,9 @@ impl Loaded {
                     h.omega[i] = V3::new(r[3], r[4], r[5]);
                     h.force[i] = V3::new(r[6], r[7], r[8]);
                     h.torque[i] = V3::new(r[9], r[10], r[11]);
+                    if let Some(c) = h.coupling.get_mut(i) {
+                        *c = V3::new(r[12], r[13], r[14]);
+                    }
                 }
             }
             sim.set_half_step(h);
@@ -639,6 +720,22 @@ pub fn restart_file(sim: &Simulation) -> RestartFile {
             max_size: HALF_STEP_VALUES + 1,
         });
     }
+    // the coupling forces of the next interval, as LIGGGHTS's coupling fixes save them
+    let coupling = sim.coupling();
+    if coupling.is_active() {
+        for (id, width) in COUPLING_BLOCKS {
+            global_fixes.push(FixState::from_values(
+                id,
+                PROPERTY_ATOM_STYLE,
+                &[width as f64],
+            ));
+            peratom_fixes.push(PerAtomFix {
+                id: id.into(),
+                style: PROPERTY_ATOM_STYLE.into(),
+                max_size: width + 1,
+            });
+        }
+    }
     let wall_hist = sim.wall_history();
     let atoms: Vec<AtomRecord> = (0..n)
         .zip(contacts)
@@ -655,11 +752,18 @@ pub fn restart_file(sim: &Simulation) -> RestartFile {
                 .collect();
             fix_data.push(FixAtomData::Contacts(cs));
             if let Some(h) = &half_step {
-                let values = [h.v[i], h.omega[i], h.force[i], h.torque[i]]
+                let c = h.coupling.get(i).copied().unwrap_or_else(V3::zeros);
+                let values = [h.v[i], h.omega[i], h.force[i], h.torque[i], c]
                     .iter()
                     .flat_map(|x| [x[0], x[1], x[2]])
                     .collect();
                 fix_data.push(FixAtomData::Values(values));
+            }
+            if coupling.is_active() {
+                let (f, u) = (coupling.f_ext[i], coupling.u_f[i]);
+                fix_data.push(FixAtomData::Values(vec![f[0], f[1], f[2]]));
+                fix_data.push(FixAtomData::Values(vec![coupling.beta[i]]));
+                fix_data.push(FixAtomData::Values(vec![u[0], u[1], u[2]]));
             }
             AtomRecord {
                 x: p.x[i].into(),

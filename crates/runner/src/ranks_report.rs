@@ -1,0 +1,136 @@
+//! What each rank of an N-rank run held and exchanged: the evidence that no rank holds all
+//! particles and that the exchange is sparse (`postProcessing/ranks.csv` and the run's log).
+
+use couple::Ranks;
+use std::io::Write as _;
+use std::path::Path;
+
+/// One rank's figures at the end of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RankFigures {
+    /// The rank.
+    pub rank: usize,
+    /// Particles it held at the end.
+    pub particles: usize,
+    /// The most it held after any coupling step.
+    pub particles_max: usize,
+    /// Cells its particles touched in the last exchange (`None` on one rank, where the coupler
+    /// does not list them).
+    pub cells_touched: Option<usize>,
+    /// Bytes it sent to other coupler ranks per coupling step (mean over the run).
+    pub sent_per_step: f64,
+    /// Bytes it received from other coupler ranks per coupling step (mean over the run).
+    pub received_per_step: f64,
+    /// Peak resident memory of its process, MiB (`VmHWM`; `None` where not reported).
+    pub peak_mib: Option<f64>,
+}
+
+/// Peak resident set size of this process in MiB (`VmHWM` of `/proc/self/status`), if the
+/// platform reports it.
+pub fn peak_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+/// Every rank's figures on rank 0 (collective; empty on the other ranks).
+pub fn gather(
+    ranks: &dyn Ranks,
+    particles: usize,
+    particles_max: usize,
+    cells_touched: Option<usize>,
+    steps: u64,
+) -> Vec<RankFigures> {
+    let (sent, received) = ranks.traffic();
+    let per_step = |b: u64| b as f64 / steps.max(1) as f64;
+    let record = [
+        particles as f64,
+        particles_max as f64,
+        cells_touched.map_or(f64::NAN, |c| c as f64),
+        per_step(sent),
+        per_step(received),
+        peak_mib().unwrap_or(f64::NAN),
+    ];
+    ranks
+        .gather(&record)
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.len() == record.len())
+        .map(|(rank, r)| RankFigures {
+            rank,
+            particles: r[0] as usize,
+            particles_max: r[1] as usize,
+            cells_touched: r[2].is_finite().then_some(r[2] as usize),
+            sent_per_step: r[3],
+            received_per_step: r[4],
+            peak_mib: r[5].is_finite().then_some(r[5]),
+        })
+        .collect()
+}
+
+/// The figures as `ranks.csv` (an unreported memory is an empty cell).
+pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
+    let mut text = String::from(
+        "rank,particles,particles_max,cells_touched,bytes_sent_per_step,bytes_received_per_step,peak_memory_mib\n",
+    );
+    for f in figures {
+        text.push_str(&format!(
+            "{},{},{},{},{},{},{}\n",
+            f.rank,
+            f.particles,
+            f.particles_max,
+            f.cells_touched.map_or(String::new(), |c| c.to_string()),
+            f.sent_per_step,
+            f.received_per_step,
+            f.peak_mib.map_or(String::new(), |m| format!("{m:.1}"))
+        ));
+    }
+    let mut file = std::fs::File::create(path)?;
+    file.write_all(text.as_bytes())
+}
+
+/// The figures as log lines.
+pub fn table(figures: &[RankFigures]) -> Vec<String> {
+    let mut lines = vec![
+        "rank  particles (max)      cells touched  kB sent/step  kB received/step  peak MiB".into(),
+    ];
+    for f in figures {
+        lines.push(format!(
+            "{:4}  {:9} ({:9})  {:>13}  {:12.1}  {:16.1}  {}",
+            f.rank,
+            f.particles,
+            f.particles_max,
+            f.cells_touched.map_or("—".into(), |c| c.to_string()),
+            f.sent_per_step / 1e3,
+            f.received_per_step / 1e3,
+            f.peak_mib.map_or("—".into(), |m| format!("{m:.0}"))
+        ));
+    }
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_rank_reports_itself_and_an_unmeasured_memory_stays_empty() {
+        let f = gather(&couple::Serial::default(), 7, 9, None, 2);
+        assert_eq!(f.len(), 1);
+        assert_eq!(
+            (f[0].particles, f[0].particles_max, f[0].cells_touched),
+            (7, 9, None)
+        );
+        assert_eq!((f[0].sent_per_step, f[0].received_per_step), (0.0, 0.0));
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("ranks.csv");
+        let unmeasured = RankFigures {
+            peak_mib: None,
+            ..f[0]
+        };
+        write_csv(&path, &[unmeasured]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text.lines().nth(1), Some("0,7,9,,0,0,"));
+    }
+}
