@@ -13,6 +13,7 @@
 //!   ([`crate::reference::settling_speed_history_with`]), and against that law's terminal
 //!   speed when the run lasted at least five relaxation times. Plot: `settling.png`, which also
 //!   shows CFDEM's Schiller–Naumann reference curve.
+//! * `fluidisedBed`: [`crate::fluidised`].
 
 use crate::layout::ValidationSpec;
 use crate::plot::{LinePlot, Series, Style};
@@ -29,13 +30,14 @@ use couple::CouplerSettings;
 use std::path::Path;
 
 /// The checks `spec` asks for, from `samples` (one per coupling step of length `dt_c`);
-/// plots go into `post`.
+/// plots go into `post`, what the log should say besides the checks into `notes`.
 pub fn evaluate(
     spec: &ValidationSpec,
     settings: &CouplerSettings,
     samples: &[Sample],
     post: &Path,
     dt_c: f64,
+    notes: &mut Vec<String>,
 ) -> Result<Vec<Check>, RunError> {
     std::fs::create_dir_all(post).map_err(|source| RunError::Io {
         path: post.to_owned(),
@@ -56,6 +58,27 @@ pub fn evaluate(
         ValidationSpec::SettlingSphere { velocity_tolerance } => {
             settling(settings, samples, post, dt_c, *velocity_tolerance)
         }
+        ValidationSpec::FluidisedBed {
+            expanded_bed_height,
+            bed_height_tolerance,
+            pressure_drop_tolerance,
+            packed_bed_tolerance,
+            averaging_time,
+            ..
+        } => crate::fluidised::checks(
+            settings,
+            samples,
+            crate::fluidised::Targets {
+                expanded_bed_height: *expanded_bed_height,
+                bed_height_tolerance: *bed_height_tolerance,
+                pressure_drop_tolerance: *pressure_drop_tolerance,
+                packed_bed_tolerance: *packed_bed_tolerance,
+                averaging_time: *averaging_time,
+            },
+            post,
+            dt_c,
+            notes,
+        ),
     }
 }
 
@@ -86,7 +109,7 @@ pub fn plateau_ends(samples: &[Sample], min_len: usize) -> Vec<Sample> {
 }
 
 /// The mean of the plateau quantities over `run` (time: the last one's).
-fn mean_of(run: &[Sample]) -> Sample {
+pub(crate) fn mean_of(run: &[Sample]) -> Sample {
     let k = run.len() as f64;
     // a quantity missing from one sample is missing from the mean
     let avg =

@@ -74,6 +74,29 @@ pub enum ValidationSpec {
         /// Accepted relative error of the velocity.
         velocity_tolerance: f64,
     },
+    /// `type fluidisedBed;`: a bed fluidised at a constant inlet velocity (the last plateau of
+    /// the inlet's table), averaged over that plateau's second half: Δp against the bed's
+    /// weight per area, and the mean bed height against the experiment's expanded bed; and
+    /// on the way (the inlet's ramp below fluidisation) the packed bed's Δp against the case's
+    /// drag law on the bed measured from the particles.
+    FluidisedBed {
+        /// Inlet patch name.
+        inlet: String,
+        /// Outlet patch name.
+        outlet: String,
+        /// The experiment's time-averaged expanded bed height, m.
+        expanded_bed_height: f64,
+        /// Accepted relative error of the mean bed height.
+        bed_height_tolerance: f64,
+        /// Accepted relative error of the mean Δp.
+        pressure_drop_tolerance: f64,
+        /// Accepted relative error of the packed bed's Δp against the case's drag law (the
+        /// inlet ramp below fluidisation).
+        packed_bed_tolerance: f64,
+        /// Shortest averaging window for the fluidised checks, s (a bubbling bed's surface
+        /// rises and falls with each bubble; a shorter window is not a time average).
+        averaging_time: f64,
+    },
 }
 
 fn entry_err(path: &Path, e: impl std::fmt::Display) -> LayoutError {
@@ -123,10 +146,27 @@ impl ValidationSpec {
             "settlingSphere" => Ok(ValidationSpec::SettlingSphere {
                 velocity_tolerance: tolerance(&d, path, "velocityTolerance")?,
             }),
+            "fluidisedBed" => Ok(ValidationSpec::FluidisedBed {
+                inlet: d
+                    .word("inletPatch")
+                    .map_err(|e| entry_err(path, e))?
+                    .to_owned(),
+                outlet: d
+                    .word("outletPatch")
+                    .map_err(|e| entry_err(path, e))?
+                    .to_owned(),
+                // positive numbers, like the tolerances
+                expanded_bed_height: tolerance(&d, path, "expandedBedHeight")?,
+                bed_height_tolerance: tolerance(&d, path, "bedHeightTolerance")?,
+                pressure_drop_tolerance: tolerance(&d, path, "pressureDropTolerance")?,
+                packed_bed_tolerance: tolerance(&d, path, "packedBedTolerance")?,
+                averaging_time: tolerance(&d, path, "averagingTime")?,
+            }),
             other => Err(entry_err(
                 path,
                 format!(
-                    "unknown validation type '{other}' (known: ergunPackedBed, settlingSphere)"
+                    "unknown validation type '{other}' (known: ergunPackedBed, settlingSphere, \
+                     fluidisedBed)"
                 ),
             )),
         }
@@ -239,6 +279,20 @@ mod tests {
             }
             v => panic!("{v:?}"),
         }
+        let f = CaseLayout::open(&repo().join("openfoam-cases/fluidised-bed")).unwrap();
+        assert!(f.init_deck.is_some());
+        match f.validation.unwrap() {
+            ValidationSpec::FluidisedBed {
+                inlet,
+                outlet,
+                expanded_bed_height,
+                ..
+            } => {
+                assert_eq!((inlet.as_str(), outlet.as_str()), ("inlet", "outlet"));
+                assert_eq!(expanded_bed_height, 0.05);
+            }
+            v => panic!("{v:?}"),
+        }
         let s = CaseLayout::open(&repo().join("openfoam-cases/settling")).unwrap();
         assert!(s.init_deck.is_none());
         assert!(matches!(
@@ -294,6 +348,13 @@ mod tests {
         std::fs::write(&p, "type bubbling;\n").unwrap();
         let err = ValidationSpec::read(&p).unwrap_err().to_string();
         assert!(err.contains("bubbling"), "{err}");
+        std::fs::write(
+            &p,
+            "type fluidisedBed;\ninletPatch inlet;\noutletPatch outlet;\nexpandedBedHeight 0.05;\n",
+        )
+        .unwrap();
+        let err = ValidationSpec::read(&p).unwrap_err().to_string();
+        assert!(err.contains("bedHeightTolerance"), "{err}");
         std::fs::write(&p, "type ergunPackedBed;\naxis (0 0 0);\n").unwrap();
         let err = ValidationSpec::read(&p).unwrap_err().to_string();
         assert!(err.contains("axis"), "{err}");

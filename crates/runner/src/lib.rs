@@ -7,6 +7,7 @@ pub mod backend;
 pub mod bed;
 pub mod checks;
 pub mod fluid;
+pub mod fluidised;
 #[cfg(feature = "mpi")]
 pub mod foam_fluid;
 pub mod layout;

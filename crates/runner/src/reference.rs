@@ -110,6 +110,60 @@ pub fn di_felice_terminal_speed(d: f64, rho_p: f64, rho: f64, nu: f64, g: f64) -
     terminal_speed_with(&di_felice::beta, d, rho_p, rho, nu, g)
 }
 
+/// Pressure gradient through a uniform packed bed (particles at rest) under the drag law
+/// `beta` (kg/s per particle, from a [`DragInput`]) in model A, Pa/m: the fluid's momentum
+/// balance ε ∇p = K u_i with K = n β the exchange coefficient of n = (1 − ε)/V_p particles per
+/// unit volume and u_i = u_s/ε the interstitial velocity, so
+/// Δp/L = (1 − ε)/V_p · β(ε, d, u_s/ε) · u_s/ε². `u_s` superficial velocity (m/s), `d` the
+/// particle diameter (m), `rho` (kg/m³) and `mu` (Pa·s) of the fluid. With Gidaspow's drag
+/// (Ergun below ε 0.8) this is Ergun's equation ([`ergun_pressure_gradient`]).
+pub fn packed_bed_pressure_gradient_with(
+    beta: &dyn Fn(&DragInput) -> f64,
+    u_s: f64,
+    eps: f64,
+    d: f64,
+    rho: f64,
+    mu: f64,
+) -> f64 {
+    let u_i = u_s / eps;
+    (1.0 - eps) / sphere_volume(d) * beta(&DragInput::new(eps, d, u_i, rho, mu)) * u_i / eps
+}
+
+/// The superficial velocity at which [`packed_bed_pressure_gradient_with`] over a bed of height
+/// `l` reaches `dp` (Pa) — the minimum fluidisation velocity of that drag law when `dp` is the
+/// bed's weight per area — by bisection to 1e-12 relative (the gradient grows monotonically
+/// with u for the drag laws of `closures`). Returns 0 for `dp <= 0`, NaN if not reached below
+/// 1000 m/s.
+pub fn packed_bed_velocity_for(
+    beta: &dyn Fn(&DragInput) -> f64,
+    dp: f64,
+    l: f64,
+    eps: f64,
+    d: f64,
+    rho: f64,
+    mu: f64,
+) -> f64 {
+    if dp <= 0.0 {
+        return 0.0;
+    }
+    let f = |u: f64| packed_bed_pressure_gradient_with(beta, u, eps, d, rho, mu) * l - dp;
+    let (mut lo, mut hi) = (0.0, 1000.0);
+    let top = f(hi);
+    if top.is_nan() || top < 0.0 {
+        // not reached below 1000 m/s (or a NaN input): no root to bracket
+        return f64::NAN;
+    }
+    while hi - lo > 1e-12 * hi {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,6 +177,31 @@ mod tests {
         let dp2 = ergun_pressure_gradient(0.01, e, d, mu, rho) * l;
         assert!((dp1 - 23.0).abs() < 0.05, "{dp1}");
         assert!((dp2 - 115.1).abs() < 0.05, "{dp2}");
+    }
+
+    #[test]
+    fn packed_bed_gradient_with_gidaspow_is_ergun_and_inverts() {
+        // Gidaspow's drag is Ergun's below ε 0.8 (Gidaspow 1994): the packed-bed gradient of the
+        // drag law equals Ergun's closed form, and the bisection inverts it.
+        let law = closures::DragClosure::new(
+            closures::DragLaw::from_name("GidaspowDrag").unwrap(),
+            closures::DEFAULT_VOIDAGE_FLOOR,
+        )
+        .unwrap();
+        let beta = |x: &DragInput| law.beta(x);
+        let (eps, d, rho, mu) = (0.404, 1.2e-3, 1.13, 1.68e-5);
+        for u in [0.01, 0.1, 0.36, 0.66] {
+            let a = packed_bed_pressure_gradient_with(&beta, u, eps, d, rho, mu);
+            let b = ergun_pressure_gradient(u, eps, d, mu, rho);
+            assert!((a / b - 1.0).abs() < 1e-12, "u {u}: {a} vs Ergun {b}");
+        }
+        let u = packed_bed_velocity_for(&beta, 189.6, 0.0325, eps, d, rho, mu);
+        let u_ergun = ergun_velocity_for(189.6, 0.0325, eps, d, mu, rho);
+        assert!((u / u_ergun - 1.0).abs() < 1e-9, "{u} vs {u_ergun}");
+        assert_eq!(
+            packed_bed_velocity_for(&beta, 0.0, 0.03, eps, d, rho, mu),
+            0.0
+        );
     }
 
     #[test]

@@ -717,9 +717,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     };
     let volume: f64 = coupler.voidage_mesh().geometry().cell_volumes.iter().sum();
     let (inlet, outlet) = match &spec {
-        Some(ValidationSpec::ErgunPackedBed { inlet, outlet, .. }) => {
-            (Some(inlet.clone()), Some(outlet.clone()))
-        }
+        Some(
+            ValidationSpec::ErgunPackedBed { inlet, outlet, .. }
+            | ValidationSpec::FluidisedBed { inlet, outlet, .. },
+        ) => (Some(inlet.clone()), Some(outlet.clone())),
         _ => {
             // without a validationDict, the patches the start fields make inlet and outlet
             let found = crate::patches::find(&layout.cfd, &couple::output::time_name(start), &mesh);
@@ -924,7 +925,11 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let mut checks = Vec::new();
     if !stopped && rank == 0 {
         if let Some(spec) = &spec {
-            checks = checks::evaluate(spec, &settings, &samples, &post, dt_c)?;
+            let mut notes = Vec::new();
+            checks = checks::evaluate(spec, &settings, &samples, &post, dt_c, &mut notes)?;
+            for note in notes {
+                events(Event::Message(note));
+            }
             write_json(&post.join("validation.json"), &checks)
                 .map_err(io_err(&post.join("validation.json")))?;
         }

@@ -544,3 +544,46 @@ fn a_run_restarted_from_its_write_time_is_the_uninterrupted_run() {
         std::fs::read_to_string(split.join("postProcessing/particles/particles.pvd")).unwrap();
     assert_eq!(pvd.matches("<DataSet").count(), 2, "{pvd}");
 }
+
+/// The bubbling fluidised bed (Khawaja 2015, case B) from its committed LIGGGHTS pack, one
+/// coupling step (the reduced run to 0.1 s is in `.ci/cli-smoke`, the full run in
+/// `docs/fluidised-bed.md`): the case opens and couples, every particle's volume is in a cell,
+/// and the packed bed is as high as 9240 spheres of d 1.2 mm in the 0.0432 × 0.01 m column at a random packing's voidage
+/// (0.36–0.42, close to loose random packing: Scott & Kilgour 1969, Onoda & Liniger 1990):
+/// L = N π d³/6 / (A (1 − ε)) = 0.0302 … 0.0333 m; Khawaja reports 0.03 m.
+#[test]
+fn fluidised_bed_couples_its_committed_pack() {
+    let (_tmp, case) = case_copy("fluidised-bed");
+    std::fs::create_dir_all(case.join("DEM/post")).unwrap();
+    std::fs::copy(
+        case.join("reference/packed.data"),
+        case.join("DEM/post/packed.data"),
+    )
+    .unwrap();
+    let stop = AtomicBool::new(false);
+    let opts = RunOptions {
+        end_time: Some(0.00025),
+        ..RunOptions::default()
+    };
+    let report = run(&case, &opts, &stop, &mut |_| {}).unwrap();
+    assert_eq!(
+        (report.particles, report.steps, report.cells),
+        (9240, 1, 312)
+    );
+    let s = &report.samples[0];
+    assert!(
+        (s.deposited_volume + s.outside_volume - s.particle_volume).abs()
+            < 1e-12 * s.particle_volume
+            && s.outside_volume == 0.0,
+        "{s:?}"
+    );
+    let vp = 9240.0 * std::f64::consts::PI / 6.0 * 1.2e-3f64.powi(3);
+    let area = 0.0432 * 0.01;
+    let (lo, hi) = (vp / (area * 0.64), vp / (area * 0.58));
+    let h = s.bed_height.unwrap();
+    assert!(h > lo && h < hi, "bed height {h} m, expected {lo} … {hi} m");
+    // the inlet's table at t = 0.00025 s: 0.0066 + (0.66 − 0.0066) · 0.0025
+    let u = 0.0066 + (0.66 - 0.0066) * 0.00025 / 0.1;
+    assert!((s.inlet_velocity.unwrap() - u).abs() < 1e-12 * u);
+    assert!(s.pressure_drop.is_some_and(|p| p.is_finite() && p > 0.0));
+}
