@@ -120,10 +120,11 @@ impl PairList {
                 let mut row: Vec<u32> = Vec::with_capacity(32);
                 for i in lo..hi {
                     row.clear();
-                    cells.for_each_candidate(x[i], |j| {
+                    let (xi, ri) = (x[i], radius[i]);
+                    cells.for_each_candidate(xi, |j, xj, rj| {
                         if j > i {
-                            let d = [x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]];
-                            let cut = radius[i] + radius[j] + skin;
+                            let d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                            let cut = ri + rj + skin;
                             if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
                                 row.push(j as u32);
                             }
@@ -178,13 +179,18 @@ impl PairList {
     }
 }
 
-/// Particles binned into cubic cells (counting sort).
+/// Particles binned into cubic cells (counting sort), with their positions and radii copied
+/// in cell order so that a search reads neighbouring cells from contiguous memory.
 struct CellGrid {
     lo: V3,
     inv: f64,
     dims: [usize; 3],
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Positions in `items` order (m).
+    x: Vec<V3>,
+    /// Radii in `items` order (m).
+    radius: Vec<f64>,
 }
 
 impl CellGrid {
@@ -245,13 +251,15 @@ impl CellGrid {
             inv,
             dims,
             start,
+            x: items.iter().map(|&p| x[p as usize]).collect(),
+            radius: items.iter().map(|&p| radius[p as usize]).collect(),
             items,
         }
     }
 
-    /// Calls `f(j)` for every particle in the 27 cells around `p`.
+    /// Calls `f(j, xⱼ, Rⱼ)` for every particle j in the 27 cells around `p`.
     #[inline]
-    fn for_each_candidate(&self, p: V3, mut f: impl FnMut(usize)) {
+    fn for_each_candidate(&self, p: V3, mut f: impl FnMut(usize, V3, f64)) {
         let mut c = [0isize; 3];
         for k in 0..3 {
             c[k] = (((p[k] - self.lo[k]) * self.inv) as isize).min(self.dims[k] as isize - 1);
@@ -264,8 +272,8 @@ impl CellGrid {
                 let x1 = (c[0] + 1).min(d[0] as isize - 1) as usize;
                 let s = self.start[row + x0] as usize;
                 let e = self.start[row + x1 + 1] as usize;
-                for &j in &self.items[s..e] {
-                    f(j as usize);
+                for k in s..e {
+                    f(self.items[k] as usize, self.x[k], self.radius[k]);
                 }
             }
         }

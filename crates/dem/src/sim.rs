@@ -278,6 +278,8 @@ impl Simulation {
     pub fn add_particles(&mut self, new: &[NewParticle]) -> Result<(), DemError> {
         let mut ids: std::collections::HashSet<u64> = self.particles.id.iter().copied().collect();
         let before = self.particles.len();
+        // the largest id so far, kept here (Particles::max_id is a pass over all particles)
+        let mut max_id = self.particles.max_id();
         for p in new {
             if p.id != 0 && !ids.insert(p.id) {
                 return Err(DemError::Particle {
@@ -285,7 +287,11 @@ impl Simulation {
                     message: "id already in use".into(),
                 });
             }
-            if let Err(e) = self.particles.push(*p, self.materials.ntypes()) {
+            let id = if p.id == 0 { max_id + 1 } else { p.id };
+            if let Err(e) = self
+                .particles
+                .push(NewParticle { id, ..*p }, self.materials.ntypes())
+            {
                 self.particles.retain(
                     &(0..self.particles.len())
                         .map(|i| i < before)
@@ -293,7 +299,8 @@ impl Simulation {
                 );
                 return Err(e);
             }
-            ids.insert(*self.particles.id.last().expect("just pushed"));
+            ids.insert(id);
+            max_id = max_id.max(id);
         }
         let added = self.particles.len() - before;
         self.wall_hist
@@ -558,7 +565,8 @@ impl Simulation {
     }
 
     fn write_dumps(&mut self) -> Result<(), DemError> {
-        if self.dumps.is_empty() {
+        // the bounds are a pass over all particles: only when a dump writes
+        if !self.dumps.iter().any(|d| d.is_due(self.step)) {
             return Ok(());
         }
         let bounds = self.sim_box.dump_bounds(&self.particles.x);
@@ -645,11 +653,13 @@ impl Simulation {
             .zip(hist_chunks)
             .enumerate()
             .for_each(|(c, (acc, hist))| {
+                // a chunk's pairs have j > i ≥ its first row: it accumulates rows lo.. only
+                let lo = rows[c];
                 acc.clear();
-                acc.resize(n, [V3::zeros(); 2]);
-                let base = first[rows[c]] as usize;
-                for i in rows[c]..rows[c + 1] {
-                    let (mut fi, mut ti) = (acc[i][0], acc[i][1]);
+                acc.resize(n - lo, [V3::zeros(); 2]);
+                let base = first[lo] as usize;
+                for i in lo..rows[c + 1] {
+                    let (mut fi, mut ti) = (acc[i - lo][0], acc[i - lo][1]);
                     for k in first[i] as usize..first[i + 1] as usize {
                         let j = pj[k] as usize;
                         let h = &mut hist[k - base];
@@ -680,10 +690,10 @@ impl Simulation {
                         let o = contact_force(&model, c, &inp, h, dt, history);
                         fi += o.force;
                         ti += o.torque_i;
-                        acc[j][0] -= o.force;
-                        acc[j][1] += o.torque_j;
+                        acc[j - lo][0] -= o.force;
+                        acc[j - lo][1] += o.torque_j;
                     }
-                    acc[i] = [fi, ti];
+                    acc[i - lo] = [fi, ti];
                 }
             });
         let acc = &self.acc;
@@ -700,14 +710,19 @@ impl Simulation {
                       wh: &mut [History]| {
             let mut ff = (m[i] * g) + coupling.force(i, *v);
             let mut tt = V3::zeros();
-            for a in acc {
-                ff += a[i][0];
-                tt += a[i][1];
+            for (a, &lo) in acc.iter().zip(&rows) {
+                if i >= lo {
+                    ff += a[i - lo][0];
+                    tt += a[i - lo][1];
+                }
             }
             for (wall, h) in walls.iter().zip(wh.iter_mut()) {
                 let contact = wall.shape.distance(x[i]).filter(|&(dist, _)| dist < r[i]);
                 let Some((dist, n)) = contact else {
-                    *h = History::default();
+                    // most particles touch no wall: read the history, write only a change
+                    if *h != History::default() {
+                        *h = History::default();
+                    }
                     continue;
                 };
                 let inp = ContactInput {
