@@ -7,10 +7,10 @@
 //! contact history advanced); second half kick; due dumps are written. With constant force this
 //! integrates exactly (x = x₀ + v₀t + ½at²).
 //!
-//! The pair loop runs on one contiguous block of particles (rows of the half pair list) per
-//! rayon thread, each accumulating into its own force buffer; the buffers are summed in thread
-//! order, so results are bit-identical from run to run for a given number of threads (and
-//! differ between thread counts only by round-off, which granular dynamics amplify).
+//! The pair forces ([`crate::pair_loop`]) are evaluated over the half pair list in the
+//! particles' spatial order and summed per particle in a fixed order (by partner index), so
+//! results are bit-identical from run to run and for any number of rayon threads. Walls,
+//! gravity, coupling and the kicks are per particle, in index order.
 
 use dem_io::{Boundary, BoxBounds};
 use mesh::v3::V3;
@@ -23,6 +23,7 @@ use crate::error::DemError;
 use crate::insert::InsertPack;
 use crate::material::Materials;
 use crate::neighbor::PairList;
+use crate::pair_loop::PairForces;
 use crate::particles::{NewParticle, Particles, INERTIA_FACTOR};
 use crate::walls::Wall;
 
@@ -141,8 +142,8 @@ pub struct Simulation {
     step: u64,
     sim_box: SimBox,
     pairs: PairList,
-    /// Per-thread force and torque accumulators of the pair loop.
-    acc: Vec<Vec<[V3; 2]>>,
+    /// The pair loop's buffers.
+    pair_forces: PairForces,
     coupling: Coupling,
     forces_valid: bool,
     /// The state the next set-up evaluates the forces from ([`Simulation::set_half_step`]).
@@ -182,7 +183,7 @@ impl Simulation {
             step: 0,
             sim_box: cfg.sim_box,
             pairs: PairList::new(cfg.skin),
-            acc: Vec::new(),
+            pair_forces: PairForces::default(),
             coupling: Coupling::default(),
             forces_valid: false,
             replay: None,
@@ -398,17 +399,19 @@ impl Simulation {
         let (x, r) = (&self.particles.x, &self.particles.radius);
         let n = x.len();
         let pl = &self.pairs;
-        (0..pl.len())
+        let mut v: Vec<(usize, usize, History)> = (0..pl.len())
             .filter_map(|k| {
-                let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
+                let (i, j) = pl.pair(k);
                 if i >= n || j >= n {
                     return None;
                 }
                 let d = x[i] - x[j];
                 let radsum = r[i] + r[j];
-                (d.dot(&d) < radsum * radsum).then_some((i, j, pl.hist[k]))
+                (d.dot(&d) < radsum * radsum).then_some((i, j, pl.history(k)))
             })
-            .collect()
+            .collect();
+        v.sort_unstable_by_key(|c| (c.0, c.1));
+        v
     }
 
     /// Sets the history of the pairs in contact, as `(i, j, history seen from i)` with
@@ -419,6 +422,10 @@ impl Simulation {
         let p = &self.particles;
         self.pairs.build(&p.x, &p.radius);
         let n = p.len();
+        let mut index: Vec<((usize, usize), usize)> = (0..self.pairs.len())
+            .map(|k| (self.pairs.pair(k), k))
+            .collect();
+        index.sort_unstable();
         let mut skipped = 0;
         for &(a, b, h) in contacts {
             let (i, j, h) = if a < b {
@@ -438,13 +445,8 @@ impl Simulation {
                 let radsum = p.radius[i] + p.radius[j];
                 d.dot(&d) < radsum * radsum
             };
-            let row = if in_contact {
-                self.pairs.first[i] as usize..self.pairs.first[i + 1] as usize
-            } else {
-                0..0
-            };
-            match self.pairs.j[row.clone()].binary_search(&(j as u32)) {
-                Ok(k) if in_contact => self.pairs.hist[row.start + k] = h,
+            match index.binary_search_by_key(&(i, j), |e| e.0) {
+                Ok(at) if in_contact => self.pairs.set_history(index[at].1, h),
                 _ => skipped += 1,
             }
         }
@@ -623,80 +625,9 @@ impl Simulation {
         let dt = self.dt;
         let model = self.pair_model;
         let mats = &self.materials;
-        let p = &self.particles;
-        let n = p.len();
-        let (x, v, w, r, m, ty) = (&p.x, &p.v, &p.omega, &p.radius, &p.mass, &p.atom_type);
-        let pairs = &mut self.pairs;
-        // rows (particles i) split into one chunk per thread with about equal numbers of pairs
-        let nt = rayon::current_num_threads().clamp(1, n.max(1));
-        let total = pairs.len();
-        let mut rows = vec![0usize; nt + 1];
-        for c in 1..nt {
-            let target = total * c / nt;
-            rows[c] = pairs.first[..n]
-                .partition_point(|&f| (f as usize) < target)
-                .max(rows[c - 1]);
-        }
-        rows[nt] = n;
-        let mut hist_chunks = Vec::with_capacity(nt);
-        let mut rest: &mut [History] = &mut pairs.hist;
-        for c in 0..nt {
-            let len = (pairs.first[rows[c + 1]] - pairs.first[rows[c]]) as usize;
-            let (head, tail) = rest.split_at_mut(len);
-            hist_chunks.push(head);
-            rest = tail;
-        }
-        self.acc.resize_with(nt, Vec::new);
-        let (first, pj) = (&pairs.first, &pairs.j);
-        self.acc
-            .par_iter_mut()
-            .zip(hist_chunks)
-            .enumerate()
-            .for_each(|(c, (acc, hist))| {
-                // a chunk's pairs have j > i ≥ its first row: it accumulates rows lo.. only
-                let lo = rows[c];
-                acc.clear();
-                acc.resize(n - lo, [V3::zeros(); 2]);
-                let base = first[lo] as usize;
-                for i in lo..rows[c + 1] {
-                    let (mut fi, mut ti) = (acc[i - lo][0], acc[i - lo][1]);
-                    for k in first[i] as usize..first[i + 1] as usize {
-                        let j = pj[k] as usize;
-                        let h = &mut hist[k - base];
-                        let d = x[i] - x[j];
-                        let rsq = d.dot(&d);
-                        let radsum = r[i] + r[j];
-                        if rsq >= radsum * radsum {
-                            if *h != History::default() {
-                                *h = History::default();
-                            }
-                            continue;
-                        }
-                        let dist = rsq.sqrt();
-                        let inp = ContactInput {
-                            n: (1.0 / dist * d),
-                            r: dist,
-                            deltan: radsum - dist,
-                            radi: r[i],
-                            radj: r[j],
-                            reff: r[i] * r[j] / radsum,
-                            meff: m[i] * m[j] / (m[i] + m[j]),
-                            vrel: (v[i] - v[j]),
-                            omega_i: w[i],
-                            omega_j: w[j],
-                            is_wall: false,
-                        };
-                        let c = mats.pair(ty[i], ty[j]);
-                        let o = contact_force(&model, c, &inp, h, dt, history);
-                        fi += o.force;
-                        ti += o.torque_i;
-                        acc[j - lo][0] -= o.force;
-                        acc[j - lo][1] += o.torque_j;
-                    }
-                    acc[i - lo] = [fi, ti];
-                }
-            });
-        let acc = &self.acc;
+        self.pair_forces
+            .evaluate(&mut self.pairs, &self.particles, mats, &model, dt, history);
+        let pair_forces = &self.pair_forces;
         let walls = &self.walls;
         let nw = walls.len();
         let coupling = &self.coupling;
@@ -710,12 +641,9 @@ impl Simulation {
                       wh: &mut [History]| {
             let mut ff = (m[i] * g) + coupling.force(i, *v);
             let mut tt = V3::zeros();
-            for (a, &lo) in acc.iter().zip(&rows) {
-                if i >= lo {
-                    ff += a[i - lo][0];
-                    tt += a[i - lo][1];
-                }
-            }
+            let (fp, tp) = pair_forces.sum(i);
+            ff += fp;
+            tt += tp;
             for (wall, h) in walls.iter().zip(wh.iter_mut()) {
                 let contact = wall.shape.distance(x[i]).filter(|&(dist, _)| dist < r[i]);
                 let Some((dist, n)) = contact else {
