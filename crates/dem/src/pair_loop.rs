@@ -227,7 +227,7 @@ impl PairForces {
             self.sums[s] = reduce_position(&view, s, &self.slot_out, &self.out, 0);
         }
         // by particle index, so that the per-particle pass reads them in its own order
-        self.sums_by_index.clear();
+        // (a permutation: every entry is written)
         self.sums_by_index.resize(n, [V3::zeros(); 2]);
         for (&i, sum) in view.order.iter().zip(&self.sums) {
             self.sums_by_index[i as usize] = *sum;

@@ -137,6 +137,10 @@ pub struct Simulation {
     pair_model: ContactModel,
     walls: Vec<Wall>,
     wall_hist: Vec<History>,
+    /// Per particle: whether one of its wall histories may be non-zero (false only where the
+    /// last force evaluation found them all zero; emptied by every other change of
+    /// `wall_hist`, which makes it all true again).
+    wall_maybe: Vec<bool>,
     dt: f64,
     gravity: V3,
     step: u64,
@@ -178,6 +182,7 @@ impl Simulation {
             pair_model: cfg.pair_model,
             walls: Vec::new(),
             wall_hist: Vec::new(),
+            wall_maybe: Vec::new(),
             dt: cfg.dt,
             gravity: cfg.gravity,
             step: 0,
@@ -270,6 +275,7 @@ impl Simulation {
             h.push(History::default());
         }
         self.wall_hist = h;
+        self.wall_maybe.clear();
         self.walls.push(wall);
         self.forces_valid = false;
         Ok(())
@@ -306,6 +312,7 @@ impl Simulation {
         let added = self.particles.len() - before;
         self.wall_hist
             .resize(self.particles.len() * self.walls.len(), History::default());
+        self.wall_maybe.clear();
         self.coupling.grow(added);
         self.pairs.invalidate();
         self.forces_valid = false;
@@ -464,6 +471,7 @@ impl Simulation {
     pub fn set_wall_history(&mut self, i: usize, w: usize, h: History) {
         let nw = self.walls.len();
         self.wall_hist[i * nw + w] = h;
+        self.wall_maybe.clear();
         self.forces_valid = false;
     }
 
@@ -613,6 +621,7 @@ impl Simulation {
         let nw = self.walls.len();
         let mut it = (0..self.particles.len()).flat_map(|i| std::iter::repeat_n(keep[i], nw));
         self.wall_hist.retain(|_| it.next().unwrap_or(true));
+        self.wall_maybe.clear();
         let map = self.particles.retain(&keep);
         self.lost += keep.iter().filter(|&&k| !k).count() as u64;
         self.pairs.remap(&map);
@@ -635,24 +644,35 @@ impl Simulation {
         let p = &mut self.particles;
         let (x, r, m, ty) = (&p.x, &p.radius, &p.mass, &p.atom_type);
         let wall_hist = &mut self.wall_hist;
+        if self.wall_maybe.len() != p.len() {
+            self.wall_maybe.clear();
+            self.wall_maybe.resize(p.len(), true);
+        }
+        let wall_maybe = &mut self.wall_maybe;
         let gather = |i: usize,
                       (f, t): (&mut V3, &mut V3),
                       (v, w): (&mut V3, &mut V3),
-                      wh: &mut [History]| {
+                      (wh, maybe): (&mut [History], &mut bool)| {
             let mut ff = (m[i] * g) + coupling.force(i, *v);
             let mut tt = V3::zeros();
             let (fp, tp) = pair_forces.sum(i);
             ff += fp;
             tt += tp;
+            // most particles touch no wall and have no wall history to reset: their
+            // histories are neither read nor written
+            let (check, mut touched) = (*maybe, false);
             for (wall, h) in walls.iter().zip(wh.iter_mut()) {
-                let contact = wall.shape.distance(x[i]).filter(|&(dist, _)| dist < r[i]);
+                // the gap first: the normal only for contacts
+                let contact = (wall.shape.gap(x[i]) < r[i])
+                    .then(|| wall.shape.distance(x[i]))
+                    .flatten();
                 let Some((dist, n)) = contact else {
-                    // most particles touch no wall: read the history, write only a change
-                    if *h != History::default() {
+                    if check && *h != History::default() {
                         *h = History::default();
                     }
                     continue;
                 };
+                touched = true;
                 let inp = ContactInput {
                     n,
                     r: dist,
@@ -671,6 +691,7 @@ impl Simulation {
                 ff += o.force;
                 tt += o.torque_i;
             }
+            *maybe = touched;
             *f = ff;
             *t = tt;
             if let Some(half) = kick {
@@ -686,15 +707,17 @@ impl Simulation {
         let vw = p.v.par_iter_mut().zip(p.omega.par_iter_mut());
         if nw == 0 {
             ft.zip(vw)
+                .zip(wall_maybe.par_iter_mut())
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, (a, b))| gather(i, a, b, &mut []));
+                .for_each(|(i, ((a, b), maybe))| gather(i, a, b, (&mut [], maybe)));
         } else {
             ft.zip(vw)
                 .zip(wall_hist.par_chunks_mut(nw))
+                .zip(wall_maybe.par_iter_mut())
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, ((a, b), wh))| gather(i, a, b, wh));
+                .for_each(|(i, (((a, b), wh), maybe))| gather(i, a, b, (wh, maybe)));
         }
         self.forces_valid = true;
     }

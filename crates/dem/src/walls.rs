@@ -49,6 +49,28 @@ pub fn other_axes(axis: usize) -> (usize, usize) {
 }
 
 impl WallShape {
+    /// Distance (m) of point `x` to the wall surface, as [`WallShape::distance`] gives it
+    /// (bit for bit), without the normal; infinite where that has none.
+    #[inline]
+    pub fn gap(&self, x: V3) -> f64 {
+        match *self {
+            WallShape::Plane { axis, position } => (x[axis] - position).abs(),
+            WallShape::Cylinder {
+                axis,
+                radius,
+                centre,
+            } => {
+                let (a, b) = other_axes(axis);
+                let (da, db) = (x[a] - centre[0], x[b] - centre[1]);
+                let rho = (da * da + db * db).sqrt();
+                if rho == 0.0 {
+                    return f64::INFINITY;
+                }
+                (rho - radius).abs()
+            }
+        }
+    }
+
     /// Distance (m) of point `x` to the wall surface and the unit normal from the wall towards
     /// `x`; `None` when the normal is undefined (a point on a cylinder's axis).
     #[inline]
@@ -111,6 +133,11 @@ mod tests {
             Some((1.0, V3::new(0.0, 1.0, 0.0)))
         );
         assert_eq!(c.distance(V3::new(1.0, 0.0, 0.0)), None);
+        assert_eq!(c.gap(V3::new(1.0, 0.0, 0.0)), f64::INFINITY);
+        for x in [V3::new(2.5, 0.1, 7.0), V3::new(1.0, 3.0, 0.0)] {
+            assert_eq!(c.gap(x), c.distance(x).unwrap().0);
+            assert_eq!(p.gap(x), p.distance(x).unwrap().0);
+        }
         // y-cylinder: the centre is (z, x)
         let y = WallShape::Cylinder {
             axis: 1,
