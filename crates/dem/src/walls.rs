@@ -48,6 +48,15 @@ pub fn other_axes(axis: usize) -> (usize, usize) {
     ((axis + 1) % 3, (axis + 2) % 3)
 }
 
+/// A point's offset from a cylinder's axis: the two other axes (a, b), the offsets along
+/// them (m) and the distance from the axis ρ (m).
+#[inline]
+fn axis_offset(axis: usize, centre: [f64; 2], x: V3) -> (usize, usize, f64, f64, f64) {
+    let (a, b) = other_axes(axis);
+    let (da, db) = (x[a] - centre[0], x[b] - centre[1]);
+    (a, b, da, db, (da * da + db * db).sqrt())
+}
+
 impl WallShape {
     /// Distance (m) of point `x` to the wall surface, as [`WallShape::distance`] gives it
     /// (bit for bit), without the normal; infinite where that has none.
@@ -59,15 +68,10 @@ impl WallShape {
                 axis,
                 radius,
                 centre,
-            } => {
-                let (a, b) = other_axes(axis);
-                let (da, db) = (x[a] - centre[0], x[b] - centre[1]);
-                let rho = (da * da + db * db).sqrt();
-                if rho == 0.0 {
-                    return f64::INFINITY;
-                }
-                (rho - radius).abs()
-            }
+            } => match axis_offset(axis, centre, x) {
+                (.., 0.0) => f64::INFINITY,
+                (.., rho) => (rho - radius).abs(),
+            },
         }
     }
 
@@ -87,9 +91,7 @@ impl WallShape {
                 radius,
                 centre,
             } => {
-                let (a, b) = other_axes(axis);
-                let (da, db) = (x[a] - centre[0], x[b] - centre[1]);
-                let rho = (da * da + db * db).sqrt();
+                let (a, b, da, db, rho) = axis_offset(axis, centre, x);
                 if rho == 0.0 {
                     return None;
                 }
