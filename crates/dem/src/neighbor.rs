@@ -99,6 +99,11 @@ impl PairList {
         self.rank[i] as usize
     }
 
+    /// The sorted positions of all particles, by particle index.
+    pub fn ranks(&self) -> &[u32] {
+        &self.rank
+    }
+
     /// Particle indices (i, j), i < j, of pair `k`.
     pub fn pair(&self, k: usize) -> (usize, usize) {
         (
@@ -170,10 +175,13 @@ impl PairList {
     pub fn ensure(&mut self, x: &[V3], radius: &[f64]) -> bool {
         let need = !self.valid || self.x_build.len() != x.len() || {
             let lim = 0.25 * self.skin * self.skin;
-            x.iter().zip(&self.x_build).any(|(a, b)| {
-                let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > lim
-            })
+            x.par_iter()
+                .zip(&self.x_build)
+                .with_min_len(4096)
+                .any(|(a, b)| {
+                    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+                    d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > lim
+                })
         };
         if need {
             self.build(x, radius);

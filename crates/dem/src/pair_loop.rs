@@ -25,6 +25,7 @@ use crate::contact::{
 use crate::material::Materials;
 use crate::neighbor::{PairList, PairView, ROLE_J};
 use crate::particles::Particles;
+use crate::sim::STREAM_BLOCK;
 
 /// `slot_out` of a pair not in contact.
 const APART: u32 = u32::MAX;
@@ -227,11 +228,13 @@ impl PairForces {
             self.sums[s] = reduce_position(&view, s, &self.slot_out, &self.out, 0);
         }
         // by particle index, so that the per-particle pass reads them in its own order
-        // (a permutation: every entry is written)
         self.sums_by_index.resize(n, [V3::zeros(); 2]);
-        for (&i, sum) in view.order.iter().zip(&self.sums) {
-            self.sums_by_index[i as usize] = *sum;
-        }
+        let (sums, rank) = (&self.sums, pairs.ranks());
+        self.sums_by_index
+            .par_iter_mut()
+            .zip(rank)
+            .with_min_len(STREAM_BLOCK)
+            .for_each(|(dst, &s)| *dst = sums[s as usize]);
     }
 
     /// Copies positions, velocities and angular velocities into the list's spatial order,
@@ -239,8 +242,11 @@ impl PairForces {
     fn load(&mut self, pairs: &PairList, p: &Particles) {
         let order = pairs.order();
         let gather = |dst: &mut Vec<V3>, src: &[V3]| {
-            dst.clear();
-            dst.extend(order.iter().map(|&i| src[i as usize]));
+            dst.resize(order.len(), V3::zeros());
+            dst.par_iter_mut()
+                .zip(order)
+                .with_min_len(STREAM_BLOCK)
+                .for_each(|(d, &i)| *d = src[i as usize]);
         };
         gather(&mut self.x, &p.x);
         gather(&mut self.v, &p.v);

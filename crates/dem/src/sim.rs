@@ -128,6 +128,9 @@ pub struct HalfStep {
 /// one that recorded them (the recorded forces are then used as they are).
 const SAME_FORCES: f64 = 1e-9;
 
+/// Particles per parallel block of the passes with a few flops per particle.
+pub(crate) const STREAM_BLOCK: usize = 4096;
+
 /// A running DEM simulation.
 #[derive(Debug)]
 pub struct Simulation {
@@ -591,18 +594,23 @@ impl Simulation {
         let dt = self.dt;
         let half = 0.5 * dt;
         {
-            // sequential: a few flops per particle, cheaper than a parallel region
+            // a few flops per particle: parallel only in large blocks
             let p = &mut self.particles;
             let (m, r, f, t) = (&p.mass, &p.radius, &p.f, &p.torque);
-            for (i, ((x, v), w)) in p.x.iter_mut().zip(&mut p.v).zip(&mut p.omega).enumerate() {
-                let a = half / m[i];
-                let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
-                for k in 0..3 {
-                    v[k] += a * f[i][k];
-                    x[k] += dt * v[k];
-                    w[k] += ai * t[i][k];
-                }
-            }
+            p.x.par_iter_mut()
+                .zip(&mut p.v)
+                .zip(&mut p.omega)
+                .enumerate()
+                .with_min_len(STREAM_BLOCK)
+                .for_each(|(i, ((x, v), w))| {
+                    let a = half / m[i];
+                    let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
+                    for k in 0..3 {
+                        v[k] += a * f[i][k];
+                        x[k] += dt * v[k];
+                        w[k] += ai * t[i][k];
+                    }
+                });
         }
         self.step += 1;
         self.remove_lost();
