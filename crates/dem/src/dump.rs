@@ -117,6 +117,11 @@ impl DumpOutput {
         })
     }
 
+    /// Whether the snapshot of `step` is due and not yet written.
+    pub fn is_due(&self, step: u64) -> bool {
+        step.is_multiple_of(self.every) && self.last_step != Some(step)
+    }
+
     /// Writes the snapshot of `step` if it is due and not yet written.
     pub fn maybe_write(
         &mut self,
@@ -125,7 +130,7 @@ impl DumpOutput {
         coupling: &Coupling,
         bounds: BoxBounds,
     ) -> Result<(), DemError> {
-        if !step.is_multiple_of(self.every) || self.last_step == Some(step) {
+        if !self.is_due(step) {
             return Ok(());
         }
         let wildcard = self.path.to_string_lossy().contains('*');

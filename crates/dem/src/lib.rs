@@ -8,7 +8,8 @@
 //! # Map
 //! - [`material`]: per-type E, ν and per-pair e, μ, μᵣ, k → Y*, G*, β.
 //! - [`contact`]: `hertz`, `tangential` (history), `sjkr`, `rolling` (`cdt`, `epsd2`).
-//! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells + pair list).
+//! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells, spatial
+//!   order, pair list), [`pair_loop`] (pair forces and their per-particle sums).
 //! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
 //! - [`atom_value`]: per-atom quantities by LIGGGHTS name (dump columns, `compute reduce`).
 //! - [`deck`]: the LIGGGHTS input subset (restart files: [`deck::restart`]); [`dump`]:
@@ -26,8 +27,8 @@
 //! ```
 //!
 //! # Invariants
-//! Results are bit-identical from run to run for a given number of rayon threads (per-thread
-//! force buffers summed in a fixed order). Bad input gives a [`DemError`] naming the deck line, property or
+//! Results are bit-identical from run to run and for any number of rayon threads (pair forces
+//! summed per particle in a fixed order, [`pair_loop`]). Bad input gives a [`DemError`] naming the deck line, property or
 //! particle; nothing here panics on user input.
 
 pub mod atom_value;
@@ -40,6 +41,7 @@ pub mod from_dump;
 pub mod insert;
 pub mod material;
 pub mod neighbor;
+pub mod pair_loop;
 pub mod particles;
 pub mod region;
 pub mod sim;

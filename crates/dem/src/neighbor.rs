@@ -1,12 +1,22 @@
-//! Linked-cell neighbour search and the half pair list that carries the contact history
-//! (`neighbor SKIN bin`, `neigh_modify delay 0`).
+//! Linked-cell neighbour search, the particles' spatial order, and the half pair list that
+//! carries the contact history (`neighbor SKIN bin`, `neigh_modify delay 0`).
 //!
-//! The list holds every pair i < j with |xᵢ − xⱼ| < Rᵢ + Rⱼ + skin at build time, grouped by i
-//! (CSR) with j ascending. It is rebuilt when a particle has moved more than skin/2 since the
-//! last build (then no contact can have been missed). Binning is a counting sort into cubic
-//! cells of side ≥ 2R_max + skin, so a build is O(N) for a bounded number of particles per
-//! cell; the history of pairs present before and after a rebuild is carried over by a merge of
-//! the two sorted lists.
+//! The list holds every pair i < j (particle indices) with |xᵢ − xⱼ| < Rᵢ + Rⱼ + skin at build
+//! time. It is rebuilt when a particle has moved more than skin/2 since the last build (then no
+//! contact can have been missed). Binning is a counting sort into cubic cells of side
+//! ≥ 2R_max + skin, so a build is O(N) for a bounded number of particles per cell.
+//!
+//! A build also fixes a *spatial order* of the particles: cell by cell (x fastest, then y, z),
+//! as LIGGGHTS/LAMMPS sort atoms by bin for locality. The pairs are stored grouped by the
+//! sorted position of their first member, and each refers to its two particles by sorted
+//! position, so a pass over the pairs reads per-particle data copied in that order
+//! ([`PairList::order`]) from nearby memory. The particle indices themselves never change.
+//!
+//! For the per-particle sums, each sorted position has its *reduction entries*: the pairs it
+//! belongs to, ordered by the particle index of the partner. Summing in that order gives a
+//! result that depends neither on the spatial order nor on how the pairs were split between
+//! threads (see `pair_loop`). The history of pairs present before and after a rebuild is
+//! carried over, keyed by the two particle indices.
 
 use mesh::v3::V3;
 use rayon::prelude::*;
@@ -16,21 +26,37 @@ use crate::contact::History;
 /// Particles per parallel chunk in builds.
 const CHUNK: usize = 512;
 
-/// Half pair list with contact history.
+/// Marks a reduction entry whose particle is the pair's j (else its i).
+pub const ROLE_J: u32 = 1 << 31;
+
+/// Half pair list with contact history, in the particles' spatial order.
 #[derive(Debug, Clone, Default)]
 pub struct PairList {
     /// Skin distance (m).
     pub skin: f64,
     /// Positions at the last build.
     x_build: Vec<V3>,
-    /// CSR offsets by i (length N + 1).
-    pub first: Vec<u32>,
-    /// i of each pair.
-    pub i: Vec<u32>,
-    /// j of each pair (> i, ascending within one i).
-    pub j: Vec<u32>,
-    /// History of each pair.
-    pub hist: Vec<History>,
+    /// `order[s]`: the particle at sorted position s.
+    order: Vec<u32>,
+    /// `rank[i]`: the sorted position of particle i.
+    rank: Vec<u32>,
+    /// Sorted position of each pair's i (the smaller particle index).
+    si: Vec<u32>,
+    /// Sorted position of each pair's j.
+    sj: Vec<u32>,
+    /// History of each pair, as seen from i.
+    hist: Vec<History>,
+    /// Pairs by row (CSR offsets, length N + 1): the pairs of row a are those whose smaller
+    /// sorted position is a.
+    row_first: Vec<u32>,
+    /// Per sorted position: the smallest row holding one of its pairs (itself if none).
+    low_row: Vec<u32>,
+    /// Reduction entries by sorted position (CSR offsets, length N + 1).
+    red_first: Vec<u32>,
+    /// Reduction entries: pair index, with [`ROLE_J`] set where the particle is the pair's j.
+    red: Vec<u32>,
+    /// Number of builds so far (per-particle copies in the sorted order follow it).
+    generation: u64,
     valid: bool,
 }
 
@@ -45,12 +71,12 @@ impl PairList {
 
     /// Number of pairs.
     pub fn len(&self) -> usize {
-        self.j.len()
+        self.si.len()
     }
 
     /// `true` without pairs.
     pub fn is_empty(&self) -> bool {
-        self.j.is_empty()
+        self.si.is_empty()
     }
 
     /// Forces a rebuild at the next [`PairList::ensure`].
@@ -58,27 +84,88 @@ impl PairList {
         self.valid = false;
     }
 
+    /// Number of builds so far; changes whenever the order or the pairs change.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The spatial order: `order()[s]` is the particle at sorted position s.
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// The sorted position of particle `i`.
+    pub fn rank(&self, i: usize) -> usize {
+        self.rank[i] as usize
+    }
+
+    /// The sorted positions of all particles, by particle index.
+    pub fn ranks(&self) -> &[u32] {
+        &self.rank
+    }
+
+    /// Particle indices (i, j), i < j, of pair `k`.
+    pub fn pair(&self, k: usize) -> (usize, usize) {
+        (
+            self.order[self.si[k] as usize] as usize,
+            self.order[self.sj[k] as usize] as usize,
+        )
+    }
+
+    /// History of pair `k` as seen from its i.
+    pub fn history(&self, k: usize) -> History {
+        self.hist[k]
+    }
+
+    /// Sets the history of pair `k` as seen from its i.
+    pub fn set_history(&mut self, k: usize, h: History) {
+        self.hist[k] = h;
+    }
+
+    /// The list for a pass over its pairs: everything but the histories, read-only, and the
+    /// histories, mutable.
+    pub fn split_mut(&mut self) -> (PairView<'_>, &mut [History]) {
+        (
+            PairView {
+                order: &self.order,
+                si: &self.si,
+                sj: &self.sj,
+                row_first: &self.row_first,
+                low_row: &self.low_row,
+                red_first: &self.red_first,
+                red: &self.red,
+            },
+            &mut self.hist,
+        )
+    }
+
     /// Renumbers the particles after some were removed (`map[old] = Some(new)`); pairs with a
     /// removed particle are dropped, the others keep their history. A rebuild follows.
     pub fn remap(&mut self, map: &[Option<usize>]) {
-        let n_new = map.iter().flatten().count();
-        let mut first = vec![0u32; n_new + 1];
-        let (mut i2, mut j2, mut h2) = (Vec::new(), Vec::new(), Vec::new());
-        for p in 0..self.j.len() {
-            if let (Some(a), Some(b)) = (map[self.i[p] as usize], map[self.j[p] as usize]) {
-                first[a + 1] += 1;
-                i2.push(a as u32);
-                j2.push(b as u32);
-                h2.push(self.hist[p]);
+        for o in &mut self.order {
+            *o = map
+                .get(*o as usize)
+                .copied()
+                .flatten()
+                .map_or(u32::MAX, |k| k as u32);
+        }
+        let order = &self.order;
+        let mut k = 0;
+        for p in 0..self.si.len() {
+            if order[self.si[p] as usize] != u32::MAX && order[self.sj[p] as usize] != u32::MAX {
+                self.si[k] = self.si[p];
+                self.sj[k] = self.sj[p];
+                self.hist[k] = self.hist[p];
+                k += 1;
             }
         }
-        for k in 0..n_new {
-            first[k + 1] += first[k];
-        }
-        self.first = first;
-        self.i = i2;
-        self.j = j2;
-        self.hist = h2;
+        self.si.truncate(k);
+        self.sj.truncate(k);
+        self.hist.truncate(k);
+        self.row_first.clear();
+        self.low_row.clear();
+        self.red_first.clear();
+        self.red.clear();
         self.x_build.clear();
         self.valid = false;
     }
@@ -88,10 +175,13 @@ impl PairList {
     pub fn ensure(&mut self, x: &[V3], radius: &[f64]) -> bool {
         let need = !self.valid || self.x_build.len() != x.len() || {
             let lim = 0.25 * self.skin * self.skin;
-            x.iter().zip(&self.x_build).any(|(a, b)| {
-                let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > lim
-            })
+            x.par_iter()
+                .zip(&self.x_build)
+                .with_min_len(4096)
+                .any(|(a, b)| {
+                    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+                    d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > lim
+                })
         };
         if need {
             self.build(x, radius);
@@ -104,87 +194,214 @@ impl PairList {
         let n = x.len();
         let cells = CellGrid::new(x, radius, self.skin);
         let skin = self.skin;
+        // pairs (a, b), a < b in the new sorted order, row by row
         let nchunks = n.div_ceil(CHUNK);
-        let old_first = &self.first;
-        let old_j = &self.j;
-        let old_hist = &self.hist;
-        let have_old = old_first.len() >= 2;
-        let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<History>)> = (0..nchunks)
+        let chunks: Vec<(Vec<u32>, Vec<u32>)> = (0..nchunks)
             .into_par_iter()
             .map(|c| {
-                let lo = c * CHUNK;
-                let hi = ((c + 1) * CHUNK).min(n);
-                let mut counts = Vec::with_capacity(hi - lo);
-                let mut js = Vec::new();
-                let mut hs = Vec::new();
+                let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(n));
+                let (mut ra, mut rb) = (Vec::new(), Vec::new());
                 let mut row: Vec<u32> = Vec::with_capacity(32);
-                for i in lo..hi {
+                for a in lo..hi {
                     row.clear();
-                    cells.for_each_candidate(x[i], |j| {
-                        if j > i {
-                            let d = [x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]];
-                            let cut = radius[i] + radius[j] + skin;
+                    let (xa, ra_) = (cells.x[a], cells.radius[a]);
+                    cells.for_each_candidate(xa, |b, xb, rb_| {
+                        if b > a {
+                            let d = [xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]];
+                            let cut = ra_ + rb_ + skin;
                             if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
-                                row.push(j as u32);
+                                row.push(b as u32);
                             }
                         }
                     });
                     row.sort_unstable();
-                    counts.push(row.len() as u32);
-                    // merge with the old row of i (j ascending in both)
-                    let (mut a, a_end) = if have_old && i + 1 < old_first.len() {
-                        (old_first[i] as usize, old_first[i + 1] as usize)
-                    } else {
-                        (0, 0)
-                    };
-                    for &j in &row {
-                        while a < a_end && old_j[a] < j {
-                            a += 1;
-                        }
-                        let h = if a < a_end && old_j[a] == j {
-                            old_hist[a]
-                        } else {
-                            History::default()
-                        };
-                        hs.push(h);
-                    }
-                    js.extend_from_slice(&row);
+                    ra.extend(std::iter::repeat_n(a as u32, row.len()));
+                    rb.extend_from_slice(&row);
                 }
-                (counts, js, hs)
+                (ra, rb)
             })
             .collect();
-        let total: usize = chunks.iter().map(|c| c.1.len()).sum();
-        let mut first = Vec::with_capacity(n + 1);
-        first.push(0u32);
-        let mut pi = Vec::with_capacity(total);
-        let mut pj = Vec::with_capacity(total);
-        let mut ph = Vec::with_capacity(total);
-        let mut i = 0u32;
-        for (counts, js, hs) in chunks {
-            for c in counts {
-                first.push(first.last().unwrap() + c);
-                pi.extend(std::iter::repeat_n(i, c as usize));
-                i += 1;
-            }
-            pj.extend(js);
-            ph.extend(hs);
+        let old = self.old_histories(n);
+        let order = cells.items;
+        let mut rank = vec![0u32; n];
+        for (s, &p) in order.iter().enumerate() {
+            rank[p as usize] = s as u32;
         }
-        self.first = first;
-        self.i = pi;
-        self.j = pj;
-        self.hist = ph;
+        let total: usize = chunks.iter().map(|c| c.0.len()).sum();
+        let (mut si, mut sj, mut hist) = (
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+            Vec::with_capacity(total),
+        );
+        let mut row_first = vec![0u32; n + 1];
+        let mut low_row: Vec<u32> = (0..n as u32).collect();
+        for (ra, rb) in chunks {
+            for (a, b) in ra.into_iter().zip(rb) {
+                row_first[a as usize + 1] += 1;
+                low_row[b as usize] = low_row[b as usize].min(a);
+                let (pa, pb) = (order[a as usize], order[b as usize]);
+                let (s_i, s_j, i, j) = if pa < pb {
+                    (a, b, pa, pb)
+                } else {
+                    (b, a, pb, pa)
+                };
+                si.push(s_i);
+                sj.push(s_j);
+                hist.push(old.find(i as usize, j));
+            }
+        }
+        for a in 0..n {
+            row_first[a + 1] += row_first[a];
+        }
+        // reduction entries: counting sort by sorted position, then by partner index
+        let mut red_first = vec![0u32; n + 1];
+        for k in 0..si.len() {
+            red_first[si[k] as usize + 1] += 1;
+            red_first[sj[k] as usize + 1] += 1;
+        }
+        for s in 0..n {
+            red_first[s + 1] += red_first[s];
+        }
+        let mut fill = red_first.clone();
+        let mut red = vec![0u32; 2 * si.len()];
+        for k in 0..si.len() {
+            for (s, e) in [(si[k], k as u32), (sj[k], k as u32 | ROLE_J)] {
+                red[fill[s as usize] as usize] = e;
+                fill[s as usize] += 1;
+            }
+        }
+        let partner = |e: u32| {
+            let k = (e & !ROLE_J) as usize;
+            let s = if e & ROLE_J != 0 { si[k] } else { sj[k] };
+            order[s as usize]
+        };
+        for s in 0..n {
+            red[red_first[s] as usize..red_first[s + 1] as usize]
+                .sort_unstable_by_key(|&e| partner(e));
+        }
+        self.order = order;
+        self.rank = rank;
+        self.si = si;
+        self.sj = sj;
+        self.hist = hist;
+        self.row_first = row_first;
+        self.low_row = low_row;
+        self.red_first = red_first;
+        self.red = red;
         self.x_build = x.to_vec();
+        self.generation += 1;
         self.valid = true;
+    }
+
+    /// The non-zero histories of the current pairs, by particle index i (for `n` particles).
+    fn old_histories(&self, n: usize) -> OldHistories {
+        let mut first = vec![0u32; n + 1];
+        let mut keep = Vec::new();
+        for k in 0..self.si.len() {
+            if self.hist[k] == History::default() {
+                continue;
+            }
+            let (a, b) = (
+                self.order[self.si[k] as usize] as usize,
+                self.order[self.sj[k] as usize] as usize,
+            );
+            // as seen from the smaller index (a remap may have reversed the pair)
+            let (i, j, h) = if a < b {
+                (a, b, self.hist[k])
+            } else {
+                (
+                    b,
+                    a,
+                    History {
+                        shear: -self.hist[k].shear,
+                        roll: -self.hist[k].roll,
+                    },
+                )
+            };
+            if j < n {
+                first[i + 1] += 1;
+                keep.push((i, j as u32, h));
+            }
+        }
+        for i in 0..n {
+            first[i + 1] += first[i];
+        }
+        let mut fill = first.clone();
+        let mut j = vec![0u32; keep.len()];
+        let mut hist = vec![History::default(); keep.len()];
+        for (i, jj, h) in keep {
+            let at = fill[i] as usize;
+            j[at] = jj;
+            hist[at] = h;
+            fill[i] += 1;
+        }
+        OldHistories { first, j, hist }
     }
 }
 
-/// Particles binned into cubic cells (counting sort).
+/// A read-only view of a [`PairList`] without its histories ([`PairList::split_mut`]).
+#[derive(Debug, Clone, Copy)]
+pub struct PairView<'a> {
+    /// `order[s]`: the particle at sorted position s.
+    pub order: &'a [u32],
+    /// Sorted position of each pair's i (the smaller particle index).
+    pub si: &'a [u32],
+    /// Sorted position of each pair's j.
+    pub sj: &'a [u32],
+    /// Pairs by row (length N + 1): row a holds the pairs whose smaller sorted position is a,
+    /// `row_first[a]..row_first[a + 1]`; pairs are stored row by row.
+    pub row_first: &'a [u32],
+    low_row: &'a [u32],
+    red_first: &'a [u32],
+    red: &'a [u32],
+}
+
+impl PairView<'_> {
+    /// The smallest row holding a pair of sorted position `s` (`s` itself if none lies
+    /// below): once rows `low_row(s)..=s` are evaluated, all of `s`'s pairs are.
+    #[inline]
+    pub fn low_row(&self, s: usize) -> usize {
+        self.low_row[s] as usize
+    }
+
+    /// The reduction entries of sorted position `s`: pair indices (with [`ROLE_J`] where the
+    /// particle is the pair's j), ordered by the partner's particle index.
+    #[inline]
+    pub fn reduction(&self, s: usize) -> &[u32] {
+        &self.red[self.red_first[s] as usize..self.red_first[s + 1] as usize]
+    }
+}
+
+/// Non-zero histories of a list about to be rebuilt, by particle index i (CSR).
+struct OldHistories {
+    first: Vec<u32>,
+    j: Vec<u32>,
+    hist: Vec<History>,
+}
+
+impl OldHistories {
+    /// The history of pair (i, j), zero if it had none.
+    fn find(&self, i: usize, j: u32) -> History {
+        let row = self.first[i] as usize..self.first[i + 1] as usize;
+        self.j[row.clone()]
+            .iter()
+            .position(|&x| x == j)
+            .map_or(History::default(), |k| self.hist[row.start + k])
+    }
+}
+
+/// Particles binned into cubic cells (counting sort), with their positions and radii copied
+/// in cell order so that a search reads neighbouring cells from contiguous memory.
 struct CellGrid {
     lo: V3,
     inv: f64,
     dims: [usize; 3],
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Positions in `items` order (m).
+    x: Vec<V3>,
+    /// Radii in `items` order (m).
+    radius: Vec<f64>,
 }
 
 impl CellGrid {
@@ -245,13 +462,16 @@ impl CellGrid {
             inv,
             dims,
             start,
+            x: items.iter().map(|&p| x[p as usize]).collect(),
+            radius: items.iter().map(|&p| radius[p as usize]).collect(),
             items,
         }
     }
 
-    /// Calls `f(j)` for every particle in the 27 cells around `p`.
+    /// Calls `f(k, xₖ, Rₖ)` for every particle in the 27 cells around `p`, k its position in
+    /// cell order (`items`).
     #[inline]
-    fn for_each_candidate(&self, p: V3, mut f: impl FnMut(usize)) {
+    fn for_each_candidate(&self, p: V3, mut f: impl FnMut(usize, V3, f64)) {
         let mut c = [0isize; 3];
         for k in 0..3 {
             c[k] = (((p[k] - self.lo[k]) * self.inv) as isize).min(self.dims[k] as isize - 1);
@@ -264,8 +484,8 @@ impl CellGrid {
                 let x1 = (c[0] + 1).min(d[0] as isize - 1) as usize;
                 let s = self.start[row + x0] as usize;
                 let e = self.start[row + x1 + 1] as usize;
-                for &j in &self.items[s..e] {
-                    f(j as usize);
+                for k in s..e {
+                    f(k, self.x[k], self.radius[k]);
                 }
             }
         }
@@ -302,22 +522,72 @@ mod tests {
                 }
             }
         }
-        let got: Vec<(u32, u32)> = list.i.iter().copied().zip(list.j.iter().copied()).collect();
+        let pairs = |l: &PairList| {
+            let mut v: Vec<(u32, u32, usize)> = (0..l.len())
+                .map(|k| {
+                    let (i, j) = l.pair(k);
+                    (i as u32, j as u32, k)
+                })
+                .collect();
+            v.sort_unstable();
+            v
+        };
+        let got: Vec<(u32, u32)> = pairs(&list).iter().map(|p| (p.0, p.1)).collect();
         assert_eq!(got, brute);
-        // history survives a rebuild, keyed by the pair
-        for (p, h) in list.hist.iter_mut().enumerate() {
-            h.shear = V3::new(p as f64, list.i[p] as f64, list.j[p] as f64);
+        // every pair twice in the reduction entries, each particle's ordered by partner
+        let mut seen = vec![0u8; list.len()];
+        let mut copy = list.clone();
+        let (view, _) = copy.split_mut();
+        for s in 0..n {
+            let me = list.order()[s] as usize;
+            assert_eq!(list.rank(me), s);
+            let partners: Vec<usize> = view
+                .reduction(s)
+                .iter()
+                .map(|&e| {
+                    let k = (e & !ROLE_J) as usize;
+                    seen[k] += 1;
+                    let (i, j) = list.pair(k);
+                    assert_eq!(me, if e & ROLE_J != 0 { j } else { i });
+                    if e & ROLE_J != 0 {
+                        i
+                    } else {
+                        j
+                    }
+                })
+                .collect();
+            assert!(partners.windows(2).all(|w| w[0] < w[1]), "{partners:?}");
         }
-        let old = list.clone();
+        assert!(seen.iter().all(|&c| c == 2));
+        // history survives a rebuild, keyed by the pair
+        for k in 0..list.len() {
+            let (i, j) = list.pair(k);
+            list.set_history(
+                k,
+                History {
+                    shear: V3::new(k as f64 + 1.0, i as f64, j as f64),
+                    roll: V3::zeros(),
+                },
+            );
+        }
+        let keyed = |l: &PairList| -> Vec<(u32, u32, History)> {
+            pairs(l)
+                .iter()
+                .map(|p| (p.0, p.1, l.history(p.2)))
+                .collect()
+        };
+        let old = keyed(&list);
         list.build(&x, &r);
-        assert_eq!(list.hist, old.hist);
+        assert_eq!(keyed(&list), old);
         // removing particle 0 drops its pairs and renumbers the others
         let map: Vec<Option<usize>> = (0..n).map(|k| (k > 0).then(|| k - 1)).collect();
         list.remap(&map);
         list.build(&x[1..], &r[1..]);
-        for p in 0..list.len() {
-            assert_eq!(list.hist[p].shear[1], (list.i[p] + 1) as f64);
-            assert_eq!(list.hist[p].shear[2], (list.j[p] + 1) as f64);
+        assert_eq!(list.len(), old.iter().filter(|p| p.0 > 0).count());
+        for k in 0..list.len() {
+            let (i, j) = list.pair(k);
+            assert_eq!(list.history(k).shear[1], (i + 1) as f64);
+            assert_eq!(list.history(k).shear[2], (j + 1) as f64);
         }
     }
 }

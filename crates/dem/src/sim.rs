@@ -7,10 +7,10 @@
 //! contact history advanced); second half kick; due dumps are written. With constant force this
 //! integrates exactly (x = x₀ + v₀t + ½at²).
 //!
-//! The pair loop runs on one contiguous block of particles (rows of the half pair list) per
-//! rayon thread, each accumulating into its own force buffer; the buffers are summed in thread
-//! order, so results are bit-identical from run to run for a given number of threads (and
-//! differ between thread counts only by round-off, which granular dynamics amplify).
+//! The pair forces ([`crate::pair_loop`]) are evaluated over the half pair list in the
+//! particles' spatial order and summed per particle in a fixed order (by partner index), so
+//! results are bit-identical from run to run and for any number of rayon threads. Walls,
+//! gravity, coupling and the kicks are per particle, in index order.
 
 use dem_io::{Boundary, BoxBounds};
 use mesh::v3::V3;
@@ -23,6 +23,7 @@ use crate::error::DemError;
 use crate::insert::InsertPack;
 use crate::material::Materials;
 use crate::neighbor::PairList;
+use crate::pair_loop::PairForces;
 use crate::particles::{NewParticle, Particles, INERTIA_FACTOR};
 use crate::walls::Wall;
 
@@ -132,6 +133,9 @@ pub struct HalfStep {
 /// one that recorded them (the recorded forces are then used as they are).
 const SAME_FORCES: f64 = 1e-9;
 
+/// Particles per parallel block of the passes with a few flops per particle.
+pub(crate) const STREAM_BLOCK: usize = 4096;
+
 /// A running DEM simulation.
 #[derive(Debug)]
 pub struct Simulation {
@@ -141,13 +145,17 @@ pub struct Simulation {
     pair_model: ContactModel,
     walls: Vec<Wall>,
     wall_hist: Vec<History>,
+    /// Per particle: whether one of its wall histories may be non-zero (false only where the
+    /// last force evaluation found them all zero; emptied by every other change of
+    /// `wall_hist`, which makes it all true again).
+    wall_maybe: Vec<bool>,
     dt: f64,
     gravity: V3,
     step: u64,
     sim_box: SimBox,
     pairs: PairList,
-    /// Per-thread force and torque accumulators of the pair loop.
-    acc: Vec<Vec<[V3; 2]>>,
+    /// The pair loop's buffers.
+    pair_forces: PairForces,
     coupling: Coupling,
     /// The coupling the current forces were evaluated with, when it was replaced since
     /// ([`Simulation::set_coupling`] between two steps); `None`: the current one.
@@ -185,12 +193,13 @@ impl Simulation {
             pair_model: cfg.pair_model,
             walls: Vec::new(),
             wall_hist: Vec::new(),
+            wall_maybe: Vec::new(),
             dt: cfg.dt,
             gravity: cfg.gravity,
             step: 0,
             sim_box: cfg.sim_box,
             pairs: PairList::new(cfg.skin),
-            acc: Vec::new(),
+            pair_forces: PairForces::default(),
             coupling: Coupling::default(),
             forces_coupling: None,
             forces_valid: false,
@@ -278,6 +287,7 @@ impl Simulation {
             h.push(History::default());
         }
         self.wall_hist = h;
+        self.wall_maybe.clear();
         self.walls.push(wall);
         self.forces_valid = false;
         Ok(())
@@ -287,6 +297,8 @@ impl Simulation {
     pub fn add_particles(&mut self, new: &[NewParticle]) -> Result<(), DemError> {
         let mut ids: std::collections::HashSet<u64> = self.particles.id.iter().copied().collect();
         let before = self.particles.len();
+        // the largest id so far, kept here (Particles::max_id is a pass over all particles)
+        let mut max_id = self.particles.max_id();
         for p in new {
             if p.id != 0 && !ids.insert(p.id) {
                 return Err(DemError::Particle {
@@ -294,7 +306,11 @@ impl Simulation {
                     message: "id already in use".into(),
                 });
             }
-            if let Err(e) = self.particles.push(*p, self.materials.ntypes()) {
+            let id = if p.id == 0 { max_id + 1 } else { p.id };
+            if let Err(e) = self
+                .particles
+                .push(NewParticle { id, ..*p }, self.materials.ntypes())
+            {
                 self.particles.retain(
                     &(0..self.particles.len())
                         .map(|i| i < before)
@@ -302,11 +318,13 @@ impl Simulation {
                 );
                 return Err(e);
             }
-            ids.insert(*self.particles.id.last().expect("just pushed"));
+            ids.insert(id);
+            max_id = max_id.max(id);
         }
         let added = self.particles.len() - before;
         self.wall_hist
             .resize(self.particles.len() * self.walls.len(), History::default());
+        self.wall_maybe.clear();
         self.coupling.grow(added);
         self.pairs.invalidate();
         self.forces_valid = false;
@@ -414,17 +432,19 @@ impl Simulation {
         let (x, r) = (&self.particles.x, &self.particles.radius);
         let n = x.len();
         let pl = &self.pairs;
-        (0..pl.len())
+        let mut v: Vec<(usize, usize, History)> = (0..pl.len())
             .filter_map(|k| {
-                let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
+                let (i, j) = pl.pair(k);
                 if i >= n || j >= n {
                     return None;
                 }
                 let d = x[i] - x[j];
                 let radsum = r[i] + r[j];
-                (d.dot(&d) < radsum * radsum).then_some((i, j, pl.hist[k]))
+                (d.dot(&d) < radsum * radsum).then_some((i, j, pl.history(k)))
             })
-            .collect()
+            .collect();
+        v.sort_unstable_by_key(|c| (c.0, c.1));
+        v
     }
 
     /// Sets the history of the pairs in contact, as `(i, j, history seen from i)` with
@@ -435,6 +455,10 @@ impl Simulation {
         let p = &self.particles;
         self.pairs.build(&p.x, &p.radius);
         let n = p.len();
+        let mut index: Vec<((usize, usize), usize)> = (0..self.pairs.len())
+            .map(|k| (self.pairs.pair(k), k))
+            .collect();
+        index.sort_unstable();
         let mut skipped = 0;
         for &(a, b, h) in contacts {
             let (i, j, h) = if a < b {
@@ -454,13 +478,8 @@ impl Simulation {
                 let radsum = p.radius[i] + p.radius[j];
                 d.dot(&d) < radsum * radsum
             };
-            let row = if in_contact {
-                self.pairs.first[i] as usize..self.pairs.first[i + 1] as usize
-            } else {
-                0..0
-            };
-            match self.pairs.j[row.clone()].binary_search(&(j as u32)) {
-                Ok(k) if in_contact => self.pairs.hist[row.start + k] = h,
+            match index.binary_search_by_key(&(i, j), |e| e.0) {
+                Ok(at) if in_contact => self.pairs.set_history(index[at].1, h),
                 _ => skipped += 1,
             }
         }
@@ -478,6 +497,7 @@ impl Simulation {
     pub fn set_wall_history(&mut self, i: usize, w: usize, h: History) {
         let nw = self.walls.len();
         self.wall_hist[i * nw + w] = h;
+        self.wall_maybe.clear();
         self.forces_valid = false;
     }
 
@@ -608,7 +628,8 @@ impl Simulation {
     }
 
     fn write_dumps(&mut self) -> Result<(), DemError> {
-        if self.dumps.is_empty() {
+        // the bounds are a pass over all particles: only when a dump writes
+        if !self.dumps.iter().any(|d| d.is_due(self.step)) {
             return Ok(());
         }
         let bounds = self.sim_box.dump_bounds(&self.particles.x);
@@ -623,18 +644,23 @@ impl Simulation {
         let dt = self.dt;
         let half = 0.5 * dt;
         {
-            // sequential: a few flops per particle, cheaper than a parallel region
+            // a few flops per particle: parallel only in large blocks
             let p = &mut self.particles;
             let (m, r, f, t) = (&p.mass, &p.radius, &p.f, &p.torque);
-            for (i, ((x, v), w)) in p.x.iter_mut().zip(&mut p.v).zip(&mut p.omega).enumerate() {
-                let a = half / m[i];
-                let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
-                for k in 0..3 {
-                    v[k] += a * f[i][k];
-                    x[k] += dt * v[k];
-                    w[k] += ai * t[i][k];
-                }
-            }
+            p.x.par_iter_mut()
+                .zip(&mut p.v)
+                .zip(&mut p.omega)
+                .enumerate()
+                .with_min_len(STREAM_BLOCK)
+                .for_each(|(i, ((x, v), w))| {
+                    let a = half / m[i];
+                    let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
+                    for k in 0..3 {
+                        v[k] += a * f[i][k];
+                        x[k] += dt * v[k];
+                        w[k] += ai * t[i][k];
+                    }
+                });
         }
         self.step += 1;
         self.remove_lost();
@@ -653,6 +679,7 @@ impl Simulation {
         let nw = self.walls.len();
         let mut it = (0..self.particles.len()).flat_map(|i| std::iter::repeat_n(keep[i], nw));
         self.wall_hist.retain(|_| it.next().unwrap_or(true));
+        self.wall_maybe.clear();
         let map = self.particles.retain(&keep);
         self.lost += keep.iter().filter(|&&k| !k).count() as u64;
         self.pairs.remap(&map);
@@ -665,78 +692,9 @@ impl Simulation {
         let dt = self.dt;
         let model = self.pair_model;
         let mats = &self.materials;
-        let p = &self.particles;
-        let n = p.len();
-        let (x, v, w, r, m, ty) = (&p.x, &p.v, &p.omega, &p.radius, &p.mass, &p.atom_type);
-        let pairs = &mut self.pairs;
-        // rows (particles i) split into one chunk per thread with about equal numbers of pairs
-        let nt = rayon::current_num_threads().clamp(1, n.max(1));
-        let total = pairs.len();
-        let mut rows = vec![0usize; nt + 1];
-        for c in 1..nt {
-            let target = total * c / nt;
-            rows[c] = pairs.first[..n]
-                .partition_point(|&f| (f as usize) < target)
-                .max(rows[c - 1]);
-        }
-        rows[nt] = n;
-        let mut hist_chunks = Vec::with_capacity(nt);
-        let mut rest: &mut [History] = &mut pairs.hist;
-        for c in 0..nt {
-            let len = (pairs.first[rows[c + 1]] - pairs.first[rows[c]]) as usize;
-            let (head, tail) = rest.split_at_mut(len);
-            hist_chunks.push(head);
-            rest = tail;
-        }
-        self.acc.resize_with(nt, Vec::new);
-        let (first, pj) = (&pairs.first, &pairs.j);
-        self.acc
-            .par_iter_mut()
-            .zip(hist_chunks)
-            .enumerate()
-            .for_each(|(c, (acc, hist))| {
-                acc.clear();
-                acc.resize(n, [V3::zeros(); 2]);
-                let base = first[rows[c]] as usize;
-                for i in rows[c]..rows[c + 1] {
-                    let (mut fi, mut ti) = (acc[i][0], acc[i][1]);
-                    for k in first[i] as usize..first[i + 1] as usize {
-                        let j = pj[k] as usize;
-                        let h = &mut hist[k - base];
-                        let d = x[i] - x[j];
-                        let rsq = d.dot(&d);
-                        let radsum = r[i] + r[j];
-                        if rsq >= radsum * radsum {
-                            if *h != History::default() {
-                                *h = History::default();
-                            }
-                            continue;
-                        }
-                        let dist = rsq.sqrt();
-                        let inp = ContactInput {
-                            n: (1.0 / dist * d),
-                            r: dist,
-                            deltan: radsum - dist,
-                            radi: r[i],
-                            radj: r[j],
-                            reff: r[i] * r[j] / radsum,
-                            meff: m[i] * m[j] / (m[i] + m[j]),
-                            vrel: (v[i] - v[j]),
-                            omega_i: w[i],
-                            omega_j: w[j],
-                            is_wall: false,
-                        };
-                        let c = mats.pair(ty[i], ty[j]);
-                        let o = contact_force(&model, c, &inp, h, dt, history);
-                        fi += o.force;
-                        ti += o.torque_i;
-                        acc[j][0] -= o.force;
-                        acc[j][1] += o.torque_j;
-                    }
-                    acc[i] = [fi, ti];
-                }
-            });
-        let acc = &self.acc;
+        self.pair_forces
+            .evaluate(&mut self.pairs, &self.particles, mats, &model, dt, history);
+        let pair_forces = &self.pair_forces;
         let walls = &self.walls;
         let nw = walls.len();
         let coupling = &self.coupling;
@@ -744,22 +702,35 @@ impl Simulation {
         let p = &mut self.particles;
         let (x, r, m, ty) = (&p.x, &p.radius, &p.mass, &p.atom_type);
         let wall_hist = &mut self.wall_hist;
+        if self.wall_maybe.len() != p.len() {
+            self.wall_maybe.clear();
+            self.wall_maybe.resize(p.len(), true);
+        }
+        let wall_maybe = &mut self.wall_maybe;
         let gather = |i: usize,
                       (f, t): (&mut V3, &mut V3),
                       (v, w): (&mut V3, &mut V3),
-                      wh: &mut [History]| {
+                      (wh, maybe): (&mut [History], &mut bool)| {
             let mut ff = (m[i] * g) + coupling.force(i, *v);
             let mut tt = V3::zeros();
-            for a in acc {
-                ff += a[i][0];
-                tt += a[i][1];
-            }
+            let (fp, tp) = pair_forces.sum(i);
+            ff += fp;
+            tt += tp;
+            // most particles touch no wall and have no wall history to reset: their
+            // histories are neither read nor written
+            let (check, mut touched) = (*maybe, false);
             for (wall, h) in walls.iter().zip(wh.iter_mut()) {
-                let contact = wall.shape.distance(x[i]).filter(|&(dist, _)| dist < r[i]);
+                // the gap first: the normal only for contacts
+                let contact = (wall.shape.gap(x[i]) < r[i])
+                    .then(|| wall.shape.distance(x[i]))
+                    .flatten();
                 let Some((dist, n)) = contact else {
-                    *h = History::default();
+                    if check && *h != History::default() {
+                        *h = History::default();
+                    }
                     continue;
                 };
+                touched = true;
                 let inp = ContactInput {
                     n,
                     r: dist,
@@ -778,6 +749,7 @@ impl Simulation {
                 ff += o.force;
                 tt += o.torque_i;
             }
+            *maybe = touched;
             *f = ff;
             *t = tt;
             if let Some(half) = kick {
@@ -793,15 +765,17 @@ impl Simulation {
         let vw = p.v.par_iter_mut().zip(p.omega.par_iter_mut());
         if nw == 0 {
             ft.zip(vw)
+                .zip(wall_maybe.par_iter_mut())
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, (a, b))| gather(i, a, b, &mut []));
+                .for_each(|(i, ((a, b), maybe))| gather(i, a, b, (&mut [], maybe)));
         } else {
             ft.zip(vw)
                 .zip(wall_hist.par_chunks_mut(nw))
+                .zip(wall_maybe.par_iter_mut())
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, ((a, b), wh))| gather(i, a, b, wh));
+                .for_each(|(i, (((a, b), wh), maybe))| gather(i, a, b, (wh, maybe)));
         }
         self.forces_valid = true;
         self.forces_coupling = None;

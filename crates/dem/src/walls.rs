@@ -48,7 +48,33 @@ pub fn other_axes(axis: usize) -> (usize, usize) {
     ((axis + 1) % 3, (axis + 2) % 3)
 }
 
+/// A point's offset from a cylinder's axis: the two other axes (a, b), the offsets along
+/// them (m) and the distance from the axis ρ (m).
+#[inline]
+fn axis_offset(axis: usize, centre: [f64; 2], x: V3) -> (usize, usize, f64, f64, f64) {
+    let (a, b) = other_axes(axis);
+    let (da, db) = (x[a] - centre[0], x[b] - centre[1]);
+    (a, b, da, db, (da * da + db * db).sqrt())
+}
+
 impl WallShape {
+    /// Distance (m) of point `x` to the wall surface, as [`WallShape::distance`] gives it
+    /// (bit for bit), without the normal; infinite where that has none.
+    #[inline]
+    pub fn gap(&self, x: V3) -> f64 {
+        match *self {
+            WallShape::Plane { axis, position } => (x[axis] - position).abs(),
+            WallShape::Cylinder {
+                axis,
+                radius,
+                centre,
+            } => match axis_offset(axis, centre, x) {
+                (.., 0.0) => f64::INFINITY,
+                (.., rho) => (rho - radius).abs(),
+            },
+        }
+    }
+
     /// Distance (m) of point `x` to the wall surface and the unit normal from the wall towards
     /// `x`; `None` when the normal is undefined (a point on a cylinder's axis).
     #[inline]
@@ -65,9 +91,7 @@ impl WallShape {
                 radius,
                 centre,
             } => {
-                let (a, b) = other_axes(axis);
-                let (da, db) = (x[a] - centre[0], x[b] - centre[1]);
-                let rho = (da * da + db * db).sqrt();
+                let (a, b, da, db, rho) = axis_offset(axis, centre, x);
                 if rho == 0.0 {
                     return None;
                 }
@@ -111,6 +135,11 @@ mod tests {
             Some((1.0, V3::new(0.0, 1.0, 0.0)))
         );
         assert_eq!(c.distance(V3::new(1.0, 0.0, 0.0)), None);
+        assert_eq!(c.gap(V3::new(1.0, 0.0, 0.0)), f64::INFINITY);
+        for x in [V3::new(2.5, 0.1, 7.0), V3::new(1.0, 3.0, 0.0)] {
+            assert_eq!(c.gap(x), c.distance(x).unwrap().0);
+            assert_eq!(p.gap(x), p.distance(x).unwrap().0);
+        }
         // y-cylinder: the centre is (z, x)
         let y = WallShape::Cylinder {
             axis: 1,
