@@ -182,20 +182,15 @@ impl Coupler {
         if self.ranks.size() > 1 && self.ranks.rank() > 0 {
             return self.exchange_remote(particles);
         }
-        for (what, len) in [
-            ("fluid U", fluid.u.len()),
-            ("fluid p", fluid.p.len()),
-            ("fluid grad(p)", fluid.grad_p.len()),
-            ("fluid div(tau)", fluid.div_tau.len()),
-        ] {
-            if len != n_cells {
-                return Err(CoupleError::Length {
-                    what,
-                    expected: n_cells,
-                    found: len,
-                });
-            }
-        }
+        same_lengths(
+            n_cells,
+            &[
+                ("fluid U", fluid.u.len()),
+                ("fluid p", fluid.p.len()),
+                ("fluid grad(p)", fluid.grad_p.len()),
+                ("fluid div(tau)", fluid.div_tau.len()),
+            ],
+        )?;
         let (shares, mut deposit) = self.place(particles)?;
         let parallel = self.ranks.size() > 1;
         let touched = if parallel {
@@ -526,24 +521,31 @@ fn fluid_err(source: crate::error::SideError) -> CoupleError {
     }
 }
 
+/// The first of `arrays` (name, length) whose length is not `expected`, as an error.
+fn same_lengths(expected: usize, arrays: &[(&'static str, usize)]) -> Result<(), CoupleError> {
+    match arrays.iter().find(|(_, len)| *len != expected) {
+        Some(&(what, found)) => Err(CoupleError::Length {
+            what,
+            expected,
+            found,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Equal lengths, finite velocities and positive finite densities; the first bad particle as
 /// an error naming its index and id. (Positions and radii are checked by the voidage.)
 fn check_particles(p: &ParticleState<'_>) -> Result<(), CoupleError> {
     let n = p.ids.len();
-    for (what, len) in [
-        ("particle positions", p.position.len()),
-        ("particle velocities", p.velocity.len()),
-        ("particle radii", p.radius.len()),
-        ("particle densities", p.density.len()),
-    ] {
-        if len != n {
-            return Err(CoupleError::Length {
-                what,
-                expected: n,
-                found: len,
-            });
-        }
-    }
+    same_lengths(
+        n,
+        &[
+            ("particle positions", p.position.len()),
+            ("particle velocities", p.velocity.len()),
+            ("particle radii", p.radius.len()),
+            ("particle densities", p.density.len()),
+        ],
+    )?;
     let valid = |i: usize| {
         p.velocity[i].iter().all(|x| x.is_finite())
             && p.density[i].is_finite()
