@@ -732,6 +732,14 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
+    /// The largest |a − b| over two equally long vectors.
+    fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    }
+
     fn geometry(n: [usize; 3]) -> FvGeometry {
         let m = mesh::build::uniform_box([0.0; 3], [1.0, 0.7, 0.4], n);
         FvGeometry::new(&m).unwrap()
@@ -828,11 +836,7 @@ mod tests {
                 bicgstab(&a, &g, &b, &mut x, Preconditioner::Dic, &c, "x").unwrap()
             };
             assert_eq!(s.iterations, 1, "symmetric {symmetric}: {s:?}");
-            let err = x
-                .iter()
-                .zip(&x_true)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let err = max_abs_diff(&x, &x_true);
             assert!(err < 1e-12, "{err}");
         }
     }
@@ -879,11 +883,7 @@ mod tests {
             for method in methods {
                 let mut x = vec![0.0; g.n_cells];
                 let s = solve(method, &a, &g, &b, &mut x, &c, "x").unwrap();
-                let err = x
-                    .iter()
-                    .zip(&x_true)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
+                let err = max_abs_diff(&x, &x_true);
                 assert!(
                     s.last < 1e-12 && err < 1e-9,
                     "{method:?}: {s:?}, error {err}"
@@ -955,11 +955,7 @@ mod tests {
             for method in methods {
                 let mut x = vec![0.0; g.n_cells];
                 let s = solve(method, &a, &g, &b, &mut x, &c, "x").unwrap();
-                let err = x
-                    .iter()
-                    .zip(&x_true)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
+                let err = max_abs_diff(&x, &x_true);
                 assert!(err < 1e-9, "{method:?}: {s:?}, error {err}");
             }
         }

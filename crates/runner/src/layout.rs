@@ -106,6 +106,11 @@ fn entry_err(path: &Path, e: impl std::fmt::Display) -> LayoutError {
     }
 }
 
+/// The word `key` of the validationDict `d` (a patch name), as an error naming the file.
+fn word(d: &Dict, path: &Path, key: &str) -> Result<String, LayoutError> {
+    Ok(d.word(key).map_err(|e| entry_err(path, e))?.to_owned())
+}
+
 fn tolerance(d: &Dict, path: &Path, key: &str) -> Result<f64, LayoutError> {
     let t = d.f64(key).map_err(|e| entry_err(path, e))?;
     if !(t.is_finite() && t > 0.0) {
@@ -131,14 +136,8 @@ impl ValidationSpec {
                 }
                 Ok(ValidationSpec::ErgunPackedBed {
                     axis: mesh::v3::V3::new(axis[0] / n, axis[1] / n, axis[2] / n),
-                    inlet: d
-                        .word("inletPatch")
-                        .map_err(|e| entry_err(path, e))?
-                        .to_owned(),
-                    outlet: d
-                        .word("outletPatch")
-                        .map_err(|e| entry_err(path, e))?
-                        .to_owned(),
+                    inlet: word(&d, path, "inletPatch")?,
+                    outlet: word(&d, path, "outletPatch")?,
                     pressure_drop_tolerance: tolerance(&d, path, "pressureDropTolerance")?,
                     plateau_tolerance: tolerance(&d, path, "plateauTolerance")?,
                 })
@@ -147,14 +146,8 @@ impl ValidationSpec {
                 velocity_tolerance: tolerance(&d, path, "velocityTolerance")?,
             }),
             "fluidisedBed" => Ok(ValidationSpec::FluidisedBed {
-                inlet: d
-                    .word("inletPatch")
-                    .map_err(|e| entry_err(path, e))?
-                    .to_owned(),
-                outlet: d
-                    .word("outletPatch")
-                    .map_err(|e| entry_err(path, e))?
-                    .to_owned(),
+                inlet: word(&d, path, "inletPatch")?,
+                outlet: word(&d, path, "outletPatch")?,
                 // positive numbers, like the tolerances
                 expanded_bed_height: tolerance(&d, path, "expandedBedHeight")?,
                 bed_height_tolerance: tolerance(&d, path, "bedHeightTolerance")?,
