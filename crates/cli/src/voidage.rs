@@ -115,7 +115,7 @@ pub fn run(a: &VoidageArgs) -> anyhow::Result<()> {
             &a.time,
             "voidfraction",
             [0; 7],
-            FieldValues::Scalar(piece.pick(&eps.epsilon, 1)),
+            FieldValues::Scalar(piece.pick(&eps.epsilon)),
             "zeroGradient",
             Format::Ascii,
         )?;

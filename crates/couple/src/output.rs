@@ -51,12 +51,8 @@ pub fn write_fields_decomposed(
     for (name, dims, values) in fields_of(step) {
         for piece in pieces {
             let picked = match &values {
-                FieldValues::Scalar(v) => FieldValues::Scalar(piece.pick(v, 1)),
-                FieldValues::Vector(v) => {
-                    let flat: Vec<f64> = v.iter().flatten().copied().collect();
-                    let mine = piece.pick(&flat, 3);
-                    FieldValues::Vector(mine.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
-                }
+                FieldValues::Scalar(v) => FieldValues::Scalar(piece.pick(v)),
+                FieldValues::Vector(v) => FieldValues::Vector(piece.pick(v)),
             };
             piece.write_cell_field(time, name, dims, picked, "zeroGradient", format)?;
         }

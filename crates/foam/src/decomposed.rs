@@ -77,14 +77,9 @@ fn invalid(path: &Path, message: String) -> FoamError {
 }
 
 impl Piece {
-    /// The piece's values of a whole-mesh cell field with `width` values per cell.
-    pub fn pick(&self, whole: &[f64], width: usize) -> Vec<f64> {
-        let mut out = Vec::with_capacity(self.cells.len() * width);
-        for &c in &self.cells {
-            let c = c as usize;
-            out.extend_from_slice(&whole[c * width..(c + 1) * width]);
-        }
-        out
+    /// The piece's values of a whole-mesh cell field (one value per cell: a scalar, a vector).
+    pub fn pick<T: Copy>(&self, whole: &[T]) -> Vec<T> {
+        self.cells.iter().map(|&c| whole[c as usize]).collect()
     }
 
     /// Writes the cell field `name` (dimensions `dims`) into the piece's time directory
