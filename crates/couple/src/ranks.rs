@@ -21,8 +21,49 @@
 //!
 //! Sums over ranks run in rank order: a run is deterministic for a fixed rank count, and
 //! differs from the one-rank run by round-off only (the order of the per-cell additions).
+//!
+//! # The fluid's cells elsewhere: [`CellOwners`]
+//!
+//! When the fluid is grainPisoFoam on its own ranks, rank 0 does not relay: each coupler rank
+//! exchanges the touched cells' values straight with the solver ranks that own them
+//! ([`crate::Coupler::set_owners`]; the MPI implementation is crate foam-link's). Then, on
+//! every coupler rank:
+//!
+//! 1. the rank gives the owners its solid volume per touched cell ([`CellOwners::deposit`]) and
+//!    gets back, per touched cell, the solid volume summed over all coupler ranks (in rank
+//!    order), whether it is the lowest rank touching the cell, and U, p, ∇p, ∇·τ;
+//! 2. it computes ε of its touched cells from the summed volume with the same kernel as rank
+//!    0 would ([`voidage::voidage_field`], `alphaMin` floor), so every rank touching a cell
+//!    gets the same ε; the clipping statistics count each cell on its lowest rank only and are
+//!    summed over ranks;
+//! 3. it computes its particles' forces and gives the owners ε, Σ Ksl, Σ Ksl·Us and Σ f per
+//!    touched cell ([`CellOwners::exchange`]); the owners form Ksl, Us and f as rank 0 does
+//!    ([`Ranks::sum_to_root`] then the division of Σ Ksl·Us by Σ Ksl).
+//!
+//! No coupler rank then holds a whole field: bytes per rank scale with its particles' cells.
 
+use crate::error::SideError;
 use foam::Label;
+
+/// Values per touched cell [`CellOwners::deposit`] returns: Σ solid volume (m³), lowest-rank
+/// flag (1 or 0), U (3, m/s), p (m²/s²), ∇p (3, m/s²), ∇·τ (3, m/s²).
+pub const OWNER_REPLY_WIDTH: usize = 12;
+/// Values per touched cell [`CellOwners::exchange`] takes: ε, Σ Ksl (kg/(m³ s)), Σ Ksl·Us (3),
+/// Σ f (3, N/m³).
+pub const OWNER_SUMS_WIDTH: usize = 8;
+
+/// The fluid's cells held by other processes (grainPisoFoam's ranks), reached from every
+/// coupler rank (module docs). Both methods are collective over the coupler's ranks and the
+/// owners: every rank calls them every coupling step, in this order, with possibly no cells.
+pub trait CellOwners {
+    /// Round 1: this rank's solid volume (m³) per touched cell (`cells` increasing, no
+    /// repeats); returns [`OWNER_REPLY_WIDTH`] values per cell, in `cells`' order.
+    fn deposit(&mut self, cells: &[Label], solid: &[f64]) -> Result<Vec<f64>, SideError>;
+    /// Round 2: [`OWNER_SUMS_WIDTH`] values per cell of the last [`CellOwners::deposit`].
+    fn exchange(&mut self, sums: &[f64]) -> Result<(), SideError>;
+    /// Payload bytes this rank has sent to and received from the owners so far.
+    fn traffic(&self) -> (u64, u64);
+}
 
 /// The coupler's ranks (module docs). Every method is collective: all ranks call it, in the
 /// same order.

@@ -15,19 +15,20 @@
 //! one-way replay needs). On several ranks ([`Coupler::set_ranks`], [`crate::ranks`]) each
 //! rank runs the same steps on its own particles; steps 2 and 4 then sum the cells' shares on
 //! rank 0, which holds the fluid (the other ranks' fluid side is a stand-in that only counts
-//! time). [`Coupler::run`] repeats [`Coupler::step`], handing each finished
+//! time), or, with [`Coupler::set_owners`], go from every rank straight to the processes that
+//! own the fluid's cells ([`crate::ranks::CellOwners`]). [`Coupler::run`] repeats [`Coupler::step`], handing each finished
 //! step back ([`Coupler::recycle`]) so its per-particle buffers are reused.
 
 use crate::error::CoupleError;
 use crate::exchange::Exchange;
 use crate::forces::{couplings_and_exchange, ForceSet, ParticleCoupling, Physics};
 use crate::interpolate::Placement;
-use crate::ranks::{pick, Ranks, Serial};
+use crate::ranks::{pick, CellOwners, Ranks, Serial, OWNER_REPLY_WIDTH, OWNER_SUMS_WIDTH};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 use foam::{Label, PolyMesh};
 use mesh::v3::V3;
 use rayon::prelude::*;
-use voidage::{CellShares, Deposit, Method, ParticleSet, Voidage, VoidageMesh};
+use voidage::{voidage_field, CellShares, Deposit, Method, ParticleSet, Voidage, VoidageMesh};
 
 /// What a coupler needs besides the mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -71,6 +72,8 @@ pub struct Coupler {
     /// On ranks other than 0: ε and the fluid at the cells this rank's particles touch
     /// (received from rank 0; other cells hold stale values that are never read).
     remote: Remote,
+    /// The fluid's cells' owners, when they are not rank 0 ([`Coupler::set_owners`]).
+    owners: Option<Box<dyn CellOwners>>,
 }
 
 /// A rank's copy of ε, U, p, ∇p and ∇·τ at the cells it touches (dense, `n_cells` long).
@@ -125,6 +128,7 @@ impl Coupler {
             ranks: Box::new(Serial::default()),
             touched: 0,
             remote: Remote::default(),
+            owners: None,
         })
     }
 
@@ -132,6 +136,19 @@ impl Coupler {
     /// exchange is collective over `ranks`.
     pub fn set_ranks(&mut self, ranks: Box<dyn Ranks>) {
         self.ranks = ranks;
+    }
+
+    /// Exchanges the touched cells' values straight with the processes owning the fluid's
+    /// cells, on every rank ([`crate::ranks`], [`CellOwners`]); the fluid side's
+    /// `set_exchange` then gets empty ε and exchange fields (the owners hold them), and no
+    /// rank's [`CouplingStep`] holds a whole ε or exchange field.
+    pub fn set_owners(&mut self, owners: Box<dyn CellOwners>) {
+        self.owners = Some(owners);
+    }
+
+    /// Bytes sent to and received from the cells' owners so far ((0, 0) without them).
+    pub fn owner_traffic(&self) -> (u64, u64) {
+        self.owners.as_ref().map_or((0, 0), |o| o.traffic())
     }
 
     /// Cells this rank's particles touched in the last exchange (on several ranks; 0 alone).
@@ -179,6 +196,9 @@ impl Coupler {
     ) -> Result<CouplingStep, CoupleError> {
         check_particles(particles)?;
         let n_cells = self.vm.n_cells();
+        if self.owners.is_some() {
+            return self.exchange_owned(particles);
+        }
         if self.ranks.size() > 1 && self.ranks.rank() > 0 {
             return self.exchange_remote(particles);
         }
@@ -281,7 +301,6 @@ impl Coupler {
         &mut self,
         particles: &ParticleState<'_>,
     ) -> Result<CouplingStep, CoupleError> {
-        let n_cells = self.vm.n_cells();
         let (shares, mut deposit) = self.place(particles)?;
         let touched = touched_cells(&shares, &self.hints);
         self.sum_deposit(&touched, &mut deposit);
@@ -297,7 +316,32 @@ impl Coupler {
         let mut got = Vec::with_capacity(touched.len() * FLUID_WIDTH);
         self.ranks
             .scatter_from_root(FLUID_WIDTH, &|_, _| {}, &mut got);
-        let mut remote = std::mem::take(&mut self.remote);
+        let remote = std::mem::take(&mut self.remote);
+        let (placement, forces, mut exchange, remote) =
+            self.forces_at(remote, &touched, &got, shares, particles);
+        self.remote = remote;
+        self.sum_exchange(&touched, &mut exchange);
+        Ok(CouplingStep {
+            placement,
+            deposit,
+            voidage,
+            forces,
+            exchange,
+        })
+    }
+
+    /// The forces of this rank's particles, with ε and the fluid of the `touched` cells given
+    /// as [`FLUID_WIDTH`] values per cell in `got` (written into the rank's dense copy
+    /// `remote`, which is handed back).
+    fn forces_at(
+        &mut self,
+        mut remote: Remote,
+        touched: &[Label],
+        got: &[f64],
+        shares: CellShares,
+        particles: &ParticleState<'_>,
+    ) -> (Placement, ForceSet, Exchange, Remote) {
+        let n_cells = self.vm.n_cells();
         let r = &mut remote;
         if r.eps.len() != n_cells {
             r.eps = vec![1.0; n_cells];
@@ -306,8 +350,8 @@ impl Coupler {
             r.grad_p = vec![V3::zeros(); n_cells];
             r.div_tau = vec![V3::zeros(); n_cells];
         }
-        for (k, &c) in touched.iter().enumerate() {
-            let (c, g) = (c as usize, &got[k * FLUID_WIDTH..(k + 1) * FLUID_WIDTH]);
+        for (&c, g) in touched.iter().zip(got.chunks_exact(FLUID_WIDTH)) {
+            let c = c as usize;
             r.eps[c] = g[0];
             r.u[c] = V3::new(g[1], g[2], g[3]);
             r.p[c] = g[4];
@@ -320,9 +364,81 @@ impl Coupler {
             grad_p: &r.grad_p,
             div_tau: &r.div_tau,
         };
-        let (placement, forces, mut exchange) = self.forces(shares, &fluid, &r.eps, particles);
+        let (placement, forces, exchange) = self.forces(shares, &fluid, &r.eps, particles);
+        (placement, forces, exchange, remote)
+    }
+
+    /// [`Coupler::exchange`] with the cells' owners elsewhere ([`Coupler::set_owners`],
+    /// [`crate::ranks`]): the same on every rank.
+    fn exchange_owned(
+        &mut self,
+        particles: &ParticleState<'_>,
+    ) -> Result<CouplingStep, CoupleError> {
+        let (shares, mut deposit) = self.place(particles)?;
+        let touched = touched_cells(&shares, &self.hints);
+        self.touched = touched.len();
+        let mut solid = Vec::with_capacity(touched.len());
+        pick(&touched, &deposit.solid, 1, &mut solid);
+        self.sum_totals(&mut deposit);
+        let owners = self
+            .owners
+            .as_mut()
+            .expect("exchange_owned runs with owners");
+        let got = owners.deposit(&touched, &solid).map_err(fluid_err)?;
+        same_lengths(
+            touched.len() * OWNER_REPLY_WIDTH,
+            &[("owners' reply", got.len())],
+        )?;
+        // ε of the touched cells from the summed volume; statistics on the lowest rank only
+        let volumes = self.vm.cell_volumes();
+        let mut summed = Vec::with_capacity(touched.len());
+        let mut vols = Vec::with_capacity(touched.len());
+        let (mut home_summed, mut home_vols) = (Vec::new(), Vec::new());
+        for (&c, g) in touched.iter().zip(got.chunks_exact(OWNER_REPLY_WIDTH)) {
+            let v = volumes[c as usize];
+            summed.push(g[0]);
+            vols.push(v);
+            if g[1] > 0.5 {
+                home_summed.push(g[0]);
+                home_vols.push(v);
+            }
+        }
+        let eps = voidage_field(&summed, &vols, self.settings.alpha_min)?.epsilon;
+        let mut voidage = voidage_field(&home_summed, &home_vols, self.settings.alpha_min)?;
+        voidage.epsilon = Vec::new();
+        let mut stats = [
+            voidage.clipped_volume,
+            voidage.clipped_cells as f64,
+            voidage.negative_cells as f64,
+        ];
+        self.ranks.all_sum(&mut stats);
+        let mut lowest = [-voidage.min_epsilon];
+        self.ranks.all_max(&mut lowest);
+        voidage.clipped_volume = stats[0];
+        voidage.clipped_cells = stats[1] as usize;
+        voidage.negative_cells = stats[2] as usize;
+        voidage.min_epsilon = -lowest[0];
+        let mut records = Vec::with_capacity(touched.len() * FLUID_WIDTH);
+        for (e, g) in eps.iter().zip(got.chunks_exact(OWNER_REPLY_WIDTH)) {
+            records.push(*e);
+            records.extend_from_slice(&g[2..OWNER_REPLY_WIDTH]);
+        }
+        let remote = std::mem::take(&mut self.remote);
+        let (placement, forces, mut exchange, remote) =
+            self.forces_at(remote, &touched, &records, shares, particles);
         self.remote = remote;
-        self.sum_exchange(&touched, &mut exchange);
+        let mut sums = Vec::with_capacity(touched.len() * OWNER_SUMS_WIDTH);
+        for (&c, e) in touched.iter().zip(&eps) {
+            let c = c as usize;
+            let (k, u, f) = (exchange.ksl[c], exchange.us[c], exchange.f[c]);
+            sums.extend_from_slice(&[*e, k, k * u[0], k * u[1], k * u[2], f[0], f[1], f[2]]);
+        }
+        let owners = self
+            .owners
+            .as_mut()
+            .expect("exchange_owned runs with owners");
+        owners.exchange(&sums).map_err(fluid_err)?;
+        self.sum_outside(&mut exchange);
         Ok(CouplingStep {
             placement,
             deposit,
@@ -344,6 +460,11 @@ impl Coupler {
         } else {
             self.ranks.sum_to_root(touched, &values, 1, &mut []);
         }
+        self.sum_totals(deposit);
+    }
+
+    /// The deposit's accounting totals (particles, volumes) summed over ranks, on every rank.
+    fn sum_totals(&self, deposit: &mut Deposit) {
         let mut totals = [
             deposit.particles as f64,
             deposit.particle_volume,
@@ -407,6 +528,11 @@ impl Coupler {
                 exchange.f[c] = V3::new(s[4], s[5], s[6]);
             }
         }
+        self.sum_outside(exchange);
+    }
+
+    /// The exchange's outside-the-mesh accounting summed over ranks, on every rank.
+    fn sum_outside(&self, exchange: &mut Exchange) {
         let o = &mut exchange.outside;
         let mut out = [
             o.particles as f64,

@@ -462,3 +462,279 @@ fn the_first_bad_particle_is_named() {
     assert!(err.contains("41234") && err.contains("42234"), "{err}");
     assert!(err.contains("density -1"), "{err}");
 }
+
+/// The owned exchange (`couple::ranks`, `Coupler::set_owners`) of two coupler ranks, run as
+/// two threads with test doubles of the MPI ranks and of the solver ranks owning the cells,
+/// against one dense coupler holding every particle: the same forces, ε, exchange fields,
+/// accounting and clipping statistics, up to the order of the per-cell sums (round-off).
+mod owned {
+    use super::*;
+    use couple::ranks::{CellOwners, Ranks, OWNER_REPLY_WIDTH, OWNER_SUMS_WIDTH};
+    use couple::SideError;
+    use foam::Label;
+    use std::sync::{Arc, Barrier, Mutex};
+
+    const RANKS: usize = 2;
+
+    /// What the threads share: a barrier and one slot per rank for each exchange.
+    struct Shared {
+        barrier: Barrier,
+        reduce: Mutex<Vec<Vec<f64>>>,
+        cells: Mutex<Vec<Vec<Label>>>,
+        solid: Mutex<Vec<Vec<f64>>>,
+        sums: Mutex<Vec<Vec<f64>>>,
+        /// The fields the owner formed: ε, Ksl, Us, f (dense).
+        formed: Mutex<Option<(Vec<f64>, Vec<f64>, Vec<V3>, Vec<V3>)>>,
+    }
+
+    struct ThreadRanks {
+        rank: usize,
+        shared: Arc<Shared>,
+    }
+
+    impl ThreadRanks {
+        fn reduce(&self, x: &mut [f64], op: fn(f64, f64) -> f64) {
+            self.shared.reduce.lock().unwrap()[self.rank] = x.to_vec();
+            self.shared.barrier.wait();
+            {
+                let all = self.shared.reduce.lock().unwrap();
+                for (k, v) in x.iter_mut().enumerate() {
+                    *v = (1..RANKS).fold(all[0][k], |acc, r| op(acc, all[r][k]));
+                }
+            }
+            self.shared.barrier.wait();
+        }
+    }
+
+    impl Ranks for ThreadRanks {
+        fn rank(&self) -> usize {
+            self.rank
+        }
+        fn size(&self) -> usize {
+            RANKS
+        }
+        fn sum_to_root(&mut self, _: &[Label], _: &[f64], _: usize, _: &mut [f64]) {
+            panic!("the owned exchange does not sum on rank 0");
+        }
+        fn scatter_from_root(
+            &mut self,
+            _: usize,
+            _: &dyn Fn(Label, &mut Vec<f64>),
+            _: &mut Vec<f64>,
+        ) {
+            panic!("the owned exchange does not scatter from rank 0");
+        }
+        fn all_sum(&self, x: &mut [f64]) {
+            self.reduce(x, |a, b| a + b);
+        }
+        fn all_max(&self, x: &mut [f64]) {
+            self.reduce(x, f64::max);
+        }
+        fn broadcast(&self, _: &mut [f64]) {
+            panic!("the owned exchange does not broadcast");
+        }
+        fn gather(&self, _: &[f64]) -> Vec<Vec<f64>> {
+            panic!("the owned exchange does not gather");
+        }
+    }
+
+    /// One solver rank owning every cell, as grainPisoFoam's sparse exchange does it
+    /// (foam-link's protocol): sums in rank order, ε from the lowest rank touching a cell.
+    struct ThreadOwners {
+        rank: usize,
+        shared: Arc<Shared>,
+        fluid: Arc<Fluid>,
+        n_cells: usize,
+    }
+
+    impl CellOwners for ThreadOwners {
+        fn deposit(&mut self, cells: &[Label], solid: &[f64]) -> Result<Vec<f64>, SideError> {
+            let sh = &self.shared;
+            sh.cells.lock().unwrap()[self.rank] = cells.to_vec();
+            sh.solid.lock().unwrap()[self.rank] = solid.to_vec();
+            sh.barrier.wait();
+            let all_cells = sh.cells.lock().unwrap().clone();
+            let all_solid = sh.solid.lock().unwrap().clone();
+            let mut sum = vec![0.0; self.n_cells];
+            let mut lowest = vec![usize::MAX; self.n_cells];
+            for q in 0..RANKS {
+                for (&c, &s) in all_cells[q].iter().zip(&all_solid[q]) {
+                    sum[c as usize] += s;
+                    lowest[c as usize] = lowest[c as usize].min(q);
+                }
+            }
+            let f = &self.fluid;
+            let mut out = Vec::new();
+            for &c in cells {
+                let c = c as usize;
+                let (u, g, t) = (f.u[c], f.grad_p[c], f.div_tau[c]);
+                let home = f64::from(u8::from(lowest[c] == self.rank));
+                out.extend_from_slice(&[
+                    sum[c], home, u[0], u[1], u[2], f.p[c], g[0], g[1], g[2], t[0], t[1], t[2],
+                ]);
+            }
+            assert_eq!(out.len(), cells.len() * OWNER_REPLY_WIDTH);
+            sh.barrier.wait();
+            Ok(out)
+        }
+
+        fn exchange(&mut self, sums: &[f64]) -> Result<(), SideError> {
+            let sh = &self.shared;
+            sh.sums.lock().unwrap()[self.rank] = sums.to_vec();
+            sh.barrier.wait();
+            if self.rank == 0 {
+                let n = self.n_cells;
+                let (mut eps, mut ksl) = (vec![1.0; n], vec![0.0; n]);
+                let (mut kus, mut f) = (vec![V3::zeros(); n], vec![V3::zeros(); n]);
+                let mut seen = vec![false; n];
+                let cells = sh.cells.lock().unwrap();
+                let sums = sh.sums.lock().unwrap();
+                for q in 0..RANKS {
+                    for (&c, s) in cells[q].iter().zip(sums[q].chunks_exact(OWNER_SUMS_WIDTH)) {
+                        let c = c as usize;
+                        if !seen[c] {
+                            eps[c] = s[0];
+                            seen[c] = true;
+                        }
+                        ksl[c] += s[1];
+                        kus[c] += V3::new(s[2], s[3], s[4]);
+                        f[c] += V3::new(s[5], s[6], s[7]);
+                    }
+                }
+                let us = kus
+                    .iter()
+                    .zip(&ksl)
+                    .map(|(v, &k)| if k > 0.0 { v / k } else { V3::zeros() })
+                    .collect();
+                *sh.formed.lock().unwrap() = Some((eps, ksl, us, f));
+            }
+            sh.barrier.wait();
+            Ok(())
+        }
+
+        fn traffic(&self) -> (u64, u64) {
+            (0, 0)
+        }
+    }
+
+    fn close(a: f64, b: f64, scale: f64) -> bool {
+        (a - b).abs() <= 1e-12 * scale.max(f64::MIN_POSITIVE)
+    }
+
+    #[test]
+    fn two_ranks_with_the_cells_elsewhere_equal_one_dense_rank() {
+        let c = cloud(6000);
+        let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [12, 12, 12]);
+        let fl = Arc::new(fluid(&VoidageMesh::new(&grid).unwrap()));
+        let settings = CouplerSettings {
+            method: Method::Exact,
+            // high enough that some cells clip: the statistics must count each cell once
+            alpha_min: Some(0.9),
+            coupling_interval: 1,
+            physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
+        };
+        let reference = Coupler::new(&grid, settings)
+            .unwrap()
+            .exchange(&c.state(), &state(&fl))
+            .unwrap();
+        assert!(reference.voidage.clipped_cells > 0);
+        let n_cells = grid.n_cells;
+        let shared = Arc::new(Shared {
+            barrier: Barrier::new(RANKS),
+            reduce: Mutex::new(vec![Vec::new(); RANKS]),
+            cells: Mutex::new(vec![Vec::new(); RANKS]),
+            solid: Mutex::new(vec![Vec::new(); RANKS]),
+            sums: Mutex::new(vec![Vec::new(); RANKS]),
+            formed: Mutex::new(None),
+        });
+        // rank r holds the particles k with k % 2 == r: neighbours, so many cells are shared
+        let pick_of =
+            |r: usize| -> Vec<usize> { (0..c.ids.len()).filter(|k| k % 2 == r).collect() };
+        let steps: Vec<_> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..RANKS)
+                .map(|r| {
+                    let (shared, fl, grid) = (shared.clone(), fl.clone(), &grid);
+                    let mine = pick_of(r);
+                    let part = Cloud {
+                        pos: mine.iter().map(|&k| c.pos[k]).collect(),
+                        rad: mine.iter().map(|&k| c.rad[k]).collect(),
+                        vel: mine.iter().map(|&k| c.vel[k]).collect(),
+                        ids: mine.iter().map(|&k| c.ids[k]).collect(),
+                        den: mine.iter().map(|&k| c.den[k]).collect(),
+                    };
+                    s.spawn(move || {
+                        let mut coupler = Coupler::new(grid, settings).unwrap();
+                        coupler.set_ranks(Box::new(ThreadRanks {
+                            rank: r,
+                            shared: shared.clone(),
+                        }));
+                        coupler.set_owners(Box::new(ThreadOwners {
+                            rank: r,
+                            shared,
+                            fluid: fl,
+                            n_cells,
+                        }));
+                        let empty = Fluid {
+                            u: Vec::new(),
+                            p: Vec::new(),
+                            grad_p: Vec::new(),
+                            div_tau: Vec::new(),
+                        };
+                        coupler.exchange(&part.state(), &state(&empty)).unwrap()
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for (r, step) in steps.iter().enumerate() {
+            for (j, &k) in pick_of(r).iter().enumerate() {
+                let (a, b) = (&step.forces.particles[j], &reference.forces.particles[k]);
+                let scale = b.total.norm();
+                for d in 0..3 {
+                    assert!(
+                        close(a.total[d], b.total[d], scale),
+                        "particle {k}: {a:?} vs {b:?}"
+                    );
+                    assert!(close(a.f_ext[d], b.f_ext[d], scale), "particle {k}");
+                }
+                assert!(close(a.beta_dem, b.beta_dem, b.beta_dem), "particle {k}");
+            }
+            let (d, e) = (&step.deposit, &reference.deposit);
+            assert_eq!(d.particles, e.particles);
+            assert!(close(
+                d.particle_volume,
+                e.particle_volume,
+                e.particle_volume
+            ));
+            assert!(close(d.outside_volume, e.outside_volume, e.particle_volume));
+            let (v, w) = (&step.voidage, &reference.voidage);
+            assert!(v.epsilon.is_empty(), "no rank holds the whole ε");
+            assert_eq!(
+                (v.clipped_cells, v.negative_cells),
+                (w.clipped_cells, w.negative_cells)
+            );
+            assert!(close(v.clipped_volume, w.clipped_volume, w.clipped_volume));
+            assert!(close(v.min_epsilon, w.min_epsilon, 1.0));
+        }
+        let (eps, ksl, us, f) = shared.formed.lock().unwrap().take().unwrap();
+        let e = &reference.exchange;
+        let kmax = e.ksl.iter().cloned().fold(0.0, f64::max);
+        let fmax = e.f.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        for cell in 0..n_cells {
+            assert!(
+                close(eps[cell], reference.voidage.epsilon[cell], 1.0),
+                "ε of cell {cell}"
+            );
+            assert!(close(ksl[cell], e.ksl[cell], kmax), "Ksl of cell {cell}");
+            for d in 0..3 {
+                assert!(close(us[cell][d], e.us[cell][d], 1.0), "Us of cell {cell}");
+                assert!(close(f[cell][d], e.f[cell][d], fmax), "f of cell {cell}");
+            }
+        }
+        assert!(
+            e.outside.particles > 0,
+            "the cloud has particles outside the mesh"
+        );
+        assert_eq!(steps[0].exchange.outside.particles, e.outside.particles);
+    }
+}

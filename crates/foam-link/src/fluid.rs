@@ -3,15 +3,20 @@
 use crate::case_setup::{self, control_delta_t, launch_script, pid_path, Decomposition};
 use crate::protocol::{
     self, check_fields, pack_fields, tag, Command, FieldsIn, GlobalState, Hello,
+    HELD_WORDS_PER_CELL, PATCH_WORDS, STATE_WORDS_PER_CELL,
 };
 use crate::ranks::RankMap;
+use crate::sparse::SolverCells;
 use crate::transport::Transport;
 use crate::LinkError;
 use couple::{ExchangeFields, FluidSide, FluidState, SideError};
 use foam::{Case, PolyMesh};
+use mesh::v3::V3;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
+use std::cell::{RefCell, RefMut};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::time::Instant;
 
 /// The flow through one boundary patch after the last advance.
@@ -47,7 +52,8 @@ pub struct ExchangeStats {
 
 /// grainPisoFoam on `np` ranks, driven over MPI (see the crate documentation).
 pub struct OpenFoamFluid {
-    transport: Transport,
+    /// Shared with this rank's [`SolverCells`] in a sparse run.
+    transport: Rc<RefCell<Transport>>,
     case: PathBuf,
     mesh: PolyMesh,
     map: RankMap,
@@ -59,6 +65,27 @@ pub struct OpenFoamFluid {
     decomposition: Option<Decomposition>,
     stats: ExchangeStats,
     stopped: bool,
+    /// The exchange fields come from the coupler ranks' sparse exchange
+    /// ([`OpenFoamFluid::spawn_ranked`]), not from [`OpenFoamFluid::set_fields`].
+    sparse: bool,
+    /// In a sparse run: ask for the whole state and the held fields after each advance.
+    whole: bool,
+    /// In a sparse run with `whole`: ε, Ksl, Us and f the solver held in the last advance.
+    held: Option<HeldFields>,
+}
+
+/// The exchange fields the solver held in an advance of a sparse run (global cell order, ADR
+/// 0004 units).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct HeldFields {
+    /// ε at the end of the interval.
+    pub eps: Vec<f64>,
+    /// Ksl, kg/(m³ s).
+    pub ksl: Vec<f64>,
+    /// Us, m/s.
+    pub us: Vec<V3>,
+    /// f, N/m³.
+    pub f: Vec<V3>,
 }
 
 impl OpenFoamFluid {
@@ -76,10 +103,71 @@ impl OpenFoamFluid {
         if world.size() != 1 {
             return Err(LinkError::Parameter(format!(
                 "the coupler's communicator has {} processes; foam-link drives grainPisoFoam \
-                 from one",
+                 from one (OpenFoamFluid::spawn_ranked drives it from several)",
                 world.size()
             )));
         }
+        let fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver)?;
+        Ok(fluid)
+    }
+
+    /// As [`OpenFoamFluid::spawn`], collectively from every rank of `world` (the coupler's
+    /// ranks, `mpirun -np N foamgrain`): rank 0 prepares the case, spawns the solver (the
+    /// other ranks join the collective spawn), reads the handshakes and sends the others the
+    /// cell map and the solver's pids. Every rank gets its [`SolverCells`], the straight link
+    /// to the solver ranks owning the cells ([`crate::sparse`]); rank 0 also gets the fluid,
+    /// which from then on takes its exchange fields from the ranks' sparse exchange.
+    /// `case`, `np` and `solver` matter on rank 0 only.
+    pub fn spawn_ranked(
+        world: &SimpleCommunicator,
+        case: &Path,
+        np: usize,
+        solver: &Path,
+    ) -> Result<(Option<OpenFoamFluid>, SolverCells), LinkError> {
+        let root = world.process_at_rank(0);
+        if world.rank() == 0 {
+            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver)?;
+            fluid.sparse = true;
+            let mut words = share_words(&fluid.map, &fluid.tp().pids());
+            let mut len = [words.len() as u64];
+            root.broadcast_into(&mut len[..]);
+            root.broadcast_into(&mut words[..]);
+            let cells = SolverCells::new(0, fluid.transport.clone(), fluid.map.clone());
+            return Ok((Some(fluid), cells));
+        }
+        // The program and count matter at the root only; Open MPI sizes its error codes by
+        // the count on every rank.
+        let inter = root
+            .spawn(&std::process::Command::new("/bin/true"), np.max(1) as i32)
+            .map_err(|e| LinkError::Spawn {
+                solver: solver.to_owned(),
+                ranks: np,
+                message: format!("{e:?}"),
+            })?;
+        let mut len = [0u64];
+        root.broadcast_into(&mut len[..]);
+        let mut words = vec![0i64; len[0] as usize];
+        root.broadcast_into(&mut words[..]);
+        let (map, pids) = unshare_words(&words)?;
+        let mut transport = Transport::new(inter, case.to_owned(), map.ranks());
+        for (rank, pid) in pids.into_iter().enumerate() {
+            transport.set_pid(rank, pid)?;
+        }
+        let rank = world.rank() as usize;
+        Ok((
+            None,
+            SolverCells::new(rank, Rc::new(RefCell::new(transport)), map),
+        ))
+    }
+
+    /// [`OpenFoamFluid::spawn`] on the root (rank 0) of `world`, whose other ranks (if any)
+    /// call the collective spawn themselves.
+    fn spawn_from_root(
+        world: &SimpleCommunicator,
+        case: &Path,
+        np: usize,
+        solver: &Path,
+    ) -> Result<OpenFoamFluid, LinkError> {
         if np == 0 {
             return Err(LinkError::Parameter(
                 "grainPisoFoam needs at least 1 rank".into(),
@@ -121,9 +209,12 @@ impl OpenFoamFluid {
                 ranks: np,
                 message: format!("{e:?}"),
             })?;
-        let transport = Transport::new(inter, case.clone(), np);
+        let transport = Rc::new(RefCell::new(Transport::new(inter, case.clone(), np)));
         let mut fluid = OpenFoamFluid {
             transport,
+            sparse: false,
+            whole: false,
+            held: None,
             case,
             map: RankMap::serial(0),
             patch_names: Vec::new(),
@@ -140,29 +231,33 @@ impl OpenFoamFluid {
         Ok(fluid)
     }
 
+    fn tp(&self) -> RefMut<'_, Transport> {
+        self.transport.borrow_mut()
+    }
+
     fn protocol_error(&mut self, rank: usize, message: String) -> LinkError {
-        self.transport.mark_broken();
+        self.tp().mark_broken();
         LinkError::Protocol {
             rank,
-            log: self.transport.log(rank),
+            log: self.tp().log(rank),
             message,
         }
     }
 
     fn handshake(&mut self) -> Result<(), LinkError> {
-        let np = self.transport.ranks();
+        let np = self.tp().ranks();
         let mesh_patches: Vec<String> = self.mesh.boundary.iter().map(|p| p.name.clone()).collect();
         let mut cells = Vec::with_capacity(np);
         let mut start_states = Vec::with_capacity(np);
         for rank in 0..np {
-            let words: Vec<i32> = self.transport.receive(rank, tag::HELLO, "the handshake")?;
+            let words: Vec<i32> = self.tp().receive(rank, tag::HELLO, "the handshake")?;
             let hello = Hello::parse(&words).map_err(|m| self.protocol_error(rank, m))?;
             if hello.rank != rank {
                 let m = format!("says it is rank {}", hello.rank);
                 return Err(self.protocol_error(rank, m));
             }
-            self.transport.set_pid(rank, hello.pid)?;
-            let local: Vec<i32> = self.transport.receive(rank, tag::CELLS, "the cell map")?;
+            self.tp().set_pid(rank, hello.pid)?;
+            let local: Vec<i32> = self.tp().receive(rank, tag::CELLS, "the cell map")?;
             if local.len() != hello.n_cells {
                 let m = format!(
                     "{} cells announced, {} in its map",
@@ -179,9 +274,7 @@ impl OpenFoamFluid {
                 return Err(self.protocol_error(rank, "a negative cell in its map".into()));
             };
             cells.push(local);
-            let names: Vec<u8> = self
-                .transport
-                .receive(rank, tag::PATCHES, "the patch names")?;
+            let names: Vec<u8> = self.tp().receive(rank, tag::PATCHES, "the patch names")?;
             let names =
                 protocol::parse_patch_names(&names).map_err(|m| self.protocol_error(rank, m))?;
             if names != mesh_patches {
@@ -189,13 +282,11 @@ impl OpenFoamFluid {
                     format!("patches {names:?}; constant/polyMesh/boundary has {mesh_patches:?}");
                 return Err(self.protocol_error(rank, m));
             }
-            let times: Vec<f64> = self.transport.receive(rank, tag::TIMES, "the start time")?;
+            let times: Vec<f64> = self.tp().receive(rank, tag::TIMES, "the start time")?;
             if times.len() != 2 {
                 return Err(self.protocol_error(rank, format!("{} time values", times.len())));
             }
-            let state: Vec<f64> = self
-                .transport
-                .receive(rank, tag::STATE, "the start fields")?;
+            let state: Vec<f64> = self.tp().receive(rank, tag::STATE, "the start fields")?;
             start_states.push(state);
         }
         self.map = RankMap::new(self.mesh.n_cells, cells)
@@ -233,12 +324,12 @@ impl OpenFoamFluid {
 
     /// The log of each rank (`CASE/log.grainPisoFoam[.rank]`).
     pub fn logs(&self) -> Vec<PathBuf> {
-        (0..self.ranks()).map(|r| self.transport.log(r)).collect()
+        (0..self.ranks()).map(|r| self.tp().log(r)).collect()
     }
 
     /// The solver's process ids (from the handshakes).
     pub fn pids(&self) -> Vec<u32> {
-        self.transport.pids().into_iter().flatten().collect()
+        self.tp().pids().into_iter().flatten().collect()
     }
 
     /// The solver's simulated time, s.
@@ -275,7 +366,7 @@ impl OpenFoamFluid {
     /// What the exchange has cost so far.
     pub fn stats(&self) -> ExchangeStats {
         let mut s = self.stats;
-        s.wait_seconds = self.transport.wait_seconds;
+        s.wait_seconds = self.tp().wait_seconds;
         s
     }
 
@@ -310,10 +401,10 @@ impl OpenFoamFluid {
     fn command_all(&mut self, command: Command, waiting: &'static str) -> Result<(), LinkError> {
         let words = command.words();
         for rank in 0..self.ranks() {
-            self.transport.send(rank, &words, tag::COMMAND, waiting)?;
+            self.tp().send(rank, &words, tag::COMMAND, waiting)?;
         }
         for rank in 0..self.ranks() {
-            let t: Vec<f64> = self.transport.receive(rank, tag::DONE, waiting)?;
+            let t: Vec<f64> = self.tp().receive(rank, tag::DONE, waiting)?;
             if t.len() != 1 {
                 return Err(self.protocol_error(rank, format!("{} values in an ack", t.len())));
             }
@@ -322,7 +413,13 @@ impl OpenFoamFluid {
     }
 
     /// Takes the exchange fields of the next interval (global cell order).
+    /// In a sparse run ([`OpenFoamFluid::spawn_ranked`]) the fields are ignored: the coupler
+    /// ranks have given the solver theirs ([`SolverCells`]).
     pub fn set_fields(&mut self, fields: &FieldsIn<'_>) -> Result<(), LinkError> {
+        if self.sparse {
+            self.has_fields = true;
+            return Ok(());
+        }
         check_fields(&self.map, fields)?;
         let t = Instant::now();
         for rank in 0..self.ranks() {
@@ -350,19 +447,22 @@ impl OpenFoamFluid {
             return Err(LinkError::Parameter(format!("coupling interval {dt} s")));
         }
         let steps = (dt / self.delta_t).round().max(1.0) as u64;
+        if self.sparse {
+            return self.advance_held(steps, dt);
+        }
         let command = Command::Advance {
             steps,
             step_length: dt / steps as f64,
             first: self.stats.intervals == 0,
         };
-        let wait_before = self.transport.wait_seconds;
+        let wait_before = self.tp().wait_seconds;
         let t = Instant::now();
         let words = command.words();
         let packed = std::mem::take(&mut self.packed);
         let sent = (0..self.ranks()).try_for_each(|rank| {
-            self.transport
+            self.tp()
                 .send(rank, &words, tag::COMMAND, "the command to arrive")?;
-            self.transport
+            self.tp()
                 .send(rank, &packed[rank], tag::FIELDS, "the fields to arrive")
         });
         self.packed = packed;
@@ -373,9 +473,7 @@ impl OpenFoamFluid {
         self.state.clear_sums();
         let mut time = self.state.time;
         for rank in 0..self.ranks() {
-            let msg: Vec<f64> = self
-                .transport
-                .receive(rank, tag::STATE, "the fluid state")?;
+            let msg: Vec<f64> = self.tp().receive(rank, tag::STATE, "the fluid state")?;
             self.stats.bytes_received += 8 * msg.len() as u64;
             let cells = self.map.cells_of(rank);
             time = match self.state.scatter(cells, &msg) {
@@ -385,15 +483,119 @@ impl OpenFoamFluid {
         }
         self.state.time = time;
         self.stats.intervals += 1;
-        let waited = self.transport.wait_seconds - wait_before;
+        let waited = self.tp().wait_seconds - wait_before;
         self.stats.transfer_seconds += t.elapsed().as_secs_f64() - waited;
         Ok(())
     }
 }
 
+impl OpenFoamFluid {
+    /// In a sparse run: after each advance, also fetch the whole fluid state and the fields
+    /// the solver held ([`OpenFoamFluid::held_fields`]): for monitors that need whole fields
+    /// on rank 0, at the cost of a mesh-sized reply.
+    pub fn set_whole(&mut self, whole: bool) {
+        self.whole = whole;
+    }
+
+    /// In a sparse run with [`OpenFoamFluid::set_whole`]: ε, Ksl, Us and f of the last
+    /// advance (global cell order).
+    pub fn held_fields(&self) -> Option<&HeldFields> {
+        self.held.as_ref()
+    }
+
+    /// True when the exchange fields come from the coupler ranks' sparse exchange.
+    pub fn is_sparse(&self) -> bool {
+        self.sparse
+    }
+
+    /// [`OpenFoamFluid::advance_interval`] of a sparse run: the solver advances with the fields
+    /// of the last sparse exchange and replies with the patch sums (or everything, `whole`).
+    fn advance_held(&mut self, steps: u64, dt: f64) -> Result<(), LinkError> {
+        let command = Command::AdvanceHeld {
+            steps,
+            step_length: dt / steps as f64,
+            first: self.stats.intervals == 0,
+            whole: self.whole,
+        };
+        let wait_before = self.tp().wait_seconds;
+        let t = Instant::now();
+        let words = command.words();
+        for rank in 0..self.ranks() {
+            self.tp()
+                .send(rank, &words, tag::COMMAND, "the command to arrive")?;
+        }
+        self.stats.bytes_sent += (8 * words.len() * self.ranks()) as u64;
+        self.state.clear_sums();
+        let mut time = self.state.time;
+        let n_patches = self.patch_names.len();
+        if self.whole && self.held.is_none() {
+            let n = self.map.n_cells();
+            self.held = Some(HeldFields {
+                eps: vec![1.0; n],
+                ksl: vec![0.0; n],
+                us: vec![V3::zeros(); n],
+                f: vec![V3::zeros(); n],
+            });
+        }
+        for rank in 0..self.ranks() {
+            let cells = self.map.cells_of(rank).to_vec();
+            let expected_tag = if self.whole {
+                tag::WHOLE_STATE
+            } else {
+                tag::PATCH_STATE
+            };
+            let msg: Vec<f64> = self.tp().receive(rank, expected_tag, "the fluid state")?;
+            self.stats.bytes_received += 8 * msg.len() as u64;
+            let got = if self.whole {
+                let n = cells.len();
+                let split = (1 + STATE_WORDS_PER_CELL * n + PATCH_WORDS * n_patches).min(msg.len());
+                let (state, held) = msg.split_at(split);
+                let held_fields = self.held.as_mut().expect("allocated above");
+                scatter_held(&cells, held, held_fields)
+                    .and_then(|()| self.state.scatter(&cells, state))
+            } else {
+                self.state.add_patch_sums(&msg)
+            };
+            time = match got {
+                Ok(t) => t,
+                Err(m) => return Err(self.protocol_error(rank, m)),
+            };
+        }
+        self.state.time = time;
+        self.stats.intervals += 1;
+        let waited = self.tp().wait_seconds - wait_before;
+        self.stats.transfer_seconds += t.elapsed().as_secs_f64() - waited;
+        Ok(())
+    }
+}
+
+/// Scatters the held fields of one rank's [`tag::WHOLE_STATE`] reply (after its state part):
+/// ε, Ksl (n each), Us, f (3n each).
+fn scatter_held(cells: &[u32], msg: &[f64], out: &mut HeldFields) -> Result<(), String> {
+    let n = cells.len();
+    if msg.len() != HELD_WORDS_PER_CELL * n {
+        return Err(format!(
+            "held fields of {} values, expected {} ({n} cells)",
+            msg.len(),
+            HELD_WORDS_PER_CELL * n
+        ));
+    }
+    let (eps, rest) = msg.split_at(n);
+    let (ksl, rest) = rest.split_at(n);
+    let (us, f) = rest.split_at(3 * n);
+    for (i, &c) in cells.iter().enumerate() {
+        let c = c as usize;
+        out.eps[c] = eps[i];
+        out.ksl[c] = ksl[i];
+        out.us[c] = V3::new(us[3 * i], us[3 * i + 1], us[3 * i + 2]);
+        out.f[c] = V3::new(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+    }
+    Ok(())
+}
+
 impl Drop for OpenFoamFluid {
     fn drop(&mut self) {
-        if !self.transport.is_broken() {
+        if !self.tp().is_broken() {
             // Best effort: a solver left running would keep the MPI universe from finalising.
             let _ = self.stop();
         }
@@ -429,4 +631,43 @@ impl FluidSide for OpenFoamFluid {
             div_tau: &self.state.div_tau,
         }
     }
+}
+
+/// What rank 0 sends the other coupler ranks after the handshake: the cell count, the solver's
+/// rank count and pids, and each solver rank's cells (global ids in its local order).
+fn share_words(map: &RankMap, pids: &[Option<u32>]) -> Vec<i64> {
+    let np = map.ranks();
+    let mut w = vec![map.n_cells() as i64, np as i64];
+    w.extend(pids.iter().map(|p| p.map_or(-1, i64::from)));
+    w.extend((0..np).map(|r| map.cells_of(r).len() as i64));
+    for r in 0..np {
+        w.extend(map.cells_of(r).iter().map(|&c| i64::from(c)));
+    }
+    w
+}
+
+/// The inverse of [`share_words`].
+fn unshare_words(w: &[i64]) -> Result<(RankMap, Vec<u32>), LinkError> {
+    let bad = |what: &str| LinkError::Parameter(format!("the cell map from rank 0: {what}"));
+    let (&n_cells, &np) = (
+        w.first().ok_or(bad("empty"))?,
+        w.get(1).ok_or(bad("short"))?,
+    );
+    let (n_cells, np) = (n_cells as usize, np as usize);
+    let pids = w.get(2..2 + np).ok_or(bad("short"))?;
+    let counts = w.get(2 + np..2 + 2 * np).ok_or(bad("short"))?;
+    let mut at = 2 + 2 * np;
+    let mut cells = Vec::with_capacity(np);
+    for &k in counts {
+        let k = k as usize;
+        let part = w.get(at..at + k).ok_or(bad("short"))?;
+        cells.push(part.iter().map(|&c| c as u32).collect());
+        at += k;
+    }
+    let map = RankMap::new(n_cells, cells).map_err(|(r, m)| bad(&format!("rank {r}: {m}")))?;
+    let pids = pids
+        .iter()
+        .map(|&p| u32::try_from(p).map_err(|_| bad("a pid is missing")))
+        .collect::<Result<Vec<u32>, _>>()?;
+    Ok((map, pids))
 }

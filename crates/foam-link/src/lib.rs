@@ -75,12 +75,16 @@ pub mod ranks;
 #[cfg(feature = "mpi")]
 mod fluid;
 #[cfg(feature = "mpi")]
+pub mod sparse;
+#[cfg(feature = "mpi")]
 mod transport;
 
 pub use error::LinkError;
 #[cfg(feature = "mpi")]
-pub use fluid::{ExchangeStats, OpenFoamFluid, PatchFlow};
+pub use fluid::{ExchangeStats, HeldFields, OpenFoamFluid, PatchFlow};
 pub use ranks::RankMap;
+#[cfg(feature = "mpi")]
+pub use sparse::SolverCells;
 
 /// The environment variables Open MPI and Debian's OpenFOAM need for a spawned solver, as
 /// (name, value); see the crate documentation.

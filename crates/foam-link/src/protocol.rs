@@ -2,8 +2,10 @@
 //! (`openfoam-cases/solver/grainPisoFoam/mpiCouplingSource.H` is the other half; the two must
 //! change together, [`PROTOCOL_VERSION`] guards it).
 //!
-//! Every solver rank talks to the coupler's rank 0 over the spawn intercommunicator. With n the
-//! rank's cells and m its non-processor patches (f64 = MPI_DOUBLE, i32 = MPI_INT):
+//! Every solver rank talks to the coupler's rank 0 over the spawn intercommunicator (the
+//! handshake, commands and their replies) and, in the sparse exchange of several coupler ranks,
+//! to every coupler rank. With n the rank's cells and m its non-processor patches (f64 =
+//! MPI_DOUBLE, i32 = MPI_INT):
 //!
 //! | tag | direction | content |
 //! |---|---|---|
@@ -15,6 +17,19 @@
 //! | 10 [`tag::COMMAND`] | coupler → rank | f64\[4\]: [`Command::words`] |
 //! | 11 [`tag::FIELDS`] | coupler → rank | f64\[9n\]: ε_old, ε_new, Ksl, Us (3n), f (3n) |
 //! | 20 [`tag::STATE`] | rank → coupler | f64\[1+10n+3m\]: time, U (3n), p, ∇p (3n), ∇·τ (3n), Σp\|S\|, Σ\|S\|, Σφ per patch |
+//! | 23 [`tag::PATCH_STATE`] | rank → coupler | f64\[1+3m\]: after [`Command::AdvanceHeld`]: time and the patch sums |
+//! | 24 [`tag::WHOLE_STATE`] | rank → coupler | after [`Command::AdvanceHeld`] with `whole`: tag 20's message, then ε, Ksl (n each), Us, f (3n each) |
+//! | 12 [`tag::SPARSE_CELLS`] | coupler rank q → rank | i32\[k\]: after [`Command::Exchange`]: the local cells q's particles touch |
+//! | 13 [`tag::SPARSE_SOLID`] | q → rank | f64\[k\]: the solid volume q deposits in each, m³ |
+//! | 22 [`tag::SPARSE_REPLY`] | rank → q | f64\[12k\]: per cell [`SPARSE_REPLY_WORDS`]: Σ_q solid volume, 1 if q is the lowest rank touching it, U, p, ∇p, ∇·τ |
+//! | 14 [`tag::SPARSE_SUMS`] | q → rank | f64\[8k\]: per cell [`SPARSE_SUMS_WORDS`]: ε, Σ Ksl, Σ Ksl·Us, Σ f of q's particles |
+//!
+//! In the sparse exchange the solver rank goes through the coupler ranks in order (each sends
+//! its two messages, possibly empty, then each gets its reply, then each sends its sums), so its
+//! per-cell sums are formed in coupler-rank order, as the coupler's rank 0 forms them when it
+//! holds the fluid ([`couple::ranks`]). It then holds ε_new (the touched cells' ε, 1 elsewhere),
+//! ε_old (the last exchange's ε_new, 1 before the first), Ksl = Σ Ksl, Us = Σ Ksl·Us / Σ Ksl
+//! (0 where Σ Ksl = 0) and f = Σ f for the next [`Command::AdvanceHeld`].
 //! | 21 [`tag::DONE`] | rank → coupler | f64\[1\]: time (after write or stop) |
 //! | 30 [`tag::ERROR`] | rank → coupler | the text of an OpenFOAM FatalError |
 //!
@@ -25,7 +40,7 @@ use crate::ranks::RankMap;
 use mesh::v3::V3;
 
 /// The version both sides must agree on.
-pub const PROTOCOL_VERSION: i32 = 1;
+pub const PROTOCOL_VERSION: i32 = 2;
 
 /// Message tags.
 pub mod tag {
@@ -41,6 +56,18 @@ pub mod tag {
     pub const COMMAND: i32 = 10;
     /// The exchange fields of an advance.
     pub const FIELDS: i32 = 11;
+    /// Sparse exchange: the cells a coupler rank touches (local to the solver rank).
+    pub const SPARSE_CELLS: i32 = 12;
+    /// Sparse exchange: the solid volume per touched cell.
+    pub const SPARSE_SOLID: i32 = 13;
+    /// Sparse exchange: ε and the force sums per touched cell.
+    pub const SPARSE_SUMS: i32 = 14;
+    /// Sparse exchange: the summed solid volume and the fluid per touched cell.
+    pub const SPARSE_REPLY: i32 = 22;
+    /// Time and patch sums after an advance with held fields.
+    pub const PATCH_STATE: i32 = 23;
+    /// The whole state and the held exchange fields after an advance with held fields.
+    pub const WHOLE_STATE: i32 = 24;
     /// The fluid after an advance.
     pub const STATE: i32 = 20;
     /// Acknowledges write and stop.
@@ -55,6 +82,14 @@ pub const FIELD_WORDS_PER_CELL: usize = 9;
 pub const STATE_WORDS_PER_CELL: usize = 10;
 /// Doubles per patch in the reply (Σ p|S|, Σ |S|, Σ φ).
 pub const PATCH_WORDS: usize = 3;
+/// Doubles per cell of [`tag::SPARSE_REPLY`]: Σ solid volume, lowest-rank flag, U (3), p,
+/// ∇p (3), ∇·τ (3).
+pub const SPARSE_REPLY_WORDS: usize = 12;
+/// Doubles per cell of [`tag::SPARSE_SUMS`]: ε, Σ Ksl, Σ Ksl·Us (3), Σ f (3).
+pub const SPARSE_SUMS_WORDS: usize = 8;
+/// Doubles per cell that [`tag::WHOLE_STATE`] adds to [`tag::STATE`]'s message: ε, Ksl, Us
+/// (3), f (3).
+pub const HELD_WORDS_PER_CELL: usize = 8;
 
 /// What the coupler asks of the solver.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,6 +108,21 @@ pub enum Command {
     Write,
     /// Leave the time loop and exit.
     Stop,
+    /// The sparse exchange with every coupler rank (module docs); no reply to rank 0 beyond
+    /// the exchange's own messages.
+    Exchange,
+    /// As [`Command::Advance`], with the fields of the last [`Command::Exchange`]; the reply is
+    /// [`tag::PATCH_STATE`], or [`tag::WHOLE_STATE`] when `whole`.
+    AdvanceHeld {
+        /// Number of steps (≥ 1).
+        steps: u64,
+        /// Step length, s.
+        step_length: f64,
+        /// The first interval of the run.
+        first: bool,
+        /// Reply with the whole state and the held fields.
+        whole: bool,
+    },
 }
 
 impl Command {
@@ -86,6 +136,18 @@ impl Command {
             } => [1.0, steps as f64, step_length, f64::from(u8::from(first))],
             Command::Write => [2.0, 0.0, 0.0, 0.0],
             Command::Stop => [3.0, 0.0, 0.0, 0.0],
+            Command::Exchange => [4.0, 0.0, 0.0, 0.0],
+            Command::AdvanceHeld {
+                steps,
+                step_length,
+                first,
+                whole,
+            } => [
+                5.0,
+                steps as f64,
+                step_length,
+                f64::from(u8::from(first) + 2 * u8::from(whole)),
+            ],
         }
     }
 }
@@ -208,6 +270,29 @@ impl GlobalState {
     /// overwritten cell by cell).
     pub fn clear_sums(&mut self) {
         self.patch_sums.fill([0.0; 3]);
+    }
+
+    /// Adds one rank's [`tag::PATCH_STATE`] reply (time, then the patch sums) to the patch
+    /// sums; returns the rank's time. `Err` when the length does not fit the patches.
+    pub fn add_patch_sums(&mut self, msg: &[f64]) -> Result<f64, String> {
+        let m = self.patch_sums.len();
+        if msg.len() != 1 + PATCH_WORDS * m {
+            return Err(format!(
+                "patch reply of {} values, expected {} ({m} patches)",
+                msg.len(),
+                1 + PATCH_WORDS * m
+            ));
+        }
+        for (acc, s) in self
+            .patch_sums
+            .iter_mut()
+            .zip(msg[1..].chunks_exact(PATCH_WORDS))
+        {
+            for k in 0..PATCH_WORDS {
+                acc[k] += s[k];
+            }
+        }
+        Ok(msg[0])
     }
 
     /// Scatters one rank's [`tag::STATE`] reply into the global arrays and adds its patch sums;
@@ -376,19 +461,19 @@ mod tests {
     #[test]
     fn handshake_checks_version_and_signs() {
         assert_eq!(
-            Hello::parse(&[1, 4480, 1234, 3, 1]),
+            Hello::parse(&[2, 4480, 1234, 3, 1]),
             Ok(Hello {
-                version: 1,
+                version: 2,
                 n_cells: 4480,
                 pid: 1234,
                 n_patches: 3,
                 rank: 1
             })
         );
-        assert!(Hello::parse(&[2, 1, 1, 1, 0])
+        assert!(Hello::parse(&[1, 1, 1, 1, 0])
             .unwrap_err()
             .contains("build.sh"));
-        assert!(Hello::parse(&[1, -1, 1, 1, 0])
+        assert!(Hello::parse(&[2, -1, 1, 1, 0])
             .unwrap_err()
             .contains("cell count"));
         assert!(Hello::parse(&[1, 1, 1]).is_err());
@@ -409,6 +494,17 @@ mod tests {
         assert_eq!(c.words(), [1.0, 5.0, 1e-4, 1.0]);
         assert_eq!(Command::Write.words()[0], 2.0);
         assert_eq!(Command::Stop.words()[0], 3.0);
+        assert_eq!(Command::Exchange.words(), [4.0, 0.0, 0.0, 0.0]);
+        let held = |first, whole| Command::AdvanceHeld {
+            steps: 2,
+            step_length: 5e-4,
+            first,
+            whole,
+        };
+        assert_eq!(held(false, false).words(), [5.0, 2.0, 5e-4, 0.0]);
+        assert_eq!(held(true, false).words()[3], 1.0);
+        assert_eq!(held(false, true).words()[3], 2.0);
+        assert_eq!(held(true, true).words()[3], 3.0);
         // 4480 cells on 2 ranks, 3 patches: 8 (8 + 9·4480) and 8 (2·10 + 10·4480) bytes.
         assert_eq!(advance_bytes(4480, 2, 3), (322_624, 358_560));
     }

@@ -377,20 +377,27 @@ mod mpi_pair {
         let layout = ctx.layout;
         let dem = open_liggghts(world, layout)?;
         ctx.ranks = Some(Box::new(crate::ranks::MpiRanks::new(world)));
-        if launch.rank() > 0 {
-            let stand_in = crate::fluid::StandInFluid::open(&layout.cfd)?;
-            return couple_loop(ctx, dem, stand_in, events);
-        }
         match fluid {
-            FluidBackend::Native => {
+            FluidBackend::Native if launch.rank() == 0 => {
                 let fluid = open_native_fluid(&ctx, model)?;
                 couple_loop(ctx, dem, fluid, events)
             }
+            FluidBackend::Native => {
+                let stand_in = crate::fluid::StandInFluid::open(&layout.cfd)?;
+                couple_loop(ctx, dem, stand_in, events)
+            }
             #[cfg(feature = "mpi")]
             FluidBackend::OpenFoam => {
-                let alone = mpi::topology::SimpleCommunicator::self_comm();
-                let fluid = open_foam(&alone, layout, ctx.opts.fluid_ranks)?;
-                couple_loop(ctx, dem, fluid, events)
+                // every rank joins the spawn and gets its own link to the solver's ranks
+                let (fluid, cells) = open_foam_ranked(world, layout, ctx.opts.fluid_ranks)?;
+                ctx.owners = Some(Box::new(cells));
+                match fluid {
+                    Some(fluid) => couple_loop(ctx, dem, fluid, events),
+                    None => {
+                        let stand_in = crate::fluid::StandInFluid::open(&layout.cfd)?;
+                        couple_loop(ctx, dem, stand_in, events)
+                    }
+                }
             }
             #[cfg(not(feature = "mpi"))]
             FluidBackend::OpenFoam => Err(unavailable(
@@ -455,5 +462,30 @@ mod mpi_pair {
         let fluid = foam_link::OpenFoamFluid::spawn(world, &layout.cfd, ranks, &solver)
             .map_err(|e| backend_err("grainPisoFoam", e))?;
         Ok(crate::foam_fluid::FoamFluid::new(fluid))
+    }
+
+    /// grainPisoFoam spawned from all the coupler's ranks ([`foam_link::OpenFoamFluid::spawn_ranked`]):
+    /// rank 0 gets the fluid, every rank its link to the solver ranks.
+    #[cfg(all(feature = "mpi", feature = "liggghts"))]
+    fn open_foam_ranked(
+        world: &mpi::topology::SimpleCommunicator,
+        layout: &crate::layout::CaseLayout,
+        ranks: usize,
+    ) -> Result<(Option<crate::foam_fluid::FoamFluid>, foam_link::SolverCells), RunError> {
+        let solver = if mpi::topology::Communicator::rank(world) == 0 {
+            solver_path()?
+        } else {
+            PathBuf::new()
+        };
+        let ranks = match ranks {
+            0 => foam_link::case_setup::decomposed_ranks(&layout.cfd)
+                .map_err(|e| backend_err("grainPisoFoam", e))?
+                .unwrap_or(1),
+            n => n,
+        };
+        let (fluid, cells) =
+            foam_link::OpenFoamFluid::spawn_ranked(world, &layout.cfd, ranks, &solver)
+                .map_err(|e| backend_err("grainPisoFoam", e))?;
+        Ok((fluid.map(crate::foam_fluid::FoamFluid::new), cells))
     }
 }

@@ -35,6 +35,27 @@ pub trait RunFluid: FluidSide {
     fn finish(&mut self) -> Result<(), SideError> {
         Ok(())
     }
+    /// Asks for the whole exchange fields after each advance when the coupler ranks exchange
+    /// straight with the solver's ranks (no coupler rank holds them then; monitors need
+    /// them). A no-op where the coupler holds them.
+    fn want_held(&mut self) {}
+    /// With [`RunFluid::want_held`] in such a run: ε, Ksl, Us and f of the last advance
+    /// (global cell order), which the run puts into its step for the monitors.
+    fn held_exchange(&self) -> Option<HeldExchange<'_>> {
+        None
+    }
+}
+
+/// Whole exchange fields held by an external solver (ADR 0004 units).
+pub struct HeldExchange<'a> {
+    /// ε at the end of the interval.
+    pub eps: &'a [f64],
+    /// Ksl, kg/(m³ s).
+    pub ksl: &'a [f64],
+    /// Us, m/s.
+    pub us: &'a [mesh::v3::V3],
+    /// f, N/m³.
+    pub f: &'a [mesh::v3::V3],
 }
 
 /// The fluid side of a coupler rank other than 0 in an N-rank run ([`couple::ranks`]): rank 0

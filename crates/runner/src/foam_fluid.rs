@@ -4,7 +4,7 @@
 //! exchange fields as its own fields); a run's write asks it to write now, in `processorN/`
 //! when decomposed, and [`RunFluid::finish`] stops it and reconstructs.
 
-use crate::fluid::RunFluid;
+use crate::fluid::{HeldExchange, RunFluid};
 use couple::{CouplingStep, ExchangeFields, FluidSide, FluidState, SideError};
 use foam::PolyMesh;
 use foam_link::OpenFoamFluid;
@@ -96,6 +96,22 @@ impl RunFluid for FoamFluid {
             1e3 * s.transfer_seconds / n,
             1e3 * s.wait_seconds / n,
         ))
+    }
+
+    fn want_held(&mut self) {
+        if let Some(s) = self.inner.as_mut() {
+            s.set_whole(s.is_sparse());
+        }
+    }
+
+    fn held_exchange(&self) -> Option<HeldExchange<'_>> {
+        let h = self.inner.as_ref()?.held_fields()?;
+        Some(HeldExchange {
+            eps: &h.eps,
+            ksl: &h.ksl,
+            us: &h.us,
+            f: &h.f,
+        })
     }
 
     fn finish(&mut self) -> Result<(), SideError> {

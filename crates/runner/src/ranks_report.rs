@@ -21,6 +21,11 @@ pub struct RankFigures {
     pub sent_per_step: f64,
     /// Bytes it received from other coupler ranks per coupling step (mean over the run).
     pub received_per_step: f64,
+    /// Bytes it sent straight to the fluid solver's ranks per coupling step (`None` when the
+    /// fluid is on rank 0).
+    pub solver_sent_per_step: Option<f64>,
+    /// Bytes it received straight from the fluid solver's ranks per coupling step.
+    pub solver_received_per_step: Option<f64>,
     /// Peak resident memory of its process, MiB (`VmHWM`; `None` where not reported).
     pub peak_mib: Option<f64>,
 }
@@ -40,6 +45,7 @@ pub fn gather(
     particles: usize,
     particles_max: usize,
     cells_touched: Option<usize>,
+    solver_traffic: Option<(u64, u64)>,
     steps: u64,
 ) -> Vec<RankFigures> {
     let (sent, received) = ranks.traffic();
@@ -51,6 +57,8 @@ pub fn gather(
         per_step(sent),
         per_step(received),
         peak_mib().unwrap_or(f64::NAN),
+        solver_traffic.map_or(f64::NAN, |t| per_step(t.0)),
+        solver_traffic.map_or(f64::NAN, |t| per_step(t.1)),
     ];
     ranks
         .gather(&record)
@@ -65,6 +73,8 @@ pub fn gather(
             sent_per_step: r[3],
             received_per_step: r[4],
             peak_mib: r[5].is_finite().then_some(r[5]),
+            solver_sent_per_step: r[6].is_finite().then_some(r[6]),
+            solver_received_per_step: r[7].is_finite().then_some(r[7]),
         })
         .collect()
 }
@@ -72,18 +82,21 @@ pub fn gather(
 /// The figures as `ranks.csv` (an unreported memory is an empty cell).
 pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
     let mut text = String::from(
-        "rank,particles,particles_max,cells_touched,bytes_sent_per_step,bytes_received_per_step,peak_memory_mib\n",
+        "rank,particles,particles_max,cells_touched,bytes_sent_per_step,bytes_received_per_step,peak_memory_mib,solver_bytes_sent_per_step,solver_bytes_received_per_step\n",
     );
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| v.to_string());
     for f in figures {
         text.push_str(&format!(
-            "{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{}\n",
             f.rank,
             f.particles,
             f.particles_max,
             f.cells_touched.map_or(String::new(), |c| c.to_string()),
             f.sent_per_step,
             f.received_per_step,
-            f.peak_mib.map_or(String::new(), |m| format!("{m:.1}"))
+            f.peak_mib.map_or(String::new(), |m| format!("{m:.1}")),
+            opt(f.solver_sent_per_step),
+            opt(f.solver_received_per_step),
         ));
     }
     let mut file = std::fs::File::create(path)?;
@@ -93,18 +106,23 @@ pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
 /// The figures as log lines.
 pub fn table(figures: &[RankFigures]) -> Vec<String> {
     let mut lines = vec![
-        "rank  particles (max)      cells touched  kB sent/step  kB received/step  peak MiB".into(),
+        "rank  particles (max)      cells touched  kB sent/step  kB received/step  peak MiB  \
+         solver kB sent/received per step"
+            .into(),
     ];
+    let kb = |x: Option<f64>| x.map_or("—".into(), |v| format!("{:.1}", v / 1e3));
     for f in figures {
         lines.push(format!(
-            "{:4}  {:9} ({:9})  {:>13}  {:12.1}  {:16.1}  {}",
+            "{:4}  {:9} ({:9})  {:>13}  {:12.1}  {:16.1}  {:>8}  {} / {}",
             f.rank,
             f.particles,
             f.particles_max,
             f.cells_touched.map_or("—".into(), |c| c.to_string()),
             f.sent_per_step / 1e3,
             f.received_per_step / 1e3,
-            f.peak_mib.map_or("—".into(), |m| format!("{m:.0}"))
+            f.peak_mib.map_or("—".into(), |m| format!("{m:.0}")),
+            kb(f.solver_sent_per_step),
+            kb(f.solver_received_per_step),
         ));
     }
     lines
@@ -116,7 +134,7 @@ mod tests {
 
     #[test]
     fn one_rank_reports_itself_and_an_unmeasured_memory_stays_empty() {
-        let f = gather(&couple::Serial::default(), 7, 9, None, 2);
+        let f = gather(&couple::Serial::default(), 7, 9, None, None, 2);
         assert_eq!(f.len(), 1);
         assert_eq!(
             (f[0].particles, f[0].particles_max, f[0].cells_touched),
@@ -131,6 +149,21 @@ mod tests {
         };
         write_csv(&path, &[unmeasured]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(text.lines().nth(1), Some("0,7,9,,0,0,"));
+        assert_eq!(text.lines().nth(1), Some("0,7,9,,0,0,,,"));
+        let to_solver = gather(
+            &couple::Serial::default(),
+            7,
+            9,
+            Some(3),
+            Some((100, 50)),
+            2,
+        );
+        assert_eq!(
+            (
+                to_solver[0].solver_sent_per_step,
+                to_solver[0].solver_received_per_step
+            ),
+            (Some(50.0), Some(25.0))
+        );
     }
 }

@@ -261,14 +261,17 @@ impl Observer {
         ranks.all_sum(&mut sums);
         let [ke, axial, force, count] = sums;
         let count = count as usize;
-        // the first particle: of the first rank that has one (ranks hold disjoint tags, each
-        // in its state's order)
-        let first = ps.velocity.first().map(|v| (*v).dot(&ax));
+        // the first particle: the lowest id over all ranks (the same particle however the
+        // ranks or the DEM order their particles)
+        let first = (0..ps.len())
+            .min_by_key(|&i| ps.ids[i])
+            .map(|i| [ps.ids[i] as f64, ps.velocity[i].dot(&ax)]);
         let first_axial_velocity = ranks
-            .gather(first.as_slice())
+            .gather(first.as_ref().map_or(&[][..], |f| &f[..]))
             .iter()
-            .find_map(|v| v.first().copied())
-            .unwrap_or(0.0);
+            .filter(|v| v.len() == 2)
+            .min_by(|a, b| a[0].total_cmp(&b[0]))
+            .map_or(0.0, |v| v[1]);
         let p_mean = |name: &Option<String>| name.as_deref().and_then(|n| fluid.patch_pressure(n));
         let pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
             (Some(a), Some(b)) => Some(self.rho * (a - b)),
@@ -573,6 +576,7 @@ fn run_launched(
         stop,
         init_seconds,
         ranks: None,
+        owners: None,
     };
     crate::backend::run_pair(ctx, &run_deck, model, opts.fluid, opts.dem, launch, events)
 }
@@ -603,6 +607,9 @@ pub(crate) struct LoopContext<'a> {
     pub(crate) init_seconds: f64,
     /// The coupler's ranks on N ranks (`None`: one process).
     pub(crate) ranks: Option<Box<dyn couple::Ranks>>,
+    /// On N ranks with grainPisoFoam: the straight link to the solver ranks owning the cells
+    /// ([`couple::ranks::CellOwners`]).
+    pub(crate) owners: Option<Box<dyn couple::ranks::CellOwners>>,
 }
 
 /// Runs one of `liggghtsCommands`' commands on the particle side. The folder of a file it
@@ -649,12 +656,18 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         stop,
         init_seconds,
         ranks,
+        owners,
         ..
     } = ctx;
     let mesh = fluid.mesh().clone();
     let cfd_dt = fluid_settings.delta_t;
     let mut dem = Timed::new(dem);
     let mut fluid = Timed::new(fluid);
+    let owned = owners.is_some();
+    if owned && monitors.needs_fields() {
+        // the monitors read whole fields on rank 0, which no coupler rank holds otherwise
+        fluid.inner.want_held();
+    }
     let dt_c = coupling_interval as f64 * dem.time_step();
     let ratio = dt_c / cfd_dt;
     if (ratio - ratio.round()).abs() > 1e-6 * ratio || ratio.round() < 1.0 {
@@ -681,6 +694,9 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     if let Some(ranks) = ranks {
         coupler.set_ranks(ranks);
     }
+    if let Some(owners) = owners {
+        coupler.set_owners(owners);
+    }
     let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
     // The voidage of the initial particles, so that the first coupling interval blends from it
     // (not from an empty domain, which would make ∂ε/∂t a spurious source).
@@ -691,10 +707,18 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         n[0] as usize
     };
     if n_ranks > 1 {
-        events(Event::Message(format!(
-            "{n_ranks} ranks: LIGGGHTS on each, each rank couples the particles its LIGGGHTS \
-             rank owns; the fluid on rank 0"
-        )));
+        events(Event::Message(if owned {
+            format!(
+                "{n_ranks} ranks: LIGGGHTS on each, each rank couples the particles its \
+                 LIGGGHTS rank owns and exchanges the cells they touch straight with the \
+                 grainPisoFoam ranks owning them"
+            )
+        } else {
+            format!(
+                "{n_ranks} ranks: LIGGGHTS on each, each rank couples the particles its \
+                 LIGGGHTS rank owns; the fluid on rank 0"
+            )
+        }));
         if monitors.basic_io {
             events(Event::Message(
                 "warning: basicIO's particle files are not written on several ranks (no rank \
@@ -778,7 +802,14 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let mut writes = 0;
     let mut held_max = 0;
     for k in 1..=steps {
-        let step = coupler.step(&mut dem, &mut fluid)?;
+        let mut step = coupler.step(&mut dem, &mut fluid)?;
+        if let Some(h) = fluid.inner.held_exchange() {
+            // the cells' owners formed the whole fields (rank 0 holds only its own particles')
+            step.voidage.epsilon = h.eps.to_vec();
+            step.exchange.ksl = h.ksl.to_vec();
+            step.exchange.us = h.us.to_vec();
+            step.exchange.f = h.f.to_vec();
+        }
         held_max = held_max.max(dem.state().len());
         let time = fluid.inner.time();
         let sample = observer.sample(time, &fluid.inner, &dem, &step, coupler.ranks());
@@ -890,6 +921,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             dem.state().len(),
             held_max,
             (n_ranks > 1).then(|| coupler.touched_cells()),
+            owned.then(|| coupler.owner_traffic()),
             samples.len() as u64,
         );
         if rank == 0 {

@@ -75,6 +75,15 @@ pub struct Monitors {
     pub basic_io: bool,
 }
 
+impl Monitors {
+    /// True when a model reads whole cell fields (ε, the exchange fields, the fluid).
+    pub fn needs_fields(&self) -> bool {
+        self.field_store.is_some()
+            || self.particle_cell_volume.is_some()
+            || self.vol_weighted_average.is_some()
+    }
+}
+
 fn field_names(
     r: &Reader<'_>,
     props: &Dict,
