@@ -212,8 +212,8 @@ pub fn particle_forces(
         }
         cand[i].history = Some(h);
     }
-    let mut contacts = old;
-    contacts.clear();
+    // this step's contacts, in the allocation of the previous step's
+    let mut now = Vec::with_capacity(cand.len());
     let (mut f, mut t) = (V3::zeros(), V3::zeros());
     for c in &cand {
         let Some(mut h) = c.history else { continue };
@@ -232,7 +232,7 @@ pub fn particle_forces(
         );
         f += o.force;
         t += o.torque_i;
-        contacts.push(MeshContact {
+        now.push(MeshContact {
             wall: c.wall,
             surface: c.surface,
             tri: c.tri,
@@ -240,6 +240,7 @@ pub fn particle_forces(
             force: o.force,
         });
     }
+    *contacts = now;
     (f, t)
 }
 
