@@ -9,6 +9,7 @@ mod common;
 
 use std::sync::Arc;
 
+use common::meshes::grid;
 use common::{plane, sim_with, sphere};
 use dem::contact::{ContactModel, RollingModel};
 use dem::material::MaterialInput;
@@ -17,27 +18,6 @@ use dem::trimesh::stl::ascii_stl;
 use dem::trimesh::{MeshOptions, TriMesh};
 use dem::Simulation;
 use mesh::v3::V3;
-
-/// The square [−a, a]² at height z, `n × n` cells of two triangles each (diagonals
-/// alternating, so vertices are met by 4, 6 or 8 triangles).
-fn grid(a: f64, z: f64, n: usize) -> Vec<[V3; 3]> {
-    let mut t = Vec::new();
-    let c = |i: usize| -a + 2.0 * a * i as f64 / n as f64;
-    for i in 0..n {
-        for j in 0..n {
-            let p = |i: usize, j: usize| V3::new(c(i), c(j), z);
-            let (p00, p10, p11, p01) = (p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1));
-            if (i + j) % 2 == 0 {
-                t.push([p00, p10, p11]);
-                t.push([p00, p11, p01]);
-            } else {
-                t.push([p00, p10, p01]);
-                t.push([p10, p11, p01]);
-            }
-        }
-    }
-    t
-}
 
 fn surface(name: &str, tris: &[[V3; 3]]) -> Arc<MeshSurface> {
     let (mesh, dropped) = TriMesh::new(name, tris, &[], MeshOptions::default());
