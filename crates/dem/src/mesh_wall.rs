@@ -147,7 +147,37 @@ pub fn particle_forces(
     dt: f64,
     history: HistoryUse,
 ) -> (V3, V3) {
-    let mut cand: Vec<Candidate> = Vec::new();
+    SCRATCH.with(|scratch| {
+        let (cand, now) = &mut *scratch.borrow_mut();
+        cand.clear();
+        now.clear();
+        evaluate(
+            walls, mats, atom_type, s, x, contacts, dt, history, cand, now,
+        )
+    })
+}
+
+thread_local! {
+    /// Per thread: the candidates and the new contacts of the particle being evaluated (kept
+    /// between particles so that the hot loop does not allocate).
+    static SCRATCH: std::cell::RefCell<(Vec<Candidate>, Vec<MeshContact>)> =
+        const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
+}
+
+/// [`particle_forces`] with the scratch buffers (empty on entry).
+#[allow(clippy::too_many_arguments)]
+fn evaluate(
+    walls: &[MeshWall],
+    mats: &Materials,
+    atom_type: u32,
+    s: &SphereState,
+    x: V3,
+    contacts: &mut Vec<MeshContact>,
+    dt: f64,
+    history: HistoryUse,
+    cand: &mut Vec<Candidate>,
+    now: &mut Vec<MeshContact>,
+) -> (V3, V3) {
     for (wi, wall) in walls.iter().enumerate() {
         let Some(bins) = wall.bins.as_ref() else {
             continue;
@@ -174,7 +204,7 @@ pub fn particle_forces(
         contacts.clear();
         return (V3::zeros(), V3::zeros());
     }
-    let old = std::mem::take(contacts);
+    let old = &*contacts;
     let same_surface = |a: &Candidate, w: u16, k: u16| a.wall == w && a.surface == k;
     // 1. contacts that continue
     for c in cand.iter_mut() {
@@ -212,10 +242,8 @@ pub fn particle_forces(
         }
         cand[i].history = Some(h);
     }
-    // this step's contacts, in the allocation of the previous step's
-    let mut now = Vec::with_capacity(cand.len());
     let (mut f, mut t) = (V3::zeros(), V3::zeros());
-    for c in &cand {
+    for c in cand.iter() {
         let Some(mut h) = c.history else { continue };
         let wall = &walls[c.wall as usize];
         let surf = &wall.surfaces[c.surface as usize];
@@ -240,7 +268,9 @@ pub fn particle_forces(
             force: o.force,
         });
     }
-    *contacts = now;
+    // this step's contacts, in the allocation of the previous step's
+    contacts.clear();
+    contacts.extend_from_slice(now);
     (f, t)
 }
 
