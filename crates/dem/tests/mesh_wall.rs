@@ -215,14 +215,16 @@ fn deck_mesh_surface_with_transforms() {
     // (x' = z, z' = −x; the square spans x, y ∈ [−1, 1] cm). LIGGGHTS's π (3.14159265) leaves
     // cos 90° = 1.8·10⁻⁹, so z' reaches 1.8·10⁻¹¹ m at x' = ±1 cm, as in LIGGGHTS.
     let m = "fix sq all mesh/surface/stress file meshes/sq.stl type 1 scale 0.02 move 0 -0.01 -0.01 rotate axis 0 1 0 angle 90 curvature 1 temperature 300";
-    let w = "fix wall all wall/gran model hertz tangential history mesh n_meshes 1 meshes sq";
+    let w = "fix wall all wall/gran model hertz tangential history mesh n_meshes 1 meshes sq\n\
+             thermo_style custom step f_sq[3]";
     let text = deck(m, w);
     let mut warnings = Vec::new();
+    let mut output = Vec::new();
     let d = liggghts_deck::Deck::parse(&text, &dir.path().join("in.mesh"), &[]).unwrap();
-    let mut sim = Simulation::from_deck_observed(&d, dir.path(), &mut |e| {
-        if let dem::deck::exec::DeckEvent::Warning { message, .. } = e {
-            warnings.push(message)
-        }
+    let mut sim = Simulation::from_deck_observed(&d, dir.path(), &mut |e| match e {
+        dem::deck::exec::DeckEvent::Warning { message, .. } => warnings.push(message),
+        dem::deck::exec::DeckEvent::Output(line) => output.push(line),
+        _ => {}
     })
     .unwrap();
     assert!(
@@ -245,6 +247,13 @@ fn deck_mesh_surface_with_transforms() {
         f[0].abs() < 1e-8 * hertz && f[1].abs() < 1e-8 * hertz,
         "{f:?}"
     );
+    // `f_sq[3]` of mesh/surface/stress in a thermo row of `run 0`: the same force (8 digits)
+    let row = output
+        .iter()
+        .find(|l| l.trim_start().starts_with("0 "))
+        .unwrap();
+    let fz: f64 = row.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert!((fz + hertz).abs() < 1e-7 * hertz, "{output:?}");
 }
 
 fn deck_error(files: &[(&str, &[u8])], mesh_line: &str, wall_line: &str) -> String {

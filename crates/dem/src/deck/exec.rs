@@ -1055,6 +1055,9 @@ impl Session<'_> {
             "mesh/surface" | "mesh/surface/stress" => {
                 let parsed = mesh_surface::parse(w, &self.workdir, self.ntypes()?)?;
                 self.warn(self.line, parsed.warnings);
+                if parsed.surface.stress {
+                    self.registry.add_mesh_stress_fix(&id);
+                }
                 self.surfaces.insert(id, parsed.surface);
             }
             "particletemplate/sphere" => {
