@@ -40,6 +40,16 @@ pub enum DemError {
     /// Reading a dump failed.
     #[error(transparent)]
     Dump(#[from] dem_io::DumpError),
+    /// An STL file of `fix mesh/surface` is missing, short or malformed.
+    #[error("{}{}: {message}", file.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
+    Stl {
+        /// The file.
+        file: PathBuf,
+        /// 1-based line of an ASCII file, when the fault is on one.
+        line: Option<usize>,
+        /// What is wrong.
+        message: String,
+    },
     /// Writing a dump failed.
     #[error("cannot write dump {file}: {source}")]
     DumpWrite {

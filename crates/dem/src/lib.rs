@@ -2,12 +2,14 @@
 //!
 //! Owns: particle state, velocity-Verlet integration, Hertz–Mindlin contacts with tangential
 //! history (LIGGGHTS's parameterisation from E, ν, e, μ per type pair), cohesion and rolling
-//! friction, plane and cylinder walls, linked-cell neighbour search, insertion, per-particle
+//! friction, plane and cylinder walls, STL mesh walls, linked-cell neighbour search, insertion, per-particle
 //! coupling forces, and the subset of a LIGGGHTS input deck that drives it.
 //!
 //! # Map
 //! - [`material`]: per-type E, ν and per-pair e, μ, μᵣ, k → Y*, G*, β.
 //! - [`contact`]: `hertz`, `tangential` (history), `sjkr`, `rolling` (`cdt`, `epsd2`).
+//! - [`trimesh`]: triangulated surfaces (STL files, topology, closest points, a grid);
+//!   [`mesh_wall`]: `wall/gran … mesh` contacts with them.
 //! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells, spatial
 //!   order, pair list), [`pair_loop`] (pair forces and their per-particle sums).
 //! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
@@ -40,12 +42,14 @@ pub mod error;
 pub mod from_dump;
 pub mod insert;
 pub mod material;
+pub mod mesh_wall;
 pub mod neighbor;
 pub mod pair_loop;
 pub mod particles;
 pub mod region;
 pub mod sim;
 pub mod timestep;
+pub mod trimesh;
 pub mod walls;
 
 pub use error::DemError;

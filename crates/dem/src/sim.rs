@@ -16,16 +16,17 @@ use dem_io::{Boundary, BoxBounds};
 use mesh::v3::V3;
 use rayon::prelude::*;
 
-use crate::contact::{contact_force, ContactInput, ContactModel, History, HistoryUse};
+use crate::contact::{ContactModel, History, HistoryUse};
 use crate::coupling::Coupling;
 use crate::dump::DumpOutput;
 use crate::error::DemError;
 use crate::insert::InsertPack;
 use crate::material::Materials;
+use crate::mesh_wall::{self, MeshContact, MeshWall};
 use crate::neighbor::PairList;
 use crate::pair_loop::PairForces;
 use crate::particles::{NewParticle, Particles, INERTIA_FACTOR};
-use crate::walls::Wall;
+use crate::walls::{wall_contact, SphereState, Wall};
 
 /// The simulation box of `create_box` with its `boundary` settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -149,6 +150,9 @@ pub struct Simulation {
     /// last force evaluation found them all zero; emptied by every other change of
     /// `wall_hist`, which makes it all true again).
     wall_maybe: Vec<bool>,
+    /// Mesh walls ([`crate::mesh_wall`]) and, per particle, its contacts with them.
+    mesh_walls: Vec<MeshWall>,
+    mesh_contacts: Vec<Vec<MeshContact>>,
     dt: f64,
     gravity: V3,
     step: u64,
@@ -194,6 +198,8 @@ impl Simulation {
             walls: Vec::new(),
             wall_hist: Vec::new(),
             wall_maybe: Vec::new(),
+            mesh_walls: Vec::new(),
+            mesh_contacts: Vec::new(),
             dt: cfg.dt,
             gravity: cfg.gravity,
             step: 0,
@@ -293,6 +299,66 @@ impl Simulation {
         Ok(())
     }
 
+    /// Adds a mesh wall; the material types of its surfaces must exist.
+    pub fn add_mesh_wall(&mut self, mut wall: MeshWall) -> Result<(), DemError> {
+        for s in &wall.surfaces {
+            if s.material_type == 0 || s.material_type as usize > self.materials.ntypes() {
+                return Err(DemError::Setup(format!(
+                    "mesh/surface {} of wall {}: material type {} outside 1..={}",
+                    s.mesh.name(),
+                    wall.name,
+                    s.material_type,
+                    self.materials.ntypes()
+                )));
+            }
+        }
+        if self.mesh_walls.len() >= u16::MAX as usize {
+            return Err(DemError::Setup("too many mesh walls".into()));
+        }
+        wall.prepare(self.particles.radius.iter().copied().fold(0.0, f64::max));
+        self.mesh_walls.push(wall);
+        self.mesh_contacts.resize(self.particles.len(), Vec::new());
+        self.forces_valid = false;
+        Ok(())
+    }
+
+    /// Mesh walls.
+    pub fn mesh_walls(&self) -> &[MeshWall] {
+        &self.mesh_walls
+    }
+
+    /// Per particle, its contacts with the mesh walls (empty without mesh walls).
+    pub fn mesh_contacts(&self) -> &[Vec<MeshContact>] {
+        &self.mesh_contacts
+    }
+
+    /// The force of the particles on the surface named `surface` (a `fix mesh/surface` id),
+    /// summed over the mesh walls that use it (N); `None` when no mesh wall uses it.
+    pub fn mesh_surface_force(&self, surface: &str) -> Option<V3> {
+        let mut found = None;
+        for (w, wall) in self.mesh_walls.iter().enumerate() {
+            for (k, s) in wall.surfaces.iter().enumerate() {
+                if s.mesh.name() == surface {
+                    let f = mesh_wall::mesh_force(&self.mesh_contacts, w, k);
+                    found = Some(found.unwrap_or(V3::zeros()) + f);
+                }
+            }
+        }
+        found
+    }
+
+    /// Makes the mesh walls' grids find the contacts of the largest particle.
+    fn prepare_mesh_walls(&mut self) {
+        if self.mesh_walls.is_empty() {
+            return;
+        }
+        let rmax = self.particles.radius.iter().copied().fold(0.0, f64::max);
+        for w in &mut self.mesh_walls {
+            w.prepare(rmax);
+        }
+        self.mesh_contacts.resize(self.particles.len(), Vec::new());
+    }
+
     /// Adds particles (ids 0 are assigned the next free ids; duplicate ids are refused).
     pub fn add_particles(&mut self, new: &[NewParticle]) -> Result<(), DemError> {
         let mut ids: std::collections::HashSet<u64> = self.particles.id.iter().copied().collect();
@@ -325,6 +391,7 @@ impl Simulation {
         self.wall_hist
             .resize(self.particles.len() * self.walls.len(), History::default());
         self.wall_maybe.clear();
+        self.prepare_mesh_walls();
         self.coupling.grow(added);
         self.pairs.invalidate();
         self.forces_valid = false;
@@ -413,6 +480,7 @@ impl Simulation {
         self.forces_valid = false;
         self.replay = None;
         self.pairs.invalidate();
+        self.prepare_mesh_walls();
     }
 
     /// Sets the step counter (a run continued from a restart file starts at the file's step).
@@ -524,6 +592,7 @@ impl Simulation {
             }
             self.add_particles(&got.particles)?;
         }
+        self.prepare_mesh_walls();
         if !self.forces_valid {
             self.pairs.ensure(&self.particles.x, &self.particles.radius);
             match self.replay.take() {
@@ -680,6 +749,10 @@ impl Simulation {
         let mut it = (0..self.particles.len()).flat_map(|i| std::iter::repeat_n(keep[i], nw));
         self.wall_hist.retain(|_| it.next().unwrap_or(true));
         self.wall_maybe.clear();
+        if !self.mesh_walls.is_empty() {
+            let mut k = keep.iter();
+            self.mesh_contacts.retain(|_| *k.next().unwrap_or(&true));
+        }
         let map = self.particles.retain(&keep);
         self.lost += keep.iter().filter(|&&k| !k).count() as u64;
         self.pairs.remap(&map);
@@ -707,75 +780,83 @@ impl Simulation {
             self.wall_maybe.resize(p.len(), true);
         }
         let wall_maybe = &mut self.wall_maybe;
-        let gather = |i: usize,
-                      (f, t): (&mut V3, &mut V3),
-                      (v, w): (&mut V3, &mut V3),
-                      (wh, maybe): (&mut [History], &mut bool)| {
-            let mut ff = (m[i] * g) + coupling.force(i, *v);
-            let mut tt = V3::zeros();
-            let (fp, tp) = pair_forces.sum(i);
-            ff += fp;
-            tt += tp;
-            // most particles touch no wall and have no wall history to reset: their
-            // histories are neither read nor written
-            let (check, mut touched) = (*maybe, false);
-            for (wall, h) in walls.iter().zip(wh.iter_mut()) {
-                // the gap first: the normal only for contacts
-                let contact = (wall.shape.gap(x[i]) < r[i])
-                    .then(|| wall.shape.distance(x[i]))
-                    .flatten();
-                let Some((dist, n)) = contact else {
-                    if check && *h != History::default() {
-                        *h = History::default();
-                    }
-                    continue;
+        let mesh_walls = &self.mesh_walls;
+        if self.mesh_contacts.len() != p.len() {
+            self.mesh_contacts.resize(p.len(), Vec::new());
+        }
+        let mesh_contacts = &mut self.mesh_contacts;
+        let gather =
+            |i: usize,
+             (f, t): (&mut V3, &mut V3),
+             (v, w): (&mut V3, &mut V3),
+             (wh, maybe, mc): (&mut [History], &mut bool, &mut Vec<MeshContact>)| {
+                let mut ff = (m[i] * g) + coupling.force(i, *v);
+                let mut tt = V3::zeros();
+                let (fp, tp) = pair_forces.sum(i);
+                ff += fp;
+                tt += tp;
+                let sphere = SphereState {
+                    radius: r[i],
+                    mass: m[i],
+                    v: *v,
+                    omega: *w,
                 };
-                touched = true;
-                let inp = ContactInput {
-                    n,
-                    r: dist,
-                    deltan: r[i] - dist,
-                    radi: r[i],
-                    radj: 0.0,
-                    reff: r[i],
-                    meff: m[i],
-                    vrel: *v,
-                    omega_i: *w,
-                    omega_j: V3::zeros(),
-                    is_wall: true,
-                };
-                let c = mats.pair(ty[i], wall.material_type);
-                let o = contact_force(&wall.model, c, &inp, h, dt, history);
-                ff += o.force;
-                tt += o.torque_i;
-            }
-            *maybe = touched;
-            *f = ff;
-            *t = tt;
-            if let Some(half) = kick {
-                let a = half / m[i];
-                let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
-                for k in 0..3 {
-                    v[k] += a * ff[k];
-                    w[k] += ai * tt[k];
+                // most particles touch no wall and have no wall history to reset: their
+                // histories are neither read nor written
+                let (check, mut touched) = (*maybe, false);
+                for (wall, h) in walls.iter().zip(wh.iter_mut()) {
+                    // the gap first: the normal only for contacts
+                    let contact = (wall.shape.gap(x[i]) < r[i])
+                        .then(|| wall.shape.distance(x[i]))
+                        .flatten();
+                    let Some((dist, n)) = contact else {
+                        if check && *h != History::default() {
+                            *h = History::default();
+                        }
+                        continue;
+                    };
+                    touched = true;
+                    let c = mats.pair(ty[i], wall.material_type);
+                    let o = wall_contact(&wall.model, c, &sphere, dist, n, h, dt, history);
+                    ff += o.force;
+                    tt += o.torque_i;
                 }
-            }
-        };
+                *maybe = touched;
+                if !mesh_walls.is_empty() {
+                    let (fm, tm) = mesh_wall::particle_forces(
+                        mesh_walls, mats, ty[i], &sphere, x[i], mc, dt, history,
+                    );
+                    ff += fm;
+                    tt += tm;
+                }
+                *f = ff;
+                *t = tt;
+                if let Some(half) = kick {
+                    let a = half / m[i];
+                    let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
+                    for k in 0..3 {
+                        v[k] += a * ff[k];
+                        w[k] += ai * tt[k];
+                    }
+                }
+            };
         let ft = p.f.par_iter_mut().zip(p.torque.par_iter_mut());
         let vw = p.v.par_iter_mut().zip(p.omega.par_iter_mut());
         if nw == 0 {
             ft.zip(vw)
                 .zip(wall_maybe.par_iter_mut())
+                .zip(mesh_contacts.par_iter_mut())
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, ((a, b), maybe))| gather(i, a, b, (&mut [], maybe)));
+                .for_each(|(i, (((a, b), maybe), mc))| gather(i, a, b, (&mut [], maybe, mc)));
         } else {
             ft.zip(vw)
                 .zip(wall_hist.par_chunks_mut(nw))
                 .zip(wall_maybe.par_iter_mut())
+                .zip(mesh_contacts.par_iter_mut())
                 .enumerate()
                 .with_min_len(256)
-                .for_each(|(i, (((a, b), wh), maybe))| gather(i, a, b, (wh, maybe)));
+                .for_each(|(i, ((((a, b), wh), maybe), mc))| gather(i, a, b, (wh, maybe, mc)));
         }
         self.forces_valid = true;
         self.forces_coupling = None;

@@ -5,7 +5,10 @@
 
 use mesh::v3::V3;
 
-use crate::contact::ContactModel;
+use crate::contact::{
+    contact_force, ContactInput, ContactModel, ContactOutput, History, HistoryUse,
+};
+use crate::material::PairCoeffs;
 
 /// Wall geometry.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,6 +43,52 @@ pub struct Wall {
     pub material_type: u32,
     /// Contact model options of the wall's `model … ` settings.
     pub model: ContactModel,
+}
+
+/// A sphere's state as a static wall contact sees it.
+#[derive(Debug, Clone, Copy)]
+pub struct SphereState {
+    /// Radius (m).
+    pub radius: f64,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Velocity (m/s).
+    pub v: V3,
+    /// Angular velocity (rad/s).
+    pub omega: V3,
+}
+
+/// The contact of a sphere with a static wall surface (a primitive wall or a mesh triangle)
+/// whose closest point is at distance `dist` < R (m) along the unit normal `n` (from the wall
+/// to the centre): overlap δ = R − dist, R* = R, m* = m, the wall at rest, through
+/// [`contact_force`] (LIGGGHTS's wall contact: `fix wall/gran` treats primitive and mesh walls
+/// alike). Advances the history `h` by `dt` (s) with [`HistoryUse::Advance`].
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn wall_contact(
+    model: &ContactModel,
+    c: &PairCoeffs,
+    s: &SphereState,
+    dist: f64,
+    n: V3,
+    h: &mut History,
+    dt: f64,
+    history: HistoryUse,
+) -> ContactOutput {
+    let inp = ContactInput {
+        n,
+        r: dist,
+        deltan: s.radius - dist,
+        radi: s.radius,
+        radj: 0.0,
+        reff: s.radius,
+        meff: s.mass,
+        vrel: s.v,
+        omega_i: s.omega,
+        omega_j: V3::zeros(),
+        is_wall: true,
+    };
+    contact_force(model, c, &inp, h, dt, history)
 }
 
 /// The two axes after `axis` in cyclic order (LIGGGHTS's `Dim<dim>`: y,z for x; z,x for y;

@@ -13,7 +13,9 @@
 //!   [rolling_friction cdt|epsd2] [tangential_damping on|off] [limitForce on|off]`,
 //!   `pair_coeff * *`;
 //! - fixes (group `all`): `property/global`, `gravity G vector x y z`, `wall/gran model … primitive
-//!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2`,
+//!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2` or `… mesh n_meshes N
+//!   meshes ID…` ([`crate::mesh_wall`]), `mesh/surface[/stress] file F.stl type T …`
+//!   ([`mesh_surface`](super::mesh_surface)),
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
 //!   (`insert_every once`), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
@@ -41,6 +43,7 @@ use mesh::v3::V3;
 
 use crate::contact::{ContactModel, RollingModel};
 use crate::deck::data_file;
+use crate::deck::mesh_surface;
 use crate::deck::print::FixPrint;
 use crate::deck::restart;
 use crate::deck::thermo::{RunColumns, Thermo};
@@ -49,6 +52,7 @@ use crate::dump::DumpOutput;
 use crate::error::DemError;
 use crate::insert::{Distribution, InsertPack, InsertTarget, SphereTemplate};
 use crate::material::{MaterialInput, Materials};
+use crate::mesh_wall::{MeshSurface, MeshWall};
 use crate::particles::NewParticle;
 use crate::region::Region;
 use crate::sim::{SimBox, SimConfig, Simulation};
@@ -73,6 +77,7 @@ struct Pending {
     dt: Option<f64>,
     gravity: Option<(String, V3)>,
     walls: Vec<Wall>,
+    mesh_walls: Vec<MeshWall>,
     inserts: Vec<InsertPack>,
     dumps: Vec<DumpOutput>,
     soft: bool,
@@ -141,6 +146,8 @@ pub struct Session<'a> {
     vars: Variables,
     prints: Vec<FixPrint>,
     regions: HashMap<String, Region>,
+    /// `fix mesh/surface` surfaces by fix id.
+    surfaces: HashMap<String, std::sync::Arc<MeshSurface>>,
     templates: HashMap<String, SphereTemplate>,
     dists: HashMap<String, Distribution>,
     pending: Pending,
@@ -187,6 +194,7 @@ impl<'a> Session<'a> {
             vars: Variables::default(),
             prints: Vec::new(),
             regions: HashMap::new(),
+            surfaces: HashMap::new(),
             templates: HashMap::new(),
             dists: HashMap::new(),
             pending: Pending::default(),
@@ -987,9 +995,18 @@ impl Session<'_> {
             }
             "wall/gran" => {
                 let (model, mut k) = contact_model(w, 4)?;
-                if word(w, k, "`primitive`")? != "primitive" {
+                if word(w, k, "`primitive` or `mesh`")? == "mesh" {
+                    let wall = self.mesh_wall(&id, model, &w[k + 1..])?;
+                    match &mut self.sim {
+                        Some(s) => s.add_mesh_wall(wall)?,
+                        None => self.pending.mesh_walls.push(wall),
+                    }
+                    return Ok(());
+                }
+                if w[k] != "primitive" {
                     return Err(
-                        "only primitive walls (`primitive type T xplane|…`) are supported".into(),
+                        "walls are `primitive type T xplane|…` or `mesh n_meshes N meshes ID…`"
+                            .into(),
                     );
                 }
                 if word(w, k + 1, "`type`")? != "type" {
@@ -1034,6 +1051,14 @@ impl Session<'_> {
                     Some(s) => s.add_wall(wall)?,
                     None => self.pending.walls.push(wall),
                 }
+            }
+            "mesh/surface" | "mesh/surface/stress" => {
+                let parsed = mesh_surface::parse(w, &self.workdir, self.ntypes()?)?;
+                self.warn(self.line, parsed.warnings);
+                if parsed.surface.stress {
+                    self.registry.add_mesh_stress_fix(&id);
+                }
+                self.surfaces.insert(id, parsed.surface);
             }
             "particletemplate/sphere" => {
                 int(w, 4, "seed")?;
@@ -1273,6 +1298,41 @@ impl Session<'_> {
         })
     }
 
+    /// The mesh wall of `wall/gran … mesh n_meshes N meshes ID…` (`rest` = the words after
+    /// `mesh`).
+    fn mesh_wall(&self, id: &str, model: ContactModel, rest: &[String]) -> Res<MeshWall> {
+        if word(rest, 0, "`n_meshes`")? != "n_meshes" {
+            return Err("expected `mesh n_meshes N meshes ID…`".into());
+        }
+        let n = int(rest, 1, "n_meshes")? as usize;
+        if n == 0 || word(rest, 2, "`meshes`")? != "meshes" {
+            return Err("expected `n_meshes N meshes ID…` with N ≥ 1".into());
+        }
+        if rest.len() != 3 + n {
+            return Err(match rest.len() < 3 + n {
+                true => format!(
+                    "n_meshes {n} but {} mesh ids follow `meshes`",
+                    rest.len() - 3
+                ),
+                false => format!("unsupported wall keyword `{}`", rest[3 + n]),
+            });
+        }
+        let mut surfaces = Vec::with_capacity(n);
+        for m in &rest[3..] {
+            let s = self.surfaces.get(m).ok_or_else(|| {
+                format!("mesh `{m}` is not a `fix mesh/surface` defined before this line")
+            })?;
+            if surfaces
+                .iter()
+                .any(|x: &std::sync::Arc<MeshSurface>| x.mesh.name() == m)
+            {
+                return Err(format!("mesh `{m}` listed twice"));
+            }
+            surfaces.push(s.clone());
+        }
+        Ok(MeshWall::new(id, surfaces, model))
+    }
+
     fn unfix(&mut self, id: &str) -> Result<(), Failure> {
         let prints = self.prints.len();
         self.prints.retain(|p| p.id != id);
@@ -1288,10 +1348,12 @@ impl Session<'_> {
             return Ok(());
         }
         if self.sim.is_none() {
-            let n = self.pending.walls.len() + self.pending.inserts.len();
-            self.pending.walls.retain(|x| x.name != id);
-            self.pending.inserts.retain(|x| x.name != id);
-            if n != self.pending.walls.len() + self.pending.inserts.len() {
+            let p = &mut self.pending;
+            let n = p.walls.len() + p.mesh_walls.len() + p.inserts.len();
+            p.walls.retain(|x| x.name != id);
+            p.mesh_walls.retain(|x| x.name != id);
+            p.inserts.retain(|x| x.name != id);
+            if n != p.walls.len() + p.mesh_walls.len() + p.inserts.len() {
                 return Ok(());
             }
         }
@@ -1525,8 +1587,12 @@ impl Session<'_> {
                 _ => Ok(Vec::new()),
             }
         };
-        let rolling = model.rolling.is_some() || p.walls.iter().any(|w| w.model.rolling.is_some());
-        let cohesion = model.cohesion || p.walls.iter().any(|w| w.model.cohesion);
+        let wall_models = || {
+            let mesh = p.mesh_walls.iter().map(|w| w.model);
+            p.walls.iter().map(|w| w.model).chain(mesh)
+        };
+        let rolling = model.rolling.is_some() || wall_models().any(|m| m.rolling.is_some());
+        let cohesion = model.cohesion || wall_models().any(|m| m.cohesion);
         let input = MaterialInput {
             youngs_modulus: prop("youngsModulus", "peratomtype", true)?,
             poissons_ratio: prop("poissonsRatio", "peratomtype", true)?,
@@ -1568,6 +1634,9 @@ impl Session<'_> {
         })?;
         for wall in p.walls.drain(..) {
             sim.add_wall(wall)?;
+        }
+        for wall in p.mesh_walls.drain(..) {
+            sim.add_mesh_wall(wall)?;
         }
         sim.add_particles(&p.particles)?;
         if let Some(r) = p.restart.take() {

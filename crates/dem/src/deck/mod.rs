@@ -1,10 +1,11 @@
 //! The native DEM's side of a LIGGGHTS deck: the commands that [`liggghts_deck`] reads are
 //! executed here ([`exec`], [`Simulation::from_deck`](crate::Simulation::from_deck)), with
 //! LIGGGHTS's screen output ([`thermo`]), its data files ([`data_file`]) and restart files
-//! ([`restart`]).
+//! ([`restart`]); `fix mesh/surface` is read by [`mesh_surface`].
 
 pub mod data_file;
 pub mod exec;
+pub mod mesh_surface;
 pub mod print;
 pub mod restart;
 pub mod thermo;

@@ -11,7 +11,10 @@
 //!   several; `update_on_run_end yes|no` and `replace` are accepted); any other style is
 //!   accepted and cannot be evaluated (a thermo column of it stays blank);
 //! - fixes: `f_ID[1..3]` of `fix ID all couple/cfd/force[/implicit]`, the total coupling force
-//!   of the last step (N, [`Simulation::coupling_force_total`]);
+//!   of the last step (N, [`Simulation::coupling_force_total`]); `f_ID[1..3]` of `fix ID all
+//!   mesh/surface/stress`, the force of the particles on the surface at the last force
+//!   evaluation (N, [`Simulation::mesh_surface_force`]; its torque `[4..6]` and reference point
+//!   `[7..9]` are not computed);
 //! - `v_name` (equal-style or numeric variables) and `name[tag]` (an atom's value, e.g. `vx[1]`).
 //!
 //! `thermo_modify norm yes` divides the extensive ones (`ke`, `erotate/sphere`, `reduce sum`,
@@ -79,6 +82,7 @@ impl Compute {
 pub struct Registry {
     computes: HashMap<String, Compute>,
     force_fixes: Vec<String>,
+    mesh_stress_fixes: Vec<String>,
 }
 
 /// Whether a name can be evaluated.
@@ -124,6 +128,12 @@ impl Registry {
         self.force_fixes.push(id.to_owned());
     }
 
+    /// Records `fix ID all mesh/surface/stress` (its vector's first three elements are the
+    /// force on the surface).
+    pub fn add_mesh_stress_fix(&mut self, id: &str) {
+        self.mesh_stress_fixes.push(id.to_owned());
+    }
+
     /// Whether the deck has a coupling force fix (which makes `f_dragforce` exist).
     pub fn has_force_fix(&self) -> bool {
         !self.force_fixes.is_empty()
@@ -159,8 +169,18 @@ impl Registry {
                 check_index(r, Some(3), index)?;
                 Ok(Support::Yes)
             }
+            Ref::Fix(id, index) if self.mesh_stress_fixes.iter().any(|f| f == id) => {
+                check_index(r, Some(9), index)?;
+                match index {
+                    Some(1..=3) => Ok(Support::Yes),
+                    _ => Ok(Support::Blank(format!(
+                        "{r}: of mesh/surface/stress the native DEM computes the force [1..3] only"
+                    ))),
+                }
+            }
             Ref::Fix(..) => Ok(Support::Blank(format!(
-                "{r}: the native DEM gives fix values only for couple/cfd/force fixes"
+                "{r}: the native DEM gives fix values only for couple/cfd/force and \
+                 mesh/surface/stress fixes"
             ))),
             Ref::Atom(name, _) => match AtomValue::parse(name) {
                 Some(_) => Ok(Support::Yes),
@@ -305,6 +325,12 @@ impl Values<'_> {
                         "{r}: compute style `{s}` is not computed by the native DEM"
                     )),
                 }
+            }
+            Ref::Fix(id, Some(i @ 1..=3))
+                if self.registry.mesh_stress_fixes.iter().any(|f| f == id) =>
+            {
+                let f = sim.mesh_surface_force(id).unwrap_or_default();
+                Ok(f[i - 1] * self.per_atom())
             }
             Ref::Fix(id, index) => {
                 if !self.registry.force_fixes.iter().any(|f| f == id) {

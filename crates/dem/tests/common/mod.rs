@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod bed;
+pub mod meshes;
 
 use dem::contact::ContactModel;
 use dem::material::{MaterialInput, Materials};
@@ -60,4 +61,14 @@ pub fn plane(axis: usize, position: f64, model: ContactModel) -> Wall {
         material_type: 1,
         model,
     }
+}
+
+/// The last snapshot of a dump file.
+pub fn last_snapshot(path: impl AsRef<std::path::Path>) -> dem_io::Snapshot {
+    dem_io::read_snapshot(
+        path.as_ref(),
+        &dem_io::ReadOptions::default(),
+        dem_io::Selection::Last,
+    )
+    .unwrap()
 }
