@@ -8,7 +8,8 @@
 //! # Map
 //! - [`material`]: per-type E, ν and per-pair e, μ, μᵣ, k → Y*, G*, β.
 //! - [`contact`]: `hertz`, `tangential` (history), `sjkr`, `rolling` (`cdt`, `epsd2`).
-//! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells, spatial
+//! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`insert_rate`]
+//!   (`insert/rate/region`), [`outflow`] (lost and deleted particles), [`neighbor`] (linked cells, spatial
 //!   order, pair list), [`pair_loop`] (pair forces and their per-particle sums).
 //! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
 //! - [`atom_value`]: per-atom quantities by LIGGGHTS name (dump columns, `compute reduce`).
@@ -39,8 +40,10 @@ pub mod dump;
 pub mod error;
 pub mod from_dump;
 pub mod insert;
+pub mod insert_rate;
 pub mod material;
 pub mod neighbor;
+pub mod outflow;
 pub mod pair_loop;
 pub mod particles;
 pub mod region;

@@ -5,6 +5,7 @@
 
 pub mod data_file;
 pub mod exec;
+pub(crate) mod insertion;
 pub mod print;
 pub mod restart;
 pub mod thermo;
