@@ -180,7 +180,13 @@ impl RateInsertion {
 
     /// Fixes n_per with the time step of the first run (LIGGGHTS's `setup`), and checks the
     /// region against the box: reaching outside while a face is fixed is an error.
-    pub fn activate(&mut self, dt: f64, fixed_face: bool, box_lo: V3, box_hi: V3) -> Result<(), String> {
+    pub fn activate(
+        &mut self,
+        dt: f64,
+        fixed_face: bool,
+        box_lo: V3,
+        box_hi: V3,
+    ) -> Result<(), String> {
         if self.per.is_some() {
             return Ok(());
         }
@@ -300,9 +306,10 @@ mod tests {
     /// in (the fourth insertion cut to 5).
     #[test]
     fn integer_rate_counts_are_exact_and_the_last_is_cut() {
-        let mut ins = RateInsertion::new(spec(Total::Particles(35), Rate::Particles(1000.0), 10), 0)
+        let mut ins =
+            RateInsertion::new(spec(Total::Particles(35), Rate::Particles(1000.0), 10), 0).unwrap();
+        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0))
             .unwrap();
-        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0)).unwrap();
         assert_eq!(run(&mut ins, 100), [(1, 10), (11, 10), (21, 10), (31, 5)]);
         assert_eq!(ins.next_step(), None);
         let m = 4.0 / 3.0 * std::f64::consts::PI * 1e-9 * 2000.0;
@@ -317,7 +324,8 @@ mod tests {
         let s = spec(Total::Mass(1e6 * m), Rate::Mass(2500.0 * m), 1);
         assert_eq!(s.total_particles(), Some(1_000_000));
         let mut ins = RateInsertion::new(s, 0).unwrap();
-        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0)).unwrap();
+        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0))
+            .unwrap();
         let mut p = Particles::default();
         let mut n = 0;
         for step in 1..=400 {
@@ -353,12 +361,17 @@ mod tests {
             hi: V3::new(0.0041, 0.0021, 0.0021),
         };
         let mut ins = RateInsertion::new(s, 0).unwrap();
-        ins.activate(1e-5, false, V3::repeat(-1.0), V3::repeat(1.0)).unwrap();
+        ins.activate(1e-5, false, V3::repeat(-1.0), V3::repeat(1.0))
+            .unwrap();
         // 10 wanted; with all_in the centres lie in a 2.1 mm × 0.1 mm × 0.1 mm box, where at
         // most two spheres of 2 mm diameter fit without overlap
         let b = ins.due(1, &Particles::default()).unwrap();
         assert_eq!(b.wanted, 10);
-        assert!((1..=2).contains(&b.particles.len()), "{}", b.particles.len());
+        assert!(
+            (1..=2).contains(&b.particles.len()),
+            "{}",
+            b.particles.len()
+        );
         assert_eq!(ins.stats().short, 1);
         assert_eq!(ins.next_step(), Some(2));
     }

@@ -42,13 +42,13 @@ use mesh::v3::V3;
 
 use crate::contact::{ContactModel, RollingModel};
 use crate::deck::data_file;
+use crate::deck::insertion;
 use crate::deck::print::FixPrint;
 use crate::deck::restart;
 use crate::deck::thermo::{RunColumns, Thermo};
 use crate::deck::values::{Registry, Values};
 use crate::dump::DumpOutput;
 use crate::error::DemError;
-use crate::deck::insertion;
 use crate::insert::{Distribution, InsertPack, SphereTemplate};
 use crate::insert_rate::InsertRate;
 use crate::material::{MaterialInput, Materials};
@@ -1165,6 +1165,7 @@ impl Session<'_> {
             }
             "insert/rate/region" => {
                 let ins = insertion::insert_rate(&id, w, &self.known())?;
+                self.registry.add_insert_fix(&id);
                 match &mut self.sim {
                     Some(s) => s.add_rate_insertion(ins)?,
                     None => self.pending.rate_inserts.push(ins),

@@ -229,7 +229,9 @@ pub(crate) fn insert_rate(id: &str, w: &[String], known: &Known<'_>) -> Res<Inse
     })?;
     let every = match c.every {
         Some(Every::Steps(n)) if n >= 1 => n,
-        Some(_) => return Err("insert/rate/region: `insert_every` must be a step count ≥ 1".into()),
+        Some(_) => {
+            return Err("insert/rate/region: `insert_every` must be a step count ≥ 1".into())
+        }
         None => return Err("insert/rate/region needs `insert_every`".into()),
     };
     Ok(InsertRate {

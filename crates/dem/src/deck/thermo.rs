@@ -159,7 +159,7 @@ impl Thermo {
                         o => return Err(format!("thermo_modify norm `{o}` (yes/no expected)")),
                     }
                 }
-"lost" => {
+                "lost" => {
                     self.lost = LostPolicy::from_word(value).ok_or_else(|| {
                         format!("thermo_modify lost `{value}` (error, warn or ignore)")
                     })?

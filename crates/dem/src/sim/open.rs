@@ -59,7 +59,12 @@ impl Simulation {
     /// `delete_atoms region R`: removes the particles whose centres lie in `region`
     /// (boundary included, as LIGGGHTS's `region->match`); returns how many.
     pub fn delete_in_region(&mut self, region: &Region) -> u64 {
-        let keep: Vec<bool> = self.particles.x.iter().map(|&x| !region.contains(x)).collect();
+        let keep: Vec<bool> = self
+            .particles
+            .x
+            .iter()
+            .map(|&x| !region.contains(x))
+            .collect();
         let mut removed = Removed::default();
         self.remove(&keep, &mut removed);
         self.outflow.deleted.count += removed.count;
@@ -95,7 +100,11 @@ impl Simulation {
     /// The rate insertions due at the current step.
     pub(super) fn insert_due(&mut self) -> Result<(), DemError> {
         let step = self.step;
-        if !self.rate_inserts.iter().any(|r| r.next_step() == Some(step)) {
+        if !self
+            .rate_inserts
+            .iter()
+            .any(|r| r.next_step() == Some(step))
+        {
             return Ok(());
         }
         let mut inserts = std::mem::take(&mut self.rate_inserts);
