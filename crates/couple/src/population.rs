@@ -289,7 +289,10 @@ mod tests {
     fn entered_and_left_balance_the_volume_change() {
         let mut p = Population::default();
         let s0 = State::new(&[(1, 1.0, 0.0), (2, 2.0, 0.0), (3, 1.0, 0.0)]);
-        assert_eq!(p.update(&s0.view(), &Serial::default()), PopulationChange::default());
+        assert_eq!(
+            p.update(&s0.view(), &Serial::default()),
+            PopulationChange::default()
+        );
         // 2 left; 4 and 5 entered (unsorted, as the native DEM's index order may be); 3's
         // tag came back with another radius: one left, one entered
         let s1 = State::new(&[(5, 1.0, -2.0), (1, 1.0, 0.0), (4, 3.0, 1.0), (3, 2.0, 0.5)]);
@@ -306,6 +309,9 @@ mod tests {
         assert_eq!(c.momentum_out, V3::zeros());
         assert_eq!(p.total(), c);
         // unchanged: nothing
-        assert_eq!(p.update(&s1.view(), &Serial::default()), PopulationChange::default());
+        assert_eq!(
+            p.update(&s1.view(), &Serial::default()),
+            PopulationChange::default()
+        );
     }
 }

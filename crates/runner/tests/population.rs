@@ -78,7 +78,12 @@ fn inserted_and_lost_particles_are_accounted_for_every_step() {
     let vmax = s.iter().map(|x| x.particle_volume).fold(0.0, f64::max);
     let (mut n, mut v) = (0usize, 0.0);
     for x in s {
-        assert_eq!(x.particles + x.particles_out, n + x.particles_in, "t = {}", x.time);
+        assert_eq!(
+            x.particles + x.particles_out,
+            n + x.particles_in,
+            "t = {}",
+            x.time
+        );
         let change = x.particle_volume - v;
         assert!(
             (change - (x.volume_in - x.volume_out)).abs() < 1e-12 * vmax,
@@ -110,9 +115,10 @@ fn inserted_and_lost_particles_are_accounted_for_every_step() {
     // what entered moved down (inserted at −0.5 m/s), and so did what left
     assert!(p.momentum_in[1] < 0.0 && p.momentum_out[1] < 0.0);
     let line = log.iter().find(|l| l.contains("volume balance")).unwrap();
+    eprintln!("{line}");
     assert!(line.contains("60 entered"), "{line}");
     // the fluid's ε holds exactly the deposited volume at the write times
-    let volumes = foam::Case::open(&case.join("CFD"))
+    let volumes = foam::Case::open(case.join("CFD"))
         .unwrap()
         .read_mesh()
         .map(|m| mesh::geometry::MeshGeometry::new(&m).unwrap().cell_volumes)
@@ -120,6 +126,10 @@ fn inserted_and_lost_particles_are_accounted_for_every_step() {
     for (name, k) in [("0.05", 49), ("0.1", 99)] {
         let solid = solid_in_cells(&case, name, &volumes);
         let x = &s[k];
+        eprintln!(
+            "t = {name}: {} particles, Σ(1−ε)V = {solid:e}, deposited {:e}, outside {:e}",
+            x.particles, x.deposited_volume, x.outside_volume
+        );
         assert!(
             (solid - x.deposited_volume).abs() < 1e-9 * vmax,
             "t = {name}: Σ(1−ε)V = {solid}, deposited {}",
@@ -130,8 +140,7 @@ fn inserted_and_lost_particles_are_accounted_for_every_step() {
     let dem_log = std::fs::read_to_string(case.join("DEM/log.liggghts")).unwrap();
     let last: Vec<&str> = dem_log
         .lines()
-        .filter(|l| l.split_whitespace().count() == 3)
-        .last()
+        .rfind(|l| l.split_whitespace().count() == 3)
         .unwrap()
         .split_whitespace()
         .collect();
