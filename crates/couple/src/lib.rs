@@ -15,6 +15,7 @@
 //! * [`sides`]: the two traits and the data they exchange; [`memory`]: in-memory test doubles;
 //! * [`replay`]: a particle side replaying LIGGGHTS dumps (one-way coupling);
 //! * [`frozen`]: a fluid side holding U and p read from a case time directory;
+//! * [`population`]: the particles that entered and left between exchanges (by tag);
 //! * [`ranks`]: the coupler on several ranks, each with the particles its DEM rank owns;
 //! * [`timestep`]: DEM/CFD time-step and coupling-interval advice;
 //! * [`monitor`]: the values of CFDEM's observing models (`particleCellVolume`,
@@ -46,6 +47,7 @@ pub mod interpolate;
 pub mod memory;
 pub mod monitor;
 pub mod output;
+pub mod population;
 pub mod ranks;
 pub mod replay;
 pub mod sides;
@@ -57,6 +59,7 @@ pub use error::{CoupleError, SideError};
 pub use exchange::{exchange, Exchange, Outside};
 pub use forces::{ParticleCoupling, Physics};
 pub use interpolate::{Interpolation, Placement};
+pub use population::PopulationChange;
 pub use ranks::{Ranks, Serial};
 pub use sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 pub use step::{Coupler, CouplerSettings, CouplingStep};

@@ -23,6 +23,7 @@ use crate::error::CoupleError;
 use crate::exchange::Exchange;
 use crate::forces::{couplings_and_exchange, ForceSet, ParticleCoupling, Physics};
 use crate::interpolate::Placement;
+use crate::population::{Population, PopulationChange};
 use crate::ranks::{pick, CellOwners, Ranks, Serial, OWNER_REPLY_WIDTH, OWNER_SUMS_WIDTH};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 use foam::{Label, PolyMesh};
@@ -56,6 +57,9 @@ pub struct CouplingStep {
     pub forces: ForceSet,
     /// Ksl, Us, f.
     pub exchange: Exchange,
+    /// The particles that entered and left since the last exchange, over all ranks
+    /// ([`crate::population`]).
+    pub population: PopulationChange,
 }
 
 /// The coupler: the voidage mesh, the settings and the voidage of the last step.
@@ -63,7 +67,11 @@ pub struct Coupler {
     vm: VoidageMesh,
     settings: CouplerSettings,
     voidage: Vec<f64>,
+    /// Each particle's centre cell at the last exchange (where the search starts), for the
+    /// particles `hint_ids`: followed by tag when the population changes.
     hints: Vec<Option<Label>>,
+    hint_ids: Vec<u64>,
+    population: Population,
     steps: u64,
     spare: Spare,
     ranks: Box<dyn Ranks>,
@@ -123,6 +131,8 @@ impl Coupler {
             settings,
             voidage: vec![1.0; n],
             hints: Vec::new(),
+            hint_ids: Vec::new(),
+            population: Population::default(),
             steps: 0,
             spare: Spare::default(),
             ranks: Box::new(Serial::default()),
@@ -176,6 +186,11 @@ impl Coupler {
         &self.voidage
     }
 
+    /// What entered and left since the first exchange, over all ranks.
+    pub fn population_total(&self) -> PopulationChange {
+        self.population.total()
+    }
+
     /// Coupling steps done.
     pub fn steps(&self) -> u64 {
         self.steps
@@ -195,12 +210,13 @@ impl Coupler {
         fluid: &FluidState<'_>,
     ) -> Result<CouplingStep, CoupleError> {
         check_particles(particles)?;
+        let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
-            return self.exchange_owned(particles);
+            return self.exchange_owned(particles, population);
         }
         if self.ranks.size() > 1 && self.ranks.rank() > 0 {
-            return self.exchange_remote(particles);
+            return self.exchange_remote(particles, population);
         }
         same_lengths(
             n_cells,
@@ -242,6 +258,7 @@ impl Coupler {
             voidage,
             forces,
             exchange,
+            population,
         })
     }
 
@@ -275,8 +292,10 @@ impl Coupler {
         &mut self,
         particles: &ParticleState<'_>,
     ) -> Result<(CellShares, Deposit), CoupleError> {
-        if self.hints.len() != particles.len() {
-            self.hints = vec![None; particles.len()];
+        if self.hint_ids != particles.ids {
+            self.hints = follow_tags(&self.hint_ids, &self.hints, particles.ids);
+            self.hint_ids.clear();
+            self.hint_ids.extend_from_slice(particles.ids);
         }
         let set = ParticleSet {
             positions: particles.position,
@@ -300,6 +319,7 @@ impl Coupler {
     fn exchange_remote(
         &mut self,
         particles: &ParticleState<'_>,
+        population: PopulationChange,
     ) -> Result<CouplingStep, CoupleError> {
         let (shares, mut deposit) = self.place(particles)?;
         let touched = touched_cells(&shares, &self.hints);
@@ -327,6 +347,7 @@ impl Coupler {
             voidage,
             forces,
             exchange,
+            population,
         })
     }
 
@@ -373,6 +394,7 @@ impl Coupler {
     fn exchange_owned(
         &mut self,
         particles: &ParticleState<'_>,
+        population: PopulationChange,
     ) -> Result<CouplingStep, CoupleError> {
         let (shares, mut deposit) = self.place(particles)?;
         let touched = touched_cells(&shares, &self.hints);
@@ -445,6 +467,7 @@ impl Coupler {
             voidage,
             forces,
             exchange,
+            population,
         })
     }
 
@@ -623,6 +646,14 @@ fn touched_cells(shares: &CellShares, centre: &[Option<Label>]) -> Vec<Label> {
     cells.sort_unstable();
     cells.dedup();
     cells
+}
+
+/// The hints of the particles `ids` from those of the particles `old_ids` (by tag; `None`
+/// for a particle not seen before).
+fn follow_tags(old_ids: &[u64], old: &[Option<Label>], ids: &[u64]) -> Vec<Option<Label>> {
+    let at: std::collections::HashMap<u64, Option<Label>> =
+        old_ids.iter().copied().zip(old.iter().copied()).collect();
+    ids.iter().map(|id| at.get(id).copied().flatten()).collect()
 }
 
 /// ε, U, p, ∇p and ∇·τ of cell `c` ([`FLUID_WIDTH`] values), appended to `out`.

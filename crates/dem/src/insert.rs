@@ -157,76 +157,153 @@ impl InsertPack {
     /// Places the particles (see the module doc). `existing` are checked for overlap.
     pub fn insert(&self, existing: &Particles) -> Inserted {
         let wanted = self.count(existing);
-        // split by number fraction, largest remainder
-        let parts = &self.distribution.parts;
-        let exact: Vec<f64> = parts.iter().map(|(_, w)| w * wanted as f64).collect();
-        let mut counts: Vec<usize> = exact.iter().map(|e| e.floor() as usize).collect();
-        let mut rest: Vec<usize> = (0..parts.len()).collect();
-        rest.sort_by(|&a, &b| {
-            (exact[b] - exact[b].floor())
-                .total_cmp(&(exact[a] - exact[a].floor()))
-                .then(a.cmp(&b))
-        });
-        let missing = wanted - counts.iter().sum::<usize>();
-        for &k in rest.iter().take(missing) {
-            counts[k] += 1;
-        }
-        let mut order: Vec<usize> = (0..parts.len()).collect();
-        order.sort_by(|&a, &b| {
-            parts[b]
-                .0
-                .radius
-                .total_cmp(&parts[a].0.radius)
-                .then(a.cmp(&b))
-        });
+        let mut carry = vec![0.0; self.distribution.parts.len()];
+        let batch = Batch {
+            counts: split(&self.distribution, wanted, &mut carry),
+            velocity: self.velocity,
+            omega: self.omega,
+            all_in: self.all_in,
+            overlap_check: self.overlap_check,
+            max_attempt: self.max_attempt,
+        };
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.seed);
+        let particles = place(&self.region, &self.distribution, &batch, existing, &mut rng);
+        Inserted { particles, wanted }
+    }
+}
 
-        let rmax = parts
-            .iter()
-            .map(|(t, _)| t.radius)
-            .chain(existing.radius.iter().copied())
-            .fold(0.0, f64::max);
-        let mut grid = OverlapGrid::new(2.0 * rmax.max(f64::MIN_POSITIVE));
+/// A volume particles are inserted into: a [`Region`] (`insert/pack`, `insert/rate/region`);
+/// `insert/stream`'s face swept along the insertion velocity fits the same trait.
+pub trait InsertVolume {
+    /// A uniformly random point of the volume shrunk by `shrink` (m) on every side (`all_in
+    /// yes` shrinks by the particle radius), or `None` if nothing is left.
+    fn random_point(&self, rng: &mut rand_chacha::ChaCha8Rng, shrink: f64) -> Option<V3>;
+}
+
+impl InsertVolume for Region {
+    fn random_point(&self, rng: &mut rand_chacha::ChaCha8Rng, shrink: f64) -> Option<V3> {
+        Region::random_point(self, rng, shrink)
+    }
+}
+
+/// One insertion: how many particles of each template of a [`Distribution`] and how.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Batch {
+    /// Particles per template, in the distribution's order.
+    pub counts: Vec<usize>,
+    /// Initial velocity (m/s).
+    pub velocity: V3,
+    /// Initial angular velocity (rad/s).
+    pub omega: V3,
+    /// Whole sphere inside the volume (`all_in yes`), else the centre.
+    pub all_in: bool,
+    /// Reject positions where the sphere overlaps another (`overlapcheck yes`).
+    pub overlap_check: bool,
+    /// Tries per particle wanted, one budget for the batch (`maxattempt`).
+    pub max_attempt: u32,
+}
+
+/// Splits `n` particles over the templates by their number fractions: largest remainder of
+/// wᵢ·n + carryᵢ, the carry keeping what was rounded away for the next call (so the long-run
+/// fractions are exact when a rate inserts a few particles at a time; a zero carry gives the
+/// plain largest-remainder split). Ties go to the first template.
+pub fn split(dist: &Distribution, n: usize, carry: &mut [f64]) -> Vec<usize> {
+    let parts = &dist.parts;
+    let exact: Vec<f64> = parts
+        .iter()
+        .zip(carry.iter())
+        .map(|((_, w), c)| w * n as f64 + c)
+        .collect();
+    let mut counts: Vec<usize> = exact.iter().map(|e| e.floor().max(0.0) as usize).collect();
+    let mut rest: Vec<usize> = (0..parts.len()).collect();
+    rest.sort_by(|&a, &b| {
+        (exact[b] - exact[b].floor())
+            .total_cmp(&(exact[a] - exact[a].floor()))
+            .then(a.cmp(&b))
+    });
+    let missing = n.saturating_sub(counts.iter().sum::<usize>());
+    for &k in rest.iter().take(missing) {
+        counts[k] += 1;
+    }
+    // a carry may round up beyond n: take the excess back from the smallest remainders
+    let mut excess = counts.iter().sum::<usize>().saturating_sub(n);
+    for &k in rest.iter().rev() {
+        while excess > 0 && counts[k] > 0 {
+            counts[k] -= 1;
+            excess -= 1;
+        }
+    }
+    for (c, (e, k)) in carry.iter_mut().zip(exact.iter().zip(&counts)) {
+        *c = e - *k as f64;
+    }
+    counts
+}
+
+/// Places `batch` in `volume`, largest templates first, at uniformly random positions, a
+/// position being rejected while the sphere overlaps an `existing` or already placed one (with
+/// `overlap_check`). The tries share one budget of `max_attempt` × (number wanted), as
+/// LIGGGHTS's `maxattempt`; what is left when it is spent is not placed (the caller compares
+/// lengths).
+pub fn place(
+    volume: &dyn InsertVolume,
+    dist: &Distribution,
+    batch: &Batch,
+    existing: &Particles,
+    rng: &mut rand_chacha::ChaCha8Rng,
+) -> Vec<NewParticle> {
+    let parts = &dist.parts;
+    let wanted: usize = batch.counts.iter().sum();
+    let mut order: Vec<usize> = (0..parts.len()).collect();
+    order.sort_by(|&a, &b| {
+        parts[b]
+            .0
+            .radius
+            .total_cmp(&parts[a].0.radius)
+            .then(a.cmp(&b))
+    });
+    let rmax = parts
+        .iter()
+        .map(|(t, _)| t.radius)
+        .chain(existing.radius.iter().copied())
+        .fold(0.0, f64::max);
+    let mut grid = OverlapGrid::new(2.0 * rmax.max(f64::MIN_POSITIVE));
+    if batch.overlap_check {
         for i in 0..existing.len() {
             grid.add(existing.x[i], existing.radius[i]);
         }
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.seed);
-        let mut out = Vec::with_capacity(wanted);
-        // one budget of tries for the whole insertion, as LIGGGHTS (maxattempt per particle)
-        let mut tries_left = u64::from(self.max_attempt.max(1)) * wanted as u64;
-        'templates: for &k in &order {
-            let t = &parts[k].0;
-            let shrink = if self.all_in { t.radius } else { 0.0 };
-            for _ in 0..counts[k] {
-                loop {
-                    if tries_left == 0 {
-                        break 'templates;
-                    }
-                    tries_left -= 1;
-                    let Some(p) = self.region.random_point(&mut rng, shrink) else {
-                        break 'templates;
-                    };
-                    if self.overlap_check && grid.overlaps(p, t.radius) {
-                        continue;
-                    }
-                    grid.add(p, t.radius);
-                    out.push(NewParticle {
-                        id: 0,
-                        atom_type: t.atom_type,
-                        x: p,
-                        v: self.velocity,
-                        omega: self.omega,
-                        radius: t.radius,
-                        density: t.density,
-                    });
-                    break;
+    }
+    let mut out = Vec::with_capacity(wanted);
+    let mut tries_left = u64::from(batch.max_attempt.max(1)) * wanted as u64;
+    'templates: for &k in &order {
+        let t = &parts[k].0;
+        let shrink = if batch.all_in { t.radius } else { 0.0 };
+        for _ in 0..batch.counts[k] {
+            loop {
+                if tries_left == 0 {
+                    break 'templates;
                 }
+                tries_left -= 1;
+                let Some(p) = volume.random_point(rng, shrink) else {
+                    break 'templates;
+                };
+                if batch.overlap_check && grid.overlaps(p, t.radius) {
+                    continue;
+                }
+                grid.add(p, t.radius);
+                out.push(NewParticle {
+                    id: 0,
+                    atom_type: t.atom_type,
+                    x: p,
+                    v: batch.velocity,
+                    omega: batch.omega,
+                    radius: t.radius,
+                    density: t.density,
+                });
+                break;
             }
         }
-        Inserted {
-            particles: out,
-            wanted,
-        }
     }
+    out
 }
 
 /// Spheres hashed into cubic cells of side ≥ the largest diameter.

@@ -10,7 +10,8 @@
 //! - [`contact`]: `hertz`, `tangential` (history), `sjkr`, `rolling` (`cdt`, `epsd2`).
 //! - [`trimesh`]: triangulated surfaces (STL files, topology, closest points, a grid);
 //!   [`mesh_wall`]: `wall/gran … mesh` contacts with them.
-//! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`neighbor`] (linked cells, spatial
+//! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`insert_rate`]
+//!   (`insert/rate/region`), [`outflow`] (lost and deleted particles), [`neighbor`] (linked cells, spatial
 //!   order, pair list), [`pair_loop`] (pair forces and their per-particle sums).
 //! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
 //! - [`atom_value`]: per-atom quantities by LIGGGHTS name (dump columns, `compute reduce`).
@@ -41,9 +42,11 @@ pub mod dump;
 pub mod error;
 pub mod from_dump;
 pub mod insert;
+pub mod insert_rate;
 pub mod material;
 pub mod mesh_wall;
 pub mod neighbor;
+pub mod outflow;
 pub mod pair_loop;
 pub mod particles;
 pub mod region;

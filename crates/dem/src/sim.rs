@@ -21,12 +21,16 @@ use crate::coupling::Coupling;
 use crate::dump::DumpOutput;
 use crate::error::DemError;
 use crate::insert::InsertPack;
+use crate::insert_rate::RateInsertion;
 use crate::material::Materials;
 use crate::mesh_wall::{self, MeshContact, MeshWall};
 use crate::neighbor::PairList;
+use crate::outflow::{LostPolicy, Outflow};
 use crate::pair_loop::PairForces;
 use crate::particles::{NewParticle, Particles, INERTIA_FACTOR};
 use crate::walls::{wall_contact, SphereState, Wall};
+
+mod open;
 
 /// The simulation box of `create_box` with its `boundary` settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,11 +53,16 @@ impl SimBox {
         }
     }
 
-    /// Whether a particle at `x` leaves through a fixed face.
-    fn loses(&self, x: V3) -> bool {
-        (0..3).any(|k| {
-            (self.boundary[k][0] == Boundary::Fixed && x[k] < self.lo[k])
-                || (self.boundary[k][1] == Boundary::Fixed && x[k] > self.hi[k])
+    /// The fixed face a particle at `x` has left through, as (axis, 0 low | 1 high).
+    pub fn exit_face(&self, x: V3) -> Option<(usize, usize)> {
+        (0..3).find_map(|k| {
+            if self.boundary[k][0] == Boundary::Fixed && x[k] < self.lo[k] {
+                Some((k, 0))
+            } else if self.boundary[k][1] == Boundary::Fixed && x[k] > self.hi[k] {
+                Some((k, 1))
+            } else {
+                None
+            }
         })
     }
 
@@ -168,8 +177,12 @@ pub struct Simulation {
     /// The state the next set-up evaluates the forces from ([`Simulation::set_half_step`]).
     replay: Option<HalfStep>,
     pending_inserts: Vec<InsertPack>,
+    /// Continuous insertions (`insert/rate/region`), performed in [`Simulation::advance`].
+    rate_inserts: Vec<RateInsertion>,
     dumps: Vec<DumpOutput>,
-    lost: u64,
+    /// What left through fixed faces or was deleted ([`crate::outflow`]).
+    outflow: Outflow,
+    lost_policy: LostPolicy,
     warnings: Vec<String>,
 }
 
@@ -211,8 +224,10 @@ impl Simulation {
             forces_valid: false,
             replay: None,
             pending_inserts: Vec::new(),
+            rate_inserts: Vec::new(),
             dumps: Vec::new(),
-            lost: 0,
+            outflow: Outflow::default(),
+            lost_policy: LostPolicy::default(),
             warnings: Vec::new(),
         })
     }
@@ -264,7 +279,7 @@ impl Simulation {
 
     /// Particles removed so far because they left the box through a fixed face.
     pub fn lost(&self) -> u64 {
-        self.lost
+        self.outflow.lost.count
     }
 
     /// Warnings collected (incomplete insertions, time-step checks).
@@ -580,6 +595,7 @@ impl Simulation {
 
     /// Insertions, a force evaluation if forces are stale, due dumps.
     fn setup(&mut self) -> Result<(), DemError> {
+        self.activate_rate_insertions()?;
         for ins in std::mem::take(&mut self.pending_inserts) {
             let got = ins.insert(&self.particles);
             if got.particles.len() < got.wanted {
@@ -732,31 +748,12 @@ impl Simulation {
                 });
         }
         self.step += 1;
-        self.remove_lost();
+        self.remove_lost()?;
+        self.insert_due()?;
         self.pairs.ensure(&self.particles.x, &self.particles.radius);
         // forces, then the second half kick in the same pass
         self.compute_forces(HistoryUse::Advance, Some(half));
         self.write_dumps()
-    }
-
-    fn remove_lost(&mut self) {
-        let b = self.sim_box;
-        if !self.particles.x.iter().any(|&x| b.loses(x)) {
-            return;
-        }
-        let keep: Vec<bool> = self.particles.x.iter().map(|&x| !b.loses(x)).collect();
-        let nw = self.walls.len();
-        let mut it = (0..self.particles.len()).flat_map(|i| std::iter::repeat_n(keep[i], nw));
-        self.wall_hist.retain(|_| it.next().unwrap_or(true));
-        self.wall_maybe.clear();
-        if !self.mesh_walls.is_empty() {
-            let mut k = keep.iter();
-            self.mesh_contacts.retain(|_| *k.next().unwrap_or(&true));
-        }
-        let map = self.particles.retain(&keep);
-        self.lost += keep.iter().filter(|&&k| !k).count() as u64;
-        self.pairs.remap(&map);
-        self.coupling.remap(&map);
     }
 
     /// Evaluates all forces and torques into `particles.f`, `particles.torque`; with

@@ -129,8 +129,12 @@ pub struct RunReport {
     pub time: f64,
     /// True when a stop request ended the run early.
     pub stopped: bool,
-    /// Particles in the coupled stage (over all ranks).
+    /// Particles at the start of the coupled stage (over all ranks).
     pub particles: usize,
+    /// Particles at its end (over all ranks).
+    pub particles_at_end: usize,
+    /// What entered and left during the coupled stage ([`couple::population`]).
+    pub population: couple::PopulationChange,
     /// Fluid cells.
     pub cells: usize,
     /// Wall-clock seconds of stage 1 (packing; 0 when skipped).
@@ -301,8 +305,39 @@ impl Observer {
             sauter_diameter: bed.map(|b| b.sauter_diameter),
             mean_density: bed.map(|b| b.mass / b.solid_volume),
             weight_per_area: bed.map(|b| b.weight_per_area(self.rho, self.g, self.column.area)),
+            particles_in: step.population.entered,
+            particles_out: step.population.left,
+            volume_in: step.population.volume_in,
+            volume_out: step.population.volume_out,
+            momentum_in: step.population.momentum_in.into(),
+            momentum_out: step.population.momentum_out.into(),
         }
     }
+}
+
+/// The end-of-run line of a changing population: particles and volume at the start, what
+/// entered and left, at the end, and the balance V_end − V_start − (V_in − V_out) (round-off).
+fn population_summary(
+    start: usize,
+    end: usize,
+    c: &couple::PopulationChange,
+    v_start: f64,
+    v_end: Option<f64>,
+) -> String {
+    let v_end = v_end.unwrap_or(v_start);
+    let p = |v: V3| format!("({:.6e}, {:.6e}, {:.6e})", v[0], v[1], v[2]);
+    format!(
+        "particles: {start} at the start ({v_start:.6e} m³), {} entered ({:.6e} m³, momentum {} \
+         kg·m/s), {} left ({:.6e} m³, momentum {} kg·m/s), {end} at the end ({v_end:.6e} m³); \
+         volume balance end − start − (in − out) = {:.3e} m³",
+        c.entered,
+        c.volume_in,
+        p(c.momentum_in),
+        c.left,
+        c.volume_out,
+        p(c.momentum_out),
+        v_end - v_start - (c.volume_in - c.volume_out)
+    )
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
@@ -700,7 +735,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
     // The voidage of the initial particles, so that the first coupling interval blends from it
     // (not from an empty domain, which would make ∂ε/∂t a spurious source).
-    coupler.exchange(&dem.state(), &fluid.state())?;
+    let initial_volume = coupler
+        .exchange(&dem.state(), &fluid.state())?
+        .deposit
+        .particle_volume;
     let n_particles = {
         let mut n = [dem.state().len() as f64];
         coupler.ranks().all_sum(&mut n);
@@ -934,6 +972,21 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             }
         }
     }
+    let particles_at_end = {
+        let mut n = [dem.state().len() as f64];
+        coupler.ranks().all_sum(&mut n);
+        n[0] as usize
+    };
+    let population = coupler.population_total();
+    if population != couple::PopulationChange::default() {
+        events(Event::Message(population_summary(
+            n_particles,
+            particles_at_end,
+            &population,
+            initial_volume,
+            samples.last().map(|s| s.particle_volume),
+        )));
+    }
     let n_steps = samples.len() as u64;
     let coupling_seconds = (loop_seconds - dem.seconds - fluid.seconds - output_seconds).max(0.0);
     let sections = [
@@ -972,6 +1025,8 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         time: samples.last().map_or(start, |s| s.time),
         stopped,
         particles: n_particles,
+        particles_at_end,
+        population,
         cells: mesh.n_cells,
         init_seconds,
         loop_seconds,

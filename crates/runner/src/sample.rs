@@ -44,9 +44,21 @@ pub struct Sample {
     pub mean_density: Option<f64>,
     /// Buoyant weight of the particles per column cross-section, (m − ρ V) g / A, Pa.
     pub weight_per_area: Option<f64>,
+    /// Particles that entered since the previous step (inserted; [`couple::population`]).
+    pub particles_in: usize,
+    /// Particles that left since the previous step (lost, deleted).
+    pub particles_out: usize,
+    /// Their volume, m³: `particle_volume` − the previous row's = `volume_in` − `volume_out`.
+    pub volume_in: f64,
+    /// m³.
+    pub volume_out: f64,
+    /// Their momentum Σ ρ_p V v, kg·m/s.
+    pub momentum_in: [f64; 3],
+    /// kg·m/s.
+    pub momentum_out: [f64; 3],
 }
 
-const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area";
+const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z";
 
 /// The rows of an earlier run's CSV at `path` up to time `start` (s; to a relative 10⁻⁹),
 /// as text: what a run restarted at `start` keeps (none when there is no such file or its
@@ -88,7 +100,7 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
         for s in samples {
             writeln!(
                 w,
-                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{}",
+                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
                 s.time,
                 o(s.inlet_velocity),
                 o(s.pressure_drop),
@@ -106,7 +118,17 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
                 s.particles,
                 o(s.sauter_diameter),
                 o(s.mean_density),
-                o(s.weight_per_area)
+                o(s.weight_per_area),
+                s.particles_in,
+                s.particles_out,
+                s.volume_in,
+                s.volume_out,
+                s.momentum_in[0],
+                s.momentum_in[1],
+                s.momentum_in[2],
+                s.momentum_out[0],
+                s.momentum_out[1],
+                s.momentum_out[2]
             )?;
         }
         Ok(())

@@ -8,7 +8,7 @@
 //!   [`restart`](super::restart)), `create_atoms T single x y z [units box]`, `set group all diameter D
 //!   density ρ`, `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
 //!   (`delay every check one page contact_distance_factor`), `soft_particles yes`,
-//!   `hard_particles yes`, `timestep DT`;
+//!   `hard_particles yes`, `timestep DT`, `delete_atoms region R [compress yes|no]`;
 //! - contacts: `pair_style gran model hertz tangential history [cohesion sjkr]
 //!   [rolling_friction cdt|epsd2] [tangential_damping on|off] [limitForce on|off]`,
 //!   `pair_coeff * *`;
@@ -17,7 +17,8 @@
 //!   meshes ID…` ([`crate::mesh_wall`]), `mesh/surface[/stress] file F.stl type T …`
 //!   ([`mesh_surface`](super::mesh_surface)),
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
-//!   (`insert_every once`), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
+//!   (`insert_every once`), `insert/rate/region` ([`crate::insert_rate`]; arguments of both in
+//!   [`insertion`](super::insertion)), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
 //!   vector `f_ID[1..3]` is the total coupling force), `print` ([`print`](super::print));
 //!   `unfix` of gravity, prints, walls and pending insertions;
@@ -25,7 +26,7 @@
 //!   `dump_modify ID sort id|label L|format …`, `undump`, `write_data FILE`, `write_restart
 //!   FILE` (`*` = the step; directories are made); `thermo`, `thermo_style`, `thermo_modify`
 //!   ([`thermo`](super::thermo): LIGGGHTS-style thermo lines, reported as
-//!   [`DeckEvent::Output`]); `compute` (`erotate/sphere`, `com`, `reduce`; other styles are
+//!   [`DeckEvent::Output`]; `lost error|warn|ignore` as [`crate::outflow`] says); `compute` (`erotate/sphere`, `com`, `reduce`; other styles are
 //!   accepted, [`values`](super::values)), `uncompute`; `print TEXT` (its variables evaluated
 //!   when it runs); `log FILE|none [append yes]` ([`DeckEvent::Log`]); `compute_modify` and
 //!   `echo` are accepted and have no effect;
@@ -43,6 +44,7 @@ use mesh::v3::V3;
 
 use crate::contact::{ContactModel, RollingModel};
 use crate::deck::data_file;
+use crate::deck::insertion;
 use crate::deck::mesh_surface;
 use crate::deck::print::FixPrint;
 use crate::deck::restart;
@@ -50,7 +52,8 @@ use crate::deck::thermo::{RunColumns, Thermo};
 use crate::deck::values::{Registry, Values};
 use crate::dump::DumpOutput;
 use crate::error::DemError;
-use crate::insert::{Distribution, InsertPack, InsertTarget, SphereTemplate};
+use crate::insert::{Distribution, InsertPack, SphereTemplate};
+use crate::insert_rate::InsertRate;
 use crate::material::{MaterialInput, Materials};
 use crate::mesh_wall::{MeshSurface, MeshWall};
 use crate::particles::NewParticle;
@@ -79,6 +82,7 @@ struct Pending {
     walls: Vec<Wall>,
     mesh_walls: Vec<MeshWall>,
     inserts: Vec<InsertPack>,
+    rate_inserts: Vec<InsertRate>,
     dumps: Vec<DumpOutput>,
     soft: bool,
     hard: bool,
@@ -601,7 +605,11 @@ impl Session<'_> {
             "thermo_modify" => {
                 let warnings = self.thermo.modify(w)?;
                 self.warn(c.line, warnings);
+                if let Some(s) = &mut self.sim {
+                    s.set_lost_policy(self.thermo.lost());
+                }
             }
+            "delete_atoms" => self.delete_atoms(w)?,
             "compute" => self.registry.define_compute(w)?,
             "uncompute" => self.registry.remove_compute(word(w, 1, "compute id")?)?,
             "boundary" => {
@@ -788,6 +796,14 @@ impl Session<'_> {
             .ok_or_else(|| "no `boundary` given (the default, periodic, is not supported)".into())
     }
 
+    /// The distributions and regions defined so far.
+    fn known(&self) -> insertion::Known<'_> {
+        insertion::Known {
+            dists: &self.dists,
+            regions: &self.regions,
+        }
+    }
+
     fn region_ref(&self, id: &str) -> Res<Region> {
         self.regions
             .get(id)
@@ -923,6 +939,31 @@ impl Session<'_> {
                     }
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// `delete_atoms region R [compress yes|no]`: with `compress yes` (LIGGGHTS's default) the
+    /// remaining particles get the ids 1…N in the order of their old ids (LIGGGHTS numbers
+    /// them in its storage order, which this order is for a serial run without sorting).
+    fn delete_atoms(&mut self, w: &[String]) -> Result<(), Failure> {
+        if word(w, 1, "style")? != "region" {
+            return Err("only `delete_atoms region ID [compress yes|no]` is supported".into());
+        }
+        let region = self.region_ref(word(w, 2, "region id")?)?;
+        let mut compress = true;
+        let mut k = 3;
+        while k < w.len() {
+            match w[k].as_str() {
+                "compress" => compress = yes_no(w, k + 1, "compress")?,
+                o => return Err(format!("delete_atoms keyword `{o}` is not supported").into()),
+            }
+            k += 2;
+        }
+        let s = self.sim_mut()?;
+        s.delete_in_region(&region);
+        if compress {
+            s.compress_ids();
         }
         Ok(())
     }
@@ -1141,10 +1182,18 @@ impl Session<'_> {
                     .insert(id.clone(), Distribution::new(&id, parts, mass_based));
             }
             "insert/pack" => {
-                let ins = self.insert_pack(&id, w)?;
+                let ins = insertion::insert_pack(&id, w, &self.known())?;
                 match &mut self.sim {
                     Some(s) => s.add_insertion(ins),
                     None => self.pending.inserts.push(ins),
+                }
+            }
+            "insert/rate/region" => {
+                let ins = insertion::insert_rate(&id, w, &self.known())?;
+                self.registry.add_insert_fix(&id);
+                match &mut self.sim {
+                    Some(s) => s.add_rate_insertion(ins)?,
+                    None => self.pending.rate_inserts.push(ins),
                 }
             }
             "nve/sphere" => {
@@ -1190,112 +1239,6 @@ impl Session<'_> {
             }
         }
         Ok(())
-    }
-
-    fn insert_pack(&self, id: &str, w: &[String]) -> Res<InsertPack> {
-        let mut seed = None;
-        let mut dist = None;
-        let mut velocity = V3::zeros();
-        let mut omega = V3::zeros();
-        let mut region = None;
-        let mut target = None;
-        let mut all_in = false;
-        let mut overlap_check = true;
-        let mut max_attempt = 50;
-        let mut once = false;
-        let mut k = 4;
-        while k < w.len() {
-            let key = w[k].as_str();
-            match key {
-                "seed" => {
-                    seed = Some(int(w, k + 1, "seed")?);
-                    k += 2;
-                }
-                "distributiontemplate" => {
-                    let d = word(w, k + 1, "distribution id")?;
-                    dist = Some(
-                        self.dists
-                            .get(d)
-                            .cloned()
-                            .ok_or_else(|| format!("no particledistribution `{d}`"))?,
-                    );
-                    k += 2;
-                }
-                "vel" | "omega" => {
-                    if word(w, k + 1, "`constant`")? != "constant" {
-                        return Err(format!("{key}: only `constant` is supported"));
-                    }
-                    let v = V3::new(
-                        num(w, k + 2, key)?,
-                        num(w, k + 3, key)?,
-                        num(w, k + 4, key)?,
-                    );
-                    if key == "vel" {
-                        velocity = v;
-                    } else {
-                        omega = v;
-                    }
-                    k += 5;
-                }
-                "insert_every" => {
-                    match word(w, k + 1, "insert_every")? {
-                        "once" => once = true,
-                        o => {
-                            return Err(format!(
-                                "insert_every `{o}` is not supported (only `once`)"
-                            ))
-                        }
-                    }
-                    k += 2;
-                }
-                "overlapcheck" => {
-                    overlap_check = yes_no(w, k + 1, key)?;
-                    k += 2;
-                }
-                "all_in" => {
-                    all_in = yes_no(w, k + 1, key)?;
-                    k += 2;
-                }
-                "maxattempt" => {
-                    max_attempt = int(w, k + 1, key)? as u32;
-                    k += 2;
-                }
-                "particles_in_region" => {
-                    target = Some(InsertTarget::ParticlesInRegion(int(w, k + 1, key)?));
-                    k += 2;
-                }
-                "volumefraction_region" => {
-                    target = Some(InsertTarget::VolumeFraction(num(w, k + 1, key)?));
-                    k += 2;
-                }
-                "mass_in_region" => {
-                    target = Some(InsertTarget::MassInRegion(num(w, k + 1, key)?));
-                    k += 2;
-                }
-                "region" => {
-                    region = Some(self.region_ref(word(w, k + 1, "region id")?)?);
-                    k += 2;
-                }
-                o => return Err(format!("insert/pack keyword `{o}` is not supported")),
-            }
-        }
-        if !once {
-            return Err("insert/pack needs `insert_every once`".into());
-        }
-        Ok(InsertPack {
-            name: id.to_string(),
-            seed: seed.ok_or("insert/pack needs `seed`")?,
-            distribution: dist.ok_or("insert/pack needs `distributiontemplate`")?,
-            velocity,
-            omega,
-            region: region.ok_or("insert/pack needs `region`")?,
-            target: target.ok_or(
-                "insert/pack needs particles_in_region, volumefraction_region or mass_in_region",
-            )?,
-            all_in,
-            overlap_check,
-            max_attempt,
-        })
     }
 
     /// The mesh wall of `wall/gran … mesh n_meshes N meshes ID…` (`rest` = the words after
@@ -1347,17 +1290,26 @@ impl Session<'_> {
             }
             return Ok(());
         }
-        if self.sim.is_none() {
-            let p = &mut self.pending;
-            let n = p.walls.len() + p.mesh_walls.len() + p.inserts.len();
-            p.walls.retain(|x| x.name != id);
-            p.mesh_walls.retain(|x| x.name != id);
-            p.inserts.retain(|x| x.name != id);
-            if n != p.walls.len() + p.mesh_walls.len() + p.inserts.len() {
-                return Ok(());
+        let p = &mut self.pending;
+        match &mut self.sim {
+            Some(s) => {
+                if s.remove_insertion(id) {
+                    return Ok(());
+                }
+            }
+            None => {
+                let n = p.walls.len() + p.mesh_walls.len() + p.inserts.len() + p.rate_inserts.len();
+                p.walls.retain(|x| x.name != id);
+                p.mesh_walls.retain(|x| x.name != id);
+                p.inserts.retain(|x| x.name != id);
+                p.rate_inserts.retain(|x| x.name != id);
+                if n != p.walls.len() + p.mesh_walls.len() + p.inserts.len() + p.rate_inserts.len()
+                {
+                    return Ok(());
+                }
             }
         }
-        Err(format!("unfix `{id}`: only gravity, print, and walls or insertions before the first run, can be removed").into())
+        Err(format!("unfix `{id}`: only gravity, print, insertions, and walls before the first run, can be removed").into())
     }
 
     fn dump(&mut self, w: &[String]) -> Result<(), Failure> {
@@ -1646,6 +1598,10 @@ impl Session<'_> {
         for ins in p.inserts.drain(..) {
             sim.add_insertion(ins);
         }
+        for ins in p.rate_inserts.drain(..) {
+            sim.add_rate_insertion(ins)?;
+        }
+        sim.set_lost_policy(self.thermo.lost());
         for d in p.dumps.drain(..) {
             sim.add_dump(d);
         }

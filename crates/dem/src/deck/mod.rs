@@ -5,6 +5,7 @@
 
 pub mod data_file;
 pub mod exec;
+pub(crate) mod insertion;
 pub mod mesh_surface;
 pub mod print;
 pub mod restart;

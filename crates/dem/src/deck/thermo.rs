@@ -16,6 +16,7 @@ use liggghts_deck::format::{thermo_float, thermo_int};
 use liggghts_deck::Variables;
 
 use crate::deck::values::{Registry, Support, Values, KEYWORDS};
+use crate::outflow::LostPolicy;
 
 type Res<T> = Result<T, String>;
 
@@ -57,6 +58,7 @@ pub struct Thermo {
     every: u64,
     columns: Vec<String>,
     norm: bool,
+    lost: LostPolicy,
 }
 
 impl Default for Thermo {
@@ -65,6 +67,7 @@ impl Default for Thermo {
             every: 0,
             columns: ["step", "atoms", "ke", "cpu"].map(String::from).to_vec(),
             norm: false,
+            lost: LostPolicy::default(),
         }
     }
 }
@@ -138,10 +141,9 @@ impl Thermo {
         }
     }
 
-    /// `thermo_modify` keywords: `norm yes|no` acts; `lost ignore|warn|error`, `lost/bond`,
-    /// `flush`, `format`, `every`… are accepted and do nothing to the output (particles that
-    /// leave the box are removed and counted either way); returns warnings for those that would
-    /// change LIGGGHTS's output.
+    /// `thermo_modify` keywords: `norm yes|no` and `lost error|warn|ignore` ([`Thermo::lost`])
+    /// act; `lost/bond`, `flush`, `format`, `every`… are accepted and do nothing to the output;
+    /// returns warnings for those that would change LIGGGHTS's output.
     pub fn modify(&mut self, w: &[String]) -> Res<Vec<String>> {
         let mut warnings = Vec::new();
         let mut k = 1;
@@ -157,7 +159,12 @@ impl Thermo {
                         o => return Err(format!("thermo_modify norm `{o}` (yes/no expected)")),
                     }
                 }
-                "lost" | "lost/bond" | "flush" | "temp" | "press" | "line" => {}
+                "lost" => {
+                    self.lost = LostPolicy::from_word(value).ok_or_else(|| {
+                        format!("thermo_modify lost `{value}` (error, warn or ignore)")
+                    })?
+                }
+                "lost/bond" | "flush" | "temp" | "press" | "line" => {}
                 "format" => {
                     warnings.push(
                         "thermo_modify format is ignored: columns are printed as LIGGGHTS's \
@@ -172,6 +179,11 @@ impl Thermo {
             k += 2;
         }
         Ok(warnings)
+    }
+
+    /// What happens to particles leaving through a fixed face (`thermo_modify lost`).
+    pub fn lost(&self) -> LostPolicy {
+        self.lost
     }
 
     /// The columns for a run starting now: a compute or variable that does not exist is an

@@ -83,6 +83,8 @@ pub struct Registry {
     computes: HashMap<String, Compute>,
     force_fixes: Vec<String>,
     mesh_stress_fixes: Vec<String>,
+    /// `insert/rate/region` fixes: their vector is (particles, mass) inserted so far.
+    insert_fixes: Vec<String>,
 }
 
 /// Whether a name can be evaluated.
@@ -134,6 +136,12 @@ impl Registry {
         self.mesh_stress_fixes.push(id.to_owned());
     }
 
+    /// Records `fix ID all insert/rate/region` (`f_ID[1]`, `f_ID[2]`: the number and the mass
+    /// (kg) it inserted so far, as LIGGGHTS's insertion fixes give them).
+    pub fn add_insert_fix(&mut self, id: &str) {
+        self.insert_fixes.push(id.to_owned());
+    }
+
     /// Whether the deck has a coupling force fix (which makes `f_dragforce` exist).
     pub fn has_force_fix(&self) -> bool {
         !self.force_fixes.is_empty()
@@ -178,9 +186,13 @@ impl Registry {
                     ))),
                 }
             }
+            Ref::Fix(id, index) if self.insert_fixes.iter().any(|f| f == id) => {
+                check_index(r, Some(2), index)?;
+                Ok(Support::Yes)
+            }
             Ref::Fix(..) => Ok(Support::Blank(format!(
-                "{r}: the native DEM gives fix values only for couple/cfd/force and \
-                 mesh/surface/stress fixes"
+                "{r}: the native DEM gives fix values only for couple/cfd/force, \
+                 mesh/surface/stress and insert/rate/region fixes"
             ))),
             Ref::Atom(name, _) => match AtomValue::parse(name) {
                 Some(_) => Ok(Support::Yes),
@@ -331,6 +343,15 @@ impl Values<'_> {
             {
                 let f = sim.mesh_surface_force(id).unwrap_or_default();
                 Ok(f[i - 1] * self.per_atom())
+            }
+            Ref::Fix(id, index) if self.registry.insert_fixes.iter().any(|f| f == id) => {
+                check_index(r, Some(2), index)?;
+                let ins = sim.rate_insertions().iter().find(|f| f.spec().name == id);
+                let stats = ins.map(|f| f.stats()).unwrap_or_default();
+                Ok(match index {
+                    Some(1) => stats.inserted as f64,
+                    _ => stats.mass,
+                })
             }
             Ref::Fix(id, index) => {
                 if !self.registry.force_fixes.iter().any(|f| f == id) {

@@ -1,0 +1,378 @@
+//! `fix insert/rate/region`: continuous insertion into a region at a particle or mass rate,
+//! every `insert_every` steps, as LIGGGHTS 3.8.0 counts it (read in its `fix_insert.cpp` and
+//! `fix_insert_rate_region.cpp`; the code here is foamgrain's own).
+//!
+//! Counting:
+//! - the rate is `particlerate ṅ` (1/s) or `massrate ṁ` (kg/s, ṅ = ṁ / m̄ with m̄ the
+//!   distribution's expected particle mass); each insertion aims at n_per = ṅ · K · Δt particles
+//!   (K = `insert_every`, Δt the time step when the first run starts; LIGGGHTS fixes it then);
+//! - an insertion inserts ⌊n_per + u⌋ particles, u uniform in [0, 1): exactly n_per when n_per
+//!   is an integer, else n_per on average (LIGGGHTS draws u from its own Park–Miller stream, so
+//!   the counts agree with LIGGGHTS exactly only for an integer n_per);
+//! - the total is `nparticles N` or `mass M` (N = ⌊M / m̄⌋), or unlimited (`INF`); the last
+//!   insertion is cut to what is left of N;
+//! - the first insertion is at step `start` (default: the step after the fix is defined), then
+//!   every K steps until N particles are in;
+//! - the positions are drawn as `insert/pack` draws them ([`crate::insert::place`]: uniform in
+//!   the region, shrunk by the radius with `all_in yes`, rejected while overlapping with
+//!   `overlapcheck yes`, `maxattempt` tries per particle wanted). A full region inserts fewer
+//!   particles; the shortfall is not carried over (the insertions simply go on until N are in),
+//!   and it is reported as a warning, as LIGGGHTS warns "Less insertions than requested";
+//! - an insertion region reaching outside the box while any box face is fixed (`f`) is an
+//!   error, as in LIGGGHTS.
+//!
+//! Particles are inserted after the drift of their step, before its force evaluation (LIGGGHTS's
+//! `pre_exchange`), so they receive the second half kick of that step.
+
+use mesh::v3::V3;
+use rand::{Rng, SeedableRng};
+
+use crate::insert::{place, split, Batch, Distribution};
+use crate::particles::{NewParticle, Particles};
+use crate::region::Region;
+
+/// How much an insertion fix inserts in total.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Total {
+    /// `nparticles N`.
+    Particles(u64),
+    /// `mass M` (kg): ⌊M / m̄⌋ particles.
+    Mass(f64),
+    /// `nparticles INF` / `mass INF`.
+    Unlimited,
+}
+
+/// The rate of an insertion fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Rate {
+    /// `particlerate ṅ` (1/s).
+    Particles(f64),
+    /// `massrate ṁ` (kg/s).
+    Mass(f64),
+}
+
+/// A `fix ID all insert/rate/region …` specification.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InsertRate {
+    /// Fix id.
+    pub name: String,
+    /// `seed`.
+    pub seed: u64,
+    /// `distributiontemplate`.
+    pub distribution: Distribution,
+    /// `region`.
+    pub region: Region,
+    /// `nparticles` / `mass`.
+    pub total: Total,
+    /// `particlerate` / `massrate`.
+    pub rate: Rate,
+    /// `insert_every K` (steps, ≥ 1).
+    pub every: u64,
+    /// `start` step; `None`: the step after the fix is defined.
+    pub start: Option<u64>,
+    /// `vel constant vx vy vz` (m/s).
+    pub velocity: V3,
+    /// `omega constant wx wy wz` (rad/s).
+    pub omega: V3,
+    /// `all_in yes`.
+    pub all_in: bool,
+    /// `overlapcheck yes` (LIGGGHTS's default).
+    pub overlap_check: bool,
+    /// `maxattempt` (default 50).
+    pub max_attempt: u32,
+}
+
+impl InsertRate {
+    /// The number of particles to insert in total (`None`: unlimited).
+    pub fn total_particles(&self) -> Option<u64> {
+        match self.total {
+            Total::Particles(n) => Some(n),
+            Total::Mass(m) => Some((m / self.distribution.mass_expect()).floor() as u64),
+            Total::Unlimited => None,
+        }
+    }
+
+    /// Particles per insertion, n_per = ṅ · K · Δt (`dt` in s).
+    pub fn per_insertion(&self, dt: f64) -> f64 {
+        let rate = match self.rate {
+            Rate::Particles(n) => n,
+            Rate::Mass(m) => m / self.distribution.mass_expect(),
+        };
+        rate * self.every as f64 * dt
+    }
+}
+
+/// What an insertion fix has done so far (LIGGGHTS's `f_ID[1]`, `f_ID[2]`: number and mass).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct InsertStats {
+    /// Particles inserted.
+    pub inserted: u64,
+    /// Their mass (kg).
+    pub mass: f64,
+    /// Their volume (m³).
+    pub volume: f64,
+    /// Insertions that placed fewer particles than wanted.
+    pub short: u64,
+}
+
+/// A running `insert/rate/region`: the specification and its schedule.
+#[derive(Debug, Clone)]
+pub struct RateInsertion {
+    spec: InsertRate,
+    /// The next insertion step; `None` when done.
+    next: Option<u64>,
+    /// n_per, fixed by the first run's time step.
+    per: Option<f64>,
+    rng: rand_chacha::ChaCha8Rng,
+    carry: Vec<f64>,
+    stats: InsertStats,
+}
+
+/// One insertion's result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RateBatch {
+    /// The particles placed (ids to be assigned).
+    pub particles: Vec<NewParticle>,
+    /// How many were wanted.
+    pub wanted: usize,
+}
+
+impl RateInsertion {
+    /// The fix defined at step `now`: its first insertion is at `start`, else at `now + 1`.
+    /// Errors: a `start` before `now + 1`, n_per that cannot be computed (zero rate).
+    pub fn new(spec: InsertRate, now: u64) -> Result<RateInsertion, String> {
+        let first = match spec.start {
+            Some(s) if s < now + 1 => {
+                return Err(format!(
+                    "insert/rate/region {}: `start {s}` is before the next step {}",
+                    spec.name,
+                    now + 1
+                ))
+            }
+            Some(s) => s,
+            None => now + 1,
+        };
+        let parts = spec.distribution.parts.len();
+        Ok(RateInsertion {
+            rng: rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed),
+            carry: vec![0.0; parts],
+            next: Some(first),
+            per: None,
+            spec,
+            stats: InsertStats::default(),
+        })
+    }
+
+    /// The specification.
+    pub fn spec(&self) -> &InsertRate {
+        &self.spec
+    }
+
+    /// What it inserted so far.
+    pub fn stats(&self) -> InsertStats {
+        self.stats
+    }
+
+    /// The next insertion step, `None` when all particles are in.
+    pub fn next_step(&self) -> Option<u64> {
+        self.next
+    }
+
+    /// Fixes n_per with the time step of the first run (LIGGGHTS's `setup`), and checks the
+    /// region against the box: reaching outside while a face is fixed is an error.
+    pub fn activate(
+        &mut self,
+        dt: f64,
+        fixed_face: bool,
+        box_lo: V3,
+        box_hi: V3,
+    ) -> Result<(), String> {
+        if self.per.is_some() {
+            return Ok(());
+        }
+        let per = self.spec.per_insertion(dt);
+        if !(per > 0.0 && per.is_finite()) {
+            return Err(format!(
+                "insert/rate/region {}: {per} particles per insertion (the rate must be > 0)",
+                self.spec.name
+            ));
+        }
+        let (lo, hi) = self.spec.region.bounds();
+        let outside = (0..3).any(|k| lo[k] < box_lo[k] || hi[k] > box_hi[k]);
+        if outside && fixed_face {
+            return Err(format!(
+                "insert/rate/region {}: the insertion region extends outside the simulation box \
+                 and a fixed boundary is used (LIGGGHTS refuses this too; use `m` or `s` faces)",
+                self.spec.name
+            ));
+        }
+        self.per = Some(per);
+        Ok(())
+    }
+
+    /// The insertion due at `step`, if any: the particles placed among `existing` (the
+    /// schedule moves on whether or not all could be placed).
+    pub fn due(&mut self, step: u64, existing: &Particles) -> Option<RateBatch> {
+        if self.next != Some(step) {
+            return None;
+        }
+        let per = self.per?;
+        let total = self.spec.total_particles();
+        let mut n = (per + self.rng.gen::<f64>()).floor() as u64;
+        if let Some(t) = total {
+            n = n.min(t.saturating_sub(self.stats.inserted));
+        }
+        let batch = Batch {
+            counts: split(&self.spec.distribution, n as usize, &mut self.carry),
+            velocity: self.spec.velocity,
+            omega: self.spec.omega,
+            all_in: self.spec.all_in,
+            overlap_check: self.spec.overlap_check,
+            max_attempt: self.spec.max_attempt,
+        };
+        let particles = place(
+            &self.spec.region,
+            &self.spec.distribution,
+            &batch,
+            existing,
+            &mut self.rng,
+        );
+        let s = &mut self.stats;
+        s.inserted += particles.len() as u64;
+        for p in &particles {
+            let v = 4.0 / 3.0 * std::f64::consts::PI * p.radius.powi(3);
+            s.volume += v;
+            s.mass += v * p.density;
+        }
+        if particles.len() < n as usize {
+            s.short += 1;
+        }
+        let more = total.is_none_or(|t| s.inserted < t);
+        self.next = more.then_some(step + self.spec.every);
+        Some(RateBatch {
+            particles,
+            wanted: n as usize,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::insert::SphereTemplate;
+
+    fn spec(total: Total, rate: Rate, every: u64) -> InsertRate {
+        let t = SphereTemplate {
+            name: "t".into(),
+            atom_type: 1,
+            density: 2000.0,
+            radius: 1e-3,
+        };
+        InsertRate {
+            name: "ins".into(),
+            seed: 7,
+            distribution: Distribution::new("d", vec![(t, 1.0)], true),
+            region: Region::Block {
+                lo: V3::new(0.0, 0.0, 0.0),
+                hi: V3::new(0.02, 0.02, 0.02),
+            },
+            total,
+            rate,
+            every,
+            start: None,
+            velocity: V3::new(0.0, 0.0, -1.0),
+            omega: V3::zeros(),
+            all_in: true,
+            overlap_check: true,
+            max_attempt: 100,
+        }
+    }
+
+    fn run(ins: &mut RateInsertion, steps: u64) -> Vec<(u64, usize)> {
+        let mut p = Particles::default();
+        let mut log = Vec::new();
+        for step in 1..=steps {
+            if let Some(b) = ins.due(step, &p) {
+                log.push((step, b.particles.len()));
+                for q in b.particles {
+                    p.push(q, 1).unwrap();
+                }
+            }
+        }
+        log
+    }
+
+    /// ṅ = 1000/s, K = 10, Δt = 1e-3 s: 10 per insertion at steps 1, 11, 21, … until 35 are
+    /// in (the fourth insertion cut to 5).
+    #[test]
+    fn integer_rate_counts_are_exact_and_the_last_is_cut() {
+        let mut ins =
+            RateInsertion::new(spec(Total::Particles(35), Rate::Particles(1000.0), 10), 0).unwrap();
+        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0))
+            .unwrap();
+        assert_eq!(run(&mut ins, 100), [(1, 10), (11, 10), (21, 10), (31, 5)]);
+        assert_eq!(ins.next_step(), None);
+        let m = 4.0 / 3.0 * std::f64::consts::PI * 1e-9 * 2000.0;
+        assert!((ins.stats().mass - 35.0 * m).abs() < 1e-12 * 35.0 * m);
+    }
+
+    /// A mass rate: ṅ = ṁ / m, and a non-integer n_per averages to n_per.
+    #[test]
+    fn mass_rate_averages_to_the_rate() {
+        let m = 4.0 / 3.0 * std::f64::consts::PI * 1e-9 * 2000.0;
+        // n_per = 2.5
+        let s = spec(Total::Mass(1e6 * m), Rate::Mass(2500.0 * m), 1);
+        assert_eq!(s.total_particles(), Some(1_000_000));
+        let mut ins = RateInsertion::new(s, 0).unwrap();
+        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0))
+            .unwrap();
+        let mut p = Particles::default();
+        let mut n = 0;
+        for step in 1..=400 {
+            let b = ins.due(step, &p).unwrap();
+            assert!(matches!(b.wanted, 2 | 3));
+            n += b.wanted;
+            p = Particles::default();
+        }
+        // 400 draws of ⌊2.5 + u⌋: mean 2.5, standard deviation of the sum 0.5·√400 = 10
+        assert!((n as f64 - 1000.0).abs() < 50.0, "{n}");
+    }
+
+    #[test]
+    fn region_outside_a_fixed_box_is_refused_and_start_is_checked() {
+        let mut ins =
+            RateInsertion::new(spec(Total::Unlimited, Rate::Particles(1.0), 1), 0).unwrap();
+        let e = ins
+            .activate(1.0, true, V3::repeat(0.0), V3::repeat(0.01))
+            .unwrap_err();
+        assert!(e.contains("outside the simulation box"), "{e}");
+        let mut s = spec(Total::Unlimited, Rate::Particles(1.0), 1);
+        s.start = Some(5);
+        assert!(RateInsertion::new(s.clone(), 5).is_err());
+        assert_eq!(RateInsertion::new(s, 4).unwrap().next_step(), Some(5));
+    }
+
+    /// A region that cannot take the batch inserts what fits and reports the shortfall.
+    #[test]
+    fn a_full_region_inserts_fewer() {
+        let mut s = spec(Total::Unlimited, Rate::Particles(1e6), 1);
+        s.region = Region::Block {
+            lo: V3::zeros(),
+            hi: V3::new(0.0041, 0.0021, 0.0021),
+        };
+        let mut ins = RateInsertion::new(s, 0).unwrap();
+        ins.activate(1e-5, false, V3::repeat(-1.0), V3::repeat(1.0))
+            .unwrap();
+        // 10 wanted; with all_in the centres lie in a 2.1 mm × 0.1 mm × 0.1 mm box, where at
+        // most two spheres of 2 mm diameter fit without overlap
+        let b = ins.due(1, &Particles::default()).unwrap();
+        assert_eq!(b.wanted, 10);
+        assert!(
+            (1..=2).contains(&b.particles.len()),
+            "{}",
+            b.particles.len()
+        );
+        assert_eq!(ins.stats().short, 1);
+        assert_eq!(ins.next_step(), Some(2));
+    }
+}
