@@ -46,6 +46,7 @@ pub mod interpolate;
 pub mod memory;
 pub mod monitor;
 pub mod output;
+pub mod periodic;
 pub mod ranks;
 pub mod replay;
 pub mod sides;

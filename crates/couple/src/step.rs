@@ -22,6 +22,7 @@ use crate::error::CoupleError;
 use crate::exchange::Exchange;
 use crate::forces::{couplings_and_exchange, ForceSet, ParticleCoupling, Physics};
 use crate::interpolate::Placement;
+use crate::periodic::PeriodicMesh;
 use crate::ranks::{pick, Ranks, Serial};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 use foam::{Label, PolyMesh};
@@ -60,6 +61,8 @@ pub struct CouplingStep {
 /// The coupler: the voidage mesh, the settings and the voidage of the last step.
 pub struct Coupler {
     vm: VoidageMesh,
+    /// The mesh's cyclic directions: centres beyond a cyclic face are placed at their image.
+    periodic: PeriodicMesh,
     settings: CouplerSettings,
     voidage: Vec<f64>,
     hints: Vec<Option<Label>>,
@@ -114,9 +117,11 @@ impl Coupler {
             ));
         }
         let vm = VoidageMesh::new(mesh)?;
+        let periodic = PeriodicMesh::new(mesh, vm.geometry())?;
         let n = vm.n_cells();
         Ok(Coupler {
             vm,
+            periodic,
             settings,
             voidage: vec![1.0; n],
             hints: Vec::new(),
@@ -258,8 +263,9 @@ impl Coupler {
         if self.hints.len() != particles.len() {
             self.hints = vec![None; particles.len()];
         }
+        let wrapped = self.periodic.wrap_all(particles.position);
         let set = ParticleSet {
-            positions: particles.position,
+            positions: wrapped.as_deref().unwrap_or(particles.position),
             radii: particles.radius,
             ids: Some(particles.ids),
         };

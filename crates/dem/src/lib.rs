@@ -43,6 +43,7 @@ pub mod material;
 pub mod neighbor;
 pub mod pair_loop;
 pub mod particles;
+pub mod periodic;
 pub mod region;
 pub mod sim;
 pub mod timestep;
