@@ -69,12 +69,21 @@ fn assert_same(native: &[Snapshot], reference: &[Snapshot]) {
     for (a, b) in native.iter().zip(reference) {
         assert_eq!(a.timestep, b.timestep);
         for c in ["id", "ix", "iy", "iz"] {
-            assert_eq!(a.column(c).unwrap(), b.column(c).unwrap(), "{c} at step {}", a.timestep);
+            assert_eq!(
+                a.column(c).unwrap(),
+                b.column(c).unwrap(),
+                "{c} at step {}",
+                a.timestep
+            );
         }
     }
     // the test covers what it claims: a contact (spin) and a crossing (ix = −1 at the end)
     let last = reference.last().unwrap();
-    assert!(last.column("omegaz").unwrap().iter().all(|w| w.abs() > 10.0));
+    assert!(last
+        .column("omegaz")
+        .unwrap()
+        .iter()
+        .all(|w| w.abs() > 10.0));
     assert_eq!(last.column("ix").unwrap()[0], -1.0);
 }
 
@@ -91,7 +100,11 @@ fn liggghts_reproduces_the_periodic_fixtures() {
         return;
     }
     for (deck, out, fixture) in [
-        ("periodic.in", "post/periodic.txt", "dem/periodic_liggghts.txt"),
+        (
+            "periodic.in",
+            "post/periodic.txt",
+            "dem/periodic_liggghts.txt",
+        ),
         (
             "periodic_pour.in",
             "post/periodic_pour_15000.txt",
@@ -106,7 +119,10 @@ fn liggghts_reproduces_the_periodic_fixtures() {
         testkit::run_ok(c, dir.path());
         let fresh = std::fs::read(dir.path().join(out)).unwrap();
         let committed = std::fs::read(testkit::fixture(fixture)).unwrap();
-        assert!(fresh == committed, "LIGGGHTS's {out} differs from {fixture}");
+        assert!(
+            fresh == committed,
+            "LIGGGHTS's {out} differs from {fixture}"
+        );
     }
 }
 
@@ -191,4 +207,49 @@ fn periodic_pour_matches_liggghts_statistically() {
     assert!(rel(native.contacts as f64, reference.contacts as f64) < 0.1);
     assert!(native.across > 50 && reference.across > 50);
     assert!(native.max_overlap < 2.0 * reference.max_overlap);
+}
+
+/// A restart file keeps the periodic box and the image counters: the collision deck with
+/// `write_restart` at its end, read back (LIGGGHTS 3.8.0 reads the same file and dumps
+/// ix = −1 for sphere 1, checked by hand), and a deck continuing from it dumps them again.
+#[test]
+fn restart_files_keep_periodic_images() {
+    let dir = tempfile::tempdir().unwrap();
+    setup(dir.path());
+    let deck_path = dir.path().join("periodic.in");
+    let text = std::fs::read_to_string(&deck_path).unwrap();
+    std::fs::write(
+        &deck_path,
+        format!("{text}write_restart post/periodic.restart\n"),
+    )
+    .unwrap();
+    let deck = liggghts_deck::Deck::read(&deck_path).unwrap();
+    dem::Simulation::from_deck(&deck, dir.path()).unwrap();
+    let file = dem_io::restart::read_restart(dir.path().join("post/periodic.restart")).unwrap();
+    assert_eq!(file.header.boundary[0], [dem_io::Boundary::Periodic; 2]);
+    let images: Vec<[i32; 3]> = file
+        .atoms
+        .iter()
+        .map(|a| dem::periodic::unpack_image(a.image))
+        .collect();
+    assert_eq!(images, vec![[-1, 0, 0], [0, 0, 0]]);
+    let resume = "atom_style granular\natom_modify map array\nboundary p f f\nnewton off\n\
+                  units si\nread_restart post/periodic.restart\nneighbor 0.0005 bin\n\
+                  fix m1 all property/global youngsModulus peratomtype 5.e6\n\
+                  fix m2 all property/global poissonsRatio peratomtype 0.45\n\
+                  fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3\n\
+                  fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n\
+                  pair_style gran model hertz tangential history\npair_coeff * *\n\
+                  timestep 0.000001\nfix integr all nve/sphere\n\
+                  dump d all custom 1 post/resumed.txt id ix iy iz\nrun 0\n";
+    std::fs::write(dir.path().join("resume.in"), resume).unwrap();
+    let deck = liggghts_deck::Deck::read(dir.path().join("resume.in")).unwrap();
+    dem::Simulation::from_deck(&deck, dir.path()).unwrap();
+    let s = read_snapshot(
+        dir.path().join("post/resumed.txt"),
+        &ReadOptions::default(),
+        Selection::Last,
+    )
+    .unwrap();
+    assert_eq!(s.column("ix").unwrap(), &[-1.0, 0.0]);
 }

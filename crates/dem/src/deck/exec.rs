@@ -620,6 +620,15 @@ impl Session<'_> {
                         };
                     }
                 }
+                for (k, [lo, hi]) in b.iter().enumerate() {
+                    if (*lo == Boundary::Periodic) != (*hi == Boundary::Periodic) {
+                        return Err(format!(
+                            "boundary `{}`: both faces of an axis must be periodic or neither",
+                            w[k + 1]
+                        )
+                        .into());
+                    }
+                }
                 self.pending.boundary = Some(b);
             }
             "region" => {
