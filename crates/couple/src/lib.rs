@@ -47,6 +47,7 @@ pub mod interpolate;
 pub mod memory;
 pub mod monitor;
 pub mod output;
+pub mod periodic;
 pub mod population;
 pub mod ranks;
 pub mod replay;

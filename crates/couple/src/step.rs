@@ -23,6 +23,7 @@ use crate::error::CoupleError;
 use crate::exchange::Exchange;
 use crate::forces::{couplings_and_exchange, ForceSet, ParticleCoupling, Physics};
 use crate::interpolate::Placement;
+use crate::periodic::PeriodicMesh;
 use crate::population::{Population, PopulationChange};
 use crate::ranks::{pick, CellOwners, Ranks, Serial, OWNER_REPLY_WIDTH, OWNER_SUMS_WIDTH};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
@@ -65,6 +66,8 @@ pub struct CouplingStep {
 /// The coupler: the voidage mesh, the settings and the voidage of the last step.
 pub struct Coupler {
     vm: VoidageMesh,
+    /// The mesh's cyclic directions: centres beyond a cyclic face are placed at their image.
+    periodic: PeriodicMesh,
     settings: CouplerSettings,
     voidage: Vec<f64>,
     /// Each particle's centre cell at the last exchange (where the search starts), for the
@@ -125,9 +128,11 @@ impl Coupler {
             ));
         }
         let vm = VoidageMesh::new(mesh)?;
+        let periodic = PeriodicMesh::new(mesh, vm.geometry())?;
         let n = vm.n_cells();
         Ok(Coupler {
             vm,
+            periodic,
             settings,
             voidage: vec![1.0; n],
             hints: Vec::new(),
@@ -297,8 +302,9 @@ impl Coupler {
             self.hint_ids.clear();
             self.hint_ids.extend_from_slice(particles.ids);
         }
+        let wrapped = self.periodic.wrap_all(particles.position);
         let set = ParticleSet {
-            positions: particles.position,
+            positions: wrapped.as_deref().unwrap_or(particles.position),
             radii: particles.radius,
             ids: Some(particles.ids),
         };

@@ -4,8 +4,8 @@
 //! Units are the deck's (SI: m, m/s, N, rad/s, N·m, kg, kg/m³). `f_dragforce[k]` is the
 //! per-atom explicit force the CFD side hands the DEM (LIGGGHTS's `dragforce` property, created
 //! by `fix couple/cfd/force[/implicit]`): foamgrain's F_ext ([`Coupling`]), which with an
-//! implicit drag excludes the β(u_f − v) part, as in CFDEM. Image flags `ix iy iz` are 0: the
-//! native DEM has no periodic boundaries.
+//! implicit drag excludes the β(u_f − v) part, as in CFDEM. Image flags `ix iy iz` count the
+//! crossings of periodic faces ([`crate::periodic`]).
 
 use crate::coupling::Coupling;
 use crate::particles::Particles;
@@ -35,7 +35,7 @@ pub enum AtomValue {
     Mass,
     /// `density`.
     Density,
-    /// `ix iy iz`: image flags (always 0).
+    /// `ix iy iz`: periodic image counters.
     Image(usize),
     /// `f_dragforce[1..3]`: the explicit coupling force F_ext.
     DragForce(usize),
@@ -101,7 +101,7 @@ impl AtomValue {
             AtomValue::Diameter => 2.0 * p.radius[i],
             AtomValue::Mass => p.mass[i],
             AtomValue::Density => p.density[i],
-            AtomValue::Image(_) => 0.0,
+            AtomValue::Image(k) => p.image[i][k] as f64,
             AtomValue::DragForce(k) => coupling.f_ext.get(i).map_or(0.0, |f| f[k]),
         }
     }

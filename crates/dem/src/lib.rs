@@ -49,6 +49,7 @@ pub mod neighbor;
 pub mod outflow;
 pub mod pair_loop;
 pub mod particles;
+pub mod periodic;
 pub mod region;
 pub mod sim;
 pub mod timestep;

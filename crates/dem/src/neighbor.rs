@@ -22,6 +22,7 @@ use mesh::v3::V3;
 use rayon::prelude::*;
 
 use crate::contact::History;
+use crate::periodic::Periodic;
 
 /// Particles per parallel chunk in builds.
 const CHUNK: usize = 512;
@@ -58,6 +59,9 @@ pub struct PairList {
     /// Number of builds so far (per-particle copies in the sorted order follow it).
     generation: u64,
     valid: bool,
+    /// The box's periodic axes: pairs across a periodic face are found and measured through
+    /// the nearest image ([`crate::periodic`]).
+    periodic: Option<Periodic>,
 }
 
 impl PairList {
@@ -77,6 +81,17 @@ impl PairList {
     /// `true` without pairs.
     pub fn is_empty(&self) -> bool {
         self.si.is_empty()
+    }
+
+    /// Sets the periodic axes the list searches across (forces a rebuild).
+    pub fn set_periodic(&mut self, periodic: Option<Periodic>) {
+        self.periodic = periodic;
+        self.valid = false;
+    }
+
+    /// The periodic axes the list searches across.
+    pub fn periodic(&self) -> Option<&Periodic> {
+        self.periodic.as_ref()
     }
 
     /// Forces a rebuild at the next [`PairList::ensure`].
@@ -173,7 +188,17 @@ impl PairList {
     /// Rebuilds the list if it is invalid, the particle count changed, or a particle moved more
     /// than skin/2 since the last build. Returns whether it rebuilt.
     pub fn ensure(&mut self, x: &[V3], radius: &[f64]) -> bool {
-        let need = !self.valid || self.x_build.len() != x.len() || {
+        let need = self.needs_build(x);
+        if need {
+            self.build(x, radius);
+        }
+        need
+    }
+
+    /// Whether [`PairList::ensure`] would rebuild for positions `x` (periodic positions are
+    /// wrapped into the box just before such a build, as LIGGGHTS does).
+    pub fn needs_build(&self, x: &[V3]) -> bool {
+        !self.valid || self.x_build.len() != x.len() || {
             let lim = 0.25 * self.skin * self.skin;
             x.par_iter()
                 .zip(&self.x_build)
@@ -182,17 +207,14 @@ impl PairList {
                     let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
                     d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > lim
                 })
-        };
-        if need {
-            self.build(x, radius);
         }
-        need
     }
 
     /// Builds the list now, carrying the history over.
     pub fn build(&mut self, x: &[V3], radius: &[f64]) {
         let n = x.len();
-        let cells = CellGrid::new(x, radius, self.skin);
+        let periodic = self.periodic;
+        let cells = CellGrid::new(x, radius, self.skin, periodic.as_ref());
         let skin = self.skin;
         // pairs (a, b), a < b in the new sorted order, row by row
         let nchunks = n.div_ceil(CHUNK);
@@ -207,7 +229,10 @@ impl PairList {
                     let (xa, ra_) = (cells.x[a], cells.radius[a]);
                     cells.for_each_candidate(xa, |b, xb, rb_| {
                         if b > a {
-                            let d = [xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]];
+                            let d = match &periodic {
+                                None => [xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]],
+                                Some(per) => per.delta(xa, xb).into(),
+                            };
                             let cut = ra_ + rb_ + skin;
                             if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
                                 row.push(b as u32);
@@ -396,6 +421,8 @@ struct CellGrid {
     lo: V3,
     inv: f64,
     dims: [usize; 3],
+    /// Per axis: whether the cells wrap around (a periodic axis).
+    wraps: [bool; 3],
     start: Vec<u32>,
     items: Vec<u32>,
     /// Positions in `items` order (m).
@@ -405,7 +432,9 @@ struct CellGrid {
 }
 
 impl CellGrid {
-    fn new(x: &[V3], radius: &[f64], skin: f64) -> CellGrid {
+    /// On a periodic axis the cells span the box (the particles are wrapped into it at each
+    /// build) and the neighbours of the first cell include the last.
+    fn new(x: &[V3], radius: &[f64], skin: f64, periodic: Option<&Periodic>) -> CellGrid {
         let n = x.len();
         let mut lo = V3::repeat(f64::INFINITY);
         let mut hi = V3::repeat(f64::NEG_INFINITY);
@@ -421,11 +450,24 @@ impl CellGrid {
             lo = V3::zeros();
             hi = V3::zeros();
         }
+        let mut wraps = [false; 3];
+        if let Some(per) = periodic {
+            for k in (0..3).filter(|&k| per.is_periodic(k)) {
+                wraps[k] = true;
+                lo[k] = lo[k].min(per.lo()[k]);
+                hi[k] = hi[k].max(per.lo()[k] + per.len()[k]);
+            }
+        }
         // keep the number of cells O(N) for sparse clouds
         let count = |side: f64| -> [usize; 3] {
             let mut d = [1usize; 3];
             for k in 0..3 {
-                d[k] = (((hi[k] - lo[k]) / side).floor() as usize).saturating_add(1);
+                d[k] = if wraps[k] {
+                    // whole cells of at least `side` tile the period
+                    (((hi[k] - lo[k]) / side).floor() as usize).max(1)
+                } else {
+                    (((hi[k] - lo[k]) / side).floor() as usize).saturating_add(1)
+                };
             }
             d
         };
@@ -461,6 +503,7 @@ impl CellGrid {
             lo,
             inv,
             dims,
+            wraps,
             start,
             x: items.iter().map(|&p| x[p as usize]).collect(),
             radius: items.iter().map(|&p| radius[p as usize]).collect(),
@@ -477,6 +520,9 @@ impl CellGrid {
             c[k] = (((p[k] - self.lo[k]) * self.inv) as isize).min(self.dims[k] as isize - 1);
         }
         let d = self.dims;
+        if self.wraps.iter().any(|&w| w) {
+            return self.for_each_candidate_wrapped(c, f);
+        }
         for cz in (c[2] - 1).max(0)..=(c[2] + 1).min(d[2] as isize - 1) {
             for cy in (c[1] - 1).max(0)..=(c[1] + 1).min(d[1] as isize - 1) {
                 let row = (cz as usize * d[1] + cy as usize) * d[0];
@@ -486,6 +532,40 @@ impl CellGrid {
                 let e = self.start[row + x1 + 1] as usize;
                 for k in s..e {
                     f(k, self.x[k], self.radius[k]);
+                }
+            }
+        }
+    }
+
+    /// [`CellGrid::for_each_candidate`] with wrapping axes: the neighbouring cells modulo the
+    /// cell count, each once (a period of one or two cells has fewer than three neighbours).
+    fn for_each_candidate_wrapped(&self, c: [isize; 3], mut f: impl FnMut(usize, V3, f64)) {
+        let d = self.dims;
+        let around = |k: usize| -> Vec<usize> {
+            let n = d[k] as isize;
+            let mut v: Vec<usize> = if self.wraps[k] {
+                (c[k] - 1..=c[k] + 1)
+                    .map(|q| q.rem_euclid(n) as usize)
+                    .collect()
+            } else {
+                ((c[k] - 1).max(0)..=(c[k] + 1).min(n - 1))
+                    .map(|q| q as usize)
+                    .collect()
+            };
+            v.sort_unstable();
+            v.dedup();
+            v
+        };
+        let (xs, ys, zs) = (around(0), around(1), around(2));
+        for &cz in &zs {
+            for &cy in &ys {
+                let row = (cz * d[1] + cy) * d[0];
+                for &cx in &xs {
+                    let s = self.start[row + cx] as usize;
+                    let e = self.start[row + cx + 1] as usize;
+                    for k in s..e {
+                        f(k, self.x[k], self.radius[k]);
+                    }
                 }
             }
         }

@@ -25,6 +25,7 @@ use crate::contact::{
 use crate::material::Materials;
 use crate::neighbor::{PairList, PairView, ROLE_J};
 use crate::particles::Particles;
+use crate::periodic::Periodic;
 use crate::sim::STREAM_BLOCK;
 
 /// `slot_out` of a pair not in contact.
@@ -68,6 +69,8 @@ struct Frame<'a> {
     radius: &'a [f64],
     mass: &'a [f64],
     atom_type: &'a [u32],
+    /// The box's periodic axes (pairs across a face are measured to the nearest image).
+    periodic: Option<&'a Periodic>,
 }
 
 /// The pair's output, or `None` when its particles (sorted positions `i`, `j`) are apart (its
@@ -85,7 +88,10 @@ fn evaluate_pair(
     history: HistoryUse,
 ) -> Option<ContactOutput> {
     let (x, r, m) = (d.x, d.radius, d.mass);
-    let dx = x[i] - x[j];
+    let dx = match d.periodic {
+        None => x[i] - x[j],
+        Some(per) => per.delta(x[i], x[j]),
+    };
     let rsq = dx.dot(&dx);
     let radsum = r[i] + r[j];
     if rsq >= radsum * radsum {
@@ -154,6 +160,7 @@ impl PairForces {
         history: HistoryUse,
     ) {
         self.load(pairs, p);
+        let periodic = pairs.periodic().copied();
         let n = self.x.len();
         let np = pairs.len();
         self.out.resize(np, ContactOutput::default());
@@ -193,6 +200,7 @@ impl PairForces {
             radius: &self.radius,
             mass: &self.mass,
             atom_type: &self.atom_type,
+            periodic: periodic.as_ref(),
         };
         let (si, sj) = (view.si, view.sj);
         let deferred: Vec<Vec<usize>> = work

@@ -31,6 +31,9 @@ pub struct Particles {
     pub f: Vec<V3>,
     /// Total torque of the last force evaluation (N·m).
     pub torque: Vec<V3>,
+    /// Periodic image counters `ix iy iz`: box lengths the particle was moved back by
+    /// ([`crate::periodic`]); zero in a box without periodic axes.
+    pub image: Vec<[i32; 3]>,
 }
 
 /// One new particle.
@@ -101,6 +104,7 @@ impl Particles {
             .push(4.0 / 3.0 * std::f64::consts::PI * p.radius.powi(3) * p.density);
         self.f.push(V3::zeros());
         self.torque.push(V3::zeros());
+        self.image.push([0; 3]);
         Ok(())
     }
 
@@ -128,6 +132,7 @@ impl Particles {
         filter(&mut self.mass, keep);
         filter(&mut self.f, keep);
         filter(&mut self.torque, keep);
+        filter(&mut self.image, keep);
         map
     }
 

@@ -28,6 +28,7 @@ use crate::neighbor::PairList;
 use crate::outflow::{LostPolicy, Outflow};
 use crate::pair_loop::PairForces;
 use crate::particles::{NewParticle, Particles, INERTIA_FACTOR};
+use crate::periodic::Periodic;
 use crate::walls::{wall_contact, SphereState, Wall};
 
 mod open;
@@ -39,7 +40,7 @@ pub struct SimBox {
     pub lo: V3,
     /// Upper corner (m).
     pub hi: V3,
-    /// Boundary per axis and face (`p` is not supported).
+    /// Boundary per axis and face (`p`: [`crate::periodic`]).
     pub boundary: [[Boundary; 2]; 3],
 }
 
@@ -146,6 +147,14 @@ const SAME_FORCES: f64 = 1e-9;
 /// Particles per parallel block of the passes with a few flops per particle.
 pub(crate) const STREAM_BLOCK: usize = 4096;
 
+/// x_i − x_j, to the nearest image of x_j in a periodic box (m).
+fn separation(periodic: Option<&Periodic>, xi: V3, xj: V3) -> V3 {
+    match periodic {
+        None => xi - xj,
+        Some(per) => per.delta(xi, xj),
+    }
+}
+
 /// A running DEM simulation.
 #[derive(Debug)]
 pub struct Simulation {
@@ -204,6 +213,10 @@ impl Simulation {
                 cfg.gravity
             )));
         }
+        let periodic = Periodic::new(cfg.sim_box.lo, cfg.sim_box.hi, &cfg.sim_box.boundary)
+            .map_err(|e| DemError::Setup(format!("boundary: {e}")))?;
+        let mut pairs = PairList::new(cfg.skin);
+        pairs.set_periodic(periodic);
         Ok(Simulation {
             particles: Particles::default(),
             materials: cfg.materials,
@@ -217,7 +230,7 @@ impl Simulation {
             gravity: cfg.gravity,
             step: 0,
             sim_box: cfg.sim_box,
-            pairs: PairList::new(cfg.skin),
+            pairs,
             pair_forces: PairForces::default(),
             coupling: Coupling::default(),
             forces_coupling: None,
@@ -521,7 +534,7 @@ impl Simulation {
                 if i >= n || j >= n {
                     return None;
                 }
-                let d = x[i] - x[j];
+                let d = separation(pl.periodic(), x[i], x[j]);
                 let radsum = r[i] + r[j];
                 (d.dot(&d) < radsum * radsum).then_some((i, j, pl.history(k)))
             })
@@ -557,7 +570,7 @@ impl Simulation {
                 )
             };
             let in_contact = i != j && j < n && {
-                let d = p.x[i] - p.x[j];
+                let d = separation(self.pairs.periodic(), p.x[i], p.x[j]);
                 let radsum = p.radius[i] + p.radius[j];
                 d.dot(&d) < radsum * radsum
             };
@@ -609,6 +622,16 @@ impl Simulation {
             self.add_particles(&got.particles)?;
         }
         self.prepare_mesh_walls();
+        if let Some(per) = self.pairs.periodic().copied() {
+            let rmax = self.particles.radius.iter().copied().fold(0.0, f64::max);
+            per.check_cutoff(2.0 * rmax + self.pairs.skin)
+                .map_err(DemError::Setup)?;
+            // a set-up wraps, as LIGGGHTS's does (the list then rebuilds: the wrapped particles
+            // moved by a box length); a chunk boundary of a run, with valid forces, does not
+            if !self.forces_valid {
+                self.wrap_periodic(&per);
+            }
+        }
         if !self.forces_valid {
             self.pairs.ensure(&self.particles.x, &self.particles.radius);
             match self.replay.take() {
@@ -750,10 +773,23 @@ impl Simulation {
         self.step += 1;
         self.remove_lost()?;
         self.insert_due()?;
+        if let Some(per) = self.pairs.periodic().copied() {
+            if self.pairs.needs_build(&self.particles.x) {
+                self.wrap_periodic(&per);
+            }
+        }
         self.pairs.ensure(&self.particles.x, &self.particles.radius);
         // forces, then the second half kick in the same pass
         self.compute_forces(HistoryUse::Advance, Some(half));
         self.write_dumps()
+    }
+
+    /// Moves the particles back into the box on its periodic axes, counting their images.
+    fn wrap_periodic(&mut self, per: &Periodic) {
+        let p = &mut self.particles;
+        for (x, im) in p.x.iter_mut().zip(&mut p.image) {
+            per.wrap(x, im);
+        }
     }
 
     /// Evaluates all forces and torques into `particles.f`, `particles.torque`; with

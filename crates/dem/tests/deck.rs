@@ -173,7 +173,7 @@ fn bad_decks_name_file_line_and_command() {
     let e = deck_error(&format!("{SMALL}write_restart x.restart region r\n"));
     assert!(e.starts_with("bad.in:22: `write_restart`"), "{e}");
     assert!(e.contains("no region"), "{e}");
-    let e = deck_error(&SMALL.replace("boundary f f f", "boundary p p f"));
+    let e = deck_error(&SMALL.replace("boundary f f f", "boundary pf f f"));
     assert!(e.contains("bad.in:3") && e.contains("periodic"), "{e}");
     let e = deck_error(&SMALL.replace("timestep 1e-5", "timestep 1e-5x"));
     assert!(

@@ -18,6 +18,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::bc::{self, PressureBc, VelocityBc};
+use crate::ddt::DdtCoeffs;
 use crate::error::{FvError, Result};
 use crate::fv_options::MeanForce;
 use crate::fvc::{self, Field};
@@ -155,6 +156,22 @@ pub struct Fluid {
     turbulence: Option<KEpsilon>,
     /// The `fvOptions` mean-velocity sources ([`crate::fv_options`]).
     mean_forces: Vec<MeanForce>,
+    /// The level before the current one and the step that led from it (`backward` only;
+    /// `None` before the run's first step).
+    old_old: Option<(OldLevel, f64)>,
+}
+
+/// The fields of one earlier time level (`backward`'s old-old level, [`crate::ddt`]).
+#[derive(Clone, Debug, Default)]
+struct OldLevel {
+    /// Cell velocities (m/s).
+    u: Vec<V3>,
+    /// Boundary-face velocities (m/s).
+    u_b: Vec<V3>,
+    /// Face fluxes (m³/s).
+    phi: Vec<f64>,
+    /// Cell voidage.
+    eps: Vec<f64>,
 }
 
 impl Fluid {
@@ -238,6 +255,7 @@ impl Fluid {
             lap_dc,
             turbulence,
             mean_forces: Vec::new(),
+            old_old: None,
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
@@ -518,10 +536,33 @@ impl Fluid {
         self.update_u_boundary(t_new);
         let ef = self.eps_faces(&self.eps);
         let ef_old = self.eps_faces(&self.eps_old);
+        // backward's coefficients and old-old level (on the first step: the old level, with
+        // c₀₀ ≈ 0, as OpenFOAM's U.oldTime().oldTime() is then the old field)
+        let backward = self.settings.time_scheme == TimeScheme::Backward;
+        let ddt_k = match &self.old_old {
+            _ if !backward => DdtCoeffs::EULER,
+            Some((_, dt0)) => DdtCoeffs::backward(dt, *dt0, false),
+            None => DdtCoeffs::backward(dt, dt, true),
+        };
+        let old_old = match self.old_old.take() {
+            Some((level, _)) if backward => level,
+            _ if backward => OldLevel {
+                u: u_old.clone(),
+                u_b: u_b_old.clone(),
+                phi: phi_old.clone(),
+                eps: self.eps_old.clone(),
+            },
+            _ => OldLevel::default(),
+        };
+        let ef_oo = if backward {
+            self.eps_faces(&old_old.eps)
+        } else {
+            Vec::new()
+        };
 
         // --- momentum matrix: convection + diffusion (θ-weighted), time derivative, Ksl.
         let theta = match self.settings.time_scheme {
-            TimeScheme::Euler => 1.0,
+            TimeScheme::Euler | TimeScheme::Backward => 1.0,
             TimeScheme::CrankNicolson(psi) => 1.0 - 0.5 * psi,
         };
         let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
@@ -562,10 +603,15 @@ impl Fluid {
             let uk: Vec<f64> = u_old.iter().map(|v| v[k]).collect();
             for c in 0..n {
                 let v = g.v[c];
-                let ddt = self.eps[c] * v / dt;
+                let ddt = ddt_k.c * self.eps[c] * v / dt;
                 let ksl = self.ksl[c] / rho * v;
+                let mut old_source = self.eps_old[c] * v / dt * u_old[c][k];
+                if backward {
+                    old_source = ddt_k.c0 * old_source
+                        - ddt_k.c00 * (old_old.eps[c] * v / dt * old_old.u[c][k]);
+                }
                 let mut rhs = cd_b[c][k]
-                    + self.eps_old[c] * v / dt * u_old[c][k]
+                    + old_source
                     + ksl * self.us[c][k]
                     + v * self.force[c][k] / rho
                     + v * stress[c][k];
@@ -631,6 +677,11 @@ impl Fluid {
         let fixed_flux = bc::flux_fixed(g, &self.u_bc, &self.phi);
         let fixes_p = self.p_bc.iter().any(PressureBc::fixes_value);
         let uf_old = fvc::interpolate(g, Field::new(&u_old, &u_b_old));
+        let uf_oo = if backward {
+            fvc::interpolate(g, Field::new(&old_old.u, &old_old.u_b))
+        } else {
+            Vec::new()
+        };
         let kappa: Vec<f64> = (0..n).map(|c| kappa_p(c) * r_au[c]).collect();
         let kappa_b: Vec<f64> = g.owner[g.n_internal..]
             .iter()
@@ -683,6 +734,12 @@ impl Fluid {
                 let old = ef_old[f] * uf_old[f].dot(&g.sf[f]);
                 let diff = phi_old[f] - old;
                 let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
+                if backward {
+                    // backward's fvcDdtPhiCorr: the coefficient from the old level alone
+                    let diff_oo = old_old.phi[f] - ef_oo[f] * uf_oo[f].dot(&g.sf[f]);
+                    let diff = ddt_k.c0 * diff - ddt_k.c00 * diff_oo;
+                    return erau_f[f] * coeff * diff / dt;
+                }
                 erau_f[f] * coeff * diff / dt
             })
             .collect();
@@ -694,7 +751,8 @@ impl Fluid {
         } else {
             vec![false; g.n_faces()]
         };
-        let r_t: Vec<f64> = (0..n).map(|c| 1.0 / (kappa_p(c) * dt)).collect();
+        // (backward: T = c ε/Δt, grainPisoFoam's ddtUEqn.A())
+        let r_t: Vec<f64> = (0..n).map(|c| ddt_k.c / (kappa_p(c) * dt)).collect();
         // The steady flux coefficient γ′ = ε κ_p/A′ (A′ = A − ε/Δt, the diagonal without the
         // time derivative) weighs the face pressures of ∇p on porous faces, so that the cell
         // velocities U = HbyA − κ∇p, and through H′ the face fluxes, reach a steady state that
@@ -703,7 +761,7 @@ impl Fluid {
         let gam_steady: Vec<f64> = if consistent {
             (0..n)
                 .map(|c| {
-                    let a_steady = a_mean[c] - self.eps[c] / dt;
+                    let a_steady = a_mean[c] - ddt_k.c * self.eps[c] / dt;
                     if a_steady > 0.0 {
                         self.eps[c] * kappa_p(c) / a_steady
                     } else {
@@ -719,6 +777,17 @@ impl Fluid {
         } else {
             Vec::new()
         };
+        // ∂ε/∂t of the continuity equation (1/s), with the momentum's time scheme
+        let ddt_eps: Vec<f64> = (0..n)
+            .map(|c| match backward {
+                true => {
+                    (ddt_k.c * self.eps[c] - ddt_k.c0 * self.eps_old[c]
+                        + ddt_k.c00 * old_old.eps[c])
+                        / dt
+                }
+                false => (self.eps[c] - self.eps_old[c]) / dt,
+            })
+            .collect();
         let n_corr = self.settings.n_correctors;
         for corr in 0..n_corr {
             let g = &self.g;
@@ -743,7 +812,16 @@ impl Fluid {
                 // H′/κ_p: the same without the old-time source ε° U°/Δt (PorousTimeFlux).
                 let ht_steady: Vec<V3> = if consistent {
                     (0..n)
-                        .map(|c| ht[c] - self.eps_old[c] * r_t[c] * u_old[c])
+                        .map(|c| match backward {
+                            // H_ddt/κ_p = (c₀ ε°U° − c₀₀ ε°°U°°)/(κ_p Δt)
+                            true => {
+                                ht[c]
+                                    - r_t[c] / ddt_k.c
+                                        * (ddt_k.c0 * self.eps_old[c] * u_old[c]
+                                            - ddt_k.c00 * old_old.eps[c] * old_old.u[c])
+                            }
+                            false => ht[c] - self.eps_old[c] * r_t[c] * u_old[c],
+                        })
                         .collect()
                 } else {
                     Vec::new()
@@ -829,7 +907,7 @@ impl Fluid {
             for c in 0..n {
                 src[c] -= div_star[c] * g.v[c];
                 if self.ddt_voidage {
-                    src[c] -= g.v[c] * (self.eps[c] - self.eps_old[c]) / dt;
+                    src[c] -= g.v[c] * ddt_eps[c];
                 }
             }
             if !fixes_p {
@@ -927,7 +1005,7 @@ impl Fluid {
         for c in 0..n {
             let mut r = div[c] * g.v[c];
             if self.ddt_voidage {
-                r += g.v[c] * (self.eps[c] - self.eps_old[c]) / dt;
+                r += g.v[c] * ddt_eps[c];
             }
             err += r.abs();
         }
@@ -954,6 +1032,17 @@ impl Fluid {
         }
         self.time = t_new;
         self.time_index += 1;
+        if backward {
+            self.old_old = Some((
+                OldLevel {
+                    u: u_old,
+                    u_b: u_b_old,
+                    phi: phi_old,
+                    eps: self.eps_old.clone(),
+                },
+                dt,
+            ));
+        }
         Ok(report)
     }
 

@@ -39,6 +39,7 @@ pub mod amg;
 pub mod bc;
 pub mod convection;
 pub mod cyclic;
+pub mod ddt;
 pub mod error;
 pub mod fields;
 pub mod fluid;

@@ -39,6 +39,9 @@ pub enum TimeScheme {
     /// order; ψ = 0: Euler). OpenFOAM's `CrankNicolson ψ` keyword selects it; the off-centring
     /// matches OpenFOAM's meaning of ψ, not its ddt0-field implementation.
     CrankNicolson(f64),
+    /// Second-order backward differencing over the two previous levels ([`crate::ddt`];
+    /// the first step of a run is Euler, as OpenFOAM's).
+    Backward,
 }
 
 pub use crate::convection::Convection;
@@ -551,6 +554,7 @@ impl Settings {
         };
         let time_scheme = match ddt_s {
             [w] if w.as_word() == Some("Euler") => TimeScheme::Euler,
+            [w] if w.as_word() == Some("backward") => TimeScheme::Backward,
             [w, psi] if w.as_word() == Some("CrankNicolson") => match psi.as_f64() {
                 Some(p) if (0.0..=1.0).contains(&p) => TimeScheme::CrankNicolson(p),
                 _ => return Err(err(&sch_file, ddt_key, "CrankNicolson needs ψ in [0, 1]")),
@@ -559,7 +563,7 @@ impl Settings {
                 return Err(err(
                     &sch_file,
                     ddt_key,
-                    "supported: `Euler`, `CrankNicolson ψ`",
+                    "supported: `Euler`, `backward`, `CrankNicolson ψ`",
                 ))
             }
         };
@@ -666,6 +670,19 @@ impl Settings {
             .unwrap_or_default();
         let turbulence = crate::turbulence::properties::read(case, &sch, &sol, &mom_lap)?;
         let full_stress = turbulence.full_stress();
+        if time_scheme == TimeScheme::Backward
+            && matches!(
+                turbulence,
+                crate::turbulence::TurbulenceSettings::KEpsilon(_)
+            )
+        {
+            return Err(err(
+                &sch_file,
+                ddt_key,
+                "`backward` with the RAS kEpsilon model is not supported (its k and epsilon \
+                 equations are Euler): use `Euler` or `CrankNicolson ψ`",
+            ));
+        }
         if full_stress {
             for (w, used) in scheme_group(&sch, &sch_file, "divSchemes", STRESS_DIVERGENCES)? {
                 if w != ["Gauss", "linear"] {

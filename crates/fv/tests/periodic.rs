@@ -363,6 +363,20 @@ fn laminar_periodic_channel_matches_pisofoam() {
     }
 }
 
+/// The laminar periodic channel with `ddtSchemes default backward` and `Gauss limitedLinearV
+/// 1` convection (the periodicChannel tutorial's schemes; fixture
+/// `tests/fixtures/fv/channel-periodic-backward`): backward's first step is Euler, the other 49
+/// second-order backward differencing over two old levels, in the momentum matrix and in
+/// `ddtCorr`, against pisoFoam.
+#[test]
+fn backward_periodic_channel_matches_pisofoam() {
+    let d = against_pisofoam("fv/channel-periodic-backward", "0.5", 0.1, &[]);
+    eprintln!("backward periodic channel vs pisoFoam after 50 steps: {d:?}");
+    for (name, x) in d {
+        assert!(x < 1e-10, "{name}: {x}");
+    }
+}
+
 /// The standard k–ε model with wall functions in a periodic channel (fixture
 /// `tests/fixtures/fv/channel-periodic-keps`): k, ε and νt carried across the cyclic pair as
 /// U and p are, against pisoFoam after 40 steps at Re = Ū h/ν = 5·10⁴.

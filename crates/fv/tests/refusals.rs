@@ -59,7 +59,7 @@ const EDITS: &[Edit] = &[
     (
         "system/fvSchemes",
         "default         Euler;",
-        "default backward;",
+        "default localEuler;",
         "system/fvSchemes",
         "ddtSchemes.default",
     ),

@@ -348,3 +348,23 @@ impl ParticleSide for NativeDem {
         Ok(())
     }
 }
+
+/// Warnings for what `system/controlDict` asks of OpenFOAM that the native fluid does not do:
+/// its `functions` (function objects such as CFDEM tutorials' `probes` and
+/// `surfaceFieldValue`) are not run — one line naming them. A controlDict that cannot be read
+/// gives none here (the fluid reports it).
+pub fn control_dict_warnings(cfd: &Path) -> Vec<String> {
+    let path = cfd.join("system/controlDict");
+    let Ok(file) = foam::parse_file(&path) else {
+        return Vec::new();
+    };
+    match file.body.opt_dict("functions") {
+        Some(f) if !f.is_empty() => vec![format!(
+            "{}: functions ({}) are not run by the native fluid (foamgrain writes \
+             postProcessing/integrals.csv and the time directories)",
+            path.display(),
+            f.keys().collect::<Vec<_>>().join(" ")
+        )],
+        _ => Vec::new(),
+    }
+}

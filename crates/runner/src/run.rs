@@ -467,6 +467,11 @@ fn run_launched(
     for w in &commands.warnings {
         events(Event::Message(format!("warning: {w}")));
     }
+    if opts.fluid == FluidBackend::Native {
+        for w in crate::native::control_dict_warnings(&layout.cfd) {
+            events(Event::Message(format!("warning: {w}")));
+        }
+    }
 
     // Stage 1: the packed bed.
     let run_deck = Deck::read(&layout.run_deck)?;

@@ -2,7 +2,7 @@
 //!
 //! Supported (anything else is an error naming file, line and command):
 //! - set-up: `atom_style granular`, `atom_modify map array|hash`, `units si|cgs`, `boundary`
-//!   (`f`, `m`, `s`; periodic is refused), `newton`, `communicate`/`comm_modify`,
+//!   (`f`, `m`, `s`, `p`: [`crate::periodic`]), `newton`, `communicate`/`comm_modify`,
 //!   `processors`, `region ID block|cylinder … [units box] [side in]`, `create_box N REGION`,
 //!   `read_data FILE`, `read_restart FILE` (LIGGGHTS 3.8 restart files, `*` = the latest step;
 //!   [`restart`](super::restart)), `create_atoms T single x y z [units box]`, `set group all diameter D
@@ -22,7 +22,8 @@
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
 //!   vector `f_ID[1..3]` is the total coupling force), `print` ([`print`](super::print));
 //!   `unfix` of gravity, prints, walls and pending insertions;
-//! - output: `dump ID all custom|custom/vtk N FILE cols…` (columns of [`crate::atom_value`]),
+//! - output: `dump ID all custom|custom/vtk N FILE cols…` (`dump ID all stl …` warns and
+//!   writes nothing) (columns of [`crate::atom_value`]),
 //!   `dump_modify ID sort id|label L|format …`, `undump`, `write_data FILE`, `write_restart
 //!   FILE` (`*` = the step; directories are made); `thermo`, `thermo_style`, `thermo_modify`
 //!   ([`thermo`](super::thermo): LIGGGHTS-style thermo lines, reported as
@@ -90,6 +91,9 @@ struct Pending {
     cgs: bool,
     /// What `read_restart` read beyond box and particles, applied when the simulation is built.
     restart: Option<restart::Loaded>,
+    /// Ids of `dump … stl` outputs (they write `fix mesh/surface` meshes; accepted with a
+    /// warning, writing nothing), so that `undump` finds them.
+    stl_dumps: Vec<String>,
 }
 
 /// What executing a deck reports as it goes, for a front end (`foamgrain dem` prints the
@@ -627,12 +631,18 @@ impl Session<'_> {
                     };
                     for (f, ch) in [(0, lo), (1, hi)] {
                         b[k][f] = match Boundary::from_letter(ch) {
-                            Some(Boundary::Periodic) => {
-                                return Err("periodic boundaries are not supported".into())
-                            }
                             Some(x) => x,
                             None => return Err(format!("bad boundary `{}`", w[k + 1]).into()),
                         };
+                    }
+                }
+                for (k, [lo, hi]) in b.iter().enumerate() {
+                    if (*lo == Boundary::Periodic) != (*hi == Boundary::Periodic) {
+                        return Err(format!(
+                            "boundary `{}`: both faces of an axis must be periodic or neither",
+                            w[k + 1]
+                        )
+                        .into());
                     }
                 }
                 self.pending.boundary = Some(b);
@@ -752,7 +762,12 @@ impl Session<'_> {
             "dump_modify" => self.dump_modify(w)?,
             "undump" => {
                 let id = word(w, 1, "dump id")?;
+                let stl = self.pending.stl_dumps.iter().position(|d| d == id);
                 let found = match &mut self.sim {
+                    _ if stl.is_some() => {
+                        self.pending.stl_dumps.retain(|d| d != id);
+                        true
+                    }
                     Some(s) => s.remove_dump(id),
                     None => {
                         let n = self.pending.dumps.len();
@@ -793,7 +808,7 @@ impl Session<'_> {
     fn boundary(&self) -> Res<[[Boundary; 2]; 3]> {
         self.pending
             .boundary
-            .ok_or_else(|| "no `boundary` given (the default, periodic, is not supported)".into())
+            .ok_or_else(|| "no `boundary` given (LIGGGHTS's default is `p p p`: state it)".into())
     }
 
     /// The distributions and regions defined so far.
@@ -1315,6 +1330,12 @@ impl Session<'_> {
     fn dump(&mut self, w: &[String]) -> Result<(), Failure> {
         let id = word(w, 1, "dump id")?;
         let style = word(w, 3, "style")?;
+        if style == "stl" {
+            self.pending.stl_dumps.push(id.to_string());
+            let message = format!("dump {id} stl writes the meshes of `fix mesh/surface`: the native DEM writes nothing");
+            self.warn(self.line, vec![message]);
+            return Ok(());
+        }
         if word(w, 2, "group")? != "all" || !matches!(style, "custom" | "custom/vtk") {
             return Err("only `dump ID all custom|custom/vtk N FILE columns…` is supported".into());
         }

@@ -23,13 +23,14 @@
 //!   state after an exchange, so these are the next interval's forces.
 //!
 //! What the native DEM has no place for is reported as a warning, never dropped silently:
-//! groups other than `all`, image flags, per-type masses, the global state of other fixes
+//! groups other than `all`, per-type masses, the global state of other fixes
 //! (insertion counters, random seeds of templates) and the per-atom data of other fixes.
 //! Restoring a history whose number of values differs from what the deck's contact model
 //! keeps is an error, as in LIGGGHTS ("saved simulation state used different contact history
 //! model"); so are multisphere bodies (`fix multisphere…` state), which as loose spheres would
 //! fall apart, and everything the [`dem_io::restart`] reader refuses (another atom style or
-//! version, a corrupt file); and units other than `si`, 2d, triclinic or periodic boxes.
+//! version, a corrupt file); and units other than `si`, 2d or triclinic boxes. Periodic
+//! image flags are read and written ([`crate::periodic`]).
 //!
 //! # Continuing a run
 //! A restart file holds the velocities at the end of its step but not the forces, which the
@@ -66,6 +67,7 @@ use mesh::v3::V3;
 
 use crate::contact::{ContactModel, History, RollingModel};
 use crate::particles::NewParticle;
+use crate::periodic::{pack_image, unpack_image};
 use crate::sim::{HalfStep, SimBox, Simulation};
 
 type Res<T> = Result<T, String>;
@@ -123,6 +125,8 @@ pub struct Loaded {
     pub pair_coeff: bool,
     /// (id, radius, density, mass) per particle as the file states them.
     masses: Vec<(u64, f64, f64, f64)>,
+    /// (id, periodic image counters) of the particles whose counters are not zero.
+    images: Vec<(u64, [i32; 3])>,
     /// Pair contacts with the number of history values each.
     contacts: Option<(usize, Vec<SavedContact>)>,
     /// Wall histories by wall id: values per particle (same order as `particles`).
@@ -152,13 +156,6 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
     }
     if h.tilt.is_some() {
         return refuse("a triclinic box is not supported".into());
-    }
-    if h.boundary
-        .iter()
-        .flatten()
-        .any(|&b| b == Boundary::Periodic)
-    {
-        return refuse("periodic boundaries are not supported".into());
     }
     // clumps of spheres: read as loose spheres they would fall apart (LIGGGHTS too refuses to
     // go on when a deck does not take the bodies up again)
@@ -192,12 +189,6 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
     if f.type_mass.is_some() {
         warn("per-type masses are ignored (granular particles carry their own mass)".into());
     }
-    let moved = f.atoms.iter().filter(|a| a.image != IMAGE_DEFAULT).count();
-    if moved > 0 {
-        warn(format!(
-            "{moved} particles have periodic image flags, which are dropped"
-        ));
-    }
 
     let particles: Vec<NewParticle> = f
         .atoms
@@ -216,6 +207,12 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
         .atoms
         .iter()
         .map(|a| (a.tag, a.radius, a.density, a.rmass))
+        .collect();
+    let images = f
+        .atoms
+        .iter()
+        .filter(|a| a.image != IMAGE_DEFAULT)
+        .map(|a| (a.tag, unpack_image(a.image)))
         .collect();
 
     // per-atom data: the pair contact history and the walls' histories are used
@@ -341,6 +338,7 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
             pair,
             pair_coeff,
             masses,
+            images,
             contacts,
             walls,
             half_step,
@@ -441,6 +439,11 @@ impl Loaded {
                 if p.radius[i] == radius && p.density[i] == density {
                     p.mass[i] = mass;
                 }
+            }
+        }
+        for &(id, image) in &self.images {
+            if let Some(&i) = index.get(&id) {
+                p.image[i] = image;
             }
         }
 
@@ -770,7 +773,7 @@ pub fn restart_file(sim: &Simulation) -> RestartFile {
                 tag: p.id[i],
                 atom_type: p.atom_type[i],
                 mask: 1,
-                image: IMAGE_DEFAULT,
+                image: pack_image(p.image[i]),
                 v: p.v[i].into(),
                 radius: p.radius[i],
                 rmass: p.mass[i],
