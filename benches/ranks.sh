@@ -6,7 +6,11 @@
 # coupling), side by side in one table. A measurement, not a test: nothing here passes or fails
 # but the runs themselves.
 #
-#   benches/ranks.sh [NP=100000] [RANKS="1 2 4"] [STEPS=5] [FLUID=native]
+#   benches/ranks.sh [NP=100000] [RANKS="1 2 4"] [STEPS=5] [FLUID=native] [SOLVER_NP=1]
+#
+# With FLUID=openfoam, grainPisoFoam runs on SOLVER_NP ranks of its own; on N > 1 coupler ranks
+# each rank then exchanges its touched cells straight with the solver ranks owning them (the
+# "solver kB" columns), on one it sends the solver whole fields.
 #
 # The bed is a simple cubic lattice (spacing 1.1 d, d = 1 mm, ρp 2000 kg/m³) written straight
 # as a LIGGGHTS data file (no packing stage), in a 0.1 × 0.1 × H m box of cells of 2.5 d, with a
@@ -20,6 +24,7 @@ np="${1:-100000}"
 ranks="${2:-1 2 4}"
 steps="${3:-5}"
 fluid="${4:-native}"
+solver_np="${5:-1}"
 export WM_PROJECT_DIR=/usr/share/openfoam
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
@@ -117,7 +122,9 @@ for n in $ranks; do
     rm -rf "$run"
     cp -r "$base" "$run"
     echo "== $n rank(s)" >&2
-    mpirun -np "$n" "$fg" run "$run" --dem liggghts --fluid "$fluid" >"$run.log" 2>&1 || true
+    extra=()
+    [ "$fluid" = openfoam ] && extra=(--np "$solver_np")
+    mpirun -np "$n" "$fg" run "$run" --dem liggghts --fluid "$fluid" "${extra[@]}" >"$run.log" 2>&1 || true
     line=$(grep 'coupling steps to' "$run.log" || echo "")
     if [ -z "$line" ]; then
         echo "run on $n ranks failed; see $run.log" >&2
@@ -129,8 +136,8 @@ done
 
 python3 - "${rows[@]}" <<'PY'
 import csv, re, sys
-print("| ranks | loop s/step | DEM % | fluid % | coupling % | rank | particles | cells touched | kB sent/step | kB received/step | peak MiB |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
+print("| ranks | loop s/step | DEM % | fluid % | coupling % | rank | particles | cells touched | kB sent/step | kB received/step | peak MiB | solver kB sent/step | solver kB received/step |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for row in sys.argv[1:]:
     n, line, path = row.split("|")
     m = re.search(r"(\d+) coupling steps.*coupled loop ([\d.]+) s: DEM ([\d.]+) % fluid ([\d.]+) % coupling ([\d.]+) %", line)
@@ -140,5 +147,5 @@ for row in sys.argv[1:]:
     for i, r in enumerate(ranks):
         head = f"| {n} | {per:.3f} | {dem} | {fl} | {cp} " if i == 0 else "| | | | | "
         kb = lambda x: f"{float(x) / 1e3:.1f}" if x else ""
-        print(head + f"| {r['rank']} | {r['particles']} | {r['cells_touched']} | {kb(r['bytes_sent_per_step'])} | {kb(r['bytes_received_per_step'])} | {r['peak_memory_mib']} |")
+        print(head + f"| {r['rank']} | {r['particles']} | {r['cells_touched']} | {kb(r['bytes_sent_per_step'])} | {kb(r['bytes_received_per_step'])} | {r['peak_memory_mib']} | {kb(r.get('solver_bytes_sent_per_step'))} | {kb(r.get('solver_bytes_received_per_step'))} |")
 PY
