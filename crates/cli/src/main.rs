@@ -41,7 +41,8 @@ enum Command {
     Dem(dem::DemArgs),
     /// Run a coupled CFD-DEM case (CFDEM layout: CASE/CFD, CASE/DEM) and check it against
     /// its references (CASE/validationDict). `mpirun -np N foamgrain run CASE --dem liggghts`
-    /// runs LIGGGHTS on N ranks, each coupling its own particles (fluid on rank 0).
+    /// runs LIGGGHTS on N ranks, each coupling its own particles (the native fluid on rank 0;
+    /// grainPisoFoam on its own ranks, each coupler rank exchanging straight with them).
     Run(run::RunArgs),
     /// Grid Convergence Index (Celik et al. 2008) of a grid-refinement study from a CSV table.
     Gci(gci::GciArgs),

@@ -32,9 +32,11 @@ pub enum DemBackend {
 ///
 /// Parallel: `mpirun -np N foamgrain run CASE --dem liggghts [--fluid openfoam|native]` runs
 /// LIGGGHTS in-process on the N ranks (the deck's `processors` grid, or LIGGGHTS's choice), each
-/// rank coupling only the particles its LIGGGHTS rank owns; the fluid runs on rank 0 — the
-/// native fluid with threads, grainPisoFoam spawned on `--np` ranks of its own. The native DEM
-/// runs on one process (threads), not under mpirun.
+/// rank coupling only the particles its LIGGGHTS rank owns. The native fluid runs on rank 0
+/// with threads (the ranks' touched cells are summed there); grainPisoFoam is spawned on
+/// `--np` ranks of its own and every coupler rank exchanges the cells it touches straight with
+/// the solver ranks owning them. The native DEM runs on one process (threads), not under
+/// mpirun.
 #[derive(Args, Debug)]
 pub struct RunArgs {
     /// The case directory (CFDEM layout: CFD/ with constant/couplingProperties, DEM/ with
