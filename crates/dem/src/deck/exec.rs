@@ -1659,15 +1659,18 @@ fn check_timestep(s: &mut Simulation, frac_r: f64, frac_h: f64) {
     }
     let dt = s.dt();
     if dt > frac_r * tr {
+        // LIGGGHTS's words and digits, so the two logs compare
         let w = format!(
-            "check/timestep/gran: dt = {dt} s is {:.1} % of the Rayleigh time {tr} s",
+            "check/timestep/gran: time-step is {:.6} % of rayleigh time (dt = {dt} s, \
+             Rayleigh time {tr:.6e} s)",
             100.0 * dt / tr
         );
         s.warn(w);
     }
     if dt > frac_h * th {
         let w = format!(
-            "check/timestep/gran: dt = {dt} s is {:.1} % of the Hertz time {th} s",
+            "check/timestep/gran: time-step is {:.6} % of hertz time (dt = {dt} s, Hertz time \
+             {th:.6e} s at twice the fastest speed)",
             100.0 * dt / th
         );
         s.warn(w);
