@@ -172,17 +172,29 @@ impl InsertPack {
     }
 }
 
-/// A volume particles are inserted into: a [`Region`] (`insert/pack`, `insert/rate/region`);
-/// `insert/stream`'s face swept along the insertion velocity fits the same trait.
+/// A volume particles are inserted into: a [`Region`] (`insert/pack`, `insert/rate/region`)
+/// or `insert/stream`'s face extruded against the insertion velocity
+/// ([`crate::insert_stream::Stream`]).
 pub trait InsertVolume {
-    /// A uniformly random point of the volume shrunk by `shrink` (m) on every side (`all_in
-    /// yes` shrinks by the particle radius), or `None` if nothing is left.
-    fn random_point(&self, rng: &mut rand_chacha::ChaCha8Rng, shrink: f64) -> Option<V3>;
+    /// A random centre for a sphere of radius `radius` (m), uniform over where the volume
+    /// lets it go (`all_in`: the whole sphere inside), or `None` if nowhere.
+    fn random_point(
+        &self,
+        rng: &mut rand_chacha::ChaCha8Rng,
+        radius: f64,
+        all_in: bool,
+    ) -> Option<V3>;
 }
 
 impl InsertVolume for Region {
-    fn random_point(&self, rng: &mut rand_chacha::ChaCha8Rng, shrink: f64) -> Option<V3> {
-        Region::random_point(self, rng, shrink)
+    /// Uniform in the region, shrunk by the radius with `all_in`.
+    fn random_point(
+        &self,
+        rng: &mut rand_chacha::ChaCha8Rng,
+        radius: f64,
+        all_in: bool,
+    ) -> Option<V3> {
+        Region::random_point(self, rng, if all_in { radius } else { 0.0 })
     }
 }
 
@@ -276,14 +288,13 @@ pub fn place(
     let mut tries_left = u64::from(batch.max_attempt.max(1)) * wanted as u64;
     'templates: for &k in &order {
         let t = &parts[k].0;
-        let shrink = if batch.all_in { t.radius } else { 0.0 };
         for _ in 0..batch.counts[k] {
             loop {
                 if tries_left == 0 {
                     break 'templates;
                 }
                 tries_left -= 1;
-                let Some(p) = volume.random_point(rng, shrink) else {
+                let Some(p) = volume.random_point(rng, t.radius, batch.all_in) else {
                     break 'templates;
                 };
                 if batch.overlap_check && grid.overlaps(p, t.radius) {

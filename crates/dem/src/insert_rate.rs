@@ -1,6 +1,9 @@
-//! `fix insert/rate/region`: continuous insertion into a region at a particle or mass rate,
-//! every `insert_every` steps, as LIGGGHTS 3.8.0 counts it (read in its `fix_insert.cpp` and
-//! `fix_insert_rate_region.cpp`; the code here is foamgrain's own).
+//! `fix insert/rate/region` and `fix insert/stream`: continuous insertion at a particle or
+//! mass rate, every `insert_every` steps, into a region or behind a face ([`Source`]), as
+//! LIGGGHTS 3.8.0 counts it (read in its `fix_insert.cpp`, `fix_insert_rate_region.cpp` and
+//! `fix_insert_stream.cpp`; the code here is foamgrain's own). What is particular to the
+//! stream (its volume, K from `extrude_length`, the carrying to the face) is in
+//! [`crate::insert_stream`].
 //!
 //! Counting:
 //! - the rate is `particlerate ṅ` (1/s) or `massrate ṁ` (kg/s, ṅ = ṁ / m̄ with m̄ the
@@ -19,7 +22,8 @@
 //!   particles; the shortfall is not carried over (the insertions simply go on until N are in),
 //!   and it is reported as a warning, as LIGGGHTS warns "Less insertions than requested";
 //! - an insertion region reaching outside the box while any box face is fixed (`f`) is an
-//!   error, as in LIGGGHTS.
+//!   error, as in LIGGGHTS; an extruded stream face reaching outside the box is a warning (as
+//!   LIGGGHTS's "may not insert all particles correctly").
 //!
 //! Particles are inserted after the drift of their step, before its force evaluation (LIGGGHTS's
 //! `pre_exchange`), so they receive the second half kick of that step.
@@ -27,9 +31,29 @@
 use mesh::v3::V3;
 use rand::{Rng, SeedableRng};
 
-use crate::insert::{place, split, Batch, Distribution};
+use crate::insert::{place, split, Batch, Distribution, InsertVolume};
+use crate::insert_stream::{Held, Stream};
 use crate::particles::{NewParticle, Particles};
 use crate::region::Region;
+
+/// Where a rate insertion places its particles.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Source {
+    /// `insert/rate/region … region R`.
+    Region(Region),
+    /// `insert/stream … insertion_face F`.
+    Stream(Stream),
+}
+
+impl Source {
+    /// The fix style, for messages.
+    pub fn style(&self) -> &'static str {
+        match self {
+            Source::Region(_) => "insert/rate/region",
+            Source::Stream(_) => "insert/stream",
+        }
+    }
+}
 
 /// How much an insertion fix inserts in total.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -51,7 +75,7 @@ pub enum Rate {
     Mass(f64),
 }
 
-/// A `fix ID all insert/rate/region …` specification.
+/// A `fix ID all insert/rate/region …` or `insert/stream …` specification.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InsertRate {
     /// Fix id.
@@ -60,13 +84,14 @@ pub struct InsertRate {
     pub seed: u64,
     /// `distributiontemplate`.
     pub distribution: Distribution,
-    /// `region`.
-    pub region: Region,
+    /// `region` or `insertion_face`.
+    pub source: Source,
     /// `nparticles` / `mass`.
     pub total: Total,
     /// `particlerate` / `massrate`.
     pub rate: Rate,
-    /// `insert_every K` (steps, ≥ 1).
+    /// `insert_every K` (steps, ≥ 1); 0 for a stream with `extrude_length`, whose K follows
+    /// from the time step ([`Stream::resolve`]).
     pub every: u64,
     /// `start` step; `None`: the step after the fix is defined.
     pub start: Option<u64>,
@@ -92,13 +117,17 @@ impl InsertRate {
         }
     }
 
-    /// Particles per insertion, n_per = ṅ · K · Δt (`dt` in s).
+    /// Particles per insertion, n_per = ṅ · K · Δt (`dt` in s, K = [`InsertRate::every`]).
     pub fn per_insertion(&self, dt: f64) -> f64 {
+        self.per_insertion_every(dt, self.every)
+    }
+
+    fn per_insertion_every(&self, dt: f64, every: u64) -> f64 {
         let rate = match self.rate {
             Rate::Particles(n) => n,
             Rate::Mass(m) => m / self.distribution.mass_expect(),
         };
-        rate * self.every as f64 * dt
+        rate * every as f64 * dt
     }
 }
 
@@ -123,6 +152,9 @@ pub struct RateInsertion {
     next: Option<u64>,
     /// n_per, fixed by the first run's time step.
     per: Option<f64>,
+    /// K (steps) and Δt (s), fixed with n_per.
+    every: u64,
+    dt: f64,
     rng: rand_chacha::ChaCha8Rng,
     carry: Vec<f64>,
     stats: InsertStats,
@@ -135,6 +167,8 @@ pub struct RateBatch {
     pub particles: Vec<NewParticle>,
     /// How many were wanted.
     pub wanted: usize,
+    /// For a stream, each particle's carrying to the face (same order as `particles`).
+    pub held: Vec<Held>,
 }
 
 impl RateInsertion {
@@ -144,7 +178,8 @@ impl RateInsertion {
         let first = match spec.start {
             Some(s) if s < now + 1 => {
                 return Err(format!(
-                    "insert/rate/region {}: `start {s}` is before the next step {}",
+                    "{} {}: `start {s}` is before the next step {}",
+                    spec.source.style(),
                     spec.name,
                     now + 1
                 ))
@@ -158,6 +193,8 @@ impl RateInsertion {
             carry: vec![0.0; parts],
             next: Some(first),
             per: None,
+            every: spec.every,
+            dt: 0.0,
             spec,
             stats: InsertStats::default(),
         })
@@ -178,36 +215,70 @@ impl RateInsertion {
         self.next
     }
 
-    /// Fixes n_per with the time step of the first run (LIGGGHTS's `setup`), and checks the
-    /// region against the box: reaching outside while a face is fixed is an error.
+    /// Fixes K and n_per with the time step of the first run (LIGGGHTS's `setup`), and checks
+    /// the volume against the box: a region reaching outside while a face is fixed is an
+    /// error, an extruded face reaching outside a warning (returned).
     pub fn activate(
         &mut self,
         dt: f64,
         fixed_face: bool,
         box_lo: V3,
         box_hi: V3,
-    ) -> Result<(), String> {
+    ) -> Result<Vec<String>, String> {
         if self.per.is_some() {
-            return Ok(());
+            return Ok(Vec::new());
         }
-        let per = self.spec.per_insertion(dt);
+        let style = self.spec.source.style();
+        let name = &self.spec.name;
+        let r_max = (self.spec.distribution.parts.iter())
+            .map(|(t, _)| t.radius)
+            .fold(0.0, f64::max);
+        let outside = |lo: V3, hi: V3| (0..3).any(|k| lo[k] < box_lo[k] || hi[k] > box_hi[k]);
+        let mut warnings = Vec::new();
+        let every = match &mut self.spec.source {
+            Source::Region(region) => {
+                let (lo, hi) = region.bounds();
+                if outside(lo, hi) && fixed_face {
+                    return Err(format!(
+                        "{style} {name}: the insertion region extends outside the simulation box \
+                         and a fixed boundary is used (LIGGGHTS refuses this too; use `m` or `s` \
+                         faces)"
+                    ));
+                }
+                self.spec.every
+            }
+            Source::Stream(stream) => {
+                let given = (self.spec.every > 0).then_some(self.spec.every);
+                let r = stream
+                    .resolve(dt, given, r_max)
+                    .map_err(|e| format!("{name}: {e}"))?;
+                let (lo, hi) = stream.bounds().unwrap_or((box_lo, box_hi));
+                if outside(lo, hi) {
+                    warnings.push(format!(
+                        "{style} {name}: the extruded insertion face extends outside the box; \
+                         particles placed outside are lost (LIGGGHTS warns that it may not \
+                         insert all particles correctly)"
+                    ));
+                }
+                r.every
+            }
+        };
+        let per = self.spec.per_insertion_every(dt, every);
         if !(per > 0.0 && per.is_finite()) {
             return Err(format!(
-                "insert/rate/region {}: {per} particles per insertion (the rate must be > 0)",
-                self.spec.name
-            ));
-        }
-        let (lo, hi) = self.spec.region.bounds();
-        let outside = (0..3).any(|k| lo[k] < box_lo[k] || hi[k] > box_hi[k]);
-        if outside && fixed_face {
-            return Err(format!(
-                "insert/rate/region {}: the insertion region extends outside the simulation box \
-                 and a fixed boundary is used (LIGGGHTS refuses this too; use `m` or `s` faces)",
-                self.spec.name
+                "{style} {name}: {per} particles per insertion (the rate must be > 0)"
             ));
         }
         self.per = Some(per);
-        Ok(())
+        self.every = every;
+        self.dt = dt;
+        Ok(warnings)
+    }
+
+    /// K (steps): `insert_every`, or for a stream with `extrude_length` what the time step
+    /// gives (0 before [`RateInsertion::activate`]).
+    pub fn every(&self) -> u64 {
+        self.every
     }
 
     /// The insertion due at `step`, if any: the particles placed among `existing` (the
@@ -222,21 +293,43 @@ impl RateInsertion {
         if let Some(t) = total {
             n = n.min(t.saturating_sub(self.stats.inserted));
         }
+        // a stream's particles enter with v_n and no spin, and get `vel`, `omega` at the face
+        let (velocity, omega) = match &self.spec.source {
+            Source::Region(_) => (self.spec.velocity, self.spec.omega),
+            Source::Stream(s) => (s.v_normal(), V3::zeros()),
+        };
         let batch = Batch {
             counts: split(&self.spec.distribution, n as usize, &mut self.carry),
-            velocity: self.spec.velocity,
-            omega: self.spec.omega,
+            velocity,
+            omega,
             all_in: self.spec.all_in,
             overlap_check: self.spec.overlap_check,
             max_attempt: self.spec.max_attempt,
         };
+        let volume: &dyn InsertVolume = match &self.spec.source {
+            Source::Region(r) => r,
+            Source::Stream(s) => s,
+        };
         let particles = place(
-            &self.spec.region,
+            volume,
             &self.spec.distribution,
             &batch,
             existing,
             &mut self.rng,
         );
+        let held = match &self.spec.source {
+            Source::Region(_) => Vec::new(),
+            Source::Stream(s) => (particles.iter())
+                .map(|p| Held {
+                    x0: p.x,
+                    inserted: step,
+                    release: step + s.steps_to_face(p.x, self.dt),
+                    v_carry: s.v_normal(),
+                    v_release: self.spec.velocity,
+                    omega_release: self.spec.omega,
+                })
+                .collect(),
+        };
         let s = &mut self.stats;
         s.inserted += particles.len() as u64;
         for p in &particles {
@@ -248,10 +341,11 @@ impl RateInsertion {
             s.short += 1;
         }
         let more = total.is_none_or(|t| s.inserted < t);
-        self.next = more.then_some(step + self.spec.every);
+        self.next = more.then_some(step + self.every);
         Some(RateBatch {
             particles,
             wanted: n as usize,
+            held,
         })
     }
 }
@@ -272,10 +366,10 @@ mod tests {
             name: "ins".into(),
             seed: 7,
             distribution: Distribution::new("d", vec![(t, 1.0)], true),
-            region: Region::Block {
+            source: Source::Region(Region::Block {
                 lo: V3::new(0.0, 0.0, 0.0),
                 hi: V3::new(0.02, 0.02, 0.02),
-            },
+            }),
             total,
             rate,
             every,
@@ -356,10 +450,10 @@ mod tests {
     #[test]
     fn a_full_region_inserts_fewer() {
         let mut s = spec(Total::Unlimited, Rate::Particles(1e6), 1);
-        s.region = Region::Block {
+        s.source = Source::Region(Region::Block {
             lo: V3::zeros(),
             hi: V3::new(0.0041, 0.0021, 0.0021),
-        };
+        });
         let mut ins = RateInsertion::new(s, 0).unwrap();
         ins.activate(1e-5, false, V3::repeat(-1.0), V3::repeat(1.0))
             .unwrap();

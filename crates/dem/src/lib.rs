@@ -11,7 +11,8 @@
 //! - [`trimesh`]: triangulated surfaces (STL files, topology, closest points, a grid);
 //!   [`mesh_wall`]: `wall/gran … mesh` contacts with them.
 //! - [`walls`], [`region`], [`insert`] (`insert/pack`), [`insert_rate`]
-//!   (`insert/rate/region`), [`outflow`] (lost and deleted particles), [`neighbor`] (linked cells, spatial
+//!   (`insert/rate/region`, `insert/stream`'s counting), [`insert_stream`] (its extruded face
+//!   and the carrying to it), [`outflow`] (lost and deleted particles), [`neighbor`] (linked cells, spatial
 //!   order, pair list), [`pair_loop`] (pair forces and their per-particle sums).
 //! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
 //! - [`atom_value`]: per-atom quantities by LIGGGHTS name (dump columns, `compute reduce`).
@@ -43,6 +44,7 @@ pub mod error;
 pub mod from_dump;
 pub mod insert;
 pub mod insert_rate;
+pub mod insert_stream;
 pub mod material;
 pub mod mesh_wall;
 pub mod neighbor;

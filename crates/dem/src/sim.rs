@@ -188,6 +188,8 @@ pub struct Simulation {
     pending_inserts: Vec<InsertPack>,
     /// Continuous insertions (`insert/rate/region`), performed in [`Simulation::advance`].
     rate_inserts: Vec<RateInsertion>,
+    /// `insert/stream` particles still carried to their face, by id ([`crate::insert_stream`]).
+    held: std::collections::HashMap<u64, crate::insert_stream::Held>,
     dumps: Vec<DumpOutput>,
     /// What left through fixed faces or was deleted ([`crate::outflow`]).
     outflow: Outflow,
@@ -238,6 +240,7 @@ impl Simulation {
             replay: None,
             pending_inserts: Vec::new(),
             rate_inserts: Vec::new(),
+            held: Default::default(),
             dumps: Vec::new(),
             outflow: Outflow::default(),
             lost_policy: LostPolicy::default(),
@@ -781,6 +784,7 @@ impl Simulation {
         self.pairs.ensure(&self.particles.x, &self.particles.radius);
         // forces, then the second half kick in the same pass
         self.compute_forces(HistoryUse::Advance, Some(half));
+        self.carry_held();
         self.write_dumps()
     }
 

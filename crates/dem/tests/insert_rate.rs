@@ -19,23 +19,8 @@ use dem::deck::exec::DeckEvent;
 use dem::Simulation;
 use liggghts_deck::Deck;
 
-/// Thermo rows `step atoms inserted mass` of a LIGGGHTS log or the native output lines.
-fn rows<'a>(lines: impl Iterator<Item = &'a str>) -> Vec<(u64, u64, u64, f64)> {
-    lines
-        .filter_map(|l| {
-            let w: Vec<&str> = l.split_whitespace().collect();
-            if w.len() != 4 {
-                return None;
-            }
-            Some((
-                w[0].parse().ok()?,
-                w[1].parse().ok()?,
-                w[2].parse().ok()?,
-                w[3].parse().ok()?,
-            ))
-        })
-        .collect()
-}
+mod common;
+use common::inflow::{compare, rows, Row};
 
 fn native(vars: &[(&str, &str)]) -> (Result<Simulation, dem::DemError>, Vec<String>) {
     let vars: Vec<(String, String)> = vars
@@ -93,37 +78,9 @@ fn expected(step: u64) -> (f64, f64) {
 }
 
 /// The rows of one run against LIGGGHTS's rows and the expectation.
-fn compare(ours: &[(u64, u64, u64, f64)], theirs: &[(u64, u64, u64, f64)]) {
-    assert_eq!(ours.len(), theirs.len());
+fn compare_outflow(ours: &[Row], theirs: &[Row]) {
     let first_exit = exit_steps(Z.0) as u64;
-    let (mut area_ours, mut area_theirs, mut area_expected) = (0.0, 0.0, 0.0);
-    for (a, b) in ours.iter().zip(theirs) {
-        assert_eq!(a.0, b.0, "thermo steps");
-        assert_eq!(a.2, b.2, "inserted at step {}", a.0);
-        assert!(
-            (a.3 - b.3).abs() <= 1e-8 * b.3,
-            "mass at step {}: {a:?} {b:?}",
-            a.0
-        );
-        if a.0 < first_exit {
-            assert_eq!(a.1, b.1, "atoms at step {}", a.0);
-        }
-        let (mean, var) = expected(a.0);
-        // 5 standard deviations, and 3 for LIGGGHTS removing lost atoms only when it
-        // re-neighbours (every ~25 steps here)
-        let tol = 5.0 * var.sqrt() + 3.0;
-        for (who, n) in [("native", a.1), ("LIGGGHTS", b.1)] {
-            assert!(
-                (n as f64 - mean).abs() <= tol,
-                "{who}: {n} atoms at step {}, expected {mean:.1} ± {:.1}",
-                a.0,
-                var.sqrt()
-            );
-        }
-        area_ours += a.1 as f64;
-        area_theirs += b.1 as f64;
-        area_expected += mean;
-    }
+    let (area_ours, area_theirs, area_expected) = compare(ours, theirs, first_exit, expected);
     // Σ atoms over the rows ∝ the mean residence time of the 200 spheres: its scatter is the
     // exit times' spread (~370 steps) / √200 ≈ 0.5 % of the mean (~5900 steps)
     let rel = |x: f64| x / area_expected - 1.0;
@@ -138,7 +95,7 @@ fn compare(ours: &[(u64, u64, u64, f64)], theirs: &[(u64, u64, u64, f64)]) {
     assert_eq!(theirs.last().unwrap().1, 0);
 }
 
-fn committed() -> Vec<(u64, u64, u64, f64)> {
+fn committed() -> Vec<Row> {
     let log = std::fs::read_to_string(testkit::fixture("dem/outflow_liggghts.log")).unwrap();
     rows(log.lines())
 }
@@ -148,7 +105,7 @@ fn insertion_and_outflow_match_liggghts_and_free_fall() {
     let (sim, lines) = native(&[]);
     let sim = sim.unwrap();
     let ours = rows(lines.iter().map(String::as_str));
-    compare(&ours, &committed());
+    compare_outflow(&ours, &committed());
     // every sphere inserted was lost through the bottom, with its mass
     let out = sim.outflow().lost;
     assert_eq!(out.count, 200);

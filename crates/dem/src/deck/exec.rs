@@ -17,7 +17,8 @@
 //!   meshes ID…` ([`crate::mesh_wall`]), `mesh/surface[/stress] file F.stl type T …`
 //!   ([`mesh_surface`](super::mesh_surface)),
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
-//!   (`insert_every once`), `insert/rate/region` ([`crate::insert_rate`]; arguments of both in
+//!   (`insert_every once`), `insert/rate/region` and `insert/stream` ([`crate::insert_rate`],
+//!   [`crate::insert_stream`]; arguments of all in
 //!   [`insertion`](super::insertion)), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
 //!   vector `f_ID[1..3]` is the total coupling force), `print` ([`print`](super::print));
@@ -811,11 +812,12 @@ impl Session<'_> {
             .ok_or_else(|| "no `boundary` given (LIGGGHTS's default is `p p p`: state it)".into())
     }
 
-    /// The distributions and regions defined so far.
+    /// The distributions, regions and mesh surfaces defined so far.
     fn known(&self) -> insertion::Known<'_> {
         insertion::Known {
             dists: &self.dists,
             regions: &self.regions,
+            surfaces: &self.surfaces,
         }
     }
 
@@ -1203,8 +1205,11 @@ impl Session<'_> {
                     None => self.pending.inserts.push(ins),
                 }
             }
-            "insert/rate/region" => {
-                let ins = insertion::insert_rate(&id, w, &self.known())?;
+            "insert/rate/region" | "insert/stream" => {
+                let ins = match style {
+                    "insert/stream" => insertion::insert_stream(&id, w, &self.known())?,
+                    _ => insertion::insert_rate(&id, w, &self.known())?,
+                };
                 self.registry.add_insert_fix(&id);
                 match &mut self.sim {
                     Some(s) => s.add_rate_insertion(ins)?,
@@ -1654,15 +1659,18 @@ fn check_timestep(s: &mut Simulation, frac_r: f64, frac_h: f64) {
     }
     let dt = s.dt();
     if dt > frac_r * tr {
+        // LIGGGHTS's words and digits, so the two logs compare
         let w = format!(
-            "check/timestep/gran: dt = {dt} s is {:.1} % of the Rayleigh time {tr} s",
+            "check/timestep/gran: time-step is {:.6} % of rayleigh time (dt = {dt} s, \
+             Rayleigh time {tr:.6e} s)",
             100.0 * dt / tr
         );
         s.warn(w);
     }
     if dt > frac_h * th {
         let w = format!(
-            "check/timestep/gran: dt = {dt} s is {:.1} % of the Hertz time {th} s",
+            "check/timestep/gran: time-step is {:.6} % of hertz time (dt = {dt} s, Hertz time \
+             {th:.6e} s at twice the fastest speed)",
             100.0 * dt / th
         );
         s.warn(w);

@@ -1,13 +1,16 @@
-//! The arguments of LIGGGHTS's insertion fixes (`fix ID all insert/pack|insert/rate/region
-//! seed S distributiontemplate D …`): the keywords they share are read once here, the
-//! fix-specific ones by the caller.
+//! The arguments of LIGGGHTS's insertion fixes (`fix ID all insert/pack|insert/rate/region|
+//! insert/stream seed S distributiontemplate D …`): the keywords they share are read once
+//! here, the fix-specific ones by the caller.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use mesh::v3::V3;
 
 use crate::insert::{Distribution, InsertPack, InsertTarget};
-use crate::insert_rate::{InsertRate, Rate, Total};
+use crate::insert_rate::{InsertRate, Rate, Source, Total};
+use crate::insert_stream::{Extrude, Stream};
+use crate::mesh_wall::MeshSurface;
 use crate::region::Region;
 
 type Res<T> = Result<T, String>;
@@ -39,6 +42,8 @@ pub(crate) struct Known<'a> {
     pub dists: &'a HashMap<String, Distribution>,
     /// Regions.
     pub regions: &'a HashMap<String, Region>,
+    /// `fix mesh/surface` surfaces.
+    pub surfaces: &'a HashMap<String, Arc<MeshSurface>>,
 }
 
 fn value<'w>(w: &'w [String], k: usize, what: &str) -> Res<&'w str> {
@@ -202,47 +207,78 @@ pub(crate) fn insert_pack(id: &str, w: &[String], known: &Known<'_>) -> Res<Inse
 /// yes|no] [vel constant …] [omega constant …] region R [ntry_mc n] [maxattempt n]`
 /// ([`crate::insert_rate`]).
 pub(crate) fn insert_rate(id: &str, w: &[String], known: &Known<'_>) -> Res<InsertRate> {
-    let (mut total, mut rate) = (None, None);
-    let c = common("insert/rate/region", w, known, |k| {
+    let style = "insert/rate/region";
+    let mut rk = RateKeys::default();
+    let c = common(style, w, known, |k| rk.read(style, w, k))?;
+    let every = match c.every {
+        Some(Every::Steps(n)) if n >= 1 => n,
+        Some(_) => return Err(format!("{style}: `insert_every` must be a step count ≥ 1")),
+        None => return Err(format!("{style} needs `insert_every`")),
+    };
+    let region = c.region.ok_or("insert/rate/region needs `region`")?;
+    rate_spec(id, style, c, rk, Source::Region(region), every)
+}
+
+/// The total and the rate of a rate insertion (`nparticles`/`mass`, `particlerate`/
+/// `massrate`), and `ntry_mc`, which the native volumes do not need.
+#[derive(Default)]
+struct RateKeys {
+    total: Option<Total>,
+    rate: Option<Rate>,
+}
+
+impl RateKeys {
+    /// Reads the keyword at `w[k]` if it is one of these: the index after it.
+    fn read(&mut self, style: &str, w: &[String], k: usize) -> Res<Option<usize>> {
         let key = w[k].as_str();
         let inf = value(w, k + 1, key)? == "INF";
         match key {
-            "nparticles" | "mass" if total.is_some() => {
-                return Err("insert/rate/region: give one of `nparticles` and `mass`".into())
+            "nparticles" | "mass" if self.total.is_some() => {
+                return Err(format!("{style}: give one of `nparticles` and `mass`"))
             }
-            "nparticles" if inf => total = Some(Total::Unlimited),
-            "nparticles" => total = Some(Total::Particles(count(w, k + 1, key)?)),
-            "mass" if inf => total = Some(Total::Unlimited),
-            "mass" => total = Some(Total::Mass(number(w, k + 1, key)?)),
-            "particlerate" | "massrate" if rate.is_some() => {
-                return Err("insert/rate/region: give one of `particlerate` and `massrate`".into())
+            "nparticles" if inf => self.total = Some(Total::Unlimited),
+            "nparticles" => self.total = Some(Total::Particles(count(w, k + 1, key)?)),
+            "mass" if inf => self.total = Some(Total::Unlimited),
+            "mass" => self.total = Some(Total::Mass(number(w, k + 1, key)?)),
+            "particlerate" | "massrate" if self.rate.is_some() => {
+                return Err(format!(
+                    "{style}: give one of `particlerate` and `massrate`"
+                ))
             }
-            "particlerate" => rate = Some(Rate::Particles(number(w, k + 1, key)?)),
-            "massrate" => rate = Some(Rate::Mass(number(w, k + 1, key)?)),
-            // the Monte-Carlo tries for the region's volume: the native regions know theirs
+            "particlerate" => self.rate = Some(Rate::Particles(number(w, k + 1, key)?)),
+            "massrate" => self.rate = Some(Rate::Mass(number(w, k + 1, key)?)),
+            // the Monte-Carlo tries for the volume's share: the native volumes know theirs
             "ntry_mc" => {
                 count(w, k + 1, key)?;
             }
             _ => return Ok(None),
         }
         Ok(Some(k + 2))
-    })?;
-    let every = match c.every {
-        Some(Every::Steps(n)) if n >= 1 => n,
-        Some(_) => {
-            return Err("insert/rate/region: `insert_every` must be a step count ≥ 1".into())
-        }
-        None => return Err("insert/rate/region needs `insert_every`".into()),
-    };
+    }
+}
+
+/// The [`InsertRate`] of a rate insertion read by [`common`] and [`RateKeys`].
+fn rate_spec(
+    id: &str,
+    style: &str,
+    c: Common,
+    rk: RateKeys,
+    source: Source,
+    every: u64,
+) -> Res<InsertRate> {
     Ok(InsertRate {
         name: id.to_string(),
-        seed: c.seed.ok_or("insert/rate/region needs `seed`")?,
+        seed: c.seed.ok_or(format!("{style} needs `seed`"))?,
         distribution: c
             .distribution
-            .ok_or("insert/rate/region needs `distributiontemplate`")?,
-        region: c.region.ok_or("insert/rate/region needs `region`")?,
-        total: total.ok_or("insert/rate/region needs `nparticles` or `mass`")?,
-        rate: rate.ok_or("insert/rate/region needs `particlerate` or `massrate`")?,
+            .ok_or(format!("{style} needs `distributiontemplate`"))?,
+        source,
+        total: rk
+            .total
+            .ok_or(format!("{style} needs `nparticles` or `mass`"))?,
+        rate: rk
+            .rate
+            .ok_or(format!("{style} needs `particlerate` or `massrate`"))?,
         every,
         start: c.start,
         velocity: c.velocity,
@@ -251,4 +287,80 @@ pub(crate) fn insert_rate(id: &str, w: &[String], known: &Known<'_>) -> Res<Inse
         overlap_check: c.overlap_check,
         max_attempt: c.max_attempt,
     })
+}
+
+/// `fix ID all insert/stream seed S distributiontemplate D [nparticles N|INF | mass M|INF]
+/// particlerate r | massrate m [insert_every K [duration d] | extrude_length L] [start s]
+/// [overlapcheck yes|no] vel constant vx vy vz [omega constant …] insertion_face F [ntry_mc n]
+/// [maxattempt n] [parallel yes|no]` ([`crate::insert_stream`]). `all_in yes` needs
+/// LIGGGHTS's `fix mesh/surface/planar`, which the native DEM does not read: refused.
+pub(crate) fn insert_stream(id: &str, w: &[String], known: &Known<'_>) -> Res<InsertRate> {
+    let style = "insert/stream";
+    let mut rk = RateKeys::default();
+    let (mut face, mut length, mut duration) = (None, None, None);
+    let c = common(style, w, known, |k| {
+        let key = w[k].as_str();
+        match key {
+            "insertion_face" => {
+                let f = value(w, k + 1, key)?;
+                let s = known.surfaces.get(f).ok_or_else(|| {
+                    format!("insertion_face: no fix mesh/surface `{f}` (define it before)")
+                })?;
+                face = Some(s.clone());
+            }
+            "extrude_length" => {
+                let l = number(w, k + 1, key)?;
+                if l <= 0.0 {
+                    return Err(format!("extrude_length {l} must be > 0"));
+                }
+                length = Some(l);
+            }
+            "duration" => {
+                let d = count(w, k + 1, key)?;
+                if d < 1 {
+                    return Err("'duration' can not be < 1".into());
+                }
+                duration = Some(d);
+            }
+            // which ranks draw: one rank here
+            "parallel" => {
+                yes_no(w, k + 1, key)?;
+            }
+            _ => return rk.read(style, w, k),
+        }
+        Ok(Some(k + 2))
+    })?;
+    if c.region.is_some() {
+        return Err(format!("{style} takes `insertion_face`, not `region`"));
+    }
+    if c.all_in {
+        return Err(format!(
+            "{style}: `all_in yes` needs LIGGGHTS's `fix mesh/surface/planar` face, which the \
+             native DEM does not read"
+        ));
+    }
+    let every = match c.every {
+        Some(Every::Steps(n)) if n >= 1 => n,
+        Some(_) => return Err(format!("{style}: `insert_every` must be a step count ≥ 1")),
+        None => 0,
+    };
+    let extrude = match (length, duration, every) {
+        (Some(_), _, k) if k > 0 => {
+            return Err(format!(
+                "{style}: give `insert_every` or `extrude_length`, not both (LIGGGHTS refuses \
+                 both too)"
+            ))
+        }
+        (Some(_), Some(_), _) => {
+            return Err(format!(
+                "{style}: give `extrude_length` or `duration`, not both (LIGGGHTS refuses both too)"
+            ))
+        }
+        (Some(l), None, _) => Extrude::Length(l),
+        (None, _, 0) => return Err(format!("{style} needs `insert_every` or `extrude_length`")),
+        (None, d, _) => Extrude::Duration(d),
+    };
+    let face = face.ok_or(format!("{style} needs `insertion_face`"))?;
+    let stream = Stream::new(&face.mesh, c.velocity, extrude, c.overlap_check)?;
+    rate_spec(id, style, c, rk, Source::Stream(stream), every)
 }

@@ -83,7 +83,8 @@ pub struct Registry {
     computes: HashMap<String, Compute>,
     force_fixes: Vec<String>,
     mesh_stress_fixes: Vec<String>,
-    /// `insert/rate/region` fixes: their vector is (particles, mass) inserted so far.
+    /// `insert/rate/region` and `insert/stream` fixes: their vector is (particles, mass)
+    /// inserted so far.
     insert_fixes: Vec<String>,
 }
 
@@ -192,7 +193,7 @@ impl Registry {
             }
             Ref::Fix(..) => Ok(Support::Blank(format!(
                 "{r}: the native DEM gives fix values only for couple/cfd/force, \
-                 mesh/surface/stress and insert/rate/region fixes"
+                 mesh/surface/stress, insert/rate/region and insert/stream fixes"
             ))),
             Ref::Atom(name, _) => match AtomValue::parse(name) {
                 Some(_) => Ok(Support::Yes),

@@ -1,4 +1,5 @@
-//! An open system: particles inserted during the steps (`insert/rate/region`), lost through
+//! An open system: particles inserted during the steps (`insert/rate/region`, `insert/stream`
+//! with its carrying of the new particles to the face), lost through
 //! fixed box faces (policy of [`crate::outflow`]) and deleted (`delete_atoms region`). Every
 //! removal goes through [`Simulation::remove`], which keeps the per-particle state (wall
 //! history, pair history, coupling) with the surviving particles.
@@ -18,7 +19,7 @@ fn face_name(k: usize, f: usize) -> String {
 }
 
 impl Simulation {
-    /// Adds an `insert/rate/region` fix defined now (its first insertion is at its `start`, else
+    /// Adds an `insert/rate/region` or `insert/stream` fix defined now (its first insertion is at its `start`, else
     /// at the next step).
     pub fn add_rate_insertion(&mut self, spec: InsertRate) -> Result<(), DemError> {
         if self.rate_inserts.iter().any(|r| r.spec().name == spec.name) {
@@ -90,9 +91,15 @@ impl Simulation {
     pub(super) fn activate_rate_insertions(&mut self) -> Result<(), DemError> {
         let b = self.sim_box;
         let fixed = b.boundary.iter().flatten().any(|&f| f == Boundary::Fixed);
+        let mut warnings = Vec::new();
         for r in &mut self.rate_inserts {
-            r.activate(self.dt, fixed, b.lo, b.hi)
-                .map_err(DemError::Setup)?;
+            warnings.extend(
+                r.activate(self.dt, fixed, b.lo, b.hi)
+                    .map_err(DemError::Setup)?,
+            );
+        }
+        for w in warnings {
+            self.warn(w);
         }
         Ok(())
     }
@@ -115,16 +122,21 @@ impl Simulation {
             };
             if batch.particles.len() < batch.wanted && r.stats().short == 1 {
                 self.warn(format!(
-                    "insert/rate/region {}: inserted {} of {} particles at step {step} (no free \
-                     place found; later shortfalls are counted, not reported)",
+                    "{} {}: inserted {} of {} particles at step {step} (no free place found; \
+                     later shortfalls are counted, not reported)",
+                    r.spec().source.style(),
                     r.spec().name,
                     batch.particles.len(),
                     batch.wanted
                 ));
             }
+            let first = self.particles.len();
             result = self.add_particles(&batch.particles);
             if result.is_err() {
                 break;
+            }
+            for (k, h) in batch.held.into_iter().enumerate() {
+                self.held.insert(self.particles.id[first + k], h);
             }
         }
         self.rate_inserts = inserts;
@@ -189,11 +201,49 @@ impl Simulation {
             let mut k = keep.iter();
             self.mesh_contacts.retain(|_| *k.next().unwrap_or(&true));
         }
+        if !self.held.is_empty() {
+            for (i, _) in keep.iter().enumerate().filter(|(_, &k)| !k) {
+                self.held.remove(&self.particles.id[i]);
+            }
+        }
         let map = self.particles.retain(keep);
         self.pairs.remap(&map);
         self.coupling.remap(&map);
         if let Some(c) = &mut self.forces_coupling {
             c.remap(&map);
         }
+    }
+
+    /// `insert/stream`'s carrying at the end of a step: a held particle is put where v_n has
+    /// taken it since its insertion, with velocity v_n, no spin, no force or torque; at its
+    /// release step it gets the fix's `vel` and `omega` and is free from then on
+    /// ([`crate::insert_stream`]).
+    pub(super) fn carry_held(&mut self) {
+        if self.held.is_empty() {
+            return;
+        }
+        let (step, dt) = (self.step, self.dt);
+        let p = &mut self.particles;
+        for i in 0..p.len() {
+            let Some(h) = self.held.get(&p.id[i]) else {
+                continue;
+            };
+            p.x[i] = h.position(step, dt);
+            p.f[i] = V3::zeros();
+            p.torque[i] = V3::zeros();
+            if step >= h.release {
+                p.v[i] = h.v_release;
+                p.omega[i] = h.omega_release;
+                self.held.remove(&p.id[i]);
+            } else {
+                p.v[i] = h.v_carry;
+                p.omega[i] = V3::zeros();
+            }
+        }
+    }
+
+    /// How many `insert/stream` particles are still carried to their face.
+    pub fn held_count(&self) -> usize {
+        self.held.len()
     }
 }

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod bed;
+pub mod inflow;
 pub mod meshes;
 
 use dem::contact::ContactModel;
