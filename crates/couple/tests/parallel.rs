@@ -476,6 +476,9 @@ mod owned {
 
     const RANKS: usize = 2;
 
+    /// The fields an owner formed: ε, Ksl, Us, f (dense).
+    type Formed = (Vec<f64>, Vec<f64>, Vec<V3>, Vec<V3>);
+
     /// What the threads share: a barrier and one slot per rank for each exchange.
     struct Shared {
         barrier: Barrier,
@@ -483,8 +486,7 @@ mod owned {
         cells: Mutex<Vec<Vec<Label>>>,
         solid: Mutex<Vec<Vec<f64>>>,
         sums: Mutex<Vec<Vec<f64>>>,
-        /// The fields the owner formed: ε, Ksl, Us, f (dense).
-        formed: Mutex<Option<(Vec<f64>, Vec<f64>, Vec<V3>, Vec<V3>)>>,
+        formed: Mutex<Option<Formed>>,
     }
 
     struct ThreadRanks {
