@@ -342,10 +342,7 @@ impl Coupler {
         let mut got = Vec::with_capacity(touched.len() * FLUID_WIDTH);
         self.ranks
             .scatter_from_root(FLUID_WIDTH, &|_, _| {}, &mut got);
-        let remote = std::mem::take(&mut self.remote);
-        let (placement, forces, mut exchange, remote) =
-            self.forces_at(remote, &touched, &got, shares, particles);
-        self.remote = remote;
+        let (placement, forces, mut exchange) = self.forces_at(&touched, &got, shares, particles);
         self.sum_exchange(&touched, &mut exchange);
         Ok(CouplingStep {
             placement,
@@ -359,16 +356,16 @@ impl Coupler {
 
     /// The forces of this rank's particles, with ε and the fluid of the `touched` cells given
     /// as [`FLUID_WIDTH`] values per cell in `got` (written into the rank's dense copy
-    /// `remote`, which is handed back).
+    /// `self.remote`).
     fn forces_at(
         &mut self,
-        mut remote: Remote,
         touched: &[Label],
         got: &[f64],
         shares: CellShares,
         particles: &ParticleState<'_>,
-    ) -> (Placement, ForceSet, Exchange, Remote) {
+    ) -> (Placement, ForceSet, Exchange) {
         let n_cells = self.vm.n_cells();
+        let mut remote = std::mem::take(&mut self.remote);
         let r = &mut remote;
         if r.eps.len() != n_cells {
             r.eps = vec![1.0; n_cells];
@@ -392,7 +389,8 @@ impl Coupler {
             div_tau: &r.div_tau,
         };
         let (placement, forces, exchange) = self.forces(shares, &fluid, &r.eps, particles);
-        (placement, forces, exchange, remote)
+        self.remote = remote;
+        (placement, forces, exchange)
     }
 
     /// [`Coupler::exchange`] with the cells' owners elsewhere ([`Coupler::set_owners`],
@@ -451,10 +449,8 @@ impl Coupler {
             records.push(*e);
             records.extend_from_slice(&g[2..OWNER_REPLY_WIDTH]);
         }
-        let remote = std::mem::take(&mut self.remote);
-        let (placement, forces, mut exchange, remote) =
-            self.forces_at(remote, &touched, &records, shares, particles);
-        self.remote = remote;
+        let (placement, forces, mut exchange) =
+            self.forces_at(&touched, &records, shares, particles);
         let mut sums = Vec::with_capacity(touched.len() * OWNER_SUMS_WIDTH);
         for (&c, e) in touched.iter().zip(&eps) {
             let c = c as usize;
