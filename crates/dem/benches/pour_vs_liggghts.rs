@@ -202,11 +202,12 @@ fn native_run(deck_path: &Path, vars: &[(String, String)], threads: usize) -> Re
     let t0 = Instant::now();
     pool.install(|| dem::Simulation::from_deck(&deck, dir.path()))?;
     let secs = t0.elapsed().as_secs_f64();
-    println!("native, {threads} thread(s): {secs:.2} s");
-    Ok(Timed {
-        secs,
-        last: last_dump(&dir.path().join("post"))?,
-    })
+    let last = last_dump(&dir.path().join("post"))?;
+    println!(
+        "native, {threads} thread(s): {secs:.2} s; last dump's fingerprint {}",
+        fingerprint(&last)
+    );
+    Ok(Timed { secs, last })
 }
 
 /// Debian's LIGGGHTS on `ranks` MPI processes, in a temporary directory holding the deck and
@@ -254,6 +255,13 @@ fn last_dump(post: &Path) -> Result<Snapshot, Error> {
         }
     }
     best.ok_or_else(|| format!("no dump in {}", post.display()).into())
+}
+
+/// Σ z and Σ vz of a dump with all digits: two builds whose runs print the same values ran
+/// the same dynamics (to the dump's precision), whatever their speed.
+fn fingerprint(s: &Snapshot) -> String {
+    let sum = |name: &str| s.column(name).map_or(f64::NAN, |c| c.iter().sum::<f64>());
+    format!("Σz {:e}, Σvz {:e}", sum("z"), sum("vz"))
 }
 
 fn measure(s: &Snapshot, half_width: f64) -> Result<bed::Bed, Error> {
