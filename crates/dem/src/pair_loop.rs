@@ -62,8 +62,8 @@ pub struct PairForces {
     live: Vec<bool>,
     /// Per sorted position: total contact force (N) and torque (N·m).
     sums: Vec<[V3; 2]>,
-    /// Per particle index: its sorted position; copied at each list build.
-    rank: Vec<u32>,
+    /// The same by particle index.
+    sums_by_index: Vec<[V3; 2]>,
 }
 
 /// Per-particle data by sorted position, for the kernel.
@@ -281,26 +281,30 @@ impl PairForces {
                 self.sums[s] = sum_slots(&self.slots[at.clone()], &self.occupied[at]);
             }
         }
+        // by particle index, so that the per-particle pass reads them in its own order
+        self.sums_by_index.resize(n, [V3::zeros(); 2]);
+        let (sums, rank) = (&self.sums, pairs.ranks());
+        self.sums_by_index
+            .par_iter_mut()
+            .zip(rank)
+            .with_min_len(STREAM_BLOCK)
+            .for_each(|(dst, &s)| *dst = sums[s as usize]);
     }
 
     /// Copies positions, velocities and angular velocities into the list's spatial order,
-    /// and radii, masses, types and the ranks after a build.
+    /// and radii, masses and types after a build.
     fn load(&mut self, pairs: &PairList, p: &Particles) {
         let order = pairs.order();
-        // one pass for the three (one fork-join of the thread pool per step, not three)
-        for dst in [&mut self.x, &mut self.v, &mut self.omega] {
+        let gather = |dst: &mut Vec<V3>, src: &[V3]| {
             dst.resize(order.len(), V3::zeros());
-        }
-        self.x
-            .par_iter_mut()
-            .zip(&mut self.v)
-            .zip(&mut self.omega)
-            .zip(order)
-            .with_min_len(STREAM_BLOCK)
-            .for_each(|(((x, v), w), &i)| {
-                let i = i as usize;
-                (*x, *v, *w) = (p.x[i], p.v[i], p.omega[i]);
-            });
+            dst.par_iter_mut()
+                .zip(order)
+                .with_min_len(STREAM_BLOCK)
+                .for_each(|(d, &i)| *d = src[i as usize]);
+        };
+        gather(&mut self.x, &p.x);
+        gather(&mut self.v, &p.v);
+        gather(&mut self.omega, &p.omega);
         if self.generation != Some(pairs.generation()) {
             self.radius.clear();
             self.radius
@@ -310,8 +314,6 @@ impl PairForces {
             self.atom_type.clear();
             self.atom_type
                 .extend(order.iter().map(|&i| p.atom_type[i as usize]));
-            self.rank.clear();
-            self.rank.extend_from_slice(pairs.ranks());
             self.generation = Some(pairs.generation());
         }
     }
@@ -319,7 +321,7 @@ impl PairForces {
     /// The total contact force (N) and torque (N·m) on particle `i` from the last evaluation.
     #[inline]
     pub fn sum(&self, i: usize) -> (V3, V3) {
-        let [f, t] = self.sums[self.rank[i] as usize];
+        let [f, t] = self.sums_by_index[i];
         (f, t)
     }
 }
