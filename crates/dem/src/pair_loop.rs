@@ -6,20 +6,20 @@
 //! by the partner's particle index ([`PairView::reduction_range`]). Each thread takes a
 //! contiguous range of rows and, row a after row a:
 //! 1. *evaluates* the pairs of row a: a pair in contact writes its force and torque on i into
-//!    i's slot and −force and the torque on j into j's slot, marking both occupied, and
-//!    advances its history; a pair apart resets its history (and unmarks its slots, if it was
-//!    in contact at the last evaluation);
+//!    i's slot and −force and the torque on j into j's slot, and advances its history; a pair
+//!    apart resets its history (and its slots to zero, if it was in contact at the last
+//!    evaluation — slots of pairs apart hold zero);
 //! 2. *reduces* sorted position a, whose pairs all lie in rows ≤ a: its force and torque are
-//!    its occupied slots summed from zero in order. Positions with a pair in an earlier thread's
+//!    its slots summed from zero in order. Positions with a pair in an earlier thread's
 //!    range are reduced after all threads are done (a thread writes slots of positions after
 //!    its range into a list applied then).
 //!
 //! That order is the one a serial loop over particles i with their partners j > i produces
-//! (−F added where the former subtracted F is the same IEEE operation), so the sums are those of the serial loop bit for
+//! (−F added where the former subtracted F is the same IEEE operation, and a zero slot leaves
+//! a sum that started from +0 unchanged), so the sums are those of the serial loop bit for
 //! bit, for every thread count and whatever the spatial order (a run continued from a restart
 //! file builds its list at other positions and still sums alike). The reduction reads its
-//! occupancy flags in one sequential sweep (a pair list holds about twice as many pairs as
-//! there are contacts; a slot's 48 bytes are read only when occupied).
+//! slots in one sequential sweep.
 
 use mesh::v3::V3;
 use rayon::prelude::*;
@@ -54,10 +54,8 @@ pub struct PairForces {
     /// The list generation the slots and `live` were laid out for.
     slots_generation: Option<u64>,
     /// Per reduction slot ([`crate::neighbor::PairView::slots`]): the force (N) and torque
-    /// (N·m) of the slot's pair on the slot's particle, where `occupied`.
+    /// (N·m) of the slot's pair on the slot's particle; zero for pairs apart.
     slots: Vec<[V3; 2]>,
-    /// Per reduction slot: whether its pair was in contact at the last evaluation.
-    occupied: Vec<bool>,
     /// Per pair: whether its slots hold a contact (written at the last evaluation).
     live: Vec<bool>,
     /// Per sorted position: total contact force (N) and torque (N·m).
@@ -124,20 +122,19 @@ fn evaluate_pair(
     Some(contact_force(model, coeffs, &inp, h, dt, history))
 }
 
-/// Σ of the occupied `slots` from zero, in order: the force and torque on a sorted position.
+/// Σ of `slots` from zero, in order: the force and torque on a sorted position.
 #[inline]
-fn sum_slots(slots: &[[V3; 2]], occupied: &[bool]) -> [V3; 2] {
+fn sum_slots(slots: &[[V3; 2]]) -> [V3; 2] {
     let (mut f, mut t) = (V3::zeros(), V3::zeros());
-    for ([sf, st], _) in slots.iter().zip(occupied).filter(|(_, &o)| o) {
+    for [sf, st] in slots {
         f += sf;
         t += st;
     }
     [f, t]
 }
 
-/// A slot write for a position after the writing thread's range: the slot and its force and
-/// torque (`None`: unoccupied).
-type LateWrite = (u32, Option<[V3; 2]>);
+/// A slot write for a position after the writing thread's range: (slot, force, torque).
+type LateWrite = (u32, [V3; 2]);
 
 impl PairForces {
     /// Evaluates every pair of `pairs` for the particles `p` (the list built for them),
@@ -157,9 +154,8 @@ impl PairForces {
         let n = self.x.len();
         let np = pairs.len();
         if self.slots_generation != Some(pairs.generation()) {
+            self.slots.clear();
             self.slots.resize(2 * np, [V3::zeros(); 2]);
-            self.occupied.clear();
-            self.occupied.resize(2 * np, false);
             self.live.clear();
             self.live.resize(np, false);
             self.slots_generation = Some(pairs.generation());
@@ -177,11 +173,10 @@ impl PairForces {
         }
         rows[nt] = n;
         let mut work = Vec::with_capacity(nt);
-        let (mut hist, mut live, mut slots, mut occupied, mut sums) = (
+        let (mut hist, mut live, mut slots, mut sums) = (
             hist,
             &mut self.live[..],
             &mut self.slots[..],
-            &mut self.occupied[..],
             &mut self.sums[..],
         );
         let slot_start = |a: usize| {
@@ -195,12 +190,10 @@ impl PairForces {
             let len = (first[rows[c + 1]] - first[rows[c]]) as usize;
             let (h, h_rest) = hist.split_at_mut(len);
             let (l, l_rest) = live.split_at_mut(len);
-            let nslot = slot_start(rows[c + 1]) - slot_start(rows[c]);
-            let (sl, sl_rest) = slots.split_at_mut(nslot);
-            let (oc, oc_rest) = occupied.split_at_mut(nslot);
+            let (sl, sl_rest) = slots.split_at_mut(slot_start(rows[c + 1]) - slot_start(rows[c]));
             let (sm, sm_rest) = sums.split_at_mut(rows[c + 1] - rows[c]);
-            work.push((rows[c]..rows[c + 1], h, l, (sl, oc), sm));
-            (hist, live, slots, occupied, sums) = (h_rest, l_rest, sl_rest, oc_rest, sm_rest);
+            work.push((rows[c]..rows[c + 1], h, l, sl, sm));
+            (hist, live, slots, sums) = (h_rest, l_rest, sl_rest, sm_rest);
         }
         let frame = Frame {
             x: &self.x,
@@ -214,24 +207,18 @@ impl PairForces {
         let (si, sj) = (view.si, view.sj);
         let done: Vec<(Vec<usize>, Vec<LateWrite>)> = work
             .into_par_iter()
-            .map(|(range, hist, live, (slots, occupied), sums)| {
+            .map(|(range, hist, live, slots, sums)| {
                 let base = first[range.start] as usize;
                 let slot_base = slot_start(range.start);
                 let slot_end = slot_start(range.end);
                 let mut later = Vec::new();
                 let mut late_writes: Vec<LateWrite> = Vec::new();
                 // slot `at` of this range, or of a later one
-                let put = |(slots, occupied): (&mut [[V3; 2]], &mut [bool]),
-                           late: &mut Vec<LateWrite>,
-                           at: usize,
-                           value: Option<[V3; 2]>| {
-                    if at >= slot_end {
-                        late.push((at as u32, value));
-                        return;
-                    }
-                    occupied[at - slot_base] = value.is_some();
-                    if let Some(value) = value {
+                let put = |slots: &mut [[V3; 2]], late: &mut Vec<LateWrite>, at, value| {
+                    if at < slot_end {
                         slots[at - slot_base] = value;
+                    } else {
+                        late.push((at as u32, value));
                     }
                 };
                 for a in range.clone() {
@@ -242,15 +229,13 @@ impl PairForces {
                         let (at_i, at_j) = view.slots(k);
                         match o {
                             Some(o) => {
-                                let mine = (&mut *slots, &mut *occupied);
-                                put(mine, &mut late_writes, at_i, Some([o.force, o.torque_i]));
-                                let mine = (&mut *slots, &mut *occupied);
-                                put(mine, &mut late_writes, at_j, Some([-o.force, o.torque_j]));
+                                put(slots, &mut late_writes, at_i, [o.force, o.torque_i]);
+                                put(slots, &mut late_writes, at_j, [-o.force, o.torque_j]);
                                 live[q] = true;
                             }
                             None if live[q] => {
-                                put((&mut *slots, &mut *occupied), &mut late_writes, at_i, None);
-                                put((&mut *slots, &mut *occupied), &mut late_writes, at_j, None);
+                                put(slots, &mut late_writes, at_i, [V3::zeros(); 2]);
+                                put(slots, &mut late_writes, at_j, [V3::zeros(); 2]);
                                 live[q] = false;
                             }
                             None => {}
@@ -258,8 +243,8 @@ impl PairForces {
                     }
                     if view.low_row(a) >= range.start {
                         let at = view.reduction_range(a);
-                        let at = at.start - slot_base..at.end - slot_base;
-                        sums[a - range.start] = sum_slots(&slots[at.clone()], &occupied[at]);
+                        sums[a - range.start] =
+                            sum_slots(&slots[at.start - slot_base..at.end - slot_base]);
                     } else {
                         later.push(a);
                     }
@@ -269,16 +254,12 @@ impl PairForces {
             .collect();
         for (_, late_writes) in &done {
             for &(at, value) in late_writes {
-                self.occupied[at as usize] = value.is_some();
-                if let Some(value) = value {
-                    self.slots[at as usize] = value;
-                }
+                self.slots[at as usize] = value;
             }
         }
         for (later, _) in done {
             for s in later {
-                let at = view.reduction_range(s);
-                self.sums[s] = sum_slots(&self.slots[at.clone()], &self.occupied[at]);
+                self.sums[s] = sum_slots(&self.slots[view.reduction_range(s)]);
             }
         }
         // by particle index, so that the per-particle pass reads them in its own order
