@@ -56,8 +56,6 @@ pub struct PairList {
     red_first: Vec<u32>,
     /// Reduction entries: pair index, with [`ROLE_J`] set where the particle is the pair's j.
     red: Vec<u32>,
-    /// Per pair k: the index in `red` of its entry for its i (`2k`) and for its j (`2k + 1`).
-    slot: Vec<u32>,
     /// Number of builds so far (per-particle copies in the sorted order follow it).
     generation: u64,
     valid: bool,
@@ -151,7 +149,6 @@ impl PairList {
                 low_row: &self.low_row,
                 red_first: &self.red_first,
                 red: &self.red,
-                slot: &self.slot,
             },
             &mut self.hist,
         )
@@ -184,7 +181,6 @@ impl PairList {
         self.low_row.clear();
         self.red_first.clear();
         self.red.clear();
-        self.slot.clear();
         self.x_build.clear();
         self.valid = false;
     }
@@ -308,11 +304,6 @@ impl PairList {
             red[red_first[s] as usize..red_first[s + 1] as usize]
                 .sort_unstable_by_key(|&e| partner(e));
         }
-        let mut slot = vec![0u32; red.len()];
-        for (q, &e) in red.iter().enumerate() {
-            let k = (e & !ROLE_J) as usize;
-            slot[2 * k + usize::from(e & ROLE_J != 0)] = q as u32;
-        }
         self.order = order;
         self.rank = rank;
         self.si = si;
@@ -322,7 +313,6 @@ impl PairList {
         self.low_row = low_row;
         self.red_first = red_first;
         self.red = red;
-        self.slot = slot;
         self.x_build = x.to_vec();
         self.generation += 1;
         self.valid = true;
@@ -389,7 +379,6 @@ pub struct PairView<'a> {
     low_row: &'a [u32],
     red_first: &'a [u32],
     red: &'a [u32],
-    slot: &'a [u32],
 }
 
 impl PairView<'_> {
@@ -404,20 +393,7 @@ impl PairView<'_> {
     /// particle is the pair's j), ordered by the partner's particle index.
     #[inline]
     pub fn reduction(&self, s: usize) -> &[u32] {
-        &self.red[self.reduction_range(s)]
-    }
-
-    /// Where the reduction entries of sorted position `s` lie among all entries (positions
-    /// own consecutive ranges, in sorted order).
-    #[inline]
-    pub fn reduction_range(&self, s: usize) -> std::ops::Range<usize> {
-        self.red_first[s] as usize..self.red_first[s + 1] as usize
-    }
-
-    /// The indices among all reduction entries of pair `k`'s entry for its i and for its j.
-    #[inline]
-    pub fn slots(&self, k: usize) -> (usize, usize) {
-        (self.slot[2 * k] as usize, self.slot[2 * k + 1] as usize)
+        &self.red[self.red_first[s] as usize..self.red_first[s + 1] as usize]
     }
 }
 
@@ -663,14 +639,6 @@ mod tests {
             assert!(partners.windows(2).all(|w| w[0] < w[1]), "{partners:?}");
         }
         assert!(seen.iter().all(|&c| c == 2));
-        // each pair's two slots are its two reduction entries
-        for s in 0..n {
-            for q in view.reduction_range(s) {
-                let e = view.red[q];
-                let (at_i, at_j) = view.slots((e & !ROLE_J) as usize);
-                assert_eq!(q, if e & ROLE_J != 0 { at_j } else { at_i });
-            }
-        }
         // history survives a rebuild, keyed by the pair
         for k in 0..list.len() {
             let (i, j) = list.pair(k);

@@ -2,24 +2,19 @@
 //!
 //! The list stores its pairs row by row in the particles' spatial order ([`PairList`]); the
 //! per-particle data are copied into that order each step, so a pass reads from nearby memory.
-//! Each particle (sorted position) owns a range of *slots*, one per pair it belongs to, ordered
-//! by the partner's particle index ([`PairView::reduction_range`]). Each thread takes a
-//! contiguous range of rows and, row a after row a:
-//! 1. *evaluates* the pairs of row a: a pair in contact writes its force and torque on i into
-//!    i's slot and −force and the torque on j into j's slot, and advances its history; a pair
-//!    apart resets its history (and its slots to zero, if it was in contact at the last
-//!    evaluation — slots of pairs apart hold zero);
+//! Each thread takes a contiguous range of rows and, row a after row a:
+//! 1. *evaluates* the pairs of row a: a pair in contact gets its [`ContactOutput`] (force on i,
+//!    torques on i and j) and its history advanced, a pair apart has its history reset;
 //! 2. *reduces* sorted position a, whose pairs all lie in rows ≤ a: its force and torque are
-//!    its slots summed from zero in order. Positions with a pair in an earlier thread's
-//!    range are reduced after all threads are done (a thread writes slots of positions after
-//!    its range into a list applied then).
+//!    summed from zero over its contacts in ascending order of the partner's particle index —
+//!    −F and the j-torque where it is the pair's j (partners below it), +F and the i-torque
+//!    where it is the pair's i (partners above). Positions with a pair in an earlier thread's
+//!    range are reduced after all threads are done.
 //!
-//! That order is the one a serial loop over particles i with their partners j > i produces
-//! (−F added where the former subtracted F is the same IEEE operation, and a zero slot leaves
-//! a sum that started from +0 unchanged), so the sums are those of the serial loop bit for
-//! bit, for every thread count and whatever the spatial order (a run continued from a restart
-//! file builds its list at other positions and still sums alike). The reduction reads its
-//! slots in one sequential sweep.
+//! That order is the one a serial loop over particles i with their partners j > i produces,
+//! so the sums are those of the serial loop bit for bit, for every thread count and whatever
+//! the spatial order (a run continued from a restart file builds its list at other positions
+//! and still sums alike).
 
 use mesh::v3::V3;
 use rayon::prelude::*;
@@ -28,10 +23,13 @@ use crate::contact::{
     contact_force, ContactInput, ContactModel, ContactOutput, History, HistoryUse,
 };
 use crate::material::Materials;
-use crate::neighbor::PairList;
+use crate::neighbor::{PairList, PairView, ROLE_J};
 use crate::particles::Particles;
 use crate::periodic::Periodic;
 use crate::sim::STREAM_BLOCK;
+
+/// `slot_out` of a pair not in contact.
+const APART: u32 = u32::MAX;
 
 /// Per-particle data in the list's spatial order and the per-pair results of the last
 /// evaluation (buffers kept from step to step).
@@ -51,13 +49,11 @@ pub struct PairForces {
     atom_type: Vec<u32>,
     /// The list generation radii, masses and types were copied for.
     generation: Option<u64>,
-    /// The list generation the slots and `live` were laid out for.
-    slots_generation: Option<u64>,
-    /// Per reduction slot ([`crate::neighbor::PairView::slots`]): the force (N) and torque
-    /// (N·m) of the slot's pair on the slot's particle; zero for pairs apart.
-    slots: Vec<[V3; 2]>,
-    /// Per pair: whether its slots hold a contact (written at the last evaluation).
-    live: Vec<bool>,
+    /// Outputs of the pairs in contact; each thread's range of pairs fills its own range of
+    /// `out` from the start, so only contacts are written and read back.
+    out: Vec<ContactOutput>,
+    /// Per pair: its index in `out`, [`APART`] when not in contact.
+    slot_out: Vec<u32>,
     /// Per sorted position: total contact force (N) and torque (N·m).
     sums: Vec<[V3; 2]>,
     /// The same by particle index.
@@ -122,19 +118,33 @@ fn evaluate_pair(
     Some(contact_force(model, coeffs, &inp, h, dt, history))
 }
 
-/// Σ of `slots` from zero, in order: the force and torque on a sorted position.
+/// Force and torque on sorted position `s` in the canonical order (module docs); `slot_out`
+/// and `out` hold pairs and outputs from index `offset` on.
 #[inline]
-fn sum_slots(slots: &[[V3; 2]]) -> [V3; 2] {
+fn reduce_position(
+    view: &PairView,
+    s: usize,
+    slot_out: &[u32],
+    out: &[ContactOutput],
+    offset: usize,
+) -> [V3; 2] {
     let (mut f, mut t) = (V3::zeros(), V3::zeros());
-    for [sf, st] in slots {
-        f += sf;
-        t += st;
+    for &e in view.reduction(s) {
+        let k = slot_out[(e & !ROLE_J) as usize - offset];
+        if k == APART {
+            continue;
+        }
+        let o = &out[k as usize - offset];
+        if e & ROLE_J != 0 {
+            f -= o.force;
+            t += o.torque_j;
+        } else {
+            f += o.force;
+            t += o.torque_i;
+        }
     }
     [f, t]
 }
-
-/// A slot write for a position after the writing thread's range: (slot, force, torque).
-type LateWrite = (u32, [V3; 2]);
 
 impl PairForces {
     /// Evaluates every pair of `pairs` for the particles `p` (the list built for them),
@@ -153,13 +163,8 @@ impl PairForces {
         let periodic = pairs.periodic().copied();
         let n = self.x.len();
         let np = pairs.len();
-        if self.slots_generation != Some(pairs.generation()) {
-            self.slots.clear();
-            self.slots.resize(2 * np, [V3::zeros(); 2]);
-            self.live.clear();
-            self.live.resize(np, false);
-            self.slots_generation = Some(pairs.generation());
-        }
+        self.out.resize(np, ContactOutput::default());
+        self.slot_out.resize(np, APART);
         self.sums.resize(n, [V3::zeros(); 2]);
         let (view, hist) = pairs.split_mut();
         // rows split into one range per thread with about equal numbers of pairs (any split
@@ -173,27 +178,20 @@ impl PairForces {
         }
         rows[nt] = n;
         let mut work = Vec::with_capacity(nt);
-        let (mut hist, mut live, mut slots, mut sums) = (
+        let (mut hist, mut slot_out, mut out, mut sums) = (
             hist,
-            &mut self.live[..],
-            &mut self.slots[..],
+            &mut self.slot_out[..],
+            &mut self.out[..],
             &mut self.sums[..],
         );
-        let slot_start = |a: usize| {
-            if a < n {
-                view.reduction_range(a).start
-            } else {
-                2 * np
-            }
-        };
         for c in 0..nt {
             let len = (first[rows[c + 1]] - first[rows[c]]) as usize;
             let (h, h_rest) = hist.split_at_mut(len);
-            let (l, l_rest) = live.split_at_mut(len);
-            let (sl, sl_rest) = slots.split_at_mut(slot_start(rows[c + 1]) - slot_start(rows[c]));
+            let (so, so_rest) = slot_out.split_at_mut(len);
+            let (o, o_rest) = out.split_at_mut(len);
             let (sm, sm_rest) = sums.split_at_mut(rows[c + 1] - rows[c]);
-            work.push((rows[c]..rows[c + 1], h, l, sl, sm));
-            (hist, live, slots, sums) = (h_rest, l_rest, sl_rest, sm_rest);
+            work.push((rows[c]..rows[c + 1], h, so, o, sm));
+            (hist, slot_out, out, sums) = (h_rest, so_rest, o_rest, sm_rest);
         }
         let frame = Frame {
             x: &self.x,
@@ -205,62 +203,37 @@ impl PairForces {
             periodic: periodic.as_ref(),
         };
         let (si, sj) = (view.si, view.sj);
-        let done: Vec<(Vec<usize>, Vec<LateWrite>)> = work
+        let deferred: Vec<Vec<usize>> = work
             .into_par_iter()
-            .map(|(range, hist, live, slots, sums)| {
+            .map(|(range, hist, slot_out, out, sums)| {
                 let base = first[range.start] as usize;
-                let slot_base = slot_start(range.start);
-                let slot_end = slot_start(range.end);
+                let mut used = 0;
                 let mut later = Vec::new();
-                let mut late_writes: Vec<LateWrite> = Vec::new();
-                // slot `at` of this range, or of a later one
-                let put = |slots: &mut [[V3; 2]], late: &mut Vec<LateWrite>, at, value| {
-                    if at < slot_end {
-                        slots[at - slot_base] = value;
-                    } else {
-                        late.push((at as u32, value));
-                    }
-                };
                 for a in range.clone() {
                     for k in first[a] as usize..first[a + 1] as usize {
                         let (i, j) = (si[k] as usize, sj[k] as usize);
                         let q = k - base;
                         let o = evaluate_pair(&frame, i, j, &mut hist[q], mats, model, dt, history);
-                        let (at_i, at_j) = view.slots(k);
-                        match o {
+                        slot_out[q] = match o {
                             Some(o) => {
-                                put(slots, &mut late_writes, at_i, [o.force, o.torque_i]);
-                                put(slots, &mut late_writes, at_j, [-o.force, o.torque_j]);
-                                live[q] = true;
+                                out[used] = o;
+                                used += 1;
+                                (base + used - 1) as u32
                             }
-                            None if live[q] => {
-                                put(slots, &mut late_writes, at_i, [V3::zeros(); 2]);
-                                put(slots, &mut late_writes, at_j, [V3::zeros(); 2]);
-                                live[q] = false;
-                            }
-                            None => {}
-                        }
+                            None => APART,
+                        };
                     }
                     if view.low_row(a) >= range.start {
-                        let at = view.reduction_range(a);
-                        sums[a - range.start] =
-                            sum_slots(&slots[at.start - slot_base..at.end - slot_base]);
+                        sums[a - range.start] = reduce_position(&view, a, slot_out, out, base);
                     } else {
                         later.push(a);
                     }
                 }
-                (later, late_writes)
+                later
             })
             .collect();
-        for (_, late_writes) in &done {
-            for &(at, value) in late_writes {
-                self.slots[at as usize] = value;
-            }
-        }
-        for (later, _) in done {
-            for s in later {
-                self.sums[s] = sum_slots(&self.slots[view.reduction_range(s)]);
-            }
+        for s in deferred.into_iter().flatten() {
+            self.sums[s] = reduce_position(&view, s, &self.slot_out, &self.out, 0);
         }
         // by particle index, so that the per-particle pass reads them in its own order
         self.sums_by_index.resize(n, [V3::zeros(); 2]);
