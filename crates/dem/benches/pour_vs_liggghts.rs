@@ -5,8 +5,10 @@
 //! two last dumps (`tests/common/bed.rs`).
 //!
 //! ```text
-//! cargo bench -p dem --bench pour_vs_liggghts [-- -var NAME VALUE …]
+//! cargo bench -p dem --bench pour_vs_liggghts [-- [--only native|liggghts] [--workers N] [-var NAME VALUE …]]
 //! ```
+//! `--only` runs one side, `--workers N` only N threads / ranks (both: for profiling and for
+//! interleaving two builds' native runs by hand).
 //! Without `-var`s it runs issue 17's size, `np 30000 w 0.02 nsteps 10000 zmax 0.05` (about a
 //! minute per run; the target there: native ≤ 1.0× LIGGGHTS on 1 worker, ≤ 0.7× on 2).
 //! `mpirun` as root needs `OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1` in the
@@ -47,7 +49,14 @@ struct Timed {
 }
 
 fn run() -> Result<(), Error> {
-    let vars = parse_vars()?;
+    let Args {
+        vars,
+        only,
+        workers,
+    } = parse_args()?;
+    let wanted = |side: &str, n: usize| {
+        only.as_deref().is_none_or(|o| o == side) && workers.is_none_or(|w| w == n)
+    };
     let deck_path = testkit::liggghts_input("pour.in");
     let text: Vec<String> = vars.iter().map(|(k, v)| format!("{k} {v}")).collect();
     println!(
@@ -57,7 +66,7 @@ fn run() -> Result<(), Error> {
     );
     let mut rows: Vec<(String, Option<Timed>, usize)> = Vec::new();
     let liggghts = testkit::tool("liggghts");
-    for ranks in [1, 2] {
+    for ranks in [1, 2].into_iter().filter(|&n| wanted("liggghts", n)) {
         let label = format!("LIGGGHTS, {ranks} rank{}", if ranks > 1 { "s" } else { "" });
         let timed = if !liggghts || (ranks > 1 && !testkit::tool("mpirun")) {
             println!("{label}: not installed, skipped");
@@ -67,7 +76,7 @@ fn run() -> Result<(), Error> {
         };
         rows.push((label, timed, ranks));
     }
-    for threads in [1, 2] {
+    for threads in [1, 2].into_iter().filter(|&n| wanted("native", n)) {
         let label = format!(
             "native, {threads} thread{}",
             if threads > 1 { "s" } else { "" }
@@ -128,9 +137,21 @@ fn run() -> Result<(), Error> {
     Ok(())
 }
 
-/// `-var NAME VALUE` pairs after `--` (cargo bench adds `--bench`, ignored); issue 17's
-/// values where none is given.
-fn parse_vars() -> Result<Vec<(String, String)>, Error> {
+/// The command line after `--`.
+struct Args {
+    /// `-var NAME VALUE` pairs; issue 17's values where none is given.
+    vars: Vec<(String, String)>,
+    /// `--only native|liggghts`: one side only.
+    only: Option<String>,
+    /// `--workers N`: only N threads / ranks.
+    workers: Option<usize>,
+}
+
+const USAGE: &str =
+    "usage: pour_vs_liggghts [--only native|liggghts] [--workers 1|2] [-var NAME VALUE]…";
+
+/// The command line after `--` (cargo bench adds `--bench`, ignored).
+fn parse_args() -> Result<Args, Error> {
     let args: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| a != "--bench")
@@ -139,9 +160,21 @@ fn parse_vars() -> Result<Vec<(String, String)>, Error> {
         .iter()
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
+    let (mut only, mut workers) = (None, None);
     let mut k = 0;
     while k < args.len() {
         match (args[k].as_str(), args.get(k + 1), args.get(k + 2)) {
+            ("--only", Some(side), _) if side == "native" || side == "liggghts" => {
+                only = Some(side.clone());
+                k += 2;
+            }
+            ("--workers", Some(n), _) => {
+                workers = Some(
+                    n.parse()
+                        .map_err(|_| format!("--workers {n}: not a number ({USAGE})"))?,
+                );
+                k += 2;
+            }
             ("-var", Some(name), Some(value)) => {
                 match vars.iter_mut().find(|(n, _)| n == name) {
                     Some(v) => v.1 = value.clone(),
@@ -149,15 +182,14 @@ fn parse_vars() -> Result<Vec<(String, String)>, Error> {
                 }
                 k += 3;
             }
-            (other, ..) => {
-                return Err(format!(
-                    "unexpected argument `{other}` (usage: pour_vs_liggghts [-var NAME VALUE]…)"
-                )
-                .into())
-            }
+            (other, ..) => return Err(format!("unexpected argument `{other}` ({USAGE})").into()),
         }
     }
-    Ok(vars)
+    Ok(Args {
+        vars,
+        only,
+        workers,
+    })
 }
 
 /// The native DEM on `threads` rayon threads, in a temporary directory.
@@ -170,11 +202,12 @@ fn native_run(deck_path: &Path, vars: &[(String, String)], threads: usize) -> Re
     let t0 = Instant::now();
     pool.install(|| dem::Simulation::from_deck(&deck, dir.path()))?;
     let secs = t0.elapsed().as_secs_f64();
-    println!("native, {threads} thread(s): {secs:.2} s");
-    Ok(Timed {
-        secs,
-        last: last_dump(&dir.path().join("post"))?,
-    })
+    let last = last_dump(&dir.path().join("post"))?;
+    println!(
+        "native, {threads} thread(s): {secs:.2} s; last dump's fingerprint {}",
+        fingerprint(&last)
+    );
+    Ok(Timed { secs, last })
 }
 
 /// Debian's LIGGGHTS on `ranks` MPI processes, in a temporary directory holding the deck and
@@ -222,6 +255,13 @@ fn last_dump(post: &Path) -> Result<Snapshot, Error> {
         }
     }
     best.ok_or_else(|| format!("no dump in {}", post.display()).into())
+}
+
+/// Σ z and Σ vz of a dump with all digits: two builds whose runs print the same values ran
+/// the same dynamics (to the dump's precision), whatever their speed.
+fn fingerprint(s: &Snapshot) -> String {
+    let sum = |name: &str| s.column(name).map_or(f64::NAN, |c| c.iter().sum::<f64>());
+    format!("Σz {:e}, Σvz {:e}", sum("z"), sum("vz"))
 }
 
 fn measure(s: &Snapshot, half_width: f64) -> Result<bed::Bed, Error> {

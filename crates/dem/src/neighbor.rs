@@ -198,16 +198,27 @@ impl PairList {
     /// Whether [`PairList::ensure`] would rebuild for positions `x` (periodic positions are
     /// wrapped into the box just before such a build, as LIGGGHTS does).
     pub fn needs_build(&self, x: &[V3]) -> bool {
-        !self.valid || self.x_build.len() != x.len() || {
-            let lim = 0.25 * self.skin * self.skin;
-            x.par_iter()
-                .zip(&self.x_build)
+        self.is_stale(x.len())
+            || x.par_iter()
+                .enumerate()
                 .with_min_len(4096)
-                .any(|(a, b)| {
-                    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-                    d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > lim
-                })
-        }
+                .any(|(i, &a)| self.moved_beyond_half_skin(i, a))
+    }
+
+    /// Whether the list must be rebuilt whatever the positions of its `n` particles: it was
+    /// invalidated, or built for another number of particles.
+    pub fn is_stale(&self, n: usize) -> bool {
+        !self.valid || self.x_build.len() != n
+    }
+
+    /// Whether particle `i`, now at `x`, has moved more than skin/2 since the last build (the
+    /// test of [`PairList::needs_build`], for a pass that moves the particles to make as it
+    /// goes). The list must not be stale ([`PairList::is_stale`]).
+    #[inline]
+    pub fn moved_beyond_half_skin(&self, i: usize, x: V3) -> bool {
+        let b = self.x_build[i];
+        let d = [x[0] - b[0], x[1] - b[1], x[2] - b[2]];
+        d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.25 * self.skin * self.skin
     }
 
     /// Builds the list now, carrying the history over.

@@ -754,16 +754,19 @@ impl Simulation {
     fn advance(&mut self) -> Result<(), DemError> {
         let dt = self.dt;
         let half = 0.5 * dt;
-        {
+        // the half kick and drift, with the neighbour list's skin test in the same pass
+        let moved = {
             // a few flops per particle: parallel only in large blocks
             let p = &mut self.particles;
             let (m, r, f, t) = (&p.mass, &p.radius, &p.f, &p.torque);
+            let pairs = &self.pairs;
+            let test = !pairs.is_stale(p.x.len());
             p.x.par_iter_mut()
                 .zip(&mut p.v)
                 .zip(&mut p.omega)
                 .enumerate()
                 .with_min_len(STREAM_BLOCK)
-                .for_each(|(i, ((x, v), w))| {
+                .map(|(i, ((x, v), w))| {
                     let a = half / m[i];
                     let ai = half / (INERTIA_FACTOR * m[i] * r[i] * r[i]);
                     for k in 0..3 {
@@ -771,17 +774,20 @@ impl Simulation {
                         x[k] += dt * v[k];
                         w[k] += ai * t[i][k];
                     }
-                });
-        }
+                    test && pairs.moved_beyond_half_skin(i, *x)
+                })
+                .reduce(|| false, |a, b| a || b)
+        };
         self.step += 1;
         self.remove_lost()?;
         self.insert_due()?;
-        if let Some(per) = self.pairs.periodic().copied() {
-            if self.pairs.needs_build(&self.particles.x) {
+        // removals and insertions make the list stale
+        if moved || self.pairs.is_stale(self.particles.len()) {
+            if let Some(per) = self.pairs.periodic().copied() {
                 self.wrap_periodic(&per);
             }
+            self.pairs.build(&self.particles.x, &self.particles.radius);
         }
-        self.pairs.ensure(&self.particles.x, &self.particles.radius);
         // forces, then the second half kick in the same pass
         self.compute_forces(HistoryUse::Advance, Some(half));
         self.carry_held();
