@@ -101,6 +101,26 @@ impl FaceCertainty {
     }
 }
 
+/// A face of a cell for the cell's plane tests: the unit normal out of the cell, the fan apex
+/// and the face's [`FaceCertainty`].
+#[derive(Clone, Copy, Debug)]
+struct CellFace {
+    n: V3,
+    apex: V3,
+    certainty: FaceCertainty,
+}
+
+impl CellFace {
+    /// The signed distance of `p` from the face plane, positive outside the cell, and the
+    /// margin by which its fan triangles' planes may differ there (points up to `reach`
+    /// farther from the apex, L1).
+    #[inline]
+    fn outward_distance(&self, p: V3, reach: f64) -> (f64, f64) {
+        let x = p - self.apex;
+        (x.dot(&self.n), self.certainty.margin(x, reach))
+    }
+}
+
 /// An axis-aligned tensor-product grid of hexahedral cells.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AxisGrid {
@@ -559,13 +579,13 @@ pub struct Locator {
     tets: TetDecomposition,
     grid: Option<AxisGrid>,
     bins: Bins,
-    /// Unit normal of every face, out of its owner (zero for zero-area faces).
-    face_normals: Vec<V3>,
-    /// Per face, how far the planes of its fan triangles may be from the face plane (through
-    /// the fan apex, normal `face_normals`) at a point x: `tilt·|x − apex|₁ + offset`.
-    face_certainty: Vec<FaceCertainty>,
     /// Faces whose points lie in one plane ([`Locator::face_is_planar`]).
     face_planar: Vec<bool>,
+    /// Every cell's faces as its plane tests see them ([`CellFace`]), in the order of
+    /// `tets.cell_faces` (cell i's from `cell_face_start[i]`): one 64-byte record per face
+    /// instead of four arrays indexed by face, so a cell's tests read neighbouring memory.
+    cell_faces: Vec<CellFace>,
+    cell_face_start: Vec<u32>,
     /// Bounding box of every cell's points.
     cell_bounds: Vec<Aabb>,
     /// Per cell, how far beyond one of its face planes a vertex of its tets may lie, plus the
@@ -631,13 +651,33 @@ impl Locator {
             .with_min_len(1024)
             .map(|c| cell_excess(&tets, c, &face_normals, &face_certainty))
             .collect();
+        let mut cell_faces = Vec::new();
+        let mut cell_face_start = Vec::with_capacity(tets.n_cells() + 1);
+        for c in 0..tets.n_cells() as Label {
+            cell_face_start.push(cell_faces.len() as u32);
+            for &f in tets.cell_faces(c) {
+                let f = f as usize;
+                // −(x·n) = x·(−n) exactly: the same distances as from the owner's normal.
+                let n = if tets.owner[f] == c {
+                    face_normals[f]
+                } else {
+                    -face_normals[f]
+                };
+                cell_faces.push(CellFace {
+                    n,
+                    apex: tets.face_apex[f],
+                    certainty: face_certainty[f],
+                });
+            }
+        }
+        cell_face_start.push(cell_faces.len() as u32);
         let mut locator = Self {
             tets,
             grid,
             bins,
-            face_normals,
-            face_certainty,
             face_planar,
+            cell_faces,
+            cell_face_start,
             cell_bounds,
             cell_excess,
             bounds,
@@ -698,21 +738,17 @@ impl Locator {
     /// nothing.
     #[inline]
     pub fn cell_surely_holds(&self, cell: Label, p: V3) -> bool {
-        self.tets.cell_faces(cell).iter().all(|&f| {
-            let (d, margin) = self.outward_distance(cell, f as usize, p);
+        self.faces_of(cell).iter().all(|cf| {
+            let (d, margin) = cf.outward_distance(p, 0.0);
             d + margin < 0.0
         })
     }
 
-    /// The signed distance of `p` from the plane of face `f` of `cell`, positive on the outer
-    /// side, and the margin by which its fan triangles' planes may differ there
-    /// ([`FaceCertainty`]).
+    /// The faces of `cell` ([`CellFace`]), in the order of its faces in the tets.
     #[inline]
-    fn outward_distance(&self, cell: Label, f: usize, p: V3) -> (f64, f64) {
-        let x = p - self.tets.face_apex[f];
-        let d = x.dot(&self.face_normals[f]);
-        let d = if self.tets.owner[f] == cell { d } else { -d };
-        (d, self.face_certainty[f].margin(x, 0.0))
+    fn faces_of(&self, cell: Label) -> &[CellFace] {
+        let i = cell as usize;
+        &self.cell_faces[self.cell_face_start[i] as usize..self.cell_face_start[i + 1] as usize]
     }
 
     /// True when `p` lies outside cell `cell` beyond doubt: outside its bounding box, or beyond
@@ -724,8 +760,8 @@ impl Locator {
             return true;
         }
         let excess = self.cell_excess[cell as usize];
-        self.tets.cell_faces(cell).iter().any(|&f| {
-            let (d, margin) = self.outward_distance(cell, f as usize, p);
+        self.faces_of(cell).iter().any(|cf| {
+            let (d, margin) = cf.outward_distance(p, 0.0);
             d - margin > excess
         })
     }
@@ -814,16 +850,10 @@ impl Locator {
         let mut usable = faces.len() <= MAX;
         if usable {
             let reach = 3f64.sqrt() * radius;
-            for &face in faces {
+            for (&face, cf) in faces.iter().zip(self.faces_of(cell)) {
                 let face = face as usize;
-                let x = centre - self.tets.face_apex[face];
-                let normal = if self.tets.owner[face] == cell {
-                    self.face_normals[face]
-                } else {
-                    -self.face_normals[face]
-                };
-                let d = x.dot(&normal);
-                let margin = self.face_certainty[face].margin(x, reach);
+                let normal = cf.n;
+                let (d, margin) = cf.outward_distance(centre, reach);
                 if !(d + radius + margin < 0.0) {
                     if !(d + margin < 0.0) {
                         // `centre` itself is not surely inside this face.
@@ -911,12 +941,10 @@ impl Locator {
         let mut c = start;
         for _ in 0..MAX_STEPS / 8 {
             let mut best = (0.0, None);
-            for &f in self.tets.cell_faces(c) {
-                let f = f as usize;
-                let d = (p - self.tets.face_apex[f]).dot(&self.face_normals[f]);
-                let d = if self.tets.owner[f] == c { d } else { -d };
+            for (&f, cf) in self.tets.cell_faces(c).iter().zip(self.faces_of(c)) {
+                let d = (p - cf.apex).dot(&cf.n);
                 if d > best.0 {
-                    best = (d, Some(f));
+                    best = (d, Some(f as usize));
                 }
             }
             match best.1.and_then(|f| self.tets.across(f, c)) {

@@ -416,7 +416,16 @@ struct CellPlane {
     k: f64,
     /// The face.
     face: Label,
+    /// The cell across the face ([`NO_CELL`] for a boundary face): kept here so that a walk
+    /// does not look up the face's owner and neighbour.
+    across: Label,
+    /// True when the cell owns the face (its terms, computed in the owner's orientation,
+    /// enter with a + sign).
+    own: bool,
 }
+
+/// [`CellPlane::across`] of a boundary face.
+const NO_CELL: Label = Label::MAX;
 
 impl CellPlane {
     /// The table of every cell's face planes and each cell's first entry (one more for the
@@ -424,6 +433,7 @@ impl CellPlane {
     fn table(
         tets: &mesh::TetDecomposition,
         owner: &[Label],
+        neighbour: &[Label],
         face_planes: &[(V3, f64)],
         planar: &[bool],
     ) -> (Vec<CellPlane>, Vec<u32>) {
@@ -434,20 +444,24 @@ impl CellPlane {
             for &f in tets.cell_faces(cell) {
                 let (n, k) = face_planes[f as usize];
                 let own = owner[f as usize] == cell;
-                planes.push(if !planar[f as usize] {
-                    CellPlane {
-                        n: V3::zeros(),
-                        k: f64::NAN,
-                        face: f,
-                    }
+                let across = match neighbour.get(f as usize) {
+                    None => NO_CELL,
+                    Some(&nb) if own => nb,
+                    Some(_) => owner[f as usize],
+                };
+                let (n, k) = if !planar[f as usize] {
+                    (V3::zeros(), f64::NAN)
                 } else if own {
-                    CellPlane { n, k, face: f }
+                    (n, k)
                 } else {
-                    CellPlane {
-                        n: -n,
-                        k: -k,
-                        face: f,
-                    }
+                    (-n, -k)
+                };
+                planes.push(CellPlane {
+                    n,
+                    k,
+                    face: f,
+                    across,
+                    own,
                 });
             }
         }
@@ -578,7 +592,7 @@ impl VoidageMesh {
             .map(|f| mesh.faces.face(f).len() <= MAX_POLYGON && locator.face_is_planar(f as Label))
             .collect();
         let (cell_planes, cell_plane_start) =
-            CellPlane::table(tets, &mesh.owner, &face_planes, &planar);
+            CellPlane::table(tets, &mesh.owner, &mesh.neighbour, &face_planes, &planar);
         let edge_axes: Vec<EdgeAxes> = (0..mesh.n_faces())
             .flat_map(|f| {
                 let face = mesh.faces.face(f);
@@ -1217,7 +1231,10 @@ impl VoidageMesh {
     fn general_exact(&self, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
         let Ball { c, r, v, cell } = b;
         if let Some(c0) = cell {
-            if self.ball_in_cell(c0, c, r) {
+            // A cell of planar faces needs no kernel test: its face planes all miss a ball in
+            // its kernel, so the walk below visits it alone and adds no term.
+            let planar = self.planes_of(c0).iter().all(|p| p.k.is_finite());
+            if !planar && self.ball_in_cell(c0, c, r) {
                 out.push((c0, v));
                 return 0.0;
             }
@@ -1263,7 +1280,6 @@ impl VoidageMesh {
     ) -> CapWalk {
         let Ball { c, r, v, .. } = b;
         let r3 = r * r * r;
-        let n_internal = self.neighbour.len();
         s.visited.clear();
         s.queue.clear();
         s.queue.push(c0);
@@ -1287,18 +1303,12 @@ impl VoidageMesh {
                         None => return CapWalk::Tie,
                     },
                 };
-                let fu = f as usize;
-                let own = self.owner[fu] == cell;
-                unit += if own { term } else { -term };
+                unit += if plane.own { term } else { -term };
                 if term != 0.0 {
-                    if fu >= n_internal {
+                    let next = plane.across;
+                    if next == NO_CELL {
                         return CapWalk::Incomplete;
                     }
-                    let next = if own {
-                        self.neighbour[fu]
-                    } else {
-                        self.owner[fu]
-                    };
                     if s.visited.insert(next, ()) {
                         s.queue.push(next);
                     }
