@@ -121,6 +121,33 @@ impl CellFace {
     }
 }
 
+/// Most near faces [`Locator::locate_near`] keeps in one call (of the centre's cell and the
+/// cells across its faces): a cell with more faces is not tested by near faces.
+const NEAR_MAX: usize = 32;
+
+/// No cell.
+const NO_LABEL: Label = Label::MAX;
+
+/// A face of a cell whose plane passes near a centre ([`Locator::locate_near`]): outward unit
+/// normal, signed distance of the centre (positive outside), certainty margin over the ball
+/// around the centre, face label.
+#[derive(Clone, Copy, Debug, Default)]
+struct NearFace {
+    normal: V3,
+    d: f64,
+    margin: f64,
+    face: usize,
+}
+
+impl NearFace {
+    /// How far the point centre + `scale`·`o` may lie beyond the face's fan triangles
+    /// (negative: surely on the inner side).
+    #[inline]
+    fn excess(&self, scale: f64, o: &V3) -> f64 {
+        self.d + scale * o.dot(&self.normal) + self.margin
+    }
+}
+
 /// An axis-aligned tensor-product grid of hexahedral cells.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AxisGrid {
@@ -817,8 +844,10 @@ impl Locator {
     /// `f(i, cell)` for the i-th point, with the answers of [`Locator::locate`]. The distances of
     /// `centre` from the cell's face planes are computed once; a point is then tested only
     /// against the faces whose planes come within `radius` of `centre`, and is given `cell`
-    /// when it lies on their inner side by more than the rounding ([`Locator::cell_surely_holds`]);
-    /// the others are located from `cell`, or from the cell across the face they lie beyond.
+    /// when it lies on their inner side by more than the rounding ([`Locator::cell_surely_holds`]).
+    /// A point beyond one of them is tested the same way against the cell across that face
+    /// (whose near faces are computed once per call too), and given that cell when surely
+    /// inside it; the others are located from there by [`Locator::locate_from`].
     // `!(x < 0.0)` is used on purpose: it is also true for NaN (a face that cannot certify).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn locate_near(
@@ -829,67 +858,109 @@ impl Locator {
         offsets: &[V3],
         mut f: impl FnMut(usize, Option<Label>),
     ) {
-        const MAX: usize = 32;
+        /// Neighbour cells whose near faces one call keeps.
+        const CELLS: usize = 8;
         if cell as usize >= self.tets.n_cells() {
             for (i, o) in offsets.iter().enumerate() {
                 f(i, self.locate(V3::from_fn(|a, _| centre[a] + scale * o[a])));
             }
             return;
         }
-        let faces = self.tets.cell_faces(cell);
         let radius = scale
             * offsets
                 .iter()
                 .map(|o| o.norm_squared())
                 .fold(0.0, f64::max)
                 .sqrt();
-        // The faces whose plane may pass between `centre` and a point: outward normal, signed
-        // distance of `centre` (positive outside), certainty margin over the ball, face label.
-        let mut near = [(V3::zeros(), 0.0, 0.0, 0usize); MAX];
-        let mut n = 0;
-        let mut usable = faces.len() <= MAX;
-        if usable {
-            let reach = 3f64.sqrt() * radius;
-            for (&face, cf) in faces.iter().zip(self.faces_of(cell)) {
-                let face = face as usize;
-                let normal = cf.n;
-                let (d, margin) = cf.outward_distance(centre, reach);
-                if !(d + radius + margin < 0.0) {
-                    if !(d + margin < 0.0) {
-                        // `centre` itself is not surely inside this face.
-                        usable = false;
-                        break;
-                    }
-                    near[n] = (normal, d, margin, face);
-                    n += 1;
-                }
-            }
-        }
+        // The near faces of `cell` first, then those of the neighbours met (`nb`: cell and
+        // range), as long as they fit.
+        let mut near = [NearFace::default(); NEAR_MAX];
+        let n = self.near_faces(cell, centre, radius, true, &mut near);
+        let mut nb = [(NO_LABEL, 0usize, 0usize); CELLS];
+        let mut nb_len = 0;
+        let mut used = n.unwrap_or(0);
         for (i, o) in offsets.iter().enumerate() {
             let p = V3::from_fn(|a, _| centre[a] + scale * o[a]);
-            if !usable {
+            let Some(n) = n else {
                 f(i, self.locate_from(p, cell));
                 continue;
-            }
+            };
             // The face the point lies farthest beyond (or not surely inside).
             let mut worst: Option<(f64, usize)> = None;
-            for &(normal, d, margin, face) in &near[..n] {
-                let e = d + scale * o.dot(&normal) + margin;
+            for nf in &near[..n] {
+                let e = nf.excess(scale, o);
                 if !(e < 0.0) && worst.is_none_or(|w| e > w.0) {
-                    worst = Some((e, face));
+                    worst = Some((e, nf.face));
                 }
             }
+            let Some((_, face)) = worst else {
+                f(i, Some(cell));
+                continue;
+            };
+            let Some(next) = self.tets.across(face, cell) else {
+                f(i, self.locate_from(p, cell));
+                continue;
+            };
+            let range = match nb[..nb_len].iter().find(|e| e.0 == next) {
+                Some(&(_, a, b)) => Some((a, b)),
+                None if nb_len < CELLS => {
+                    let got = self.near_faces(next, centre, radius, false, &mut near[used..]);
+                    got.map(|k| {
+                        nb[nb_len] = (next, used, used + k);
+                        nb_len += 1;
+                        used += k;
+                        (used - k, used)
+                    })
+                }
+                None => None,
+            };
+            let surely_next =
+                range.is_some_and(|(a, b)| near[a..b].iter().all(|nf| nf.excess(scale, o) < 0.0));
             f(
                 i,
-                match worst {
-                    None => Some(cell),
-                    Some((_, face)) => match self.tets.across(face, cell) {
-                        Some(next) => self.locate_from(p, next),
-                        None => self.locate_from(p, cell),
-                    },
+                if surely_next {
+                    Some(next)
+                } else {
+                    self.locate_from(p, next)
                 },
             );
         }
+    }
+
+    /// The faces of `cell` whose planes may pass within `radius` of `centre` ([`NearFace`]),
+    /// into `near`, and their number; `None` when the cell has more faces than `near` holds,
+    /// or, with `centre_inside`, when `centre` is not surely on the inner side of one of them.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    fn near_faces(
+        &self,
+        cell: Label,
+        centre: V3,
+        radius: f64,
+        centre_inside: bool,
+        near: &mut [NearFace],
+    ) -> Option<usize> {
+        let faces = self.tets.cell_faces(cell);
+        if faces.len() > near.len() {
+            return None;
+        }
+        let reach = 3f64.sqrt() * radius;
+        let mut n = 0;
+        for (&face, cf) in faces.iter().zip(self.faces_of(cell)) {
+            let (d, margin) = cf.outward_distance(centre, reach);
+            if !(d + radius + margin < 0.0) {
+                if centre_inside && !(d + margin < 0.0) {
+                    return None;
+                }
+                near[n] = NearFace {
+                    normal: cf.n,
+                    d,
+                    margin,
+                    face: face as usize,
+                };
+                n += 1;
+            }
+        }
+        Some(n)
     }
 
     /// [`Locator::locate_from`] for every point, in parallel: `cells[i]` is the hint for
