@@ -593,6 +593,81 @@ impl Bins {
     }
 }
 
+/// A uniform grid of start cells for point location, twice as fine per axis as [`Bins`]: the
+/// cell holding each bin's centre (where there is one), so that most points lie in their bin's
+/// seed and are located by one [`Locator::cell_surely_holds`] (measured on the Ergun O-grid:
+/// locating from the coarse bins' seeds cost 12 % of the exact voidage benchmark).
+#[derive(Clone, Debug)]
+struct SeedGrid {
+    origin: V3,
+    inv: V3,
+    dims: [usize; 3],
+    seeds: Vec<Label>,
+}
+
+impl SeedGrid {
+    /// An empty grid (axis-aligned meshes locate by their planes).
+    fn empty() -> SeedGrid {
+        SeedGrid {
+            origin: V3::zeros(),
+            inv: V3::zeros(),
+            dims: [1; 3],
+            seeds: Vec::new(),
+        }
+    }
+
+    /// The grid over the bins' box, `seed(centre)` the start cell of a bin with centre
+    /// `centre`.
+    fn new(bins: &Bins, seed: impl Fn(V3) -> Label + Sync) -> SeedGrid {
+        let dims = std::array::from_fn(|a| {
+            if bins.inv[a] > 0.0 {
+                2 * bins.dims[a]
+            } else {
+                1
+            }
+        });
+        let inv = 2.0 * bins.inv;
+        let mut g = SeedGrid {
+            origin: bins.origin,
+            inv,
+            dims,
+            seeds: Vec::new(),
+        };
+        g.seeds = (0..dims.iter().product::<usize>())
+            .into_par_iter()
+            .with_min_len(256)
+            .map(|i| {
+                let ijk = [
+                    i % dims[0],
+                    (i / dims[0]) % dims[1],
+                    i / (dims[0] * dims[1]),
+                ];
+                seed(V3::from_fn(|a, _| {
+                    if inv[a] > 0.0 {
+                        g.origin[a] + (ijk[a] as f64 + 0.5) / inv[a]
+                    } else {
+                        g.origin[a]
+                    }
+                }))
+            })
+            .collect();
+        g
+    }
+
+    #[inline]
+    fn seed(&self, p: V3) -> Label {
+        let b: [usize; 3] = std::array::from_fn(|a| {
+            let t = (p[a] - self.origin[a]) * self.inv[a];
+            if t >= 0.0 {
+                (t as usize).min(self.dims[a] - 1)
+            } else {
+                0
+            }
+        });
+        self.seeds[b[0] + self.dims[0] * (b[1] + self.dims[1] * b[2])]
+    }
+}
+
 /// Result of a tet walk.
 enum Walk {
     Found(TetId),
@@ -606,6 +681,8 @@ pub struct Locator {
     tets: TetDecomposition,
     grid: Option<AxisGrid>,
     bins: Bins,
+    /// Start cells, finer than the bins' seeds.
+    seeds: SeedGrid,
     /// Faces whose points lie in one plane ([`Locator::face_is_planar`]).
     face_planar: Vec<bool>,
     /// Every cell's faces as its plane tests see them ([`CellFace`]), in the order of
@@ -702,6 +779,7 @@ impl Locator {
             tets,
             grid,
             bins,
+            seeds: SeedGrid::empty(),
             face_planar,
             cell_faces,
             cell_face_start,
@@ -735,6 +813,11 @@ impl Locator {
                 })
                 .collect();
             locator.bins.seeds = seeds;
+            let fine = SeedGrid::new(&locator.bins, |centre| {
+                let coarse = locator.bins.seed(centre);
+                locator.walk_or_search(centre, coarse).unwrap_or(coarse)
+            });
+            locator.seeds = fine;
         }
         Ok(locator)
     }
@@ -807,7 +890,7 @@ impl Locator {
         if !self.bounds.contains(p) {
             return None;
         }
-        self.walk_or_search(p, self.bins.seed(p))
+        self.walk_or_search(p, self.seeds.seed(p))
     }
 
     /// The cell holding `p`, searching from cell `hint` first (e.g. the particle's cell at the
@@ -985,7 +1068,7 @@ impl Locator {
         if !self.bounds.contains(p) {
             return None;
         }
-        self.walk_or_search(p, self.bins.seed(p))
+        self.walk_or_search(p, self.seeds.seed(p))
     }
 
     fn walk_or_search(&self, p: V3, start: Label) -> Option<Label> {
