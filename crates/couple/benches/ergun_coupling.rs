@@ -8,10 +8,11 @@
 //! hints of the previous step are used as in the run; steps are recycled as `Coupler::run`
 //! does.
 //!
-//! Prints the median wall time per step and the CPU time per step (all threads; less
-//! sensitive to the other load on a shared machine) for each method. In the main job a step
-//! of the DEM (50 steps of 10 000 particles) takes ≈ 0.3 s of one core, the fluid ≈ 30 ms: the
-//! coupling target of issue 17 (≤ 5 % of the coupled loop) is ≈ 15 ms per step.
+//! Prints the median wall time per step, and the CPU time per step over all threads, which
+//! depends less on the other load of a shared machine, for each method. In the main job one
+//! coupled step took 160–410 ms of wall time on the loaded 2-core development machine (DEM
+//! ≈ 84 %), so issue 17's target of at most 5 % for the coupling is 8–20 ms per step.
+//! `docs/speed.md` has the figures measured.
 //!
 //! Run: `cargo bench -p couple --bench ergun_coupling`; `ERGUN_STEPS` sets the steps timed
 //! (default 60), `ERGUN_METHODS` a comma-separated list of voidage methods (default: the

@@ -27,7 +27,8 @@
 //! * `centre`: [`mesh::Locator`];
 //! * `divided`: the markers by [`mesh::Locator::locate_near`] from the centre's cell (each
 //!   marker tested only against the face planes that pass within the ball, the others located
-//!   from the cell across the face they lie beyond);
+//!   from the cell across the face they lie beyond); a particle whose markers all fall in one
+//!   cell puts its whole volume there;
 //! * `trilinear`: not defined ([`crate::VoidageError::UnsupportedMesh`]);
 //! * `exact`: Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`], computed from the terms
 //!   of the cells' faces (each face's polygon, or its fan triangles if warped: the boundary of
@@ -38,8 +39,10 @@
 //!   face passes within 1e-9 (relative) of the centre, the side the centre lies on is not
 //!   certain from the face, and the particle takes the flux form over the candidates (the same
 //!   volumes, to rounding, with no such condition). A ball inside the kernel of its centre's
-//!   cell (on the inner side of every face plane, at distance ≥ r) goes there whole; a cell
-//!   inside the ball gets its (OpenFOAM) volume;
+//!   cell (on the inner side of every face plane, at distance ≥ r) goes there whole (for a cell
+//!   of planar faces the walk finds this by itself: no plane passes within r); a cell inside
+//!   the ball gets its (OpenFOAM) volume. A planar face's edge directions (t and t × n̂ per
+//!   edge, [`crate::sphere_poly`]'s edge frames) are computed once per mesh;
 //! * `cube`: the exact volume of cube ∩ cell from the terms of its faces (each face's polygon, or
 //!   its fan triangles if warped) clipped by the cube ([`crate::clip`]), divided by d³;
 //! * `corrected-cube`: the polynomial on those fractions plus one piece for the cube's part
