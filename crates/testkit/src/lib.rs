@@ -9,6 +9,8 @@
 //!   the full tier can never pass by skipping.
 //! - [`copy_inputs`]: a copy of a reference case's inputs only (what git tracks), never the
 //!   outputs a user's earlier run left in the case (README's order: the main job, then the tests).
+//! - [`SplitMix`], [`cpu_seconds`]: reproducible random inputs and the process's CPU time for
+//!   the benchmarks that print their own figures.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -172,6 +174,34 @@ vertices ((-0.01 -0.01 0) (0.01 -0.01 0) (0.01 0.01 0) (-0.01 0.01 0)
 blocks (hex (0 1 2 3 4 5 6 7) (10 10 15) simpleGrading (1 1 1));
 boundary ( walls { type wall; faces ((0 4 7 3) (2 6 5 1) (1 5 4 0) (3 7 6 2) (0 3 2 1) (4 5 6 7)); } );
 "#;
+
+/// SplitMix64 (Steele, Lea & Flood 2014): reproducible uniform numbers for benchmark inputs.
+pub struct SplitMix(pub u64);
+
+impl SplitMix {
+    /// The next number, uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+}
+
+/// CPU time of all threads of this process so far, s (Linux `/proc/self/task/*/schedstat`;
+/// 0 elsewhere): on a shared machine the wall time of a benchmark depends on the other load,
+/// its CPU time much less.
+pub fn cpu_seconds() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return 0.0;
+    };
+    tasks
+        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum::<f64>()
+        * 1e-9
+}
 
 #[cfg(test)]
 mod tests {

@@ -9,34 +9,8 @@
 
 use mesh::v3::V3;
 use std::time::Instant;
+use testkit::{cpu_seconds, SplitMix};
 use voidage::{Method, ParticleSet, VoidageMesh};
-
-/// SplitMix64: reproducible uniform numbers in [0, 1).
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
-
-/// CPU time of all threads of this process so far, s (Linux `/proc/self/task/*/schedstat`;
-/// 0 elsewhere): on a shared machine the wall time depends on the other load, the CPU time much
-/// less.
-fn cpu_seconds() -> f64 {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
-        return 0.0;
-    };
-    tasks
-        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
-        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .sum::<f64>()
-        * 1e-9
-}
 
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
     std::env::var(name)

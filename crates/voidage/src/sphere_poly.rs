@@ -91,14 +91,16 @@ impl EdgeFrame {
     /// edge whose line passes through p₀ has `s` = 0 (its fan triangle is flat).
     #[inline]
     fn new(a: V3, b: V3, nh: V3) -> Option<EdgeFrame> {
-        let e = b - a;
-        let le = e.norm();
-        if !(le > 0.0) {
-            return None;
-        }
-        let t = V3::new(e[0] / le, e[1] / le, e[2] / le);
-        let p = a.dot(&t.cross(&nh));
-        Some(EdgeFrame {
+        EdgeAxes::new(a, b, nh).frame(a, b)
+    }
+
+    /// The frame of a → b from the edge's unit direction `t` and `m` = t × n̂ (both computed
+    /// once per mesh edge: [`EdgeAxes`]); the same as [`EdgeFrame::new`] up to the rounding
+    /// of t.
+    #[inline]
+    fn along(a: V3, b: V3, t: V3, m: V3) -> EdgeFrame {
+        let p = a.dot(&m);
+        EdgeFrame {
             s: if p > 0.0 {
                 1.0
             } else if p < 0.0 {
@@ -109,7 +111,7 @@ impl EdgeFrame {
             ap: p.abs(),
             ta: a.dot(&t),
             tb: b.dot(&t),
-        })
+        }
     }
 
     /// Distance from the centre to the point at τ = x, for a plane at signed distance `d`.
@@ -173,6 +175,21 @@ fn edge_terms(a: V3, b: V3, nh: V3, d: f64, rho2: f64) -> (f64, f64) {
     (s * ae, s * oe)
 }
 
+/// w = n̂ × e, e the unit axis least aligned with n̂ (the first of equals): a direction in the
+/// plane, for the winding number's ray. Written out per axis: building e as a vector on the
+/// stack and loading it back cost 11 % of the exact kernel's time (a stalled store forward).
+#[inline]
+fn ray_direction(nh: V3) -> V3 {
+    let a = nh.map(f64::abs);
+    if a[0] <= a[1] && a[0] <= a[2] {
+        V3::new(0.0, nh[2], -nh[1])
+    } else if a[1] <= a[2] {
+        V3::new(-nh[2], 0.0, nh[0])
+    } else {
+        V3::new(nh[1], -nh[0], 0.0)
+    }
+}
+
 /// The cap form of a planar polygon's term on the unit ball: g = flux − Ω/3 = (d·area(F ∩ D) −
 /// Ω(F ∩ D))/3, Ω(F) the polygon's signed solid angle seen from the centre and F ∩ D its part
 /// inside the disk the ball cuts from its plane (module docs, "Cap form"). `v` are the vertices
@@ -183,6 +200,63 @@ fn edge_terms(a: V3, b: V3, nh: V3, d: f64, rho2: f64) -> (f64, f64) {
 /// `None` when the centre is within `tie` of the plane while the polygon meets the ball, or the
 /// foot point p₀ is within `tie` of an edge: the caller must then use the flux form.
 pub(crate) fn polygon_cap_unit(v: &[V3], nh: V3, d: f64, tie: f64) -> Option<f64> {
+    polygon_cap_unit_with(v, nh, d, tie, |_, a, b| EdgeFrame::new(a, b, nh))
+}
+
+/// The directions of a planar polygon's edges, for [`polygon_cap_unit_axes`]: for the edge
+/// from vertex k to vertex k + 1, its unit direction t (zero for a zero-length edge) and
+/// t × n̂. They do not depend on the ball, so a mesh computes them once per face.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct EdgeAxes {
+    t: V3,
+    m: V3,
+}
+
+impl EdgeAxes {
+    /// The axes of the edge a → b (any coordinates) of a polygon with unit normal `nh`.
+    pub(crate) fn new(a: V3, b: V3, nh: V3) -> EdgeAxes {
+        let e = b - a;
+        let le = e.norm();
+        if !(le > 0.0) {
+            return EdgeAxes::default();
+        }
+        let t = V3::new(e[0] / le, e[1] / le, e[2] / le);
+        EdgeAxes { t, m: t.cross(&nh) }
+    }
+}
+
+impl EdgeAxes {
+    /// The frame of the edge a → b (unit-ball coordinates) along these axes; `None` for a
+    /// zero-length edge.
+    #[inline]
+    fn frame(self, a: V3, b: V3) -> Option<EdgeFrame> {
+        (self.t != V3::zeros()).then(|| EdgeFrame::along(a, b, self.t, self.m))
+    }
+}
+
+/// [`polygon_cap_unit`] with the edges' directions given (`axes[k]` for the edge from `v[k]`):
+/// per edge three dot products instead of a square root, three divisions and a cross product.
+/// The result differs from [`polygon_cap_unit`]'s by rounding only.
+pub(crate) fn polygon_cap_unit_axes(
+    v: &[V3],
+    axes: &[EdgeAxes],
+    nh: V3,
+    d: f64,
+    tie: f64,
+) -> Option<f64> {
+    debug_assert_eq!(v.len(), axes.len());
+    polygon_cap_unit_with(v, nh, d, tie, |k, a, b| axes[k].frame(a, b))
+}
+
+/// [`polygon_cap_unit`] with `frame(k, a, b)` the frame of the edge a → b from vertex k.
+#[inline(always)]
+fn polygon_cap_unit_with(
+    v: &[V3],
+    nh: V3,
+    d: f64,
+    tie: f64,
+    frame: impl Fn(usize, V3, V3) -> Option<EdgeFrame>,
+) -> Option<f64> {
     let n = v.len();
     if n < 3 {
         return Some(0.0);
@@ -194,16 +268,17 @@ pub(crate) fn polygon_cap_unit(v: &[V3], nh: V3, d: f64, tie: f64) -> Option<f64
     let p0 = nh * d;
     // The winding number of p₀ counts the crossings of the in-plane ray from p₀ along w × n̂,
     // w = n̂ × (the axis least aligned with n̂).
-    let axis = (0..3).min_by(|&i, &j| nh[i].abs().total_cmp(&nh[j].abs()));
-    let w = nh.cross(&V3::ith(axis.unwrap_or(0), 1.0));
+    let w = ray_direction(nh);
     let (mut area_in, mut phi_in, mut psi_in) = (0.0, 0.0, 0.0);
     let mut winding = 0i32;
     let mut crossed = false;
+    let mut yb = (v[0] - p0).dot(&w);
     for k in 0..n {
         let a = v[k];
         let b = v[if k + 1 == n { 0 } else { k + 1 }];
         // Winding number of p₀ (crossings of the ray from p₀ along u).
-        let (ya, yb) = ((a - p0).dot(&w), (b - p0).dot(&w));
+        let ya = yb;
+        yb = (b - p0).dot(&w);
         if (ya <= 0.0) != (yb <= 0.0) {
             let left = (a - p0).cross(&(b - p0)).dot(&nh);
             if ya <= 0.0 && left > 0.0 {
@@ -217,7 +292,7 @@ pub(crate) fn polygon_cap_unit(v: &[V3], nh: V3, d: f64, tie: f64) -> Option<f64
         if (0..3).any(|i| (a[i] > reach && b[i] > reach) || (a[i] < -reach && b[i] < -reach)) {
             continue;
         }
-        let Some(e) = EdgeFrame::new(a, b, nh) else {
+        let Some(e) = frame(k, a, b) else {
             continue;
         };
         if e.ap < tie && e.ta < tie && e.tb > -tie {
