@@ -14,6 +14,7 @@
 //!   speed when the run lasted at least five relaxation times. Plot: `settling.png`, which also
 //!   shows CFDEM's Schiller–Naumann reference curve.
 //! * `fluidisedBed`: [`crate::fluidised`].
+//! * `pneumaticConveying`: [`crate::conveyor`].
 
 use crate::layout::ValidationSpec;
 use crate::plot::{LinePlot, Series, Style};
@@ -79,6 +80,9 @@ pub fn evaluate(
             dt_c,
             notes,
         ),
+        ValidationSpec::PneumaticConveying(spec) => {
+            crate::conveyor::checks(spec, samples, post, notes)
+        }
     }
 }
 

@@ -97,6 +97,10 @@ pub enum ValidationSpec {
         /// rises and falls with each bubble; a shorter window is not a time average).
         averaging_time: f64,
     },
+    /// `type pneumaticConveying;`: Madden's (2020) reduced conveyor ([`crate::conveyor`]): the
+    /// mean outlet air velocity against the seed's incompressible and compressible results, the
+    /// particles' axial velocity in the tube against the experiment, the chamber emptied.
+    PneumaticConveying(crate::conveyor::ConveyorSpec),
 }
 
 fn entry_err(path: &Path, e: impl std::fmt::Display) -> LayoutError {
@@ -155,11 +159,28 @@ impl ValidationSpec {
                 packed_bed_tolerance: tolerance(&d, path, "packedBedTolerance")?,
                 averaging_time: tolerance(&d, path, "averagingTime")?,
             }),
+            "pneumaticConveying" => Ok(ValidationSpec::PneumaticConveying(
+                crate::conveyor::ConveyorSpec {
+                    inlet: word(&d, path, "inletPatch")?,
+                    outlet: word(&d, path, "outletPatch")?,
+                    chamber_top: tolerance(&d, path, "chamberTop")?,
+                    tube_from: tolerance(&d, path, "tubeFrom")?,
+                    averaging_from: tolerance(&d, path, "averagingFrom")?,
+                    outlet_velocity: tolerance(&d, path, "outletVelocity")?,
+                    outlet_velocity_tolerance: tolerance(&d, path, "outletVelocityTolerance")?,
+                    compressible_velocity: tolerance(&d, path, "compressibleOutletVelocity")?,
+                    compressible_tolerance: tolerance(&d, path, "compressibleTolerance")?,
+                    particle_velocity: tolerance(&d, path, "particleVelocity")?,
+                    particle_velocity_tolerance: tolerance(&d, path, "particleVelocityTolerance")?,
+                    emptying_time: tolerance(&d, path, "emptyingTime")?,
+                    emptied_tolerance: tolerance(&d, path, "emptiedTolerance")?,
+                },
+            )),
             other => Err(entry_err(
                 path,
                 format!(
                     "unknown validation type '{other}' (known: ergunPackedBed, settlingSphere, \
-                     fluidisedBed)"
+                     fluidisedBed, pneumaticConveying)"
                 ),
             )),
         }

@@ -6,6 +6,7 @@
 pub mod backend;
 pub mod bed;
 pub mod checks;
+pub mod conveyor;
 pub mod fluid;
 pub mod fluidised;
 #[cfg(feature = "mpi")]

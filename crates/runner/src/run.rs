@@ -228,6 +228,8 @@ struct Observer {
     g: f64,
     inlet: Option<String>,
     outlet: Option<String>,
+    /// A conveyor case: its zones and the outlet whose outflow is sampled.
+    conveyor: Option<crate::conveyor::ConveyorSpec>,
 }
 
 impl Observer {
@@ -282,6 +284,13 @@ impl Observer {
             _ => None,
         };
         let inlet_velocity = self.inlet.as_deref().and_then(|n| fluid.inflow_velocity(n));
+        let zones = self.conveyor.as_ref().map(|spec| {
+            let z = crate::conveyor::Zones::measure(spec, ax, ps.position, ps.velocity);
+            let mut sums = [z.tube as f64, z.tube_axial_sum, z.chamber as f64];
+            ranks.all_sum(&mut sums);
+            let outlet = fluid.inflow_velocity(&spec.outlet).map(|u| -u);
+            (sums, outlet)
+        });
         Sample {
             time,
             inlet_velocity,
@@ -311,6 +320,10 @@ impl Observer {
             volume_out: step.population.volume_out,
             momentum_in: step.population.momentum_in.into(),
             momentum_out: step.population.momentum_out.into(),
+            outlet_velocity: zones.and_then(|z| z.1),
+            tube_particles: zones.map(|z| z.0[0] as usize),
+            tube_axial_velocity: zones.and_then(|z| (z.0[0] > 0.0).then(|| z.0[1] / z.0[0])),
+            chamber_particles: zones.map(|z| z.0[2] as usize),
         }
     }
 }
@@ -788,6 +801,9 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             ValidationSpec::ErgunPackedBed { inlet, outlet, .. }
             | ValidationSpec::FluidisedBed { inlet, outlet, .. },
         ) => (Some(inlet.clone()), Some(outlet.clone())),
+        Some(ValidationSpec::PneumaticConveying(c)) => {
+            (Some(c.inlet.clone()), Some(c.outlet.clone()))
+        }
         _ => {
             // without a validationDict, the patches the start fields make inlet and outlet
             let found = crate::patches::find(&layout.cfd, &couple::output::time_name(start), &mesh);
@@ -812,6 +828,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             .sqrt(),
         inlet,
         outlet,
+        conveyor: match &spec {
+            Some(ValidationSpec::PneumaticConveying(c)) => Some(c.clone()),
+            _ => None,
+        },
     };
 
     let post = layout.post_processing();

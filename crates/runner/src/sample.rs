@@ -56,9 +56,18 @@ pub struct Sample {
     pub momentum_in: [f64; 3],
     /// kg·m/s.
     pub momentum_out: [f64; 3],
+    /// Mean outflow velocity through the outlet patch, Σ(U_b·S_f)/Σ|S_f|, m/s (cases whose
+    /// validationDict names an outlet for it: [`crate::conveyor`]).
+    pub outlet_velocity: Option<f64>,
+    /// Particles in the conveyor's tube (axial coordinate ≥ its `tubeFrom`).
+    pub tube_particles: Option<usize>,
+    /// Their mean axial velocity, m/s (`None` when the tube holds none).
+    pub tube_axial_velocity: Option<f64>,
+    /// Particles still in the conveyor's chamber (axial coordinate < its `chamberTop`).
+    pub chamber_particles: Option<usize>,
 }
 
-const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z";
+const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles";
 
 /// The rows of an earlier run's CSV at `path` up to time `start` (s; to a relative 10⁻⁹),
 /// as text: what a run restarted at `start` keeps (none when there is no such file or its
@@ -97,10 +106,11 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
         }
         // an unmeasured quantity is an empty cell
         let o = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:?}"));
+        let n = |x: Option<usize>| x.map_or(String::new(), |x| x.to_string());
         for s in samples {
             writeln!(
                 w,
-                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{}",
                 s.time,
                 o(s.inlet_velocity),
                 o(s.pressure_drop),
@@ -128,7 +138,11 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
                 s.momentum_in[2],
                 s.momentum_out[0],
                 s.momentum_out[1],
-                s.momentum_out[2]
+                s.momentum_out[2],
+                o(s.outlet_velocity),
+                n(s.tube_particles),
+                o(s.tube_axial_velocity),
+                n(s.chamber_particles)
             )?;
         }
         Ok(())

@@ -1,0 +1,372 @@
+//! Madden's (2020) reduced pneumatic conveyor (`openfoam-cases/pneumatic-conveying`): what a
+//! run measures in it and the checks it is held to.
+//!
+//! The observables ([`Zones::measure`]) split the particles by their coordinate h along the
+//! column axis (against gravity): h ≥ `tubeFrom` is the outlet tube, h < `chamberTop` the
+//! chamber (annulus and plenum). The checks ([`checks`]), each against the seed's numbers
+//! (J. R. Madden, "Coupled CFD-DEM Model for a Pneumatic Conveying System", USC ASTE 499,
+//! 2020; `../shared/seeds/002_317464ee9f894a3e.txt`):
+//!
+//! * the mean outlet air velocity over t ≥ `averagingFrom` (the outlet patch's area-averaged
+//!   outflow Σ U_b·S_f / Σ|S_f|, m/s) against the seed's incompressible run (60–70 m/s: 65 m/s
+//!   ± 7.7 %) and its compressible analysis (55–65 m/s: 60 m/s ± 8.3 %);
+//! * the particles' mean axial velocity in the tube (over every sample with particles there,
+//!   weighted by their number) against the experiment's 5–6 m/s;
+//! * when the run reaches `emptyingTime`: the fraction of the chamber's largest population that
+//!   has left it, against 1 (the seed: "all of the particles are evacuated out of the annulus
+//!   chamber, with some particles cohesively attaching to the outer walls").
+//!
+//! Each tolerance is in the case's `validationDict` with its reason in the case README.
+
+use crate::plot::{LinePlot, Series, Style};
+use crate::run::RunError;
+use crate::sample::Sample;
+use crate::validation::Check;
+use mesh::v3::V3;
+use std::path::Path;
+
+/// `validationDict` of `type pneumaticConveying;` (lengths in m along the column axis, times
+/// in s, velocities in m/s, tolerances relative).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConveyorSpec {
+    /// Inlet patch name.
+    pub inlet: String,
+    /// Outlet patch name (its outflow velocity is sampled).
+    pub outlet: String,
+    /// Particles below this height are in the chamber.
+    pub chamber_top: f64,
+    /// Particles at or above this height are in the tube.
+    pub tube_from: f64,
+    /// Start of the outlet-velocity average (after the start-up transient).
+    pub averaging_from: f64,
+    /// The seed's incompressible mean outlet velocity (centre of 60–70 m/s).
+    pub outlet_velocity: f64,
+    /// Its half band over the centre.
+    pub outlet_velocity_tolerance: f64,
+    /// The seed's compressible analysis (centre of 55–65 m/s).
+    pub compressible_velocity: f64,
+    /// Its half band over the centre.
+    pub compressible_tolerance: f64,
+    /// The experiment's particle axial velocity in the tube (centre of 5–6 m/s).
+    pub particle_velocity: f64,
+    /// Accepted relative deviation.
+    pub particle_velocity_tolerance: f64,
+    /// The run must reach this time for the emptied-chamber check.
+    pub emptying_time: f64,
+    /// Largest fraction of the chamber's particles that may remain.
+    pub emptied_tolerance: f64,
+}
+
+/// The conveyor's particle observables of one coupling step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Zones {
+    /// Particles in the tube.
+    pub tube: usize,
+    /// Σ of their axial velocities, m/s.
+    pub tube_axial_sum: f64,
+    /// Particles in the chamber.
+    pub chamber: usize,
+}
+
+impl Zones {
+    /// Splits particles at `positions` (m) with `velocities` (m/s) by their height along the
+    /// unit vector `axis`.
+    pub fn measure(spec: &ConveyorSpec, axis: V3, positions: &[V3], velocities: &[V3]) -> Zones {
+        let mut z = Zones::default();
+        for (x, v) in positions.iter().zip(velocities) {
+            let h = x.dot(&axis);
+            if h >= spec.tube_from {
+                z.tube += 1;
+                z.tube_axial_sum += v.dot(&axis);
+            }
+            if h < spec.chamber_top {
+                z.chamber += 1;
+            }
+        }
+        z
+    }
+}
+
+/// The mean of `f` over `samples` where it is measured (`None` if nowhere).
+fn mean(samples: &[&Sample], f: impl Fn(&Sample) -> Option<f64>) -> Option<f64> {
+    let v: Vec<f64> = samples.iter().filter_map(|s| f(s)).collect();
+    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+}
+
+/// The checks of a conveyor run from `samples`; notes for the log go to `notes`, plots
+/// (`outlet_velocity.png`, `particle_velocity.png`, `chamber.png`) into `post`.
+pub fn checks(
+    spec: &ConveyorSpec,
+    samples: &[Sample],
+    post: &Path,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Check>, RunError> {
+    let mut checks = Vec::new();
+    let end = samples.last().map_or(0.0, |s| s.time);
+    let window: Vec<&Sample> = samples
+        .iter()
+        .filter(|s| s.time >= spec.averaging_from)
+        .collect();
+    match mean(&window, |s| s.outlet_velocity) {
+        Some(u) => {
+            let name = |what: &str| {
+                format!(
+                    "mean outlet air velocity over t = {:.4} … {end:.4} s vs {what}",
+                    spec.averaging_from
+                )
+            };
+            checks.push(Check::new(
+                &name("the seed's incompressible run (60–70 m/s)"),
+                u,
+                spec.outlet_velocity,
+                "m/s",
+                spec.outlet_velocity_tolerance,
+            ));
+            checks.push(Check::new(
+                &name("the seed's compressible analysis (55–65 m/s)"),
+                u,
+                spec.compressible_velocity,
+                "m/s",
+                spec.compressible_tolerance,
+            ));
+        }
+        None => notes.push(format!(
+            "conveyor: no outlet velocity sampled after averagingFrom = {} s (the run ends at \
+             {end:.4} s): the outlet velocity is not checked",
+            spec.averaging_from
+        )),
+    }
+    let (n, sum) = samples.iter().fold((0usize, 0.0), |(n, sum), s| {
+        match (s.tube_particles, s.tube_axial_velocity) {
+            (Some(k), Some(v)) if k > 0 => (n + k, sum + k as f64 * v),
+            _ => (n, sum),
+        }
+    });
+    let reached = end + 1e-12 >= spec.emptying_time;
+    if n > 0 {
+        let v = sum / n as f64;
+        notes.push(format!(
+            "conveyor: {n} particle-samples in the tube, mean axial velocity {v:.3} m/s"
+        ));
+        checks.push(Check::new(
+            "particle axial velocity in the tube (mean over the samples, weighted by the \
+             number there) vs the experiment (5–6 m/s)",
+            v,
+            spec.particle_velocity,
+            "m/s",
+            spec.particle_velocity_tolerance,
+        ));
+    } else if reached {
+        checks.push(Check::new(
+            "particle axial velocity in the tube: no particle reached the tube",
+            f64::NAN,
+            spec.particle_velocity,
+            "m/s",
+            spec.particle_velocity_tolerance,
+        ));
+    } else {
+        notes.push(format!(
+            "conveyor: no particle in the tube by t = {end:.4} s: the particle velocity is not \
+             checked"
+        ));
+    }
+    let initial = samples
+        .iter()
+        .filter_map(|s| s.chamber_particles)
+        .max()
+        .unwrap_or(0);
+    let left = samples.last().and_then(|s| s.chamber_particles);
+    if let (true, Some(left)) = (reached, left) {
+        let gone = if initial == 0 {
+            f64::NAN
+        } else {
+            1.0 - left as f64 / initial as f64
+        };
+        notes.push(format!(
+            "conveyor: {left} of {initial} particles remain in the chamber at t = {end:.4} s"
+        ));
+        checks.push(Check::new(
+            &format!("fraction of the chamber's {initial} particles gone by t = {end:.4} s"),
+            gone,
+            1.0,
+            "",
+            spec.emptied_tolerance,
+        ));
+    } else {
+        notes.push(format!(
+            "conveyor: the run ends at {end:.4} s, before emptyingTime ({} s): the emptied \
+             chamber is not checked ({} of {initial} particles in the chamber)",
+            spec.emptying_time,
+            left.map_or("—".to_string(), |l| l.to_string())
+        ));
+    }
+    plots(spec, samples, post, initial)?;
+    Ok(checks)
+}
+
+/// A horizontal line at `y` over the run's time span, for the seed's bands.
+fn band(name: &str, y: f64, t0: f64, t1: f64) -> Series {
+    Series {
+        name: name.to_owned(),
+        points: vec![(t0, y), (t1, y)],
+        style: Style::Line,
+    }
+}
+
+fn plots(
+    spec: &ConveyorSpec,
+    samples: &[Sample],
+    post: &Path,
+    initial: usize,
+) -> Result<(), RunError> {
+    let (t0, t1) = match (samples.first(), samples.last()) {
+        (Some(a), Some(b)) => (a.time, b.time),
+        _ => return Ok(()),
+    };
+    let series = |name: &str, f: &dyn Fn(&Sample) -> Option<f64>| Series {
+        name: name.to_owned(),
+        points: samples
+            .iter()
+            .filter_map(|s| Some((s.time, f(s)?)))
+            .collect(),
+        style: Style::Points,
+    };
+    let u = series("simulated, outlet patch mean", &|s| s.outlet_velocity);
+    if !u.points.is_empty() {
+        let (lo, hi) = (
+            spec.outlet_velocity * (1.0 - spec.outlet_velocity_tolerance),
+            spec.outlet_velocity * (1.0 + spec.outlet_velocity_tolerance),
+        );
+        let (clo, chi) = (
+            spec.compressible_velocity * (1.0 - spec.compressible_tolerance),
+            spec.compressible_velocity * (1.0 + spec.compressible_tolerance),
+        );
+        LinePlot {
+            title: "Outlet air velocity (Madden 2020: 60–70 m/s, compressible 55–65 m/s)".into(),
+            x_label: "t (s)".into(),
+            y_label: "mean outlet velocity (m/s)".into(),
+            series: vec![
+                u,
+                band(&format!("seed incompressible {lo:.0} m/s"), lo, t0, t1),
+                band(&format!("seed incompressible {hi:.0} m/s"), hi, t0, t1),
+                band(&format!("seed compressible {clo:.0} m/s"), clo, t0, t1),
+                band(&format!("seed compressible {chi:.0} m/s"), chi, t0, t1),
+            ],
+        }
+        .write_png(&post.join("outlet_velocity.png"))?;
+    }
+    let v = series("simulated, mean over the tube's particles", &|s| {
+        s.tube_axial_velocity
+    });
+    if !v.points.is_empty() {
+        let (lo, hi) = (
+            spec.particle_velocity * (1.0 - spec.particle_velocity_tolerance),
+            spec.particle_velocity * (1.0 + spec.particle_velocity_tolerance),
+        );
+        LinePlot {
+            title: "Particle axial velocity in the tube (experiment: 5–6 m/s)".into(),
+            x_label: "t (s)".into(),
+            y_label: "axial velocity (m/s)".into(),
+            series: vec![
+                v,
+                band(&format!("experiment {lo:.1} m/s"), lo, t0, t1),
+                band(&format!("experiment {hi:.1} m/s"), hi, t0, t1),
+            ],
+        }
+        .write_png(&post.join("particle_velocity.png"))?;
+    }
+    if initial > 0 {
+        LinePlot {
+            title: "Particles in the chamber".into(),
+            x_label: "t (s)".into(),
+            y_label: "fraction of the initial particles".into(),
+            series: vec![series("chamber (annulus + plenum)", &|s| {
+                s.chamber_particles.map(|c| c as f64 / initial as f64)
+            })],
+        }
+        .write_png(&post.join("chamber.png"))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec() -> ConveyorSpec {
+        ConveyorSpec {
+            inlet: "inlet".into(),
+            outlet: "outlet".into(),
+            chamber_top: 0.025,
+            tube_from: 0.035,
+            averaging_from: 0.01,
+            outlet_velocity: 65.0,
+            outlet_velocity_tolerance: 5.0 / 65.0,
+            compressible_velocity: 60.0,
+            compressible_tolerance: 5.0 / 60.0,
+            particle_velocity: 5.5,
+            particle_velocity_tolerance: 0.5 / 5.5,
+            emptying_time: 0.1,
+            emptied_tolerance: 0.1,
+        }
+    }
+
+    #[test]
+    fn zones_split_by_height_along_the_axis() {
+        let p = [
+            V3::new(0.02, 0.0, 0.005),
+            V3::new(0.0, 0.0, 0.03),
+            V3::new(0.0, 0.0, 0.05),
+        ];
+        let v = [V3::zeros(), V3::new(0.0, 0.0, 2.0), V3::new(1.0, 0.0, 6.0)];
+        let z = Zones::measure(&spec(), V3::z(), &p, &v);
+        assert_eq!((z.tube, z.chamber), (1, 1));
+        assert_eq!(z.tube_axial_sum, 6.0);
+    }
+
+    /// Samples built from known values give the checks' means: the outlet velocity averaged
+    /// over the window only, the tube velocity weighted by count, the chamber's emptied share.
+    #[test]
+    fn checks_average_as_documented() {
+        let dir = tempfile::tempdir().unwrap();
+        let mk = |t: f64, u: f64, n: usize, v: f64, c: usize| Sample {
+            time: t,
+            outlet_velocity: Some(u),
+            tube_particles: Some(n),
+            tube_axial_velocity: (n > 0).then_some(v),
+            chamber_particles: Some(c),
+            ..Sample::default()
+        };
+        let s = [
+            mk(0.005, 10.0, 0, 0.0, 100),
+            mk(0.05, 62.0, 1, 4.0, 50),
+            mk(0.1, 64.0, 3, 6.0, 5),
+        ];
+        let mut notes = Vec::new();
+        let c = checks(&spec(), &s, dir.path(), &mut notes).unwrap();
+        assert_eq!(c.len(), 4);
+        assert_eq!(c[0].simulated, 63.0);
+        assert!(c[0].pass && c[1].pass);
+        assert_eq!(c[2].simulated, (4.0 + 18.0) / 4.0);
+        assert_eq!(c[3].simulated, 0.95);
+        assert!(c[3].pass);
+        assert!(dir.path().join("outlet_velocity.png").is_file());
+    }
+
+    /// A run shorter than the averaging start and the emptying time is not held to those.
+    #[test]
+    fn a_short_run_skips_what_it_cannot_measure() {
+        let dir = tempfile::tempdir().unwrap();
+        let s = [Sample {
+            time: 0.002,
+            outlet_velocity: Some(30.0),
+            tube_particles: Some(0),
+            chamber_particles: Some(100),
+            ..Sample::default()
+        }];
+        let mut notes = Vec::new();
+        let c = checks(&spec(), &s, dir.path(), &mut notes).unwrap();
+        assert!(c.is_empty());
+        assert_eq!(notes.len(), 3, "{notes:?}");
+    }
+}
