@@ -15,15 +15,8 @@ fn main() {
 }
 
 fn rng_points(seed: u64, n: usize) -> Vec<[f64; 3]> {
-    let mut s = seed;
-    let mut next = move || {
-        s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n).map(|_| [next(), next(), next()]).collect()
+    let mut r = testkit::SplitMix(seed);
+    (0..n).map(|_| [r.unit(), r.unit(), r.unit()]).collect()
 }
 
 const SHEAR: [[f64; 3]; 3] = [[0.9, 0.35, -0.2], [-0.3, 0.85, 0.25], [0.15, -0.2, 1.05]];

@@ -480,12 +480,8 @@ mod tests {
     }
 
     /// SplitMix64 in [−1, 1).
-    fn uniform(state: &mut u64) -> f64 {
-        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        2.0 * (((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    fn uniform(rng: &mut testkit::SplitMix) -> f64 {
+        rng.range(-1.0, 1.0)
     }
 
     /// The cap form plus a third of the solid angle is the flux form, for convex polygons of 3
@@ -494,7 +490,7 @@ mod tests {
     /// orientations.
     #[test]
     fn cap_form_plus_solid_angle_is_the_flux_form() {
-        let mut rng = 5u64;
+        let mut rng = testkit::SplitMix(5);
         let mut checked = [0usize; 3];
         for k in 0..20_000 {
             let nh = V3::from_fn(|_, _| uniform(&mut rng)).normalize();
