@@ -24,7 +24,23 @@ pub const HERTZ_DURATION_CONSTANT: f64 = 2.868_265;
 /// (Johnson 1985, Contact Mechanics; seed `002` eq. 11, where the exponent printed "2" is 1/5). A DEM step
 /// of t_H/20 or less resolves the contact.
 pub fn hertz_contact_time(m_eff: f64, r_eff: f64, y_eff: f64, speed: f64) -> f64 {
-    HERTZ_DURATION_CONSTANT * (m_eff * m_eff / (r_eff * y_eff * y_eff * speed)).powf(0.2)
+    hertz_contact_time_with(HERTZ_DURATION_CONSTANT, m_eff, r_eff, y_eff, speed)
+}
+
+/// The constant as seed `002` eq. 11 prints it and LIGGGHTS's `fix check/timestep/gran`
+/// uses it: 2.87, 0.06 % above [`HERTZ_DURATION_CONSTANT`]. The native DEM's
+/// `check/timestep/gran` takes it so that its warnings carry LIGGGHTS's digits.
+pub const HERTZ_DURATION_CONSTANT_ROUNDED: f64 = 2.87;
+
+/// [`hertz_contact_time`] with the leading constant given (s; the same units).
+pub fn hertz_contact_time_with(
+    constant: f64,
+    m_eff: f64,
+    r_eff: f64,
+    y_eff: f64,
+    speed: f64,
+) -> f64 {
+    constant * (m_eff * m_eff / (r_eff * y_eff * y_eff * speed)).powf(0.2)
 }
 
 /// LIGGGHTS's `pair gran model hertz` normal contact between two spheres of one material,

@@ -54,7 +54,6 @@ pub mod particles;
 pub mod periodic;
 pub mod region;
 pub mod sim;
-pub mod timestep;
 pub mod trimesh;
 pub mod walls;
 

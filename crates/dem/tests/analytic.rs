@@ -57,7 +57,13 @@ fn hertz_pair_impact_duration_and_overlap() {
     let dmax = (15.0 * meff * v * v / (16.0 * yeff * reff.sqrt())).powf(0.4);
     let tc = 2.0 * hertz_integral() * dmax / v;
     // the seed-002 form t_H = 2.87 (m*²/(R* Y*² v))^{1/5} is the same law, rounded
-    let t_h = dem::timestep::hertz_time(meff, reff, yeff, v);
+    let t_h = closures::timestep::hertz_contact_time_with(
+        closures::timestep::HERTZ_DURATION_CONSTANT_ROUNDED,
+        meff,
+        reff,
+        yeff,
+        v,
+    );
     assert!(
         approx::abs_diff_eq!(t_h / tc, 1.0, epsilon = 1e-3),
         "{t_h} vs {tc}"

@@ -61,8 +61,10 @@ use crate::mesh_wall::{MeshSurface, MeshWall};
 use crate::particles::NewParticle;
 use crate::region::Region;
 use crate::sim::{SimBox, SimConfig, Simulation};
-use crate::timestep::{hertz_time, rayleigh_time};
 use crate::walls::{Wall, WallShape};
+use closures::timestep::{
+    hertz_contact_time_with, rayleigh_time_step, HERTZ_DURATION_CONSTANT_ROUNDED,
+};
 use liggghts_deck::{Command, Deck, Variables};
 
 type Res<T> = Result<T, String>;
@@ -1646,7 +1648,7 @@ fn check_timestep(s: &mut Simulation, frac_r: f64, frac_h: f64) {
     let vmax = p.v.iter().map(|v| (*v).norm()).fold(0.0, f64::max);
     for i in 0..p.len() {
         let t = p.atom_type[i] as usize;
-        tr = tr.min(rayleigh_time(
+        tr = tr.min(rayleigh_time_step(
             p.radius[i],
             p.density[i],
             m.youngs_modulus[t - 1],
@@ -1654,7 +1656,13 @@ fn check_timestep(s: &mut Simulation, frac_r: f64, frac_h: f64) {
         ));
         if vmax > 0.0 {
             let y = m.pair(p.atom_type[i], p.atom_type[i]).y_eff;
-            th = th.min(hertz_time(p.mass[i], 0.5 * p.radius[i], y, 2.0 * vmax));
+            th = th.min(hertz_contact_time_with(
+                HERTZ_DURATION_CONSTANT_ROUNDED,
+                p.mass[i],
+                0.5 * p.radius[i],
+                y,
+                2.0 * vmax,
+            ));
         }
     }
     let dt = s.dt();
