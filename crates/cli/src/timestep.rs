@@ -1,6 +1,11 @@
 //! `foamgrain timestep`: DEM and coupling time-step advice, from a CFDEM-layout case
 //! (`CFD/constant/{couplingProperties,transportProperties}`, `CFD/system/controlDict`,
 //! `DEM/in.liggghts_run` and `DEM/in.liggghts_init`) and/or command-line values (which win).
+//!
+//! With a case, the fluid's Courant number is also reported as OpenFOAM's solvers print it
+//! (`fv::courant`: per cell ½ Δt Σ|φ_f|/V, its mean and max) from the face fluxes `phi` of a
+//! written time (`--time`, default the latest time holding `phi`) and the case's `deltaT`
+//! (or `--cfd-dt`).
 
 use anyhow::{bail, Context};
 use clap::Args;
@@ -64,6 +69,10 @@ pub struct TimestepArgs {
     /// Smallest cell size, m (default: the smallest cell's V^(1/3)).
     #[arg(long)]
     pub cell_size: Option<f64>,
+    /// Time directory of the case whose `phi` gives the Courant number (default: the latest
+    /// time holding `phi`).
+    #[arg(long, requires = "case")]
+    pub time: Option<String>,
 }
 
 /// Runs the command.
@@ -97,6 +106,18 @@ pub fn run(a: &TimestepArgs) -> anyhow::Result<()> {
             .map(f64::cbrt);
         speed = max_speed(dir, mesh.n_cells)?;
         config = Some(c);
+        let step = a.cfd_dt.or(cfd_dt).unwrap_or(0.0);
+        match fluid_courant(&case, &mesh, a.time.as_deref(), step)? {
+            Some((time, co)) => println!(
+                "{:<28} mean {:.6e} max {:.6e} (cell {}; phi of time {time}, deltaT {step:e} s)",
+                "fluid Courant number", co.mean, co.max, co.max_cell
+            ),
+            None => println!(
+                "{:<28} (no time directory of {} holds phi: run the case first)",
+                "fluid Courant number",
+                dir.display()
+            ),
+        }
     }
     let need = |v: Option<f64>, name: &str| -> anyhow::Result<f64> {
         match v {
@@ -165,4 +186,35 @@ fn max_speed(case: &Path, n_cells: usize) -> anyhow::Result<Option<f64>> {
             .reduce(f64::max)),
         FieldValues::Scalar(_) => bail!("{}: U must be a volVectorField", path.display()),
     }
+}
+
+/// The Courant number of the fluid step `dt` (s) from `phi` of the time `time` (or the latest
+/// time holding `phi`), with that time's name; `None` when no time holds `phi`.
+fn fluid_courant(
+    case: &Case,
+    mesh: &foam::PolyMesh,
+    time: Option<&str>,
+    dt: f64,
+) -> anyhow::Result<Option<(String, fv::courant::Courant)>> {
+    let path = match time {
+        Some(t) => {
+            let p = case.time_path(t).join("phi");
+            if !p.is_file() {
+                bail!("{}: no such file (--time {t})", p.display());
+            }
+            Some((t.to_owned(), p))
+        }
+        None => case
+            .times()?
+            .into_iter()
+            .rev()
+            .map(|t| (t.name, t.path.join("phi")))
+            .find(|(_, p)| p.is_file()),
+    };
+    let Some((name, path)) = path else {
+        return Ok(None);
+    };
+    let g = fv::geometry::FvGeometry::new(mesh)?;
+    let phi = fv::fields::read_phi(&path, &g)?;
+    Ok(Some((name, fv::courant::courant(&g, &phi, dt))))
 }

@@ -247,6 +247,57 @@ fn timestep_of_the_ergun_case() {
     );
 }
 
+/// The conveyor's case (material values behind `${cor}`-style variables) with a written `phi`
+/// of the same flux q on every face: every cell of this all-hexahedral mesh has 6 faces, so
+/// OpenFOAM's Courant number is 3 q Δt / V_c per cell — largest in the smallest cell — and its
+/// mean 3 q Δt N / Σ V.
+#[test]
+fn timestep_reports_the_courant_number_of_a_written_phi() {
+    let dir = tempfile::tempdir().unwrap();
+    testkit::copy_inputs(
+        &testkit::repo_root().join("openfoam-cases/pneumatic-conveying"),
+        dir.path(),
+    );
+    let cfd = dir.path().join("CFD");
+    let q = 2e-6; // m³/s
+    let patches = ["inlet", "outlet", "walls"];
+    let mut phi = String::from(
+        "FoamFile { version 2.0; format ascii; class surfaceScalarField; object phi; }\n\
+         dimensions [0 3 -1 0 0 0 0];\ninternalField uniform 2e-06;\nboundaryField\n{\n",
+    );
+    let boundary = std::fs::read_to_string(cfd.join("constant/polyMesh/boundary")).unwrap();
+    for p in patches {
+        assert!(boundary.contains(p), "no patch {p}");
+        phi.push_str(&format!(
+            "    {p} {{ type calculated; value uniform 2e-06; }}\n"
+        ));
+    }
+    phi.push_str("}\n");
+    std::fs::create_dir_all(cfd.join("0.01")).unwrap();
+    std::fs::write(cfd.join("0.01/phi"), phi).unwrap();
+    let o = foamgrain(&["timestep", "--case", cfd.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8(o.stdout).unwrap();
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("fluid Courant number"))
+        .unwrap();
+    let w: Vec<&str> = line.split_whitespace().collect();
+    let (mean, max): (f64, f64) = (w[4].parse().unwrap(), w[6].parse().unwrap());
+    let m = foam::Case::open(&cfd).unwrap().read_mesh().unwrap();
+    let g = MeshGeometry::new(&m).unwrap();
+    let dt = 2e-5;
+    let v_min = g.cell_volumes.iter().copied().fold(f64::INFINITY, f64::min);
+    let v_sum: f64 = g.cell_volumes.iter().sum();
+    // printed with 7 significant digits
+    assert_abs_diff_eq!(max, 3.0 * q * dt / v_min, epsilon = 1e-6 * max);
+    let n = g.cell_volumes.len() as f64;
+    assert_abs_diff_eq!(mean, 3.0 * q * dt * n / v_sum, epsilon = 1e-6 * mean);
+    assert!(line.contains("phi of time 0.01"), "{line}");
+    // the deck's `coefficientRestitution … ${cor}` is read through `variable cor index 0.5`
+    assert!(out.contains("Rayleigh time step"), "{out}");
+}
+
 #[test]
 fn archimedes_without_gravity_is_an_error_naming_the_file() {
     let dir = tempfile::tempdir().unwrap();

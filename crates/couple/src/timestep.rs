@@ -221,13 +221,32 @@ pub struct DeckSettings {
 
 impl DeckSettings {
     /// Scans the text of a LIGGGHTS deck for the settings (later lines override earlier
-    /// ones; `${var}` values are not expanded and count as not found).
+    /// ones). A value written `${var}` or `$v` takes the first value of a numeric
+    /// `variable var index|equal|string …` defined above it (what LIGGGHTS uses without
+    /// `-var`); other values (formulas, unknown variables) count as not found.
     pub fn scan(text: &str) -> DeckSettings {
         let mut s = DeckSettings::default();
+        let mut vars: std::collections::HashMap<String, f64> = Default::default();
         for line in text.lines() {
             let line = line.split('#').next().unwrap_or("");
             let w: Vec<&str> = line.split_whitespace().collect();
-            let num = |i: usize| w.get(i).and_then(|t| t.parse::<f64>().ok());
+            if let ["variable", name, "index" | "equal" | "string", value, ..] = w[..] {
+                if let Ok(v) = value.parse::<f64>() {
+                    vars.entry(name.to_owned()).or_insert(v);
+                }
+                continue;
+            }
+            let value = |t: &str| -> Option<f64> {
+                let name = t
+                    .strip_prefix("${")
+                    .and_then(|n| n.strip_suffix('}'))
+                    .or_else(|| t.strip_prefix('$').filter(|n| n.chars().count() == 1));
+                match name {
+                    Some(n) => vars.get(n).copied(),
+                    None => t.parse::<f64>().ok(),
+                }
+            };
+            let num = |i: usize| w.get(i).and_then(|t| value(t));
             let after = |key: &str, skip: usize| {
                 w.iter()
                     .position(|t| *t == key)
@@ -278,5 +297,31 @@ impl DeckSettings {
             density: self.density.or(other.density),
             radius: self.radius.or(other.radius),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The conveyor's deck style: material values through `index` variables, literal radius
+    /// and density; a formula variable stays unknown.
+    #[test]
+    fn scan_expands_numeric_index_variables() {
+        let deck = "variable cor index 0.5 # restitution\n\
+                    variable e equal 5.e6\n\
+                    variable f equal 2*v_e\n\
+                    timestep 0.000005\n\
+                    fix m1 all property/global youngsModulus peratomtype $e\n\
+                    fix m2 all property/global poissonsRatio peratomtype ${f}\n\
+                    fix m3 all property/global coefficientRestitution peratomtypepair 1 ${cor}\n\
+                    fix pts all particletemplate/sphere 1 atom_type 1 density constant 1500 \
+                    radius constant 0.00025\n";
+        let s = DeckSettings::scan(deck);
+        assert_eq!(s.restitution, Some(0.5));
+        assert_eq!(s.young, Some(5e6));
+        assert_eq!(s.poisson, None);
+        assert_eq!(s.timestep, Some(5e-6));
+        assert_eq!((s.density, s.radius), (Some(1500.0), Some(0.00025)));
     }
 }

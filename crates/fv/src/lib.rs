@@ -20,6 +20,7 @@
 //! * [`turbulence`]: `turbulenceProperties` and the k–ε model with wall functions;
 //! * [`fv_options`]: `fvOptions` sources holding a mean velocity (`meanVelocityForce`,
 //!   CFDEM's `meanSupVelocityForce`);
+//! * [`courant`]: the Courant number of a step from the face fluxes (OpenFOAM's `CourantNo.H`);
 //! * [`fluid`]: the PISO step ([`Fluid`]).
 //!
 //! Verified against Debian's OpenFOAM v1912 on the same meshes: the lid-driven cavity and an
@@ -38,6 +39,7 @@
 pub mod amg;
 pub mod bc;
 pub mod convection;
+pub mod courant;
 pub mod cyclic;
 pub mod ddt;
 pub mod error;

@@ -3,18 +3,23 @@
 //!
 //! The observables ([`Zones::measure`]) split the particles by their coordinate h along the
 //! column axis (against gravity): h ≥ `tubeFrom` is the outlet tube, h < `chamberTop` the
-//! chamber (annulus and plenum). The checks ([`checks`]), each against the seed's numbers
-//! (J. R. Madden, "Coupled CFD-DEM Model for a Pneumatic Conveying System", USC ASTE 499,
-//! 2020; `../shared/seeds/002_317464ee9f894a3e.txt`):
+//! chamber (annulus and plenum), h < `annulusTop` the annulus alone. The checks ([`checks`]),
+//! each against the seed's numbers (J. R. Madden, "Coupled CFD-DEM Model for a Pneumatic
+//! Conveying System", USC ASTE 499, 2020; `../shared/seeds/002_317464ee9f894a3e.txt`):
 //!
 //! * the mean outlet air velocity over t ≥ `averagingFrom` (the outlet patch's area-averaged
 //!   outflow Σ U_b·S_f / Σ|S_f|, m/s) against the seed's incompressible run (60–70 m/s: 65 m/s
 //!   ± 7.7 %) and its compressible analysis (55–65 m/s: 60 m/s ± 8.3 %);
-//! * the particles' mean axial velocity in the tube (over every sample with particles there,
-//!   weighted by their number) against the experiment's 5–6 m/s;
-//! * when the run reaches `emptyingTime`: the fraction of the chamber's largest population that
-//!   has left it, against 1 (the seed: "all of the particles are evacuated out of the annulus
-//!   chamber, with some particles cohesively attaching to the outer walls").
+//! * when the run reaches `emptyingTime` (the seed's Fig. 3, last frame 0.125 s): the fraction
+//!   of the annulus's largest population that has left it, against 1 (the seed: "all of the
+//!   particles are evacuated out of the annulus chamber, with some particles cohesively
+//!   attaching to the outer walls of the chamber and the intermediary outlet ledge").
+//!
+//! Reported, not checked (a note in the log, a plot): the particles' mean axial velocity in the
+//! tube (over every sample with particles there, weighted by their number) next to the
+//! experiment's 5–6 m/s — the seed measured that in its *full* system's downstream tube, which
+//! the reduced geometry does not have (its reduced runs were compared with the experiment
+//! qualitatively only); and the fraction gone from the whole chamber (annulus and plenum).
 //!
 //! Each tolerance is in the case's `validationDict` with its reason in the case README.
 
@@ -33,8 +38,10 @@ pub struct ConveyorSpec {
     pub inlet: String,
     /// Outlet patch name (its outflow velocity is sampled).
     pub outlet: String,
-    /// Particles below this height are in the chamber.
+    /// Particles below this height are in the chamber (annulus and plenum).
     pub chamber_top: f64,
+    /// Particles below this height are in the annulus (where the bed starts).
+    pub annulus_top: f64,
     /// Particles at or above this height are in the tube.
     pub tube_from: f64,
     /// Start of the outlet-velocity average (after the start-up transient).
@@ -47,9 +54,10 @@ pub struct ConveyorSpec {
     pub compressible_velocity: f64,
     /// Its half band over the centre.
     pub compressible_tolerance: f64,
-    /// The experiment's particle axial velocity in the tube (centre of 5–6 m/s).
+    /// The experiment's particle axial velocity in the full system's downstream tube (centre
+    /// of 5–6 m/s), reported next to the run's, not checked.
     pub particle_velocity: f64,
-    /// Accepted relative deviation.
+    /// Its half band over the centre (relative), for the report and the plot.
     pub particle_velocity_tolerance: f64,
     /// The run must reach this time for the emptied-chamber check.
     pub emptying_time: f64,
@@ -66,6 +74,8 @@ pub struct Zones {
     pub tube_axial_sum: f64,
     /// Particles in the chamber.
     pub chamber: usize,
+    /// Particles in the annulus.
+    pub annulus: usize,
 }
 
 impl Zones {
@@ -81,6 +91,9 @@ impl Zones {
             }
             if h < spec.chamber_top {
                 z.chamber += 1;
+            }
+            if h < spec.annulus_top {
+                z.annulus += 1;
             }
         }
         z
@@ -142,52 +155,50 @@ pub fn checks(
             _ => (n, sum),
         }
     });
-    let reached = end + 1e-12 >= spec.emptying_time;
     if n > 0 {
         let v = sum / n as f64;
+        let (lo, hi) = (
+            spec.particle_velocity * (1.0 - spec.particle_velocity_tolerance),
+            spec.particle_velocity * (1.0 + spec.particle_velocity_tolerance),
+        );
         notes.push(format!(
-            "conveyor: {n} particle-samples in the tube, mean axial velocity {v:.3} m/s"
-        ));
-        checks.push(Check::new(
-            "particle axial velocity in the tube (mean over the samples, weighted by the \
-             number there) vs the experiment (5–6 m/s)",
-            v,
-            spec.particle_velocity,
-            "m/s",
-            spec.particle_velocity_tolerance,
-        ));
-    } else if reached {
-        checks.push(Check::new(
-            "particle axial velocity in the tube: no particle reached the tube",
-            f64::NAN,
-            spec.particle_velocity,
-            "m/s",
-            spec.particle_velocity_tolerance,
+            "conveyor (reported, not checked): particle axial velocity in the tube {v:.3} m/s \
+             (mean of {n} particle-samples) vs the experiment's {lo:.3}–{hi:.3} m/s in the \
+             seed's full system's downstream tube ({:+.1} % from {:.3} m/s)",
+            100.0 * (v / spec.particle_velocity - 1.0),
+            spec.particle_velocity
         ));
     } else {
         notes.push(format!(
-            "conveyor: no particle in the tube by t = {end:.4} s: the particle velocity is not \
-             checked"
+            "conveyor: no particle in the tube by t = {end:.4} s (particle velocity not reported)"
         ));
     }
-    let initial = samples
-        .iter()
-        .filter_map(|s| s.chamber_particles)
-        .max()
-        .unwrap_or(0);
-    let left = samples.last().and_then(|s| s.chamber_particles);
-    if let (true, Some(left)) = (reached, left) {
-        let gone = if initial == 0 {
+    let reached = end + 1e-12 >= spec.emptying_time;
+    let largest = |f: fn(&Sample) -> Option<usize>| samples.iter().filter_map(f).max().unwrap_or(0);
+    let initial = largest(|s| s.chamber_particles);
+    let initial_annulus = largest(|s| s.annulus_particles);
+    let last = samples.last();
+    let left = last.and_then(|s| s.chamber_particles);
+    let left_annulus = last.and_then(|s| s.annulus_particles);
+    let gone = |left: usize, of: usize| {
+        if of == 0 {
             f64::NAN
         } else {
-            1.0 - left as f64 / initial as f64
-        };
+            1.0 - left as f64 / of as f64
+        }
+    };
+    if let (true, Some(left), Some(left_annulus)) = (reached, left, left_annulus) {
         notes.push(format!(
-            "conveyor: {left} of {initial} particles remain in the chamber at t = {end:.4} s"
+            "conveyor: at t = {end:.4} s {left_annulus} of {initial_annulus} particles remain in \
+             the annulus, {left} of {initial} in the chamber (annulus and plenum; reported: \
+             {:.1} % gone)",
+            100.0 * gone(left, initial)
         ));
         checks.push(Check::new(
-            &format!("fraction of the chamber's {initial} particles gone by t = {end:.4} s"),
-            gone,
+            &format!(
+                "fraction of the annulus's {initial_annulus} particles gone by t = {end:.4} s"
+            ),
+            gone(left_annulus, initial_annulus),
             1.0,
             "",
             spec.emptied_tolerance,
@@ -195,12 +206,12 @@ pub fn checks(
     } else {
         notes.push(format!(
             "conveyor: the run ends at {end:.4} s, before emptyingTime ({} s): the emptied \
-             chamber is not checked ({} of {initial} particles in the chamber)",
+             annulus is not checked ({} of {initial_annulus} particles in the annulus)",
             spec.emptying_time,
-            left.map_or("—".to_string(), |l| l.to_string())
+            left_annulus.map_or("—".to_string(), |l| l.to_string())
         ));
     }
-    plots(spec, samples, post, initial)?;
+    plots(spec, samples, post, [initial, initial_annulus])?;
     Ok(checks)
 }
 
@@ -217,7 +228,7 @@ fn plots(
     spec: &ConveyorSpec,
     samples: &[Sample],
     post: &Path,
-    initial: usize,
+    [initial, initial_annulus]: [usize; 2],
 ) -> Result<(), RunError> {
     let (t0, t1) = match (samples.first(), samples.last()) {
         (Some(a), Some(b)) => (a.time, b.time),
@@ -264,7 +275,7 @@ fn plots(
             spec.particle_velocity * (1.0 + spec.particle_velocity_tolerance),
         );
         LinePlot {
-            title: "Particle axial velocity in the tube (experiment: 5–6 m/s)".into(),
+            title: "Particle axial velocity in the tube (experiment, full system: 5–6 m/s)".into(),
             x_label: "t (s)".into(),
             y_label: "axial velocity (m/s)".into(),
             series: vec![
@@ -277,12 +288,18 @@ fn plots(
     }
     if initial > 0 {
         LinePlot {
-            title: "Particles in the chamber".into(),
+            title: "Particles in the chamber (seed, Fig. 3: annulus empty at 0.125 s)".into(),
             x_label: "t (s)".into(),
             y_label: "fraction of the initial particles".into(),
-            series: vec![series("chamber (annulus + plenum)", &|s| {
-                s.chamber_particles.map(|c| c as f64 / initial as f64)
-            })],
+            series: vec![
+                series("chamber (annulus + plenum)", &|s| {
+                    s.chamber_particles.map(|c| c as f64 / initial as f64)
+                }),
+                series("annulus", &|s| {
+                    s.annulus_particles
+                        .map(|c| c as f64 / initial_annulus.max(1) as f64)
+                }),
+            ],
         }
         .write_png(&post.join("chamber.png"))?;
     }
@@ -298,6 +315,7 @@ mod tests {
             inlet: "inlet".into(),
             outlet: "outlet".into(),
             chamber_top: 0.025,
+            annulus_top: 0.02,
             tube_from: 0.035,
             averaging_from: 0.01,
             outlet_velocity: 65.0,
@@ -320,12 +338,16 @@ mod tests {
         ];
         let v = [V3::zeros(), V3::new(0.0, 0.0, 2.0), V3::new(1.0, 0.0, 6.0)];
         let z = Zones::measure(&spec(), V3::z(), &p, &v);
-        assert_eq!((z.tube, z.chamber), (1, 1));
+        assert_eq!((z.tube, z.chamber, z.annulus), (1, 1, 1));
         assert_eq!(z.tube_axial_sum, 6.0);
+        let plenum = [V3::new(0.0, 0.0, 0.022)];
+        let z = Zones::measure(&spec(), V3::z(), &plenum, &[V3::zeros()]);
+        assert_eq!((z.chamber, z.annulus), (1, 0));
     }
 
     /// Samples built from known values give the checks' means: the outlet velocity averaged
-    /// over the window only, the tube velocity weighted by count, the chamber's emptied share.
+    /// over the window only, the annulus's emptied share; the tube velocity (weighted by
+    /// count) is reported in a note, not checked.
     #[test]
     fn checks_average_as_documented() {
         let dir = tempfile::tempdir().unwrap();
@@ -334,7 +356,8 @@ mod tests {
             outlet_velocity: Some(u),
             tube_particles: Some(n),
             tube_axial_velocity: (n > 0).then_some(v),
-            chamber_particles: Some(c),
+            chamber_particles: Some(c + 2),
+            annulus_particles: Some(c),
             ..Sample::default()
         };
         let s = [
@@ -344,12 +367,19 @@ mod tests {
         ];
         let mut notes = Vec::new();
         let c = checks(&spec(), &s, dir.path(), &mut notes).unwrap();
-        assert_eq!(c.len(), 4);
+        assert_eq!(c.len(), 3);
         assert_eq!(c[0].simulated, 63.0);
         assert!(c[0].pass && c[1].pass);
-        assert_eq!(c[2].simulated, (4.0 + 18.0) / 4.0);
-        assert_eq!(c[3].simulated, 0.95);
-        assert!(c[3].pass);
+        assert_eq!(c[2].simulated, 0.95);
+        assert!(c[2].pass);
+        let v = (4.0 + 18.0) / 4.0;
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains(&format!("tube {v:.3} m/s"))),
+            "{notes:?}"
+        );
+        assert!(notes.iter().any(|n| n.contains("7 of 102 in the chamber")));
         assert!(dir.path().join("outlet_velocity.png").is_file());
     }
 
@@ -362,6 +392,7 @@ mod tests {
             outlet_velocity: Some(30.0),
             tube_particles: Some(0),
             chamber_particles: Some(100),
+            annulus_particles: Some(100),
             ..Sample::default()
         }];
         let mut notes = Vec::new();

@@ -164,6 +164,7 @@ impl ValidationSpec {
                     inlet: word(&d, path, "inletPatch")?,
                     outlet: word(&d, path, "outletPatch")?,
                     chamber_top: tolerance(&d, path, "chamberTop")?,
+                    annulus_top: tolerance(&d, path, "annulusTop")?,
                     tube_from: tolerance(&d, path, "tubeFrom")?,
                     averaging_from: tolerance(&d, path, "averagingFrom")?,
                     outlet_velocity: tolerance(&d, path, "outletVelocity")?,

@@ -286,7 +286,12 @@ impl Observer {
         let inlet_velocity = self.inlet.as_deref().and_then(|n| fluid.inflow_velocity(n));
         let zones = self.conveyor.as_ref().map(|spec| {
             let z = crate::conveyor::Zones::measure(spec, ax, ps.position, ps.velocity);
-            let mut sums = [z.tube as f64, z.tube_axial_sum, z.chamber as f64];
+            let mut sums = [
+                z.tube as f64,
+                z.tube_axial_sum,
+                z.chamber as f64,
+                z.annulus as f64,
+            ];
             ranks.all_sum(&mut sums);
             let outlet = fluid.inflow_velocity(&spec.outlet).map(|u| -u);
             (sums, outlet)
@@ -324,6 +329,7 @@ impl Observer {
             tube_particles: zones.map(|z| z.0[0] as usize),
             tube_axial_velocity: zones.and_then(|z| (z.0[0] > 0.0).then(|| z.0[1] / z.0[0])),
             chamber_particles: zones.map(|z| z.0[2] as usize),
+            annulus_particles: zones.map(|z| z.0[3] as usize),
         }
     }
 }

@@ -65,9 +65,11 @@ pub struct Sample {
     pub tube_axial_velocity: Option<f64>,
     /// Particles still in the conveyor's chamber (axial coordinate < its `chamberTop`).
     pub chamber_particles: Option<usize>,
+    /// Of those, the particles in its annulus (axial coordinate < its `annulusTop`).
+    pub annulus_particles: Option<usize>,
 }
 
-const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles";
+const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles";
 
 /// The rows of an earlier run's CSV at `path` up to time `start` (s; to a relative 10⁻⁹),
 /// as text: what a run restarted at `start` keeps (none when there is no such file or its
@@ -110,7 +112,7 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
         for s in samples {
             writeln!(
                 w,
-                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{}",
+                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{}",
                 s.time,
                 o(s.inlet_velocity),
                 o(s.pressure_drop),
@@ -142,7 +144,8 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
                 o(s.outlet_velocity),
                 n(s.tube_particles),
                 o(s.tube_axial_velocity),
-                n(s.chamber_particles)
+                n(s.chamber_particles),
+                n(s.annulus_particles)
             )?;
         }
         Ok(())
