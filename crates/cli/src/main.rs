@@ -52,6 +52,7 @@ enum Command {
 }
 
 fn main() {
+    restore_default_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
@@ -67,5 +68,14 @@ fn main() {
     if let Err(e) = result {
         eprintln!("error: {e:#}");
         std::process::exit(1);
+    }
+}
+
+/// A closed pipe ends foamgrain quietly, as it ends `cat` or `grep` (`foamgrain timestep | head`):
+/// Rust's runtime ignores SIGPIPE, which turns the closed pipe into a panic in `println!`.
+fn restore_default_sigpipe() {
+    // SAFETY: called first in `main`, before any thread exists; SIG_DFL is a valid disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }

@@ -140,6 +140,29 @@ fn bad_input_fails_with_a_message_naming_it() {
     );
 }
 
+/// Output into a pipe whose reader is gone (`foamgrain info … | head` after head exits) ends the
+/// process by SIGPIPE, as it ends `cat`, not by a panic.
+#[test]
+fn a_closed_pipe_ends_the_output_without_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let case = fixture("foam/cavity");
+    let o = Command::new(env!("CARGO_BIN_EXE_foamgrain"))
+        .args(["info", "--case", case.to_str().unwrap()])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(
+        o.status.signal(),
+        Some(libc::SIGPIPE),
+        "{:?}: {stderr}",
+        o.status
+    );
+}
+
 #[test]
 fn every_command_has_help() {
     for args in [
