@@ -37,8 +37,8 @@ if [ ! -f "$pack" ]; then
     cp "$out/pack/DEM/post/packed.data" "$pack"
 fi
 
-printf '%-9s %-11s %4s %8s %7s %7s %9s %7s  %s\n' dem order run "loop s" "DEM %" "fluid %" \
-    "coupl. %" "out %" "solver waits (ms/interval)"
+printf '%-9s %-11s %4s %8s %7s %7s %9s %7s %9s %s\n' dem order run "loop s" "DEM %" "fluid %" \
+    "coupl. %" "out %" "transfer" "solver waits (ms/interval)"
 for dem in $dems; do
     for r in $(seq 1 "$repeat"); do
         for order in overlap sequential; do
@@ -57,12 +57,12 @@ log, dem, order, r = sys.argv[1:]
 text = open(log, errors="replace").read()
 m = re.search(r"coupled loop ([\d.]+) s: DEM ([\d.]+) % fluid ([\d.]+) % coupling ([\d.]+) % "
               r"output ([\d.]+) %", text)
-w = re.search(r"([\d.]+) ms waiting for the solver", text)
+w = re.search(r"([\d.]+) ms transfer, ([\d.]+) ms waiting for the solver", text)
 if not m:
     print(f"{dem:9} {order:11} {r:>4}  failed: see {log}")
 else:
-    print(f"{dem:9} {order:11} {r:>4} {m[1]:>8} {m[2]:>7} {m[3]:>7} {m[4]:>9} {m[5]:>7}  "
-          f"{w[1] if w else '?'}")
+    print(f"{dem:9} {order:11} {r:>4} {m[1]:>8} {m[2]:>7} {m[3]:>7} {m[4]:>9} {m[5]:>7} "
+          f"{w[1] if w else '?':>9} {w[2] if w else '?'}")
 PY
         done
         a="$out/$dem-overlap-$r/postProcessing/integrals.csv"
