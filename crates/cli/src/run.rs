@@ -62,6 +62,11 @@ pub struct RunArgs {
     /// Run the packing deck again even if its output exists.
     #[arg(long)]
     pub repack: bool,
+    /// With `--fluid openfoam`: wait for grainPisoFoam's advance before the next DEM interval
+    /// instead of running the two at once (the results are the same bit for bit; for timing
+    /// comparisons).
+    #[arg(long)]
+    pub no_overlap: bool,
 }
 
 fn parse_vars(vars: &[String]) -> anyhow::Result<Vec<(String, String)>> {
@@ -90,6 +95,7 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
             DemBackend::LiggghtsFile => runner::backend::DemBackend::LiggghtsFile,
         },
         fluid_ranks: a.np.unwrap_or(0),
+        no_overlap: a.no_overlap,
     };
     let stop = Arc::new(AtomicBool::new(false));
     {

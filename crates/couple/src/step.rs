@@ -11,6 +11,12 @@
 //!    [`crate::blend`]); the particle side gets (F_ext, β, u_f);
 //! 5. the fluid advances one coupling interval, `couplingInterval × dt_DEM`.
 //!
+//! Step 5 needs the exchange fields of step 4 only, and the next step 1 only the forces of
+//! step 4: [`Coupler::step`] is [`Coupler::advance_particles`] (step 1), [`Coupler::hand_over`]
+//! (steps 2–4) and the fluid's advance, and a caller whose fluid runs in processes of its own
+//! may leave that advance running while the particles advance the next interval (the runner
+//! does so with grainPisoFoam), waiting for it before the next hand-over reads the fluid.
+//!
 //! [`Coupler::exchange`] does steps 2–4 for given states without touching either side (what a
 //! one-way replay needs). On several ranks ([`Coupler::set_ranks`], [`crate::ranks`]) each
 //! rank runs the same steps on its own particles; steps 2 and 4 then sum the cells' shares on
@@ -572,14 +578,41 @@ impl Coupler {
         o.force = V3::new(out[2], out[3], out[4]);
     }
 
-    /// One coupling step (module docs).
+    /// One coupling step (module docs): [`Coupler::advance_particles`], [`Coupler::hand_over`],
+    /// then the fluid advances the interval.
     pub fn step<P: ParticleSide, F: FluidSide>(
         &mut self,
         particles: &mut P,
         fluid: &mut F,
     ) -> Result<CouplingStep, CoupleError> {
+        self.advance_particles(particles)?;
+        let (step, dt) = self.hand_over(particles, fluid)?;
+        fluid.advance(dt).map_err(fluid_err)?;
+        Ok(step)
+    }
+
+    /// Step 1 of the module docs: the particle side advances `couplingInterval` DEM steps
+    /// (with the forces of the last exchange).
+    pub fn advance_particles<P: ParticleSide>(
+        &mut self,
+        particles: &mut P,
+    ) -> Result<(), CoupleError> {
+        particles
+            .advance(self.settings.coupling_interval)
+            .map_err(particle_err)
+    }
+
+    /// Steps 2–4 of the module docs on the sides themselves: the exchange for the particles
+    /// now and the fluid now, the exchange fields handed to the fluid and the forces to the
+    /// particles. Returns the step and the coupling interval (s) the fluid must then advance
+    /// (step 5, left to the caller, who may run it while the particles advance the next
+    /// interval: that interval needs only the forces handed over here).
+    pub fn hand_over<P: ParticleSide, F: FluidSide>(
+        &mut self,
+        particles: &mut P,
+        fluid: &mut F,
+    ) -> Result<(CouplingStep, f64), CoupleError> {
         let interval = self.settings.coupling_interval;
-        particles.advance(interval).map_err(particle_err)?;
         let old = self.voidage.clone();
         let step = self.exchange(&particles.state(), &fluid.state())?;
         let dt = interval as f64 * particles.time_step();
@@ -609,9 +642,8 @@ impl Coupler {
         particles
             .set_forces(&s.f_ext, &s.beta, &s.u_f)
             .map_err(particle_err)?;
-        fluid.advance(dt).map_err(fluid_err)?;
         self.steps += 1;
-        Ok(step)
+        Ok((step, dt))
     }
 
     /// `n` coupling steps; `each` sees every step's result (whose buffers are then recycled).

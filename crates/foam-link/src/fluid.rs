@@ -72,6 +72,16 @@ pub struct OpenFoamFluid {
     whole: bool,
     /// In a sparse run with `whole`: ε, Ksl, Us and f the solver held in the last advance.
     held: Option<HeldFields>,
+    /// An advance that has been started and whose reply has not been received yet
+    /// ([`OpenFoamFluid::start_interval`]).
+    pending: Option<Pending>,
+}
+
+/// What [`OpenFoamFluid::finish_interval`] needs of the advance it completes.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    /// The reply's tag: [`tag::STATE`], [`tag::PATCH_STATE`] or [`tag::WHOLE_STATE`].
+    reply: i32,
 }
 
 /// The exchange fields the solver held in an advance of a sparse run (global cell order, ADR
@@ -215,6 +225,7 @@ impl OpenFoamFluid {
             sparse: false,
             whole: false,
             held: None,
+            pending: None,
             case,
             map: RankMap::serial(0),
             patch_names: Vec::new(),
@@ -373,6 +384,11 @@ impl OpenFoamFluid {
     /// Writes every field now through OpenFOAM (runTime.writeNow(); in `processorN/` when
     /// decomposed). Time directories at controlDict's write times are written anyway.
     pub fn write(&mut self) -> Result<(), LinkError> {
+        if self.pending.is_some() {
+            return Err(LinkError::Parameter(
+                "write while an advance is under way (finish_interval first)".into(),
+            ));
+        }
         self.command_all(Command::Write, "the write to finish")
     }
 
@@ -390,6 +406,8 @@ impl OpenFoamFluid {
         if self.stopped {
             return Ok(());
         }
+        // an advance under way replies first: the solver reads the stop command after it
+        self.finish_interval()?;
         self.stopped = true;
         self.command_all(Command::Stop, "the solver to stop")?;
         for rank in 0..self.ranks() {
@@ -431,11 +449,32 @@ impl OpenFoamFluid {
     }
 
     /// Advances one coupling interval of `dt` seconds: `round(dt / deltaT)` (at least 1)
-    /// steps of equal length, ε blended linearly from the interval's old to its new field.
+    /// steps of equal length, ε blended linearly from the interval's old to its new field
+    /// ([`OpenFoamFluid::start_interval`] and [`OpenFoamFluid::finish_interval`]).
     pub fn advance_interval(&mut self, dt: f64) -> Result<(), LinkError> {
+        self.start_interval(dt)?;
+        self.finish_interval()
+    }
+
+    /// True between [`OpenFoamFluid::start_interval`] and [`OpenFoamFluid::finish_interval`].
+    pub fn is_advancing(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// Starts advancing one coupling interval (as [`OpenFoamFluid::advance_interval`]): sends
+    /// the command and the exchange fields and returns while the solver computes. Until
+    /// [`OpenFoamFluid::finish_interval`], the state, time and patch sums are those before the
+    /// advance; the solver's replies wait in MPI meanwhile (a solver that dies is found by
+    /// `finish_interval`).
+    pub fn start_interval(&mut self, dt: f64) -> Result<(), LinkError> {
         if self.stopped {
             return Err(LinkError::Parameter(
                 "advance after the solver was stopped".into(),
+            ));
+        }
+        if self.pending.is_some() {
+            return Err(LinkError::Parameter(
+                "advance while the last one is under way (finish_interval first)".into(),
             ));
         }
         if !self.has_fields {
@@ -447,36 +486,66 @@ impl OpenFoamFluid {
             return Err(LinkError::Parameter(format!("coupling interval {dt} s")));
         }
         let steps = (dt / self.delta_t).round().max(1.0) as u64;
-        if self.sparse {
-            return self.advance_held(steps, dt);
-        }
-        let command = Command::Advance {
-            steps,
-            step_length: dt / steps as f64,
-            first: self.stats.intervals == 0,
+        let first = self.stats.intervals == 0;
+        let step_length = dt / steps as f64;
+        let t = Instant::now();
+        let reply = if self.sparse {
+            self.start_held(steps, step_length, first)?
+        } else {
+            let words = Command::Advance {
+                steps,
+                step_length,
+                first,
+            }
+            .words();
+            let packed = std::mem::take(&mut self.packed);
+            let sent = (0..self.ranks()).try_for_each(|rank| {
+                self.tp()
+                    .send(rank, &words, tag::COMMAND, "the command to arrive")?;
+                self.tp()
+                    .send(rank, &packed[rank], tag::FIELDS, "the fields to arrive")
+            });
+            self.packed = packed;
+            sent?;
+            self.stats.bytes_sent += (8
+                * (words.len() * self.ranks() + self.packed.iter().map(Vec::len).sum::<usize>()))
+                as u64;
+            tag::STATE
+        };
+        self.stats.transfer_seconds += t.elapsed().as_secs_f64();
+        self.pending = Some(Pending { reply });
+        Ok(())
+    }
+
+    /// Completes the advance [`OpenFoamFluid::start_interval`] started: receives every
+    /// rank's reply (the state, or in a sparse run the patch sums and, with `whole`, the
+    /// whole state and held fields). A no-op when no advance is under way.
+    pub fn finish_interval(&mut self) -> Result<(), LinkError> {
+        let Some(Pending { reply }) = self.pending.take() else {
+            return Ok(());
         };
         let wait_before = self.tp().wait_seconds;
         let t = Instant::now();
-        let words = command.words();
-        let packed = std::mem::take(&mut self.packed);
-        let sent = (0..self.ranks()).try_for_each(|rank| {
-            self.tp()
-                .send(rank, &words, tag::COMMAND, "the command to arrive")?;
-            self.tp()
-                .send(rank, &packed[rank], tag::FIELDS, "the fields to arrive")
-        });
-        self.packed = packed;
-        sent?;
-        self.stats.bytes_sent += (8
-            * (words.len() * self.ranks() + self.packed.iter().map(Vec::len).sum::<usize>()))
-            as u64;
         self.state.clear_sums();
         let mut time = self.state.time;
+        let n_patches = self.patch_names.len();
         for rank in 0..self.ranks() {
-            let msg: Vec<f64> = self.tp().receive(rank, tag::STATE, "the fluid state")?;
+            let msg: Vec<f64> = self.tp().receive(rank, reply, "the fluid state")?;
             self.stats.bytes_received += 8 * msg.len() as u64;
-            let cells = self.map.cells_of(rank);
-            time = match self.state.scatter(cells, &msg) {
+            let got = if reply == tag::STATE {
+                self.state.scatter(self.map.cells_of(rank), &msg)
+            } else if reply == tag::WHOLE_STATE {
+                let cells = self.map.cells_of(rank).to_vec();
+                let n = cells.len();
+                let split = (1 + STATE_WORDS_PER_CELL * n + PATCH_WORDS * n_patches).min(msg.len());
+                let (state, held) = msg.split_at(split);
+                let held_fields = self.held.as_mut().expect("allocated by start_held");
+                scatter_held(&cells, held, held_fields)
+                    .and_then(|()| self.state.scatter(&cells, state))
+            } else {
+                self.state.add_patch_sums(&msg)
+            };
+            time = match got {
                 Ok(t) => t,
                 Err(m) => return Err(self.protocol_error(rank, m)),
             };
@@ -508,26 +577,22 @@ impl OpenFoamFluid {
         self.sparse
     }
 
-    /// [`OpenFoamFluid::advance_interval`] of a sparse run: the solver advances with the fields
-    /// of the last sparse exchange and replies with the patch sums (or everything, `whole`).
-    fn advance_held(&mut self, steps: u64, dt: f64) -> Result<(), LinkError> {
-        let command = Command::AdvanceHeld {
+    /// [`OpenFoamFluid::start_interval`] of a sparse run: the solver advances with the fields
+    /// of the last sparse exchange and replies with the patch sums (or everything, `whole`);
+    /// returns the reply's tag.
+    fn start_held(&mut self, steps: u64, step_length: f64, first: bool) -> Result<i32, LinkError> {
+        let words = Command::AdvanceHeld {
             steps,
-            step_length: dt / steps as f64,
-            first: self.stats.intervals == 0,
+            step_length,
+            first,
             whole: self.whole,
-        };
-        let wait_before = self.tp().wait_seconds;
-        let t = Instant::now();
-        let words = command.words();
+        }
+        .words();
         for rank in 0..self.ranks() {
             self.tp()
                 .send(rank, &words, tag::COMMAND, "the command to arrive")?;
         }
         self.stats.bytes_sent += (8 * words.len() * self.ranks()) as u64;
-        self.state.clear_sums();
-        let mut time = self.state.time;
-        let n_patches = self.patch_names.len();
         if self.whole && self.held.is_none() {
             let n = self.map.n_cells();
             self.held = Some(HeldFields {
@@ -537,35 +602,11 @@ impl OpenFoamFluid {
                 f: vec![V3::zeros(); n],
             });
         }
-        for rank in 0..self.ranks() {
-            let cells = self.map.cells_of(rank).to_vec();
-            let expected_tag = if self.whole {
-                tag::WHOLE_STATE
-            } else {
-                tag::PATCH_STATE
-            };
-            let msg: Vec<f64> = self.tp().receive(rank, expected_tag, "the fluid state")?;
-            self.stats.bytes_received += 8 * msg.len() as u64;
-            let got = if self.whole {
-                let n = cells.len();
-                let split = (1 + STATE_WORDS_PER_CELL * n + PATCH_WORDS * n_patches).min(msg.len());
-                let (state, held) = msg.split_at(split);
-                let held_fields = self.held.as_mut().expect("allocated above");
-                scatter_held(&cells, held, held_fields)
-                    .and_then(|()| self.state.scatter(&cells, state))
-            } else {
-                self.state.add_patch_sums(&msg)
-            };
-            time = match got {
-                Ok(t) => t,
-                Err(m) => return Err(self.protocol_error(rank, m)),
-            };
-        }
-        self.state.time = time;
-        self.stats.intervals += 1;
-        let waited = self.tp().wait_seconds - wait_before;
-        self.stats.transfer_seconds += t.elapsed().as_secs_f64() - waited;
-        Ok(())
+        Ok(if self.whole {
+            tag::WHOLE_STATE
+        } else {
+            tag::PATCH_STATE
+        })
     }
 }
 

@@ -27,6 +27,24 @@ pub trait RunFluid: FluidSide {
         mesh: &PolyMesh,
         step: &CouplingStep,
     ) -> Result<String, SideError>;
+    /// Starts advancing by `dt` seconds (one coupling interval), with the exchange fields last
+    /// set. A fluid that runs in processes of its own ([`RunFluid::runs_apart`]) returns
+    /// while it computes, so the run can advance the particles meanwhile; until
+    /// [`RunFluid::finish_advance`] its state, time and patch values are those before the
+    /// advance. The default advances at once.
+    fn start_advance(&mut self, dt: f64) -> Result<(), SideError> {
+        self.advance(dt)
+    }
+    /// Waits for the advance [`RunFluid::start_advance`] started (a no-op when it is done).
+    fn finish_advance(&mut self) -> Result<(), SideError> {
+        Ok(())
+    }
+    /// True when [`RunFluid::start_advance`] returns before the fluid has advanced: the fluid
+    /// computes on cores of its own while this process goes on. False for in-process solvers
+    /// (the native fluid computes on the cores the DEM's threads use).
+    fn runs_apart(&self) -> bool {
+        false
+    }
     /// A line on what the backend's exchange cost (external solvers), for the run's log.
     fn report(&self) -> Option<String> {
         None

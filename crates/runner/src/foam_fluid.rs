@@ -2,7 +2,9 @@
 //!
 //! The solver writes its own time directories (U, p, voidfraction, Ksl, Us, f: it holds the
 //! exchange fields as its own fields); a run's write asks it to write now, in `processorN/`
-//! when decomposed, and [`RunFluid::finish`] stops it and reconstructs.
+//! when decomposed, and [`RunFluid::finish`] stops it and reconstructs. An advance can be
+//! started and finished apart ([`RunFluid::start_advance`]): the solver's ranks compute while
+//! the run advances the particles.
 
 use crate::fluid::{HeldExchange, RunFluid};
 use couple::{CouplingStep, ExchangeFields, FluidSide, FluidState, SideError};
@@ -80,6 +82,18 @@ impl RunFluid for FoamFluid {
         let solver = self.solver_mut()?;
         solver.write()?;
         Ok(format!("{}", solver.time()))
+    }
+
+    fn start_advance(&mut self, dt: f64) -> Result<(), SideError> {
+        Ok(self.solver_mut()?.start_interval(dt)?)
+    }
+
+    fn finish_advance(&mut self) -> Result<(), SideError> {
+        Ok(self.solver_mut()?.finish_interval()?)
+    }
+
+    fn runs_apart(&self) -> bool {
+        true
     }
 
     fn report(&self) -> Option<String> {

@@ -95,6 +95,10 @@ pub struct RunOptions {
     /// MPI ranks of the fluid solver (OpenFOAM backend; 0: `numberOfSubdomains` of the case's
     /// `system/decomposeParDict`, 1 without one).
     pub fluid_ranks: usize,
+    /// Advance the fluid and the DEM one after the other even where the fluid computes in
+    /// processes of its own (grainPisoFoam), whose advance otherwise runs during the next DEM
+    /// interval; the results are the same bit for bit.
+    pub no_overlap: bool,
 }
 
 /// What a run reports as it goes.
@@ -235,10 +239,11 @@ struct Observer {
 impl Observer {
     /// The step's integrals. Collective on N ranks (each gives its own particles); rank 0's
     /// sample is the run's.
-    fn sample<P: ParticleSide, F: RunFluid>(
+    ///
+    /// The particle side's part only: [`Observer::observe_fluid`] adds the time and the
+    /// fluid's, once the fluid has advanced the step's interval.
+    fn sample<P: ParticleSide>(
         &self,
-        time: f64,
-        fluid: &F,
         dem: &P,
         step: &CouplingStep,
         ranks: &dyn couple::Ranks,
@@ -278,12 +283,6 @@ impl Observer {
             .filter(|v| v.len() == 2)
             .min_by(|a, b| a[0].total_cmp(&b[0]))
             .map_or(0.0, |v| v[1]);
-        let p_mean = |name: &Option<String>| name.as_deref().and_then(|n| fluid.patch_pressure(n));
-        let pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
-            (Some(a), Some(b)) => Some(self.rho * (a - b)),
-            _ => None,
-        };
-        let inlet_velocity = self.inlet.as_deref().and_then(|n| fluid.inflow_velocity(n));
         let zones = self.conveyor.as_ref().map(|spec| {
             let z = crate::conveyor::Zones::measure(spec, ax, ps.position, ps.velocity);
             let mut sums = [
@@ -293,13 +292,12 @@ impl Observer {
                 z.annulus as f64,
             ];
             ranks.all_sum(&mut sums);
-            let outlet = fluid.inflow_velocity(&spec.outlet).map(|u| -u);
-            (sums, outlet)
+            sums
         });
         Sample {
-            time,
-            inlet_velocity,
-            pressure_drop,
+            time: f64::NAN,
+            inlet_velocity: None,
+            pressure_drop: None,
             bed_height: bed.map(|b| b.height),
             bed_voidage: bed.map(|b| b.voidage),
             kinetic_energy: ke,
@@ -325,12 +323,183 @@ impl Observer {
             volume_out: step.population.volume_out,
             momentum_in: step.population.momentum_in.into(),
             momentum_out: step.population.momentum_out.into(),
-            outlet_velocity: zones.and_then(|z| z.1),
-            tube_particles: zones.map(|z| z.0[0] as usize),
-            tube_axial_velocity: zones.and_then(|z| (z.0[0] > 0.0).then(|| z.0[1] / z.0[0])),
-            chamber_particles: zones.map(|z| z.0[2] as usize),
-            annulus_particles: zones.map(|z| z.0[3] as usize),
+            outlet_velocity: None,
+            tube_particles: zones.map(|z| z[0] as usize),
+            tube_axial_velocity: zones.and_then(|z| (z[0] > 0.0).then(|| z[1] / z[0])),
+            chamber_particles: zones.map(|z| z[2] as usize),
+            annulus_particles: zones.map(|z| z[3] as usize),
         }
+    }
+
+    /// The fluid's part of a step's sample (rank 0's is the run's): its time and, from the
+    /// patches, Δp between inlet and outlet, the inflow velocity and a conveyor's outflow.
+    fn observe_fluid<F: RunFluid>(&self, sample: &mut Sample, fluid: &F) {
+        let p_mean = |name: &Option<String>| name.as_deref().and_then(|n| fluid.patch_pressure(n));
+        sample.time = fluid.time();
+        sample.pressure_drop = match (p_mean(&self.inlet), p_mean(&self.outlet)) {
+            (Some(a), Some(b)) => Some(self.rho * (a - b)),
+            _ => None,
+        };
+        sample.inlet_velocity = self.inlet.as_deref().and_then(|n| fluid.inflow_velocity(n));
+        sample.outlet_velocity = self
+            .conveyor
+            .as_ref()
+            .and_then(|spec| fluid.inflow_velocity(&spec.outlet))
+            .map(|u| -u);
+    }
+}
+
+/// A coupling step whose particle side is done (advanced, sampled) while the fluid may still
+/// be advancing its interval: with grainPisoFoam the run starts the next DEM interval before
+/// it waits for the fluid, then closes this step ([`Outputs::close`]) with the fluid's time,
+/// patches and state after the interval, as the sequential order would. Steps that write, stop
+/// or may run liggghtsCommands close before the DEM goes on (they need the particles of the
+/// step and the fluid's clock).
+struct Open {
+    /// The step's number (1-based).
+    k: u64,
+    step: CouplingStep,
+    /// Its particle side's part.
+    sample: Sample,
+    /// The step writes a time (write interval, last step or stop).
+    write_now: bool,
+}
+
+/// What the run writes as its steps close: samples, monitors, time directories, particles.
+struct Outputs<'a> {
+    layout: &'a CaseLayout,
+    observer: &'a Observer,
+    monitors: RunMonitors,
+    commands: &'a couple::config::LiggghtsCommands,
+    csv: PathBuf,
+    kept_rows: Vec<String>,
+    samples: Vec<Sample>,
+    vtp: Vec<(f64, PathBuf)>,
+    /// ε of the last step (for ∂ε/∂t) and ∂ε/∂t, per cell.
+    eps_before: Vec<f64>,
+    ddt_eps: Vec<f64>,
+    cell_volumes: Vec<f64>,
+    mesh: &'a foam::PolyMesh,
+    rho: f64,
+    /// Write times so far.
+    writes: u64,
+    output_seconds: f64,
+    start: f64,
+    end: f64,
+    dt_c: f64,
+    steps: u64,
+    rank: usize,
+    n_ranks: usize,
+}
+
+impl Outputs<'_> {
+    /// Closes step `o` once the fluid has advanced its interval: the fluid's part of the
+    /// sample, the monitors, and at a write step (then `dem` still holds the step's particles)
+    /// liggghtsCommands and the outputs. Returns the step for [`Coupler::recycle`]. Not
+    /// collective on N ranks (only the particle files are written per rank).
+    fn close<P: ParticleSide, F: RunFluid>(
+        &mut self,
+        o: Open,
+        dem: &mut Timed<P>,
+        fluid: &mut Timed<F>,
+        events: &mut dyn FnMut(Event),
+    ) -> Result<CouplingStep, RunError> {
+        let Open {
+            k,
+            mut step,
+            mut sample,
+            write_now,
+        } = o;
+        if let Some(h) = fluid.inner.held_exchange() {
+            // the cells' owners formed the whole fields (rank 0 holds only its own particles')
+            step.voidage.epsilon = h.eps.to_vec();
+            step.exchange.ksl = h.ksl.to_vec();
+            step.exchange.us = h.us.to_vec();
+            step.exchange.f = h.f.to_vec();
+        }
+        self.observer.observe_fluid(&mut sample, &fluid.inner);
+        let time = sample.time;
+        self.samples.push(sample);
+        let rank = self.rank;
+        if !self.monitors.is_empty() && rank == 0 {
+            let eps = &step.voidage.epsilon;
+            if self.monitors.needs_ddt {
+                for ((d, e), b) in self.ddt_eps.iter_mut().zip(eps).zip(&self.eps_before) {
+                    *d = (e - b) / self.dt_c;
+                }
+                self.eps_before.clone_from(eps);
+            }
+            let fields = StepFields {
+                eps,
+                ddt_eps: &self.ddt_eps,
+                fluid: fluid.inner.state(),
+                step: &step,
+                rho: self.rho,
+            };
+            for line in self.monitors.observe(time, &self.cell_volumes, &fields) {
+                events(Event::Message(line));
+            }
+        }
+        if write_now {
+            self.writes += 1;
+        }
+        let now = couple::config::commands::Moment {
+            step: k,
+            steps: self.steps,
+            time,
+            elapsed: time - self.start,
+            dt_c: self.dt_c,
+            write: write_now,
+            writes: self.writes,
+        };
+        for c in &self.commands.commands {
+            if let Some(cmd) = c.due(now) {
+                run_command(dem, &cmd, self.layout, events)?;
+            }
+        }
+        if write_now {
+            let t = Instant::now();
+            let pieces = Pieces {
+                rank,
+                ranks: self.n_ranks,
+                name: couple::output::time_name(self.start + k as f64 * self.dt_c),
+            };
+            let name = write_time(
+                self.layout,
+                &mut fluid.inner,
+                self.mesh,
+                &dem.state(),
+                &step,
+                &mut self.vtp,
+                &pieces,
+            )?;
+            if rank == 0 {
+                write_csv(&self.csv, &self.kept_rows, &self.samples).map_err(io_err(&self.csv))?;
+            }
+            if !self.monitors.is_empty() && rank == 0 {
+                let fields = StepFields {
+                    eps: &step.voidage.epsilon,
+                    ddt_eps: &self.ddt_eps,
+                    fluid: fluid.inner.state(),
+                    step: &step,
+                    rho: self.rho,
+                };
+                let dir = self.layout.cfd.join(&name);
+                let particles = dem.state();
+                let particles = (self.n_ranks == 1).then_some(&particles);
+                self.monitors
+                    .write_time(&dir, &name, self.mesh, &fields, particles)?;
+            }
+            self.output_seconds += t.elapsed().as_secs_f64();
+        }
+        events(Event::Step {
+            time,
+            end: self.end,
+            step: k,
+            steps: self.steps,
+            sample: Box::new(*self.samples.last().expect("pushed above")),
+        });
+        Ok(step)
     }
 }
 
@@ -377,11 +546,11 @@ struct Pieces {
 }
 
 /// Writes one output time: fluid U and p, the exchange fields and the particles.
-fn write_time<P: ParticleSide, F: RunFluid>(
+fn write_time<F: RunFluid>(
     layout: &CaseLayout,
     fluid: &mut F,
     mesh: &foam::PolyMesh,
-    dem: &P,
+    ps: &couple::ParticleState<'_>,
     step: &CouplingStep,
     vtp: &mut Vec<(f64, PathBuf)>,
     pieces: &Pieces,
@@ -389,7 +558,6 @@ fn write_time<P: ParticleSide, F: RunFluid>(
     let name = fluid
         .write_time(&layout.cfd, mesh, step)
         .map_err(RunError::Fluid)?;
-    let ps = dem.state();
     let pdir = layout.post_processing().join("particles");
     std::fs::create_dir_all(&pdir).map_err(io_err(&pdir))?;
     let piece = |r: usize| {
@@ -842,11 +1010,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
 
     let post = layout.post_processing();
     let csv = post.join("integrals.csv");
-    let mut samples = Vec::with_capacity(steps as usize);
     // A run started from a later time (`startFrom latestTime`, a restart) continues the
     // earlier run's series: its rows and particle files up to the start time are kept.
     let restart = start > 0.0;
-    let (kept_rows, mut vtp) = match restart {
+    let (kept_rows, vtp) = match restart {
         true => (
             crate::sample::rows_until(&csv, start),
             pvd_entries_until(&post.join("particles/particles.pvd"), start),
@@ -860,29 +1027,57 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             vtp.len()
         )));
     }
-    let mut output_seconds = 0.0;
+    // grainPisoFoam computes in its own processes: its advance of step k runs while the
+    // particles advance interval k + 1 (which needs only the forces of step k), and step k's
+    // fluid-side outputs wait for it (module docs of `Open`).
+    let overlap = !opts.no_overlap && fluid.inner.runs_apart();
+    if overlap {
+        events(Event::Message(
+            "overlap: the fluid's advance runs during the next DEM interval (not at write \
+             times or liggghtsCommands; --no-overlap for the sequential order)"
+                .into(),
+        ));
+    }
     let mut stopped = false;
     let t_loop = Instant::now();
     let start_name = couple::output::time_name(start);
-    let mut monitors = RunMonitors::new(&monitors, &layout.cfd, &start_name);
     let cell_volumes = coupler.voidage_mesh().geometry().cell_volumes.clone();
-    let mut eps_before = coupler.voidage().to_vec();
-    let mut ddt_eps = vec![0.0; mesh.n_cells];
-    let mut writes = 0;
+    let mut out = Outputs {
+        layout,
+        observer: &observer,
+        monitors: RunMonitors::new(&monitors, &layout.cfd, &start_name),
+        commands: &commands,
+        csv,
+        kept_rows,
+        samples: Vec::with_capacity(steps as usize),
+        vtp,
+        eps_before: coupler.voidage().to_vec(),
+        ddt_eps: vec![0.0; mesh.n_cells],
+        cell_volumes,
+        mesh: &mesh,
+        rho: settings.physics.rho,
+        writes: 0,
+        output_seconds: 0.0,
+        start,
+        end,
+        dt_c,
+        steps,
+        rank,
+        n_ranks,
+    };
     let mut held_max = 0;
+    let mut open: Option<Open> = None;
     for k in 1..=steps {
-        let mut step = coupler.step(&mut dem, &mut fluid)?;
-        if let Some(h) = fluid.inner.held_exchange() {
-            // the cells' owners formed the whole fields (rank 0 holds only its own particles')
-            step.voidage.epsilon = h.eps.to_vec();
-            step.exchange.ksl = h.ksl.to_vec();
-            step.exchange.us = h.us.to_vec();
-            step.exchange.f = h.f.to_vec();
+        coupler.advance_particles(&mut dem)?;
+        if let Some(o) = open.take() {
+            fluid.finish_advance().map_err(RunError::Fluid)?;
+            let step = out.close(o, &mut dem, &mut fluid, events)?;
+            coupler.recycle(step);
         }
+        let (step, dt) = coupler.hand_over(&mut dem, &mut fluid)?;
+        fluid.start_advance(dt).map_err(RunError::Fluid)?;
         held_max = held_max.max(dem.state().len());
-        let time = fluid.inner.time();
-        let sample = observer.sample(time, &fluid.inner, &dem, &step, coupler.ranks());
-        samples.push(sample);
+        let sample = observer.sample(&dem, &step, coupler.ranks());
         // every rank stops at the same step (a signal reaches the ranks at different steps)
         let stop_now = {
             let mut s = [f64::from(u8::from(stop.load(Ordering::SeqCst)))];
@@ -890,92 +1085,43 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             s[0] > 0.0
         };
         let write_now = k % write_every == 0 || k == steps || stop_now;
-        if !monitors.is_empty() && rank == 0 {
-            let eps = &step.voidage.epsilon;
-            if monitors.needs_ddt {
-                for c in 0..eps.len() {
-                    ddt_eps[c] = (eps[c] - eps_before[c]) / dt_c;
-                }
-                eps_before.clone_from(eps);
-            }
-            let fields = StepFields {
-                eps,
-                ddt_eps: &ddt_eps,
-                fluid: fluid.inner.state(),
-                step: &step,
-                rho: settings.physics.rho,
-            };
-            for line in monitors.observe(time, &cell_volumes, &fields) {
-                events(Event::Message(line));
-            }
-        }
-        if write_now {
-            writes += 1;
-        }
-        let now = couple::config::commands::Moment {
-            step: k,
-            steps,
-            time,
-            elapsed: time - start,
-            dt_c,
-            write: write_now,
-            writes,
+        let o = Open {
+            k,
+            step,
+            sample,
+            write_now,
         };
-        for c in &commands.commands {
-            if let Some(cmd) = c.due(now) {
-                run_command(&mut dem, &cmd, layout, events)?;
-            }
+        // writes and liggghtsCommands need the particles of step k and the fluid's clock
+        let at_once = !overlap
+            || write_now
+            || commands
+                .commands
+                .iter()
+                .any(|c| c.may_be_due(k, steps, write_now));
+        if !at_once {
+            open = Some(o);
+            continue;
         }
-        if write_now {
-            let t = Instant::now();
-            let pieces = Pieces {
-                rank,
-                ranks: n_ranks,
-                name: couple::output::time_name(start + k as f64 * dt_c),
-            };
-            let name = write_time(
-                layout,
-                &mut fluid.inner,
-                &mesh,
-                &dem,
-                &step,
-                &mut vtp,
-                &pieces,
-            )?;
-            if rank == 0 {
-                write_csv(&csv, &kept_rows, &samples).map_err(io_err(&csv))?;
-            }
-            if !monitors.is_empty() && rank == 0 {
-                let fields = StepFields {
-                    eps: &step.voidage.epsilon,
-                    ddt_eps: &ddt_eps,
-                    fluid: fluid.inner.state(),
-                    step: &step,
-                    rho: settings.physics.rho,
-                };
-                let dir = layout.cfd.join(&name);
-                let particles = dem.state();
-                let particles = (n_ranks == 1).then_some(&particles);
-                monitors.write_time(&dir, &name, &mesh, &fields, particles)?;
-            }
-            output_seconds += t.elapsed().as_secs_f64();
-        }
-        events(Event::Step {
-            time,
-            end,
-            step: k,
-            steps,
-            sample: Box::new(sample),
-        });
+        fluid.finish_advance().map_err(RunError::Fluid)?;
+        let step = out.close(o, &mut dem, &mut fluid, events)?;
         coupler.recycle(step);
         if stop_now && k < steps {
             stopped = true;
             events(Event::Message(format!(
-                "stopped at t = {time} s after step {k}; that time is written"
+                "stopped at t = {} s after step {k}; that time is written",
+                fluid.inner.time()
             )));
             break;
         }
     }
+    // the last step writes, so it has closed at once
+    debug_assert!(open.is_none());
+    let Outputs {
+        monitors,
+        samples,
+        output_seconds,
+        ..
+    } = out;
     if let Some(line) = fluid.inner.report() {
         events(Event::Message(line));
     }

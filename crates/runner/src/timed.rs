@@ -1,6 +1,10 @@
 //! A coupling side that measures the wall-clock time spent in its `advance`, so a run can
-//! report how a coupling step splits between the DEM, the fluid and the coupler itself.
+//! report how a coupling step splits between the DEM, the fluid and the coupler itself. For a
+//! fluid whose advance is started and finished apart ([`RunFluid::start_advance`]) the clock
+//! counts the start and the wait in the finish: the time the run spends on the fluid, not the
+//! time the fluid computes.
 
+use crate::fluid::RunFluid;
 use couple::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState, SideError};
 use foam::PolyMesh;
 use mesh::v3::V3;
@@ -63,5 +67,23 @@ impl<F: FluidSide> FluidSide for Timed<F> {
     }
     fn state(&self) -> FluidState<'_> {
         self.inner.state()
+    }
+}
+
+impl<F: RunFluid> Timed<F> {
+    /// [`RunFluid::start_advance`], timed.
+    pub fn start_advance(&mut self, dt: f64) -> Result<(), SideError> {
+        let t = Instant::now();
+        let r = self.inner.start_advance(dt);
+        self.seconds += t.elapsed().as_secs_f64();
+        r
+    }
+
+    /// [`RunFluid::finish_advance`], timed.
+    pub fn finish_advance(&mut self) -> Result<(), SideError> {
+        let t = Instant::now();
+        let r = self.inner.finish_advance();
+        self.seconds += t.elapsed().as_secs_f64();
+        r
     }
 }

@@ -110,6 +110,23 @@ impl ScheduledCommand {
     }
 }
 
+impl ScheduledCommand {
+    /// Whether [`ScheduledCommand::due`] can run the command at coupling step `step` of
+    /// `steps` (write time or not: `write`) whatever the simulated time: false only when the
+    /// schedule alone rules it out. A run that must know the fluid's time before it calls
+    /// `due` (the runner, which lets the fluid's advance run during the next DEM interval)
+    /// waits for the fluid at every step where this is true. `Interval` depends on the time,
+    /// so it may be due at any step.
+    pub fn may_be_due(&self, step: u64, steps: u64, write: bool) -> bool {
+        match self.schedule {
+            Schedule::First => step == 1,
+            Schedule::Last => step == steps,
+            Schedule::EveryCouplingStep | Schedule::Interval { .. } => true,
+            Schedule::EveryWriteTime { .. } => write,
+        }
+    }
+}
+
 /// The content of `liggghtsCommands`.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct LiggghtsCommands {
@@ -362,6 +379,56 @@ mod tests {
             .map_err(|e| e.to_string())?
             .body;
         LiggghtsCommands::from_dict(&d, Path::new("liggghtsCommands")).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn may_be_due_holds_wherever_due_runs() {
+        // `due` is the reference: whenever it runs a command, `may_be_due` must have said it
+        // might (for any simulated time); and it rules steps out where the schedule does.
+        let schedules = [
+            Schedule::First,
+            Schedule::Last,
+            Schedule::EveryCouplingStep,
+            Schedule::EveryWriteTime { every: 2 },
+            Schedule::Interval {
+                start: 0.003,
+                end: 0.02,
+                interval: 3,
+            },
+        ];
+        let (dt_c, steps) = (1e-3, 30);
+        for schedule in schedules {
+            let c = ScheduledCommand {
+                command: "write_restart r".into(),
+                time_stamp: true,
+                schedule: schedule.clone(),
+            };
+            let mut ruled_out = 0;
+            for step in 1..=steps {
+                let write = step % 4 == 0;
+                for time in [step as f64 * dt_c, (step as f64 - 0.5) * dt_c] {
+                    let now = Moment {
+                        step,
+                        steps,
+                        time,
+                        elapsed: time,
+                        dt_c,
+                        write,
+                        writes: step / 4,
+                    };
+                    if c.due(now).is_some() {
+                        assert!(c.may_be_due(step, steps, write), "{schedule:?} at {step}");
+                    }
+                }
+                ruled_out += u64::from(!c.may_be_due(step, steps, write));
+            }
+            let expected = match schedule {
+                Schedule::First | Schedule::Last => steps - 1,
+                Schedule::EveryWriteTime { .. } => steps - steps / 4,
+                _ => 0,
+            };
+            assert_eq!(ruled_out, expected, "{schedule:?}");
+        }
     }
 
     #[test]
