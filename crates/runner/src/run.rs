@@ -609,12 +609,6 @@ fn run_launched(
             layout.run_deck.display(),
         )));
     }
-    if !config.solve_flow && opts.fluid != FluidBackend::Native {
-        return Err(setup_err(
-            &config.file,
-            "solveFlow off runs on the native fluid only (--fluid native)".into(),
-        ));
-    }
     let ctx = LoopContext {
         layout: &layout,
         settings,
@@ -859,6 +853,18 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let t_loop = Instant::now();
     let start_name = couple::output::time_name(start);
     let mut monitors = RunMonitors::new(&monitors, &layout.cfd, &start_name);
+    // The controlDict's `probes` on the native fluid (grainPisoFoam runs OpenFOAM's own).
+    let mut probes = crate::probes::Probes::default();
+    if opts.fluid == FluidBackend::Native && rank == 0 {
+        let locator = coupler.voidage_mesh().locator();
+        let (p, warnings) = crate::probes::Probes::read(&layout.cfd, &start_name, &|x| {
+            locator.locate(x).map(|c| c as usize)
+        })?;
+        for w in warnings {
+            events(Event::Message(format!("warning: {w}")));
+        }
+        probes = p;
+    }
     let cell_volumes = coupler.voidage_mesh().geometry().cell_volumes.clone();
     let mut eps_before = coupler.voidage().to_vec();
     let mut ddt_eps = vec![0.0; mesh.n_cells];
@@ -892,16 +898,16 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
                 }
                 eps_before.clone_from(eps);
             }
-            let fields = StepFields {
-                eps,
-                ddt_eps: &ddt_eps,
-                fluid: fluid.inner.state(),
-                step: &step,
-                rho: settings.physics.rho,
-            };
+            let fields =
+                StepFields::new(&step, &ddt_eps, fluid.inner.state(), settings.physics.rho);
             for line in monitors.observe(time, &cell_volumes, &fields) {
                 events(Event::Message(line));
             }
+        }
+        if !probes.is_empty() {
+            let fields =
+                StepFields::new(&step, &ddt_eps, fluid.inner.state(), settings.physics.rho);
+            probes.sample(time, write_now, &fields)?;
         }
         if write_now {
             writes += 1;
@@ -940,13 +946,8 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
                 write_csv(&csv, &kept_rows, &samples).map_err(io_err(&csv))?;
             }
             if !monitors.is_empty() && rank == 0 {
-                let fields = StepFields {
-                    eps: &step.voidage.epsilon,
-                    ddt_eps: &ddt_eps,
-                    fluid: fluid.inner.state(),
-                    step: &step,
-                    rho: settings.physics.rho,
-                };
+                let fields =
+                    StepFields::new(&step, &ddt_eps, fluid.inner.state(), settings.physics.rho);
                 let dir = layout.cfd.join(&name);
                 let particles = dem.state();
                 let particles = (n_ranks == 1).then_some(&particles);
