@@ -161,10 +161,10 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
         }
     };
     eprintln!(
-        "{} coupling steps to t = {} s, {} particles, {} cells; packing {:.1} s, coupled loop {:.1} s: DEM {:.1} % fluid {:.1} % coupling {:.1} % output {:.1} %",
+        "{} coupling steps to t = {} s, {} particles at the end, {} cells; packing {:.1} s, coupled loop {:.1} s: DEM {:.1} % fluid {:.1} % coupling {:.1} % output {:.1} %",
         report.steps,
-        report.time,
-        report.particles,
+        couple::output::time_name(report.time),
+        report.particles_at_end,
         report.cells,
         report.init_seconds,
         report.loop_seconds,

@@ -99,6 +99,38 @@ fn cfdem_trilinear_with_its_alpha_min() {
     assert_eq!(c.voidage.alpha_min, Some(0.3));
 }
 
+/// CFDEM-PUBLIC's drag models clamp the interpolated ε (`interpolation true`) before β:
+/// Koch–Hill to [0.4, 1], Di Felice to [0.3, 1], Gidaspow to [0.1, 1]; the cell value
+/// (`interpolation false`) keeps the voidage model's floor 0.1.
+#[test]
+fn cfdem_drag_clamps_the_interpolated_voidage() {
+    let with = |law: &str, interp: &str| {
+        let text = BASE
+            .replace("GidaspowDrag Archimedes", &format!("{law} Archimedes"))
+            .replace(
+                "GidaspowDragProps { switchingVoidfraction 0.7; interpolation true; }",
+                &format!("{law}Props {{ interpolation {interp}; }}"),
+            );
+        read(&text).unwrap().forces.drag.unwrap().closure
+    };
+    let kh = with("KochHillDrag", "true");
+    assert_eq!(kh.voidage_floor, 0.4);
+    assert_eq!(with("KochHillDrag", "false").voidage_floor, 0.1);
+    assert_eq!(with("DiFeliceDrag", "true").voidage_floor, 0.3);
+    assert_eq!(with("GidaspowDrag", "true").voidage_floor, 0.1);
+    // Hand-computed with CFDEM-PUBLIC's KochHillDrag.C at its clamp ε = 0.4 (an interpolated
+    // 0.3 is raised to it): d = 1 mm, ν = 1.5e-4 m²/s, ρ = 10 kg/m³, |u − v| = 0.01 m/s.
+    // φ = 0.6 ≥ 0.4, so F0 = 10 φ/ε³ = 93.75; Rep = d ε |u − v|/ν = 0.02666…;
+    // F3 = 0.0673 + 0.212 φ + 0.0232/ε⁵ = 2.460125; F = ε (F0 + ½ F3 Rep) = 37.513120666…;
+    // betaP = 18 ν ρ/d² ε F = 405141.7032 kg/(m³ s); β = (π/6) d³ betaP = 2.12131699739e-4 kg/s.
+    let x = closures::DragInput::new(0.3, 1e-3, 0.01, 10.0, 1.5e-4 * 10.0);
+    let beta = kh.beta(&x);
+    assert!(
+        (beta / 2.121_316_997_393_3e-4 - 1.0).abs() < 1e-12,
+        "β = {beta}"
+    );
+}
+
 /// CFDEM's models floor ε at alphaMin 0.1 when their Props leave it out (CFDEM-PUBLIC's
 /// default for every voidFractionModel); foamgrain's own have no default floor.
 #[test]

@@ -142,6 +142,7 @@ impl LiggghtsDem {
             log.display().to_string(),
             "-screen".into(),
             screen.display().to_string(),
+            crate::program::SEED_TOLERANT.into(),
         ];
         for (k, v) in vars {
             args.extend(["-var".to_string(), k.clone(), v.clone()]);

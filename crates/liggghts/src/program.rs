@@ -25,12 +25,20 @@ pub struct ProgramRun {
     pub elapsed: Duration,
 }
 
-/// The command line `liggghts -in DECK -var … -log LOG -screen SCREEN` (paths as given), as
-/// a program of its own: without the variables by which `mpirun` tells its ranks which job
-/// they belong to ([`alone`]).
+/// LIGGGHTS 3.8.0's switch that turns its random-seed check (a seed must be a prime ≥ 10000,
+/// and an insertion's seeds must differ; `random.cpp`, `fix_insert.cpp`) from an error into a
+/// warning in its log. CFDEM-PFM's tutorials (`bubblingFluidizedBed`: `particledistribution/
+/// discrete 681573`, `insert/pack seed 4763687`) use seeds its own LIGGGHTS takes and Debian's
+/// refuses; foamgrain's native DEM takes any seed.
+pub const SEED_TOLERANT: &str = "-seedtolerant";
+
+/// The command line `liggghts -in DECK -var … -log LOG -screen SCREEN -seedtolerant` (paths
+/// as given; [`SEED_TOLERANT`]), as a program of its own: without the variables by which
+/// `mpirun` tells its ranks which job they belong to ([`alone`]).
 pub fn command(deck: &Path, vars: &[(String, String)], log: &Path, screen: &Path) -> Command {
     let mut c = Command::new(LIGGGHTS_PROGRAM);
     alone(&mut c);
+    c.arg(SEED_TOLERANT);
     c.arg("-in").arg(deck);
     for (k, v) in vars {
         c.arg("-var").arg(k).arg(v);
@@ -178,7 +186,7 @@ mod tests {
         );
         assert_eq!(
             describe(&c),
-            "liggghts -in in.init -var np 200 -log log.init -screen screen.init"
+            "liggghts -seedtolerant -in in.init -var np 200 -log log.init -screen screen.init"
         );
     }
 }

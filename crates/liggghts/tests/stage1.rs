@@ -56,3 +56,41 @@ fn a_failing_deck_reports_the_tail_of_its_log() {
     assert!(e.contains("ERROR") && e.contains("frobnicate"), "{e}");
     assert!(e.contains("log.bad"), "{e}");
 }
+
+/// Seeds Debian's LIGGGHTS 3.8.0 refuses by default (not prime, as CFDEM-PFM's
+/// bubblingFluidizedBed gives) are only a warning with foamgrain's `-seedtolerant`: the deck
+/// packs its spheres and writes its data file.
+#[test]
+fn seeds_that_liggghts_would_refuse_are_a_warning() {
+    if !testkit::tool("liggghts") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("post")).unwrap();
+    let deck = dir.path().join("in.seeds");
+    // 681573 = 3 · 227191 and 4763687 = 1237 · 3851 are not prime
+    std::fs::write(
+        &deck,
+        "atom_style granular\natom_modify map array\nboundary f f f\nnewton off\n\
+         communicate single vel yes\nunits si\n\
+         region domain block 0 0.01 0 0.01 0 0.01 units box\ncreate_box 1 domain\n\
+         neighbor 0.0002 bin\nneigh_modify delay 0\n\
+         fix m1 all property/global youngsModulus peratomtype 1e7\n\
+         fix m2 all property/global poissonsRatio peratomtype 0.3\n\
+         fix m3 all property/global coefficientRestitution peratomtypepair 1 0.9\n\
+         fix m4 all property/global coefficientFriction peratomtypepair 1 0.1\n\
+         pair_style gran model hertz tangential history\npair_coeff * *\ntimestep 1e-6\n\
+         fix pts1 all particletemplate/sphere 367127 atom_type 1 density constant 1000 \
+         radius constant 0.0005\n\
+         fix pdd1 all particledistribution/discrete 681573 1 pts1 1.0\n\
+         fix ins all insert/pack seed 4763687 distributiontemplate pdd1 insert_every once \
+         overlapcheck yes all_in yes particles_in_region 5 region domain\n\
+         fix integr all nve/sphere\nrun 1\nwrite_data post/seeds.data\n",
+    )
+    .unwrap();
+    let run = liggghts::run_deck(&deck, dir.path(), &[], "seeds").unwrap();
+    let data = std::fs::read_to_string(dir.path().join("post/seeds.data")).unwrap();
+    assert!(data.lines().any(|l| l.trim() == "5 atoms"), "{data}");
+    let log = std::fs::read_to_string(&run.log).unwrap();
+    assert!(log.contains("681573"), "LIGGGHTS's seed warning: {log}");
+}

@@ -81,7 +81,9 @@ impl RunFluid for FoamFluid {
     ) -> Result<String, SideError> {
         let solver = self.solver_mut()?;
         solver.write()?;
-        Ok(format!("{}", solver.time()))
+        // grainPisoFoam's time sums Δt (0.010000000000000005 after 20 steps of 5e-4 s); the
+        // directory it wrote is OpenFOAM's name of that time, `0.01`.
+        Ok(couple::output::time_name(solver.time()))
     }
 
     fn start_advance(&mut self, dt: f64) -> Result<(), SideError> {

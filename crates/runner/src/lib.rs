@@ -16,6 +16,7 @@ mod monitors;
 pub mod native;
 pub mod patches;
 pub mod plot;
+pub mod probes;
 #[cfg(any(feature = "mpi", feature = "liggghts"))]
 pub mod ranks;
 pub mod ranks_report;

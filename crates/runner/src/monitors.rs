@@ -43,13 +43,29 @@ pub(crate) struct StepFields<'a> {
     pub rho: f64,
 }
 
-enum Field<'a> {
+pub(crate) enum Field<'a> {
     Scalar(std::borrow::Cow<'a, [f64]>),
     Vector(&'a [V3]),
 }
 
 impl<'a> StepFields<'a> {
-    fn get(&self, name: &str) -> Field<'a> {
+    /// The fields of `step` (its ε), with ∂ε/∂t, the fluid's U and p, and ρ (kg/m³).
+    pub(crate) fn new(
+        step: &'a CouplingStep,
+        ddt_eps: &'a [f64],
+        fluid: FluidState<'a>,
+        rho: f64,
+    ) -> Self {
+        StepFields {
+            eps: &step.voidage.epsilon,
+            ddt_eps,
+            fluid,
+            step,
+            rho,
+        }
+    }
+
+    pub(crate) fn get(&self, name: &str) -> Field<'a> {
         use std::borrow::Cow::{Borrowed, Owned};
         match name {
             "voidfraction" => Field::Scalar(Borrowed(self.eps)),

@@ -358,13 +358,21 @@ pub fn control_dict_warnings(cfd: &Path) -> Vec<String> {
     let Ok(file) = foam::parse_file(&path) else {
         return Vec::new();
     };
-    match file.body.opt_dict("functions") {
-        Some(f) if !f.is_empty() => vec![format!(
+    let Some(f) = file.body.opt_dict("functions") else {
+        return Vec::new();
+    };
+    // `probes` are run ([`crate::probes`]); the others are named.
+    let others: Vec<&str> = f
+        .keys()
+        .filter(|k| f.opt_dict(k).and_then(|d| d.word("type").ok()) != Some("probes"))
+        .collect();
+    match others.is_empty() {
+        true => Vec::new(),
+        false => vec![format!(
             "{}: functions ({}) are not run by the native fluid (foamgrain writes \
-             postProcessing/integrals.csv and the time directories)",
+             postProcessing/integrals.csv and the time directories; `probes` are run)",
             path.display(),
-            f.keys().collect::<Vec<_>>().join(" ")
+            others.join(" ")
         )],
-        _ => Vec::new(),
     }
 }

@@ -370,6 +370,8 @@ struct Outputs<'a> {
     layout: &'a CaseLayout,
     observer: &'a Observer,
     monitors: RunMonitors,
+    /// The controlDict's `probes` on the native fluid (grainPisoFoam runs OpenFOAM's own).
+    probes: crate::probes::Probes,
     commands: &'a couple::config::LiggghtsCommands,
     csv: PathBuf,
     kept_rows: Vec<String>,
@@ -429,16 +431,14 @@ impl Outputs<'_> {
                 }
                 self.eps_before.clone_from(eps);
             }
-            let fields = StepFields {
-                eps,
-                ddt_eps: &self.ddt_eps,
-                fluid: fluid.inner.state(),
-                step: &step,
-                rho: self.rho,
-            };
+            let fields = StepFields::new(&step, &self.ddt_eps, fluid.inner.state(), self.rho);
             for line in self.monitors.observe(time, &self.cell_volumes, &fields) {
                 events(Event::Message(line));
             }
+        }
+        if !self.probes.is_empty() {
+            let fields = StepFields::new(&step, &self.ddt_eps, fluid.inner.state(), self.rho);
+            self.probes.sample(time, write_now, &fields)?;
         }
         if write_now {
             self.writes += 1;
@@ -477,13 +477,7 @@ impl Outputs<'_> {
                 write_csv(&self.csv, &self.kept_rows, &self.samples).map_err(io_err(&self.csv))?;
             }
             if !self.monitors.is_empty() && rank == 0 {
-                let fields = StepFields {
-                    eps: &step.voidage.epsilon,
-                    ddt_eps: &self.ddt_eps,
-                    fluid: fluid.inner.state(),
-                    step: &step,
-                    rho: self.rho,
-                };
+                let fields = StepFields::new(&step, &self.ddt_eps, fluid.inner.state(), self.rho);
                 let dir = self.layout.cfd.join(&name);
                 let particles = dem.state();
                 let particles = (self.n_ranks == 1).then_some(&particles);
@@ -783,12 +777,6 @@ fn run_launched(
             layout.run_deck.display(),
         )));
     }
-    if !config.solve_flow && opts.fluid != FluidBackend::Native {
-        return Err(setup_err(
-            &config.file,
-            "solveFlow off runs on the native fluid only (--fluid native)".into(),
-        ));
-    }
     let ctx = LoopContext {
         layout: &layout,
         settings,
@@ -1041,11 +1029,23 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let mut stopped = false;
     let t_loop = Instant::now();
     let start_name = couple::output::time_name(start);
+    let mut probes = crate::probes::Probes::default();
+    if opts.fluid == FluidBackend::Native && rank == 0 {
+        let locator = coupler.voidage_mesh().locator();
+        let (p, warnings) = crate::probes::Probes::read(&layout.cfd, &start_name, &|x| {
+            locator.locate(x).map(|c| c as usize)
+        })?;
+        for w in warnings {
+            events(Event::Message(format!("warning: {w}")));
+        }
+        probes = p;
+    }
     let cell_volumes = coupler.voidage_mesh().geometry().cell_volumes.clone();
     let mut out = Outputs {
         layout,
         observer: &observer,
         monitors: RunMonitors::new(&monitors, &layout.cfd, &start_name),
+        probes,
         commands: &commands,
         csv,
         kept_rows,

@@ -587,3 +587,97 @@ fn fluidised_bed_couples_its_committed_pack() {
     assert!((s.inlet_velocity.unwrap() - u).abs() < 1e-12 * u);
     assert!(s.pressure_drop.is_some_and(|p| p.is_finite() && p > 0.0));
 }
+
+/// The controlDict's `probes` function object on the native fluid (CFDEM's Ergun tutorials
+/// read their pressure drop from it): OpenFOAM's file layout under
+/// `CFD/postProcessing/<name>/<startTime>/`, one row per coupling step, each value the one the
+/// run wrote for the cell holding the point (here a cell centre, so the cell is unambiguous);
+/// a point outside the mesh and a field the run does not hold are left out with warnings.
+#[test]
+fn native_probes_write_openfoams_probe_files() {
+    let (_tmp, case) = case_copy("settling");
+    let cfd = case.join("CFD");
+    let mesh = foam::Case::open(&cfd).unwrap().read_mesh().unwrap();
+    let geom = mesh::MeshGeometry::new(&mesh).unwrap();
+    let (c0, c1) = (3, mesh.n_cells - 5);
+    let (x0, x1) = (geom.cell_centres[c0], geom.cell_centres[c1]);
+    let control = cfd.join("system/controlDict");
+    let mut text = std::fs::read_to_string(&control).unwrap();
+    text.push_str(&format!(
+        "functions {{ probes {{ type probes; functionObjectLibs (\"libsampling.so\"); \
+         probeLocations (({} {} {}) ({} {} {}) (10 10 10)); \
+         fields (p U volAverage_voidfraction); outputControl timeStep; outputInterval 1; }} }}\n",
+        x0.x, x0.y, x0.z, x1.x, x1.y, x1.z
+    ));
+    std::fs::write(&control, text).unwrap();
+    let opts = RunOptions {
+        end_time: Some(0.01),
+        ..RunOptions::default()
+    };
+    let mut log = Vec::new();
+    run(&case, &opts, &AtomicBool::new(false), &mut |e| {
+        if let Event::Message(m) = e {
+            log.push(m)
+        }
+    })
+    .unwrap();
+    let warned = |s: &str| log.iter().any(|l| l.contains(s));
+    assert!(warned("(10 10 10) is outside the mesh"), "{log:?}");
+    assert!(warned("volAverage_voidfraction not held"), "{log:?}");
+    assert!(!warned("are not run by the native fluid"), "{log:?}");
+    let dir = cfd.join("postProcessing/probes/0");
+    let p = std::fs::read_to_string(dir.join("p")).unwrap();
+    let lines: Vec<&str> = p.lines().collect();
+    assert!(lines[0].starts_with("# Probe 0 ("), "{p}");
+    assert!(lines[1].starts_with("# Probe 1 ("), "{p}");
+    assert_eq!(
+        lines[2].split_whitespace().collect::<Vec<_>>(),
+        ["#", "Probe", "0", "1"]
+    );
+    assert_eq!(
+        lines[3].split_whitespace().collect::<Vec<_>>(),
+        ["#", "Time"]
+    );
+    let rows: Vec<Vec<f64>> = lines[4..]
+        .iter()
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 10, "one row per coupling step: {p}");
+    assert!((rows[0][0] - 0.001).abs() < 1e-12 && (rows[9][0] - 0.01).abs() < 1e-12);
+    // the last row against the field the run wrote at 0.01 s, to the files' 6 digits
+    let written = |name: &str| {
+        foam::VolField::read(&cfd.join("0.01").join(name))
+            .unwrap()
+            .internal(mesh.n_cells)
+            .unwrap()
+    };
+    let foam::FieldValues::Scalar(pw) = written("p") else {
+        panic!("p is scalar")
+    };
+    for (k, c) in [(1, c0), (2, c1)] {
+        let tol = 1e-5 * pw[c].abs().max(1e-12);
+        assert!(
+            (rows[9][k] - pw[c]).abs() <= tol,
+            "{} vs {}",
+            rows[9][k],
+            pw[c]
+        );
+    }
+    let u = std::fs::read_to_string(dir.join("U")).unwrap();
+    let last = u.lines().last().unwrap();
+    let foam::FieldValues::Vector(uw) = written("U") else {
+        panic!("U is a vector")
+    };
+    let nums: Vec<f64> = last
+        .replace(['(', ')'], " ")
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    assert_eq!(nums.len(), 7, "{last}");
+    for (i, (a, b)) in nums[1..4].iter().zip(uw[c0]).enumerate() {
+        assert!(
+            (a - b).abs() <= 1e-5 * b.abs().max(1e-9),
+            "U[{i}]: {a} vs {b}"
+        );
+    }
+}

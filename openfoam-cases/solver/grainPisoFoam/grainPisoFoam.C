@@ -90,20 +90,27 @@ int main(int argc, char *argv[])
 
             #include "interstitialCourantNo.H"
 
+            if (vans.solveFlow())
             {
-                #include "UEqn.H"
-
-                while (piso.correct())
                 {
-                    #include "pEqn.H"
+                    #include "UEqn.H"
+
+                    while (piso.correct())
+                    {
+                        #include "pEqn.H"
+                    }
+                }
+
+                // The turbulence model after the correctors, as pisoFoam and cfdemSolverPiso.
+                if (turbulence.valid())
+                {
+                    laminarTransport->correct();
+                    turbulence->correct();
                 }
             }
-
-            // The turbulence model after the correctors, as pisoFoam and cfdemSolverPiso.
-            if (turbulence.valid())
+            else
             {
-                laminarTransport->correct();
-                turbulence->correct();
+                Info<< "solveFlow off: U and p held" << nl << endl;
             }
 
             source->send(U, p, phi);

@@ -112,6 +112,21 @@ impl DragLaw {
         }
     }
 
+    /// The lower bound CFDEMcoupling-PUBLIC (3.8) puts on the *interpolated* ε before its drag
+    /// model evaluates β (`interpolation true` in the model's Props; ε is also capped at 1):
+    /// 0.4 for `KochHillDrag` (below it Koch–Hill's F₀ = 10φ/ε³ is outside the random-array
+    /// data of Hill, Koch & Ladd 2001, which reach φ ≈ 0.6 only), 0.3 for `DiFeliceDrag`, 0.1
+    /// for `GidaspowDrag`; the laws CFDEM-PUBLIC lacks keep [`DEFAULT_VOIDAGE_FLOOR`]. Without
+    /// interpolation CFDEM takes the cell's ε unclamped, which its voidage model has floored
+    /// at `alphaMin` (0.1) already, so [`DEFAULT_VOIDAGE_FLOOR`] is the same there.
+    pub fn cfdem_interpolated_floor(&self) -> f64 {
+        match self {
+            DragLaw::KochHill => 0.4,
+            DragLaw::DiFelice => 0.3,
+            _ => DEFAULT_VOIDAGE_FLOOR,
+        }
+    }
+
     /// Checks the law's parameters (Gidaspow's switch in (0, 1]).
     pub fn check(&self) -> Result<(), ClosureError> {
         if let DragLaw::Gidaspow { switch_voidage } = *self {

@@ -9,6 +9,7 @@ use super::monitors::{self, Monitors};
 use super::registry::{Support, FORCES};
 use super::{DragSettings, Forces, NoDrag, Reader};
 use crate::error::CoupleError;
+use crate::interpolate::Interpolation;
 use closures::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR, DRAG_LAW_NAMES};
 use foam::Dict;
 
@@ -172,15 +173,20 @@ fn read_drag(
             switch_voidage: r.number(props, "switchingVoidfraction", &key)?,
         };
     }
-    let closure =
-        DragClosure::new(law, DEFAULT_VOIDAGE_FLOOR).map_err(|e| r.err(dict, e.to_string()))?;
+    let interpolation = r.interpolation(props, dict)?;
+    // With `interpolation true` CFDEM clamps the interpolated ε per law (0.4 for Koch–Hill).
+    let floor = match interpolation {
+        Interpolation::Smooth => law.cfdem_interpolated_floor(),
+        Interpolation::Cell => DEFAULT_VOIDAGE_FLOOR,
+    };
+    let closure = DragClosure::new(law, floor).map_err(|e| r.err(dict, e.to_string()))?;
     let flag = |key: &str| -> Result<bool, CoupleError> {
         Ok(r.opt_switch(props, key, &format!("{dict}/{key}"))?
             .unwrap_or(false))
     };
     Ok(DragSettings {
         closure,
-        interpolation: r.interpolation(props, dict)?,
+        interpolation,
         implicit_dem: flag("implForceDEM")?,
         explicit_fluid: flag("treatForceExplicit")?,
         dem_only: flag("treatForceDEM")?,
