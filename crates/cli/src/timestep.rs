@@ -63,7 +63,8 @@ pub struct TimestepArgs {
     /// DEM steps per coupling step.
     #[arg(long)]
     pub coupling_interval: Option<u64>,
-    /// Largest fluid speed, m/s (default: max |U| of the case's 0/U).
+    /// Largest fluid speed, m/s (default: max |U| of the case's 0/U; unknown when 0/U is at
+    /// rest — the Courant number from a written phi is then the figure to read).
     #[arg(long)]
     pub fluid_speed: Option<f64>,
     /// Smallest cell size, m (default: the smallest cell's V^(1/3)).
@@ -168,7 +169,7 @@ pub fn run(a: &TimestepArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// max |U| over the cells of `0/U`, if the file exists.
+/// max |U| over the cells of `0/U`, if the file exists and the fluid is not at rest there.
 fn max_speed(case: &Path, n_cells: usize) -> anyhow::Result<Option<f64>> {
     let path = case.join("0/U");
     if !path.exists() {
@@ -180,10 +181,13 @@ fn max_speed(case: &Path, n_cells: usize) -> anyhow::Result<Option<f64>> {
         .map_err(anyhow::Error::msg)
         .with_context(|| path.display().to_string())?
     {
+        // a fluid at rest in 0/U (a case started from rest) gives no speed: the CFL row is then
+        // unknown, not 0
         FieldValues::Vector(u) => Ok(u
             .iter()
             .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
-            .reduce(f64::max)),
+            .reduce(f64::max)
+            .filter(|&s| s > 0.0)),
         FieldValues::Scalar(_) => bail!("{}: U must be a volVectorField", path.display()),
     }
 }

@@ -296,6 +296,9 @@ fn timestep_reports_the_courant_number_of_a_written_phi() {
     assert!(line.contains("phi of time 0.01"), "{line}");
     // the deck's `coefficientRestitution … ${cor}` is read through `variable cor index 0.5`
     assert!(out.contains("Rayleigh time step"), "{out}");
+    // 0/U is at rest (uniform (0 0 0)): no speed for the CFL row, which is unknown, not 0
+    let cfl = out.lines().find(|l| l.starts_with("CFL")).unwrap();
+    assert!(cfl.ends_with("(unknown)"), "{cfl}");
 }
 
 #[test]
