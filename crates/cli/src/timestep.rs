@@ -93,10 +93,11 @@ pub fn run(a: &TimestepArgs) -> anyhow::Result<()> {
         rho = Some(r);
         nu = Some(n);
         let case = Case::open(dir)?;
-        cfd_dt =
-            Some(case.control_dict()?.f64("deltaT").map_err(|e| {
-                anyhow::anyhow!("{}: {e}", dir.join("system/controlDict").display())
-            })?);
+        let delta_t = case
+            .control_dict()?
+            .f64("deltaT")
+            .map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("system/controlDict").display()))?;
+        cfd_dt = Some(delta_t);
         let mesh = case.read_mesh()?;
         let g = mesh::MeshGeometry::new(&mesh)?;
         cell = g
@@ -107,7 +108,7 @@ pub fn run(a: &TimestepArgs) -> anyhow::Result<()> {
             .map(f64::cbrt);
         speed = max_speed(dir, mesh.n_cells)?;
         config = Some(c);
-        let step = a.cfd_dt.or(cfd_dt).unwrap_or(0.0);
+        let step = a.cfd_dt.unwrap_or(delta_t);
         match fluid_courant(&case, &mesh, a.time.as_deref(), step)? {
             Some((time, co)) => println!(
                 "{:<28} mean {:.6e} max {:.6e} (cell {}; phi of time {time}, deltaT {step:e} s)",
