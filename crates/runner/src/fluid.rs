@@ -6,6 +6,7 @@
 
 use couple::{CouplingStep, FluidSide, SideError};
 use foam::PolyMesh;
+use mesh::v3::V3;
 use std::path::Path;
 
 /// A fluid side that a run can observe and write.
@@ -62,6 +63,38 @@ pub trait RunFluid: FluidSide {
     fn held_exchange(&self) -> Option<HeldExchange<'_>> {
         None
     }
+    /// The faces of patch `name` (area vectors out of the domain), for the native
+    /// `surfaceFieldValue` ([`crate::surface_values`]); `None` without the patch or where the
+    /// backend runs OpenFOAM's own function objects (grainPisoFoam).
+    fn patch_faces(&self, name: &str) -> Option<PatchFaces> {
+        let _ = name;
+        None
+    }
+    /// The values of `field` on the faces of patch `name`, in [`RunFluid::patch_faces`]' order:
+    /// `phi` (m³/s, out of the domain), the kinematic pressure `p` (m²/s²) or `U` (m/s); `None`
+    /// for another field or where [`RunFluid::patch_faces`] is `None`.
+    fn patch_field(&self, name: &str, field: &str) -> Option<FaceField> {
+        let _ = (name, field);
+        None
+    }
+}
+
+/// The faces of one patch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchFaces {
+    /// Area vectors S_f (m²), out of the domain on this side.
+    pub sf: Vec<V3>,
+    /// Their magnitudes |S_f| (m²).
+    pub mag_sf: Vec<f64>,
+}
+
+/// A field's values on the faces of a patch.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FaceField {
+    /// One number per face.
+    Scalar(Vec<f64>),
+    /// One vector per face.
+    Vector(Vec<V3>),
 }
 
 /// Whole exchange fields held by an external solver (ADR 0004 units).

@@ -23,5 +23,6 @@ pub mod ranks_report;
 pub mod reference;
 pub mod run;
 pub mod sample;
+pub mod surface_values;
 pub mod timed;
 pub mod validation;

@@ -160,6 +160,16 @@ fn patch_mean<T: Copy>(
     (area > 0.0).then(|| sum / area)
 }
 
+/// The solver faces of patch `p` and the sign that turns their area vectors out of the domain
+/// on this side: its own faces, or a cyclic patch's pair faces (whose S_f points out of the
+/// side listed first, [`fv::CyclicSide`]).
+fn solver_faces(p: &fv::FvPatch) -> (std::ops::Range<usize>, f64) {
+    match &p.cyclic {
+        Some(c) => (c.pair_faces.clone(), if c.owner_side { 1.0 } else { -1.0 }),
+        None => (p.faces.clone(), 1.0),
+    }
+}
+
 impl RunFluid for NativeFluid {
     fn time(&self) -> f64 {
         self.fluid.time()
@@ -179,6 +189,53 @@ impl RunFluid for NativeFluid {
         patch_mean(g, name, self.fluid.u_boundary(), |u, face| {
             -u.dot(&g.sf[face]) / g.mag_sf[face]
         })
+    }
+
+    fn patch_faces(&self, name: &str) -> Option<crate::fluid::PatchFaces> {
+        let g = self.fluid.geometry();
+        let p = g.patches.iter().find(|p| p.name == name)?;
+        let (faces, sign) = solver_faces(p);
+        Some(crate::fluid::PatchFaces {
+            sf: g.sf[faces.clone()].iter().map(|s| *s * sign).collect(),
+            mag_sf: g.mag_sf[faces].to_vec(),
+        })
+    }
+
+    fn patch_field(&self, name: &str, field: &str) -> Option<crate::fluid::FaceField> {
+        use crate::fluid::FaceField;
+        let g = self.fluid.geometry();
+        let p = g.patches.iter().find(|p| p.name == name)?;
+        if field == "phi" {
+            return Some(FaceField::Scalar(p.face_fluxes(self.fluid.phi())));
+        }
+        // a cyclic patch's values are the linear interpolation across its pair faces, as
+        // OpenFOAM evaluates a coupled patch field; another patch's are its boundary values
+        let (faces, _) = solver_faces(p);
+        let interp = |face: usize| {
+            let w = g.weight[face];
+            (w, g.owner[face] as usize, g.neighbour[face] as usize)
+        };
+        match field {
+            "p" => Some(FaceField::Scalar(match p.is_cyclic() {
+                true => faces
+                    .map(|f| {
+                        let (w, o, n) = interp(f);
+                        w * self.fluid.p()[o] + (1.0 - w) * self.fluid.p()[n]
+                    })
+                    .collect(),
+                false => self.fluid.p_boundary()[p.boundary_range(g.n_internal)].to_vec(),
+            })),
+            "U" => Some(FaceField::Vector(match p.is_cyclic() {
+                true => faces
+                    .map(|f| {
+                        let (w, o, n) = interp(f);
+                        self.fluid.u()[o] * w + self.fluid.u()[n] * (1.0 - w)
+                    })
+                    .collect(),
+                false => self.fluid.u_boundary()[p.boundary_range(g.n_internal)].to_vec(),
+            })),
+            _ => None,
+        }
     }
 
     fn write_time(
@@ -361,16 +418,21 @@ pub fn control_dict_warnings(cfd: &Path) -> Vec<String> {
     let Some(f) = file.body.opt_dict("functions") else {
         return Vec::new();
     };
-    // `probes` are run ([`crate::probes`]); the others are named.
+    // `probes` and `surfaceFieldValue` are run ([`crate::probes`],
+    // [`crate::surface_values`], which warn of what they leave out); the others are named.
     let others: Vec<&str> = f
         .keys()
-        .filter(|k| f.opt_dict(k).and_then(|d| d.word("type").ok()) != Some("probes"))
+        .filter(|k| {
+            let kind = f.opt_dict(k).and_then(|d| d.word("type").ok());
+            !matches!(kind, Some("probes" | "surfaceFieldValue"))
+        })
         .collect();
     match others.is_empty() {
         true => Vec::new(),
         false => vec![format!(
             "{}: functions ({}) are not run by the native fluid (foamgrain writes \
-             postProcessing/integrals.csv and the time directories; `probes` are run)",
+             postProcessing/integrals.csv and the time directories; `probes` and \
+             `surfaceFieldValue` are run)",
             path.display(),
             others.join(" ")
         )],

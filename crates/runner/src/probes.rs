@@ -86,13 +86,7 @@ impl Probes {
         let file = foam::parse_file(&path).map_err(|e| err(e.to_string()))?;
         let mut probes = Probes::default();
         let mut warnings = Vec::new();
-        let precision = match file.body.get("writePrecision") {
-            None => 6,
-            Some(_) => match file.body.label("writePrecision") {
-                Ok(n) if (1..=17).contains(&n) => n as usize,
-                _ => return Err(err("writePrecision: expected a whole number 1 to 17".into())),
-            },
-        };
+        let precision = write_precision(&file.body).map_err(err)?;
         let Some(functions) = file.body.opt_dict("functions") else {
             return Ok((probes, warnings));
         };
@@ -123,7 +117,7 @@ impl Probes {
             }
             let mut fields = Vec::new();
             let mut left_out = Vec::new();
-            for f in words(d, "fields").map_err(|m| err(format!("{}: {m}", at("fields"))))? {
+            for f in word_list(d, "fields").map_err(|m| err(format!("{}: {m}", at("fields"))))? {
                 if FIELDS.iter().any(|(n, _)| *n == f) {
                     fields.push(f);
                 } else {
@@ -139,20 +133,8 @@ impl Probes {
                     FIELDS.map(|(n, _)| n).join(" ")
                 ));
             }
-            let control = match d
-                .word("writeControl")
-                .or_else(|_| d.word("outputControl"))
-                .unwrap_or("timeStep")
-            {
-                "timeStep" => Control::TimeStep,
-                "writeTime" | "outputTime" => Control::WriteTime,
-                other => {
-                    return Err(err(format!(
-                        "{}: `{other}`; the native fluid's probes take timeStep or writeTime",
-                        at("writeControl")
-                    )))
-                }
-            };
+            let control =
+                read_control(d).map_err(|m| err(format!("{}: {m}", at("writeControl"))))?;
             let header = header(&found, precision);
             probes.sets.push(ProbeSet {
                 precision,
@@ -266,7 +248,34 @@ fn read_points(d: &Dict) -> Result<Vec<V3>, String> {
         .collect()
 }
 
-fn words(d: &Dict, key: &str) -> Result<Vec<String>, String> {
+/// controlDict's `writePrecision` (significant digits; OpenFOAM's default 6).
+pub(crate) fn write_precision(control_dict: &Dict) -> Result<usize, String> {
+    match control_dict.get("writePrecision") {
+        None => Ok(6),
+        Some(_) => match control_dict.label("writePrecision") {
+            Ok(n) if (1..=17).contains(&n) => Ok(n as usize),
+            _ => Err("writePrecision: expected a whole number 1 to 17".into()),
+        },
+    }
+}
+
+/// A function object's `writeControl` (or the older `outputControl`), `timeStep` by default.
+pub(crate) fn read_control(d: &Dict) -> Result<Control, String> {
+    match d
+        .word("writeControl")
+        .or_else(|_| d.word("outputControl"))
+        .unwrap_or("timeStep")
+    {
+        "timeStep" => Ok(Control::TimeStep),
+        "writeTime" | "outputTime" => Ok(Control::WriteTime),
+        other => Err(format!(
+            "`{other}`; the native fluid's function objects take timeStep or writeTime"
+        )),
+    }
+}
+
+/// The words of `key ( … );`, e.g. a function object's `fields`.
+pub(crate) fn word_list(d: &Dict, key: &str) -> Result<Vec<String>, String> {
     list(d, key)?
         .iter()
         .map(|it| {

@@ -372,6 +372,8 @@ struct Outputs<'a> {
     monitors: RunMonitors,
     /// The controlDict's `probes` on the native fluid (grainPisoFoam runs OpenFOAM's own).
     probes: crate::probes::Probes,
+    /// The controlDict's `surfaceFieldValue`s on the native fluid (likewise).
+    surface: crate::surface_values::SurfaceValues,
     commands: &'a couple::config::LiggghtsCommands,
     csv: PathBuf,
     kept_rows: Vec<String>,
@@ -439,6 +441,9 @@ impl Outputs<'_> {
         if !self.probes.is_empty() {
             let fields = StepFields::new(&step, &self.ddt_eps, fluid.inner.state(), self.rho);
             self.probes.sample(time, write_now, &fields)?;
+        }
+        if !self.surface.is_empty() {
+            self.surface.sample(time, write_now, &fluid.inner)?;
         }
         if write_now {
             self.writes += 1;
@@ -1030,6 +1035,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     let t_loop = Instant::now();
     let start_name = couple::output::time_name(start);
     let mut probes = crate::probes::Probes::default();
+    let mut surface = crate::surface_values::SurfaceValues::default();
     if opts.fluid == FluidBackend::Native && rank == 0 {
         let locator = coupler.voidage_mesh().locator();
         let (p, warnings) = crate::probes::Probes::read(&layout.cfd, &start_name, &|x| {
@@ -1039,6 +1045,13 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
             events(Event::Message(format!("warning: {w}")));
         }
         probes = p;
+        let patches: Vec<String> = mesh.boundary.iter().map(|p| p.name.clone()).collect();
+        let (s, warnings) =
+            crate::surface_values::SurfaceValues::read(&layout.cfd, &start_name, &patches)?;
+        for w in warnings {
+            events(Event::Message(format!("warning: {w}")));
+        }
+        surface = s;
     }
     let cell_volumes = coupler.voidage_mesh().geometry().cell_volumes.clone();
     let mut out = Outputs {
@@ -1046,6 +1059,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         observer: &observer,
         monitors: RunMonitors::new(&monitors, &layout.cfd, &start_name),
         probes,
+        surface,
         commands: &commands,
         csv,
         kept_rows,

@@ -17,8 +17,17 @@ fn case_copy(name: &str) -> (tempfile::TempDir, PathBuf) {
 
 /// Runs `case` natively with default options, collecting the log lines.
 fn run_logged(case: &std::path::Path, stop: &AtomicBool) -> (runner::run::RunReport, Vec<String>) {
+    run_logged_with(case, &RunOptions::default(), stop)
+}
+
+/// Runs `case` with `opts`, collecting the log lines.
+fn run_logged_with(
+    case: &std::path::Path,
+    opts: &RunOptions,
+    stop: &AtomicBool,
+) -> (runner::run::RunReport, Vec<String>) {
     let mut log = Vec::new();
-    let report = run(case, &RunOptions::default(), stop, &mut |e| {
+    let report = run(case, opts, stop, &mut |e| {
         if let Event::Message(m) = e {
             log.push(m)
         }
@@ -614,13 +623,7 @@ fn native_probes_write_openfoams_probe_files() {
         end_time: Some(0.01),
         ..RunOptions::default()
     };
-    let mut log = Vec::new();
-    run(&case, &opts, &AtomicBool::new(false), &mut |e| {
-        if let Event::Message(m) = e {
-            log.push(m)
-        }
-    })
-    .unwrap();
+    let (_, log) = run_logged_with(&case, &opts, &AtomicBool::new(false));
     let warned = |s: &str| log.iter().any(|l| l.contains(s));
     assert!(warned("(10 10 10) is outside the mesh"), "{log:?}");
     assert!(warned("volAverage_voidfraction not held"), "{log:?}");
@@ -679,5 +682,107 @@ fn native_probes_write_openfoams_probe_files() {
             (a - b).abs() <= 1e-5 * b.abs().max(1e-9),
             "U[{i}]: {a} vs {b}"
         );
+    }
+}
+
+/// The native `surfaceFieldValue` (CFDEM's periodicChannel sums `phi` over its cyclic
+/// patches): OpenFOAM v1912's file layout (the header lines grainPisoFoam's OpenFOAM writes for
+/// the same entry), one row per coupling step, and the values against what must hold: the
+/// flow through the cyclic `inlet` equals Σ of the `phi` the run wrote on that patch, leaves
+/// through `outlet` with the opposite sign (one flow across the pair), and nothing crosses the
+/// no-slip `wall`, where U is zero.
+#[test]
+fn native_surface_field_values_write_openfoams_files() {
+    let (_tmp, case) = case_copy("periodic-channel");
+    let cfd = case.join("CFD");
+    let control = cfd.join("system/controlDict");
+    let mut text = std::fs::read_to_string(&control).unwrap();
+    let object = |name: &str, patch: &str, op: &str, fields: &str| {
+        format!(
+            "{name} {{ type surfaceFieldValue; functionObjectLibs (\"libfieldFunctionObjects.so\"); \
+             outputControl timeStep; outputInterval 1; log false; writeFields false; \
+             regionType patch; name {patch}; operation {op}; fields ({fields}); }}\n"
+        )
+    };
+    text.push_str("functions {\n");
+    text.push_str(&object("flowIn", "inlet", "sum", "phi voidfraction"));
+    text.push_str(&object("flowOut", "outlet", "sum", "phi"));
+    text.push_str(&object("wallFlow", "wall", "areaAverage", "phi U p"));
+    text.push_str(&object("spread", "wall", "CoV", "p"));
+    text.push_str("}\n");
+    std::fs::write(&control, text).unwrap();
+    let opts = RunOptions {
+        end_time: Some(0.005),
+        ..RunOptions::default()
+    };
+    let (_, log) = run_logged_with(&case, &opts, &AtomicBool::new(false));
+    let warned = |s: &str| log.iter().any(|l| l.contains(s));
+    assert!(warned("voidfraction not held on patches"), "{log:?}");
+    assert!(warned("`CoV` is not run by the native fluid"), "{log:?}");
+    assert!(!warned("are not run by the native fluid"), "{log:?}");
+    let read = |name: &str| {
+        std::fs::read_to_string(
+            cfd.join("postProcessing")
+                .join(name)
+                .join("0/surfaceFieldValue.dat"),
+        )
+        .unwrap()
+    };
+    let inflow = read("flowIn");
+    let lines: Vec<&str> = inflow.lines().collect();
+    assert_eq!(
+        lines[..5],
+        [
+            // the case's writePrecision is 10: columns 18 wide, as icoFoam writes them then
+            "# Region type :   patch inlet",
+            "# Faces           : 16",
+            "# Area            : 6.2500000000e-04",
+            "# Scale factor    : 1.0000000000e+00",
+            "# Time            \tsum(phi)",
+        ],
+        "{inflow}"
+    );
+    let rows = |text: &str| -> Vec<Vec<f64>> {
+        text.lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| {
+                l.replace(['(', ')'], " ")
+                    .split_whitespace()
+                    .map(|w| w.parse().unwrap())
+                    .collect()
+            })
+            .collect()
+    };
+    let (inn, out) = (rows(&inflow), rows(&read("flowOut")));
+    assert_eq!(inn.len(), 5, "one row per coupling step: {inflow}");
+    assert!((inn[4][0] - 0.005).abs() < 1e-12);
+    // the written phi's inlet faces at 0.005 s
+    let phi = std::fs::read_to_string(cfd.join("0.005/phi")).unwrap();
+    let at = phi.find("\n    inlet").expect("inlet in phi");
+    let body = &phi[at..];
+    let list = &body[body.find("List<scalar>").unwrap()..];
+    let open = list.find('(').unwrap();
+    let close = list.find(')').unwrap();
+    let written: f64 = list[open + 1..close]
+        .split_whitespace()
+        .map(|w| w.parse::<f64>().unwrap())
+        .sum();
+    let q = inn[4][1];
+    assert!(q.abs() > 1e-6, "the held flow moves air: {inflow}");
+    assert!(
+        (q - written).abs() <= 1e-6 * written.abs(),
+        "{q} vs {written}"
+    );
+    for (a, b) in inn.iter().zip(&out) {
+        assert!((a[1] + b[1]).abs() <= 1e-6 * a[1].abs(), "{a:?} vs {b:?}");
+    }
+    let wall = read("wallFlow");
+    assert!(
+        wall.contains("# Time            \tareaAverage(phi)\tareaAverage(U)\tareaAverage(p)\n"),
+        "{wall}"
+    );
+    for r in rows(&wall) {
+        assert_eq!(r[1..5], [0.0; 4], "{wall}");
+        assert!(r[5].is_finite(), "{wall}");
     }
 }
