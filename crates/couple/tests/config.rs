@@ -356,6 +356,10 @@ fn cfdem_auxiliary_models_and_flags() {
     let pcv = c.monitors.particle_cell_volume.unwrap();
     assert_eq!((pcv.lower, pcv.upper), (-0.01, 1.01));
     assert!(c.solve_flow && !c.monitors.clock && !c.ddt_voidage);
+
+    // CFDEM-PFM's voidfractionTest: the key alone switches ∂ε/∂t on
+    let bare = CFDEM_VOCABULARY.replace("useDDTvoidfraction b;", "useDDTvoidfraction;");
+    assert!(read(&bare).unwrap().ddt_voidage);
 }
 
 #[test]

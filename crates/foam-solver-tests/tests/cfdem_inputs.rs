@@ -69,3 +69,29 @@ fn rho_from_the_zero_folder_and_missing_coupling_fields() {
         "{log}"
     );
 }
+
+/// CFDEM-PFM's `useDDTvoidfraction;` (the key alone, its voidfractionTest) switches ∂ε/∂t on,
+/// as `useDDTvoidfraction b;` does: the same log line and the same fields.
+#[test]
+fn the_bare_ddt_key_is_b() {
+    let Some(solver) = grain_piso_foam() else {
+        return;
+    };
+    let run = |line: &str| {
+        let case = TestCase::new("column");
+        case.edit(
+            "constant/couplingProperties",
+            "modelType       \"A\";",
+            &format!("modelType       \"A\";\n{line}"),
+        );
+        let log = case.run(&solver);
+        (case, log)
+    };
+    let (b, log_b) = run("useDDTvoidfraction b;");
+    let (bare, log_bare) = run("useDDTvoidfraction;");
+    let (_, log_none) = run("");
+    assert!(log_b.contains("ddtVoidfraction on"), "{log_b}");
+    assert!(log_bare.contains("ddtVoidfraction on"), "{log_bare}");
+    assert!(log_none.contains("ddtVoidfraction off"), "{log_none}");
+    assert_eq!(b.vectors("0.02", "U"), bare.vectors("0.02", "U"));
+}

@@ -16,7 +16,7 @@
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
 //! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
 //! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
-//! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's) | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
+//! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's); the key alone (`useDDTvoidfraction;`) is `b`, as CFDEM-PFM reads it | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
 //! | `debug`, `syncMode`, `checkPeriodicCells`, `turbulenceModelType` | accepted; `debug on` warns (no debug output) |
 //!
 //! In a force model's Props, `interpolation true` selects the smooth interpolation
@@ -402,7 +402,15 @@ impl CouplingConfig {
             monitors.clock = r.select(&registry::CLOCK, "clockModel", name)?;
         }
         let solve_flow = r.opt_switch(top, "solveFlow", "solveFlow")?.unwrap_or(true);
-        let ddt_voidage = match r.opt_word(top, "useDDTvoidfraction", "useDDTvoidfraction")? {
+        // CFDEM-PFM switches ∂ε/∂t on by the key alone (`useDDTvoidfraction;`, its
+        // voidfractionTest); a word after the key is read as CFDEM-PUBLIC reads it (PFM would
+        // take even `off` as on, but no PFM case writes a word there)
+        let bare_ddt = top.stream("useDDTvoidfraction").is_ok_and(|s| s.is_empty());
+        let ddt_voidage = match bare_ddt {
+            true => Some("b"),
+            false => r.opt_word(top, "useDDTvoidfraction", "useDDTvoidfraction")?,
+        };
+        let ddt_voidage = match ddt_voidage {
             Some("b") => true,
             None | Some("off") => false,
             Some("a") => {
