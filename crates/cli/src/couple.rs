@@ -97,6 +97,9 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
     let fluid = FrozenFluid::read(case.root(), &a.time, settings.physics.nu)
         .with_context(|| format!("frozen fluid of time {}", a.time))?;
     let mut coupler = Coupler::new(fluid.mesh(), settings)?;
+    if let Some(s) = config.smoothing {
+        coupler.set_smoothing(couple::smoothing::ConstDiffSmoothing::new(fluid.mesh(), s)?);
+    }
     let pieces = foam::decomposed::pieces(&case, fluid.mesh().n_cells)?;
     loop {
         let step = coupler.exchange(&replay.state(), &fluid.state())?;

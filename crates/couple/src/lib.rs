@@ -52,6 +52,7 @@ pub mod population;
 pub mod ranks;
 pub mod replay;
 pub mod sides;
+pub mod smoothing;
 pub mod step;
 pub mod timestep;
 

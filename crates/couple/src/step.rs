@@ -91,6 +91,8 @@ pub struct Coupler {
     remote: Remote,
     /// The fluid's cells' owners, when they are not rank 0 ([`Coupler::set_owners`]).
     owners: Option<Box<dyn CellOwners>>,
+    /// `constDiffSmoothing` of the ε handed to the fluid ([`Coupler::set_smoothing`]).
+    smoothing: Option<crate::smoothing::ConstDiffSmoothing>,
 }
 
 /// A rank's copy of ε, U, p, ∇p and ∇·τ at the cells it touches (dense, `n_cells` long).
@@ -150,7 +152,16 @@ impl Coupler {
             touched: 0,
             remote: Remote::default(),
             owners: None,
+            smoothing: None,
         })
+    }
+
+    /// Smooths the voidage handed to the fluid from now on (`smoothingModel
+    /// constDiffSmoothing`, [`crate::smoothing`]); the bounds' volume change is added to the
+    /// step's clipped volume and cells. Not with [`Coupler::set_owners`] (no rank holds the
+    /// whole ε there): the next exchange is then an error.
+    pub fn set_smoothing(&mut self, smoothing: crate::smoothing::ConstDiffSmoothing) {
+        self.smoothing = Some(smoothing);
     }
 
     /// Runs this coupler as one of several ranks ([`crate::ranks`]): from now on every
@@ -224,6 +235,14 @@ impl Coupler {
         let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
+            if self.smoothing.is_some() {
+                return Err(CoupleError::Parameter(
+                    "smoothingModel constDiffSmoothing needs the whole voidage field on one \
+                     rank; with grainPisoFoam on several coupler ranks no rank holds it (run \
+                     one coupler rank, or the native fluid)"
+                        .into(),
+                ));
+            }
             return self.exchange_owned(particles, population);
         }
         if self.ranks.size() > 1 && self.ranks.rank() > 0 {
@@ -261,6 +280,13 @@ impl Coupler {
             self.forces(shares, fluid, &voidage.epsilon, particles);
         if parallel {
             self.sum_exchange(&touched, &mut exchange);
+        }
+        if let Some(s) = &self.smoothing {
+            // after the forces: the drag uses each particle's unsmoothed ε (module docs of
+            // `smoothing`); the fluid gets the smoothed field
+            let r = s.smooth(&mut voidage.epsilon)?;
+            voidage.clipped_volume += r.bounded_volume;
+            voidage.clipped_cells += r.bounded_cells;
         }
         self.voidage.clone_from(&voidage.epsilon);
         Ok(CouplingStep {

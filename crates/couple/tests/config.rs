@@ -215,8 +215,13 @@ fn errors_name_file_and_key() {
     );
     fails(
         "locateModel engine;",
+        "smoothingModel temporalSmoothing;",
+        &["smoothingModel", "temporalSmoothing", "constDiffSmoothing"],
+    );
+    fails(
+        "locateModel engine;",
         "smoothingModel constDiffSmoothing;",
-        &["smoothingModel"],
+        &["constDiffSmoothingProps/smoothingLength", "missing"],
     );
     fails(
         "locateModel engine;",
@@ -356,6 +361,22 @@ fn cfdem_auxiliary_models_and_flags() {
     let pcv = c.monitors.particle_cell_volume.unwrap();
     assert_eq!((pcv.lower, pcv.upper), (-0.01, 1.01));
     assert!(c.solve_flow && !c.monitors.clock && !c.ddt_voidage);
+
+    // CFDEM-PFM's settlingTestMPI smoothing
+    assert_eq!(c.smoothing, None);
+    let smooth = CFDEM_VOCABULARY.replace(
+        "smoothingModel off;",
+        "smoothingModel constDiffSmoothing;\nconstDiffSmoothingProps { lowerLimit 0.0; \
+         upperLimit 1e99; smoothingLength 3e-4; verbose; }",
+    );
+    assert_eq!(
+        read(&smooth).unwrap().smoothing,
+        Some(couple::smoothing::SmoothingSettings {
+            length: 3e-4,
+            lower: 0.0,
+            upper: 1e99
+        })
+    );
 
     // CFDEM-PFM's voidfractionTest: the key alone switches ∂ε/∂t on
     let bare = CFDEM_VOCABULARY.replace("useDDTvoidfraction b;", "useDDTvoidfraction;");

@@ -791,6 +791,7 @@ fn run_launched(
         monitors: config.monitors.clone(),
         solve_flow: config.solve_flow,
         ddt_voidage: config.ddt_voidage,
+        smoothing: config.smoothing,
         commands,
         opts,
         stop,
@@ -820,6 +821,8 @@ pub(crate) struct LoopContext<'a> {
     pub(crate) solve_flow: bool,
     /// `useDDTvoidfraction`.
     pub(crate) ddt_voidage: bool,
+    /// `smoothingModel constDiffSmoothing`, if on.
+    pub(crate) smoothing: Option<couple::smoothing::SmoothingSettings>,
     /// CFDEM's `liggghtsCommands`.
     pub(crate) commands: couple::config::LiggghtsCommands,
     pub(crate) opts: &'a RunOptions,
@@ -877,6 +880,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         init_seconds,
         ranks,
         owners,
+        smoothing,
         ..
     } = ctx;
     let mesh = fluid.mesh().clone();
@@ -916,6 +920,9 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     }
     if let Some(owners) = owners {
         coupler.set_owners(owners);
+    }
+    if let Some(s) = smoothing {
+        coupler.set_smoothing(couple::smoothing::ConstDiffSmoothing::new(&mesh, s)?);
     }
     let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
     // The voidage of the initial particles, so that the first coupling interval blends from it

@@ -14,6 +14,7 @@
 //! | `forceModels` (one drag law of [`closures::DRAG_LAW_NAMES`], [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
 //! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
+//! | `smoothingModel constDiffSmoothing` (`<name>Props`: `smoothingLength`, `lowerLimit`, `upperLimit`) | [`CouplingConfig::smoothing`], [`crate::smoothing`]; the other smoothing models are refused |
 //! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
 //! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
 //! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's); the key alone (`useDDTvoidfraction;`) is `b`, as CFDEM-PFM reads it | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
@@ -134,6 +135,9 @@ pub struct CouplingConfig {
     /// `solveFlow` (default true): when off the fluid is not solved (U and p stay as read) while
     /// the particles, the voidage and the exchange fields go on.
     pub solve_flow: bool,
+    /// `smoothingModel constDiffSmoothing`: its settings ([`crate::smoothing`]); `None` for
+    /// `off`.
+    pub smoothing: Option<crate::smoothing::SmoothingSettings>,
     /// `useDDTvoidfraction`: `b` puts ∂ε/∂t into the continuity equation, `off` leaves it out.
     /// Without the key it is left out, as CFDEM's default (`off`) does.
     pub ddt_voidage: bool,
@@ -386,6 +390,7 @@ impl CouplingConfig {
         let forces = forces::read_forces(&mut r, top, &mut monitors)?;
         let momentum = read_momentum(&mut r, top)?;
         let mut data_exchange = "twoWayMPI".to_string();
+        let mut smoothing = None;
         for family in &registry::SINGLE_NAME {
             let key = family.key;
             let Some(name) = r.opt_word(top, key, key)? else {
@@ -395,6 +400,7 @@ impl CouplingConfig {
             match key {
                 "IOModel" => monitors.basic_io = acts,
                 "dataExchangeModel" => data_exchange = name.to_string(),
+                "smoothingModel" if acts => smoothing = Some(read_smoothing(&r, top, name)?),
                 _ => {}
             }
         }
@@ -472,6 +478,7 @@ impl CouplingConfig {
             monitors,
             solve_flow,
             ddt_voidage,
+            smoothing,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,
@@ -528,6 +535,57 @@ fn read_voidage(r: &Reader<'_>, top: &Dict) -> Result<VoidageSettings, CoupleErr
         }
     }
     Ok(VoidageSettings { method, alpha_min })
+}
+
+/// `constDiffSmoothingProps` ([`crate::smoothing`]): `smoothingLength` (m, required: PFM's
+/// alternative, a `smoothingLengthField` read from the case, is not read), `lowerLimit` and
+/// `upperLimit` (required, as PFM reads them); `smoothingLengthReference` (PFM's length for the
+/// Us reference field, which foamgrain does not smooth) and `verbose` are accepted.
+fn read_smoothing(
+    r: &Reader<'_>,
+    top: &Dict,
+    name: &str,
+) -> Result<crate::smoothing::SmoothingSettings, CoupleError> {
+    let props = r.props(top, name)?;
+    let dict = format!("{name}Props");
+    r.check_props(
+        &props,
+        &dict,
+        &[
+            "lowerLimit",
+            "upperLimit",
+            "smoothingLength",
+            "smoothingLengthReference",
+            "smoothingLengthFieldName",
+            "smoothingLengthReferenceFieldName",
+            "verbose",
+        ],
+    )?;
+    let number = |key: &str| -> Result<f64, CoupleError> {
+        let path = format!("{dict}/{key}");
+        match props.contains(key) {
+            true => r.number(&props, key, &path),
+            false => Err(r.err(&path, "missing (constDiffSmoothing needs it)")),
+        }
+    };
+    let settings = crate::smoothing::SmoothingSettings {
+        length: number("smoothingLength")?,
+        lower: number("lowerLimit")?,
+        upper: number("upperLimit")?,
+    };
+    if settings.length <= 0.0 {
+        return Err(r.err(
+            &format!("{dict}/smoothingLength"),
+            format!("{} is not a positive length (m)", settings.length),
+        ));
+    }
+    if settings.lower > settings.upper {
+        return Err(r.err(
+            &format!("{dict}/lowerLimit"),
+            format!("{} is above upperLimit {}", settings.lower, settings.upper),
+        ));
+    }
+    Ok(settings)
 }
 
 fn read_momentum(r: &mut Reader<'_>, top: &Dict) -> Result<MomentumCoupling, CoupleError> {

@@ -88,17 +88,18 @@ pub const SMOOTHING: Family = Family {
     models: &[
         ("off", Same),
         ("noSmoothing", Same),
-        (
-            "constDiffSmoothing",
-            Refuse("smoothing of the exchange fields is not implemented; use `off`"),
-        ),
+        ("constDiffSmoothing", Acts),
         (
             "localPSizeDiffSmoothing",
-            Refuse("smoothing of the exchange fields is not implemented; use `off`"),
+            Refuse("not implemented; use `constDiffSmoothing` or `off`"),
         ),
         (
             "temporalSmoothing",
-            Refuse("smoothing of the exchange fields is not implemented; use `off`"),
+            Refuse("not implemented; use `constDiffSmoothing` or `off`"),
+        ),
+        (
+            "constDiffAndTemporalSmoothing",
+            Refuse("not implemented; use `constDiffSmoothing` or `off`"),
         ),
     ],
 };
@@ -267,10 +268,10 @@ mod tests {
     #[test]
     fn refused_names_are_not_offered() {
         let names = SMOOTHING.valid_names();
-        assert_eq!(names, "off, noSmoothing");
+        assert_eq!(names, "off, noSmoothing, constDiffSmoothing");
         assert_eq!(
             SMOOTHING
-                .support("constDiffSmoothing")
+                .support("temporalSmoothing")
                 .map(|s| matches!(s, Refuse(_))),
             Some(true)
         );
