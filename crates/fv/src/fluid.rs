@@ -277,6 +277,12 @@ impl Fluid {
         let gamma_b = vec![0.0; nb];
         let phi = fl.phi.clone();
         fl.update_p_boundary(fl.time, &gamma_b, &phi, &phi);
+        // totalPressure patches start from the file's `value` (bc::read_total_pressure_values)
+        for (patch, start) in fl.g.patches.iter().zip(&fields.p_b_start) {
+            if let Some(v) = start {
+                fl.p_b[patch.boundary_range(fl.g.n_internal)].copy_from_slice(v);
+            }
+        }
         // The gradient the last step used when the start time has it (a coupled run's
         // restart, fields::GRAD_P_FILE), else the Gauss gradient of p.
         fl.grad_p = match fields.grad_p {
@@ -1198,6 +1204,7 @@ impl Fluid {
                 what: "p".into(),
                 msg: m,
             })?;
+        self.set_total_pressure_values(&mut p);
         p.write(&dir.join("p"), fmt)?;
         crate::fields::write_phi(&dir.join("phi"), &self.g, &self.phi, fmt)?;
         if let Some(t) = &self.turbulence {
@@ -1217,6 +1224,30 @@ impl Fluid {
             grad.write(&dir.join(crate::fields::GRAD_P_FILE), fmt)?;
         }
         Ok(())
+    }
+
+    /// Puts the current boundary values of the totalPressure patches into their `value`
+    /// entries (what OpenFOAM writes, and what a run started from the time reads back).
+    fn set_total_pressure_values(&self, p: &mut VolField) {
+        let Some(foam::Value::Dict(bf)) = p.body.get_mut("boundaryField") else {
+            return;
+        };
+        for (patch, bc) in self.g.patches.iter().zip(&self.p_bc) {
+            if !matches!(bc, PressureBc::TotalPressure(_)) {
+                continue;
+            }
+            if let Some(foam::Value::Dict(e)) = bf.get_mut(&patch.name) {
+                let v = self.p_b[patch.boundary_range(self.g.n_internal)].to_vec();
+                e.set(
+                    "value",
+                    foam::Value::Stream(vec![
+                        foam::Item::Word("nonuniform".into()),
+                        foam::Item::Word("List<scalar>".into()),
+                        foam::Item::Scalars(v),
+                    ]),
+                );
+            }
+        }
     }
 
     /// The directory name OpenFOAM would give the current time (`%g`-like, shortest form).
