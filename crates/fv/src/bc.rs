@@ -434,6 +434,30 @@ pub fn read_pressure(
     })
 }
 
+/// The `value` entry of each `totalPressure` patch of `p` (`None` for other patches and where
+/// the entry is absent). OpenFOAM v1912's totalPressure starts from its `value` when the file
+/// has one (else from p0) and keeps it until the pressure equation first evaluates the
+/// condition: the first momentum predictor of a run sees that value (a case started from rest
+/// with `value uniform 0` sees no gradient at the inlet), and a written time keeps the value
+/// the last corrector used.
+pub fn read_total_pressure_values(
+    file: &Path,
+    field: &foam::VolField,
+    mesh: &foam::PolyMesh,
+    g: &FvGeometry,
+) -> Result<Vec<Option<Vec<f64>>>> {
+    read_all(file, field, mesh, g, |e, t| {
+        let empty = t == "empty";
+        if t != "totalPressure" || !e.dict.contains("value") {
+            return Ok((None, empty));
+        }
+        Ok((
+            Some(e.values("value", Item::as_f64, Item::as_f64_list)?),
+            empty,
+        ))
+    })
+}
+
 fn check_empty(e: &PatchEntry<'_>, patch_empty: bool, bc_empty: bool) -> Result<()> {
     if patch_empty != bc_empty {
         return Err(e.err(

@@ -23,6 +23,9 @@ pub struct CaseFields {
     pub u_bc: Vec<VelocityBc>,
     /// Pressure conditions per patch.
     pub p_bc: Vec<PressureBc>,
+    /// The start values of the totalPressure patches, where `p` gives them
+    /// ([`bc::read_total_pressure_values`]).
+    pub p_b_start: Vec<Option<Vec<f64>>>,
     /// Voidage boundary values per patch from `voidfraction` if the start time has one
     /// (`None`: the owner cell's ε; also for every patch without the file).
     pub eps_bc: Vec<Option<Vec<f64>>>,
@@ -70,6 +73,7 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
     };
     let u_bc = bc::read_velocity(&u_path, &u_file, mesh, g)?;
     let p_bc = bc::read_pressure(&p_path, &p_file, mesh, g)?;
+    let p_b_start = bc::read_total_pressure_values(&p_path, &p_file, mesh, g)?;
     let eps_path = dir.join("voidfraction");
     let (eps_bc, eps_file) = if eps_path.is_file() {
         let file = VolField::read(&eps_path)?;
@@ -104,6 +108,7 @@ pub fn read_fields(dir: &Path, mesh: &PolyMesh, g: &FvGeometry) -> Result<CaseFi
         p,
         u_bc,
         p_bc,
+        p_b_start,
         eps_bc,
         phi,
         eps_file,

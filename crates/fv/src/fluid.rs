@@ -275,7 +275,14 @@ impl Fluid {
         };
         fl.update_u_boundary(fl.time);
         let gamma_b = vec![0.0; nb];
-        fl.update_p_boundary(fl.time, &gamma_b, &fl.phi.clone());
+        let phi = fl.phi.clone();
+        fl.update_p_boundary(fl.time, &gamma_b, &phi, &phi);
+        // totalPressure patches start from the file's `value` (bc::read_total_pressure_values)
+        for (patch, start) in fl.g.patches.iter().zip(&fields.p_b_start) {
+            if let Some(v) = start {
+                fl.p_b[patch.boundary_range(fl.g.n_internal)].copy_from_slice(v);
+            }
+        }
         // The gradient the last step used when the start time has it (a coupled run's
         // restart, fields::GRAD_P_FILE), else the Gauss gradient of p.
         fl.grad_p = match fields.grad_p {
@@ -485,24 +492,32 @@ impl Fluid {
     }
 
     /// Boundary pressure values at time `t`; `gamma_b` the pressure-Laplacian coefficient and
-    /// `phi_star` the unconstrained predicted flux on boundary faces, for fixedFluxPressure.
-    fn update_p_boundary(&mut self, t: f64, gamma_b: &[f64], phi_star: &[f64]) {
+    /// `phi_star` the unconstrained predicted flux on boundary faces, for fixedFluxPressure;
+    /// `phi_in` the flux whose sign tells totalPressure faces in- from outflow (see
+    /// [`Self::eval_p_boundary`]).
+    fn update_p_boundary(&mut self, t: f64, gamma_b: &[f64], phi_star: &[f64], phi_in: &[f64]) {
         let mut pb = std::mem::take(&mut self.p_b);
-        self.eval_p_boundary(t, &self.p, gamma_b, phi_star, &mut pb);
+        self.eval_p_boundary(t, &self.p, gamma_b, phi_star, phi_in, &mut pb);
         self.p_b = pb;
     }
 
     /// The boundary pressure values of the cell pressures `p` into `pb` (see
-    /// [`Self::update_p_boundary`]).
+    /// [`Self::update_p_boundary`]). totalPressure faces take p0 − ½|U_b|² where `phi_in` < 0:
+    /// inside a PISO corrector `phi_in` is the flux the corrector started from (the previous
+    /// corrector's, or the previous step's on the first), as OpenFOAM v1912 evaluates the
+    /// condition when it assembles the pressure equation, before `phi` is updated — with U_b
+    /// of the previous corrector, the value stays fixed through the corrector's solves and
+    /// the velocity correction that follows them.
     fn eval_p_boundary(
         &self,
         t: f64,
         p: &[f64],
         gamma_b: &[f64],
         phi_star: &[f64],
+        phi_in: &[f64],
         pb: &mut [f64],
     ) {
-        bc::eval_pressure(&self.g, &self.p_bc, t, p, &self.u_b, &self.phi, pb);
+        bc::eval_pressure(&self.g, &self.p_bc, t, p, &self.u_b, phi_in, pb);
         let g = &self.g;
         for (patch, bc) in g.patches.iter().zip(&self.p_bc) {
             if *bc != PressureBc::FixedFluxPressure {
@@ -870,8 +885,10 @@ impl Fluid {
                     phi_star[f] = ef[f] * self.u_b[bi].dot(&g.sf[f]);
                 }
             }
-            self.phi.clone_from(&phi_star);
-            self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained);
+            // The flux this corrector starts from decides in- and outflow on totalPressure
+            // faces (Self::eval_p_boundary).
+            let phi_in = std::mem::replace(&mut self.phi, phi_star.clone());
+            self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained, &phi_in);
             let g = &self.g;
             // Pressure matrix (symmetric positive definite with a fixed-value patch or ref cell).
             let mut pm = Ldu::zeros(g);
@@ -947,7 +964,7 @@ impl Fluid {
                     // The next correction's ∇p sees the boundary values of this solution
                     // (OpenFOAM's solve ends with p.correctBoundaryConditions()).
                     let mut pb = std::mem::take(&mut self.p_b);
-                    self.eval_p_boundary(t_new, &p, &gamma_b, &phi_unconstrained, &mut pb);
+                    self.eval_p_boundary(t_new, &p, &gamma_b, &phi_unconstrained, &phi_in, &mut pb);
                     self.p_b = pb;
                 }
             }
@@ -966,7 +983,7 @@ impl Fluid {
                 }
             }
             self.p = p;
-            self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained);
+            self.update_p_boundary(t_new, &gamma_b, &phi_unconstrained, &phi_in);
             self.grad_p = if self.harmonic_faces {
                 flux_consistent_grad(
                     &self.g,
@@ -1187,6 +1204,7 @@ impl Fluid {
                 what: "p".into(),
                 msg: m,
             })?;
+        self.set_total_pressure_values(&mut p);
         p.write(&dir.join("p"), fmt)?;
         crate::fields::write_phi(&dir.join("phi"), &self.g, &self.phi, fmt)?;
         if let Some(t) = &self.turbulence {
@@ -1206,6 +1224,30 @@ impl Fluid {
             grad.write(&dir.join(crate::fields::GRAD_P_FILE), fmt)?;
         }
         Ok(())
+    }
+
+    /// Puts the current boundary values of the totalPressure patches into their `value`
+    /// entries (what OpenFOAM writes, and what a run started from the time reads back).
+    fn set_total_pressure_values(&self, p: &mut VolField) {
+        let Some(foam::Value::Dict(bf)) = p.body.get_mut("boundaryField") else {
+            return;
+        };
+        for (patch, bc) in self.g.patches.iter().zip(&self.p_bc) {
+            if !matches!(bc, PressureBc::TotalPressure(_)) {
+                continue;
+            }
+            if let Some(foam::Value::Dict(e)) = bf.get_mut(&patch.name) {
+                let v = self.p_b[patch.boundary_range(self.g.n_internal)].to_vec();
+                e.set(
+                    "value",
+                    foam::Value::Stream(vec![
+                        foam::Item::Word("nonuniform".into()),
+                        foam::Item::Word("List<scalar>".into()),
+                        foam::Item::Scalars(v),
+                    ]),
+                );
+            }
+        }
     }
 
     /// The directory name OpenFOAM would give the current time (`%g`-like, shortest form).
