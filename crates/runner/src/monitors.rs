@@ -13,9 +13,10 @@
 //! * `clockModel standardClock`: the timing table at the end, in the log and
 //!   `clockData/timeEval.txt`.
 //!
-//! A value that cannot be computed (no cell between the thresholds) is left empty in the text
-//! files, never written as a number. The text files are rewritten whole (atomically) at each
-//! write time and at the end.
+//! A value that cannot be computed (no cell between the thresholds) is written `NaN` in the
+//! text files, never as a number (CFDEM writes 0 there): an empty column would shift the
+//! columns after it, and the tutorials' octave scripts `load` these files, which reads `NaN`.
+//! The text files are rewritten whole (atomically) at each write time and at the end.
 
 use crate::run::RunError;
 use couple::config::monitors::{ParticleCellVolume, VolWeightedAverage};
@@ -138,9 +139,9 @@ pub(crate) struct RunMonitors {
     pub(crate) needs_ddt: bool,
 }
 
-/// `v` as text, or nothing when not measured.
+/// `v` as text, or `NaN` when it cannot be measured (module docs).
 fn opt(v: Option<f64>) -> String {
-    v.map_or(String::new(), |x| format!("{x}"))
+    v.map_or("NaN".into(), |x| format!("{x}"))
 }
 
 impl RunMonitors {
@@ -255,7 +256,8 @@ impl RunMonitors {
         if let Some(log) = &mut self.pcv_log {
             let _ = writeln!(
                 log.text,
-                "{time} {} {} {} {} {}",
+                "{} {} {} {} {} {}",
+                couple::output::time_name(time),
                 s.particle_volume,
                 s.cell_volume,
                 opt(s.average_fraction()),
@@ -277,7 +279,7 @@ impl RunMonitors {
             return;
         }
         let weights = m.use_volume_fraction.then_some(f.eps);
-        let mut row = format!("{time}");
+        let mut row = couple::output::time_name(time);
         self.last.averages.clear();
         for name in m.scalar_fields.iter().chain(&m.vector_fields) {
             let (text, value) = match f.get(name) {
@@ -287,9 +289,9 @@ impl RunMonitors {
                 }
                 Field::Vector(phi) => {
                     let a = vol_weighted_vector(phi, volumes, weights, m.lower, m.upper);
-                    let text = a
-                        .average
-                        .map_or(String::new(), |v| format!("({} {} {})", v.x, v.y, v.z));
+                    let text = a.average.map_or("(NaN NaN NaN)".into(), |v| {
+                        format!("({} {} {})", v.x, v.y, v.z)
+                    });
                     (text, a.average.map(FieldValuesOne::Vector))
                 }
             };

@@ -786,3 +786,58 @@ fn native_surface_field_values_write_openfoams_files() {
         assert!(r[5].is_finite(), "{wall}");
     }
 }
+
+/// CFDEM's `particleCellVolume` and `volWeightedAverage` text files on the settling sphere: the
+/// particle volume in the cells is the sphere's, π d³/6, on every row; the volume-weighted
+/// average of ∂ε/∂t over the cells where ε grew (lowerThreshold 0) is a number where the sphere
+/// moved and `NaN` where no cell qualifies (the first row: ε has not changed yet), never 0, so
+/// that the columns stay aligned for the tutorials' octave `load`.
+#[test]
+fn monitor_text_files_hold_the_sphere_and_nan_where_nothing_is_measured() {
+    let (_tmp, case) = case_copy("settling");
+    let props = case.join("CFD/constant/couplingProperties");
+    let text = std::fs::read_to_string(&props).unwrap().replace(
+        "    Archimedes\n);",
+        "    Archimedes\n    particleCellVolume\n    volWeightedAverage\n);\n\
+         particleCellVolumeProps { upperThreshold 1.01; lowerThreshold -0.01; verbose false; writeToFile true; }\n\
+         volWeightedAverageProps { scalarFieldNames ( ddtVoidfraction ); vectorFieldNames ( ); \
+         upperThreshold 1e20; lowerThreshold 0; verbose false; writeToFile true; }",
+    );
+    std::fs::write(&props, text).unwrap();
+    // to 0.05 s: the sphere (0.13 m/s) crosses cell faces (2.5 mm apart)
+    let opts = RunOptions {
+        end_time: Some(0.05),
+        ..RunOptions::default()
+    };
+    run_logged_with(&case, &opts, &AtomicBool::new(false));
+    let read = |name: &str| {
+        std::fs::read_to_string(case.join(format!("CFD/postProcessing/{name}/0/{name}.txt")))
+            .unwrap()
+    };
+    let rows = |text: &str| -> Vec<Vec<f64>> {
+        text.lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+            .collect()
+    };
+    let d: f64 = 1e-4;
+    let sphere = std::f64::consts::PI * d.powi(3) / 6.0;
+    let pcv = rows(&read("particleCellVolume"));
+    assert_eq!(pcv.len(), 50);
+    // the time column as OpenFOAM names times (no summation round-off)
+    assert!(read("particleCellVolume").contains("\n0.009 "));
+    for r in &pcv {
+        assert_eq!(r.len(), 6, "{r:?}");
+        assert!(
+            (r[1] - sphere).abs() < 1e-9 * sphere,
+            "{} vs {sphere}",
+            r[1]
+        );
+    }
+    let vwa = rows(&read("volWeightedAverage"));
+    assert_eq!(vwa.len(), 50);
+    assert!(vwa.iter().all(|r| r.len() == 2), "{vwa:?}");
+    assert!(vwa[0][1].is_nan(), "{vwa:?}");
+    assert!(vwa[1..].iter().any(|r| r[1] > 0.0), "{vwa:?}");
+    assert!(vwa.iter().all(|r| r[1] != 0.0), "{vwa:?}");
+}
