@@ -108,7 +108,8 @@ fn assert_same(native: &[Snapshot], reference: &[Snapshot]) {
 }
 
 fn run_native(dir: &Path) -> Vec<Snapshot> {
-    let deck = liggghts_deck::Deck::read_with_vars(dir.join(DECK), &[]).unwrap();
+    let deck =
+        liggghts_deck::Deck::read_with_vars(dir.join(DECK), &[("stl".to_string(), stl())]).unwrap();
     let sim = dem::Simulation::from_deck(&deck, dir).unwrap();
     assert_eq!(sim.lost(), 1, "one sphere leaves through the outlet");
     snapshots(&dir.join(DUMP))
@@ -131,7 +132,17 @@ fn liggghts_reproduces_the_conveyor_walls_fixture() {
     }
     let dir = workdir();
     let mut c = Command::new("liggghts");
-    c.args(["-in", DECK, "-screen", "s.screen", "-log", "s.log"]);
+    c.args([
+        "-in",
+        DECK,
+        "-var",
+        "stl",
+        &stl(),
+        "-screen",
+        "s.screen",
+        "-log",
+        "s.log",
+    ]);
     testkit::run_ok(c, dir.path());
     let fresh = snapshots(&dir.path().join(DUMP));
     let committed = snapshots(&testkit::fixture("dem/conveyor_walls_liggghts.txt"));
