@@ -35,19 +35,21 @@ const COLUMNS: [(&str, f64); 9] = [
     ("omegaz", 1e-4),
 ];
 
-/// A working directory with the deck, its data file, the conveyor's STL and `post/`.
+/// A working directory with the deck, its data file and `post/`.
 fn workdir() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
-    for sub in ["post", "meshes"] {
-        std::fs::create_dir_all(dir.path().join(sub)).unwrap();
-    }
+    std::fs::create_dir_all(dir.path().join("post")).unwrap();
     for f in [DECK, DATA] {
         std::fs::copy(testkit::liggghts_input(f), dir.path().join(f)).unwrap();
     }
-    let stl =
-        testkit::repo_root().join("openfoam-cases/pneumatic-conveying/DEM/meshes/conveyor.stl");
-    std::fs::copy(stl, dir.path().join("meshes/conveyor.stl")).unwrap();
     dir
+}
+
+/// `-var stl`: the case's STL walls, by absolute path.
+fn stl() -> String {
+    let path =
+        testkit::repo_root().join("openfoam-cases/pneumatic-conveying/DEM/meshes/conveyor.stl");
+    path.to_str().unwrap().to_string()
 }
 
 fn snapshots(path: &Path) -> Vec<Snapshot> {
