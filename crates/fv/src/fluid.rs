@@ -381,9 +381,15 @@ impl Fluid {
         (a_f, a_c, a_b)
     }
 
-    /// ∇·τ at cells (m/s²): ∇·(νeff(∇U + ∇Uᵀ)) of the current velocity ([`fvc::div_viscous_stress`]).
+    /// ∇·τ at cells (m/s²) for the particles' viscous force: ∇·(ν(∇U + ∇Uᵀ)) of the current
+    /// velocity ([`fvc::div_viscous_stress`]) with the molecular ν of `transportProperties`,
+    /// also when a turbulence model is on. This is the stress CFDEM's `viscForce` applies
+    /// (`forceSubModel::divTauField` takes `turbulence.nu()`, the laminar viscosity, not
+    /// `nuEff`) and the one grainPisoFoam sends (`mpiCouplingSource.H`, `nu_`); the fluid's own
+    /// momentum equation keeps ν + νt ([`Fluid::nu_eff`]).
     pub fn div_tau(&self) -> Vec<V3> {
-        let (nu_c, nu_b) = self.nu_eff();
+        let nu = self.settings.nu;
+        let (nu_c, nu_b) = (vec![nu; self.g.n_cells], vec![nu; self.g.n_boundary()]);
         fvc::div_viscous_stress(
             &self.g,
             Field::new(&nu_c, &nu_b),

@@ -258,3 +258,40 @@ fn unsupported_turbulence_settings_are_refused_naming_file_and_key() {
         }
     }
 }
+
+/// The particles' viscous force (`Fluid::div_tau`, handed to the coupler) takes the molecular
+/// ν, not ν + νt, also with k–ε on: CFDEM's `viscForce` forms ∇·τ from `turbulence.nu()`
+/// (`forceSubModel::divTauField`), and grainPisoFoam sends ∇·(ν(∇U + ∇Uᵀ)) with the
+/// `transportProperties` ν (`mpiCouplingSource.H`). Reference: the same divergence with a unit
+/// viscosity, scaled by ν — to 1e-12 of the field's largest value — while νt exceeds ν
+/// many times over in the channel after 10 steps (so ν + νt would miss it by that factor).
+#[test]
+fn particle_viscous_stress_takes_the_molecular_viscosity() {
+    let case = testkit::fixture("fv/channel-keps");
+    let dir = tempfile::tempdir().unwrap();
+    testkit::copy_dir(&case, dir.path());
+    let mut fluid = fv::Fluid::from_case(dir.path()).unwrap();
+    for _ in 0..10 {
+        fluid.advance(fluid.settings.delta_t).unwrap();
+    }
+    let nu = fluid.settings.nu;
+    let g = fluid.geometry();
+    let (nu_eff, _) = fluid.nu_eff();
+    let largest_nut = nu_eff.iter().fold(0.0f64, |m, &v| m.max(v)) - nu;
+    assert!(largest_nut > 10.0 * nu, "νt {largest_nut} vs ν {nu}");
+    let ones = (vec![1.0; g.n_cells], vec![1.0; g.n_boundary()]);
+    let unit = fv::fvc::div_viscous_stress(
+        g,
+        fv::fvc::Field::new(&ones.0, &ones.1),
+        fv::fvc::Field::new(fluid.u(), fluid.u_boundary()),
+    );
+    let div_tau = fluid.div_tau();
+    let scale = div_tau.iter().map(|v| v.norm()).fold(0.0f64, f64::max);
+    assert!(scale > 0.0);
+    let worst = div_tau
+        .iter()
+        .zip(&unit)
+        .map(|(d, u)| (d - nu * u).norm())
+        .fold(0.0f64, f64::max);
+    assert!(worst <= 1e-12 * scale, "{worst} of {scale}");
+}
