@@ -12,7 +12,10 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::process::Command;
 
-use dem_io::{read_snapshot, ReadOptions, Selection, Snapshot};
+mod common;
+
+use common::snapshots;
+use dem_io::Snapshot;
 
 const DECK: &str = "conveyor_walls.in";
 const DATA: &str = "conveyor_walls.data";
@@ -50,14 +53,6 @@ fn stl() -> String {
     let path =
         testkit::repo_root().join("openfoam-cases/pneumatic-conveying/DEM/meshes/conveyor.stl");
     path.to_str().unwrap().to_string()
-}
-
-fn snapshots(path: &Path) -> Vec<Snapshot> {
-    let mut out = Vec::new();
-    while let Ok(s) = read_snapshot(path, &ReadOptions::default(), Selection::Index(out.len())) {
-        out.push(s);
-    }
-    out
 }
 
 /// Per snapshot: id → the values of [`COLUMNS`].
@@ -114,14 +109,14 @@ fn run_native(dir: &Path) -> Vec<Snapshot> {
         liggghts_deck::Deck::read_with_vars(dir.join(DECK), &[("stl".to_string(), stl())]).unwrap();
     let sim = dem::Simulation::from_deck(&deck, dir).unwrap();
     assert_eq!(sim.lost(), 1, "one sphere leaves through the outlet");
-    snapshots(&dir.join(DUMP))
+    snapshots(dir.join(DUMP))
 }
 
 #[test]
 fn conveyor_contacts_follow_the_liggghts_trajectories() {
     let dir = workdir();
     let native = run_native(dir.path());
-    let reference = snapshots(&testkit::fixture("dem/conveyor_walls_liggghts.txt"));
+    let reference = snapshots(testkit::fixture("dem/conveyor_walls_liggghts.txt"));
     assert_eq!(native.len(), 41);
     assert_same(&native, &reference);
 }
@@ -146,7 +141,7 @@ fn liggghts_reproduces_the_conveyor_walls_fixture() {
         "s.log",
     ]);
     testkit::run_ok(c, dir.path());
-    let fresh = snapshots(&dir.path().join(DUMP));
-    let committed = snapshots(&testkit::fixture("dem/conveyor_walls_liggghts.txt"));
+    let fresh = snapshots(dir.path().join(DUMP));
+    let committed = snapshots(testkit::fixture("dem/conveyor_walls_liggghts.txt"));
     assert_eq!(differences(&fresh, &committed), [0.0; 9]);
 }

@@ -12,9 +12,9 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use common::{bed, last_snapshot, meshes};
+use common::{bed, last_snapshot, meshes, snapshots};
 use dem::trimesh::stl::ascii_stl;
-use dem_io::{read_snapshot, ReadOptions, Selection, Snapshot};
+use dem_io::Snapshot;
 
 /// The committed STL files are the generated geometries (`FOAMGRAIN_WRITE_MESHES=1` writes
 /// them).
@@ -68,14 +68,6 @@ fn run_liggghts(deck: &str, v: &[(&str, &str)], dir: &Path) {
     testkit::run_ok(c, dir);
 }
 
-fn snapshots(path: &Path) -> Vec<Snapshot> {
-    let mut out = Vec::new();
-    while let Ok(s) = read_snapshot(path, &ReadOptions::default(), Selection::Index(out.len())) {
-        out.push(s);
-    }
-    out
-}
-
 const BOUNCE_COLUMNS: [&str; 9] = [
     "x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz",
 ];
@@ -122,8 +114,8 @@ fn assert_same_bounce(native: &[Snapshot], reference: &[Snapshot]) {
 fn bounce_on_a_tilted_mesh_follows_the_liggghts_trajectory() {
     let dir = workdir();
     run_native("mesh_bounce.in", &[], dir.path());
-    let native = snapshots(&dir.path().join("post/mesh_bounce.txt"));
-    let reference = snapshots(&testkit::fixture("dem/mesh_bounce_liggghts.txt"));
+    let native = snapshots(dir.path().join("post/mesh_bounce.txt"));
+    let reference = snapshots(testkit::fixture("dem/mesh_bounce_liggghts.txt"));
     assert_eq!(native.len(), 81);
     assert_same_bounce(&native, &reference);
 }
@@ -233,8 +225,8 @@ fn liggghts_reproduces_the_mesh_fixtures() {
     }
     let dir = workdir();
     run_liggghts("mesh_bounce.in", &[], dir.path());
-    let fresh = snapshots(&dir.path().join("post/mesh_bounce.txt"));
-    let committed = snapshots(&testkit::fixture("dem/mesh_bounce_liggghts.txt"));
+    let fresh = snapshots(dir.path().join("post/mesh_bounce.txt"));
+    let committed = snapshots(testkit::fixture("dem/mesh_bounce_liggghts.txt"));
     assert_eq!(
         trajectory_difference(&fresh, &committed)
             .iter()
@@ -244,10 +236,7 @@ fn liggghts_reproduces_the_mesh_fixtures() {
     );
     let ndir = workdir();
     run_native("mesh_bounce.in", &[], ndir.path());
-    assert_same_bounce(
-        &snapshots(&ndir.path().join("post/mesh_bounce.txt")),
-        &fresh,
-    );
+    assert_same_bounce(&snapshots(ndir.path().join("post/mesh_bounce.txt")), &fresh);
 
     let dir = workdir();
     run_liggghts("mesh_pour.in", &POUR_SMALL, dir.path());

@@ -64,6 +64,16 @@ pub fn plane(axis: usize, position: f64, model: ContactModel) -> Wall {
     }
 }
 
+/// Every snapshot of a dump file, in order.
+pub fn snapshots(path: impl AsRef<std::path::Path>) -> Vec<dem_io::Snapshot> {
+    let (path, options) = (path.as_ref(), dem_io::ReadOptions::default());
+    let mut out = Vec::new();
+    while let Ok(s) = dem_io::read_snapshot(path, &options, dem_io::Selection::Index(out.len())) {
+        out.push(s);
+    }
+    out
+}
+
 /// The last snapshot of a dump file.
 pub fn last_snapshot(path: impl AsRef<std::path::Path>) -> dem_io::Snapshot {
     dem_io::read_snapshot(
