@@ -677,8 +677,13 @@ impl Simulation {
                 .collect();
         }
         self.coupling.permute(perm);
-        if let Some(c) = &mut self.forces_coupling {
-            c.permute(perm);
+        // the coupling the current forces were evaluated with is kept until the next force
+        // evaluation; particles inserted since have no entry in it (nor current forces), and a
+        // renumbering with them is always followed by that evaluation
+        match &mut self.forces_coupling {
+            Some(c) if c.f_ext.len() == perm.len() => c.permute(perm),
+            Some(_) => self.forces_coupling = None,
+            None => {}
         }
         self.pairs.renumber(perm);
     }
