@@ -98,6 +98,17 @@ impl Coupling {
         self.u_f.retain(|_| *k.next().unwrap());
     }
 
+    /// Follows a renumbering of the particles (`perm[new] = old`, see [`Particles::permute`]).
+    ///
+    /// [`Particles::permute`]: crate::particles::Particles::permute
+    pub fn permute(&mut self, perm: &[u32]) {
+        if self.is_active() {
+            crate::particles::permute(&mut self.f_ext, perm);
+            crate::particles::permute(&mut self.beta, perm);
+            crate::particles::permute(&mut self.u_f, perm);
+        }
+    }
+
     /// Extends with zero coupling for `n` new particles.
     pub fn grow(&mut self, n: usize) {
         if self.is_active() {

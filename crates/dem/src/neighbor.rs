@@ -56,8 +56,12 @@ pub struct PairList {
     red_first: Vec<u32>,
     /// Reduction entries: pair index, with [`ROLE_J`] set where the particle is the pair's j.
     red: Vec<u32>,
-    /// Number of builds so far (per-particle copies in the sorted order follow it).
+    /// Number of builds and renumberings so far (per-particle copies in the sorted order
+    /// follow it).
     generation: u64,
+    /// Whether `order` is the identity: the particles are stored in the spatial order
+    /// ([`PairList::renumber`]), so a pass reads their arrays directly.
+    identity: bool,
     valid: bool,
     /// The box's periodic axes: pairs across a periodic face are found and measured through
     /// the nearest image ([`crate::periodic`]).
@@ -107,6 +111,36 @@ impl PairList {
     /// The spatial order: `order()[s]` is the particle at sorted position s.
     pub fn order(&self) -> &[u32] {
         &self.order
+    }
+
+    /// Whether the spatial order is the particles' index order (after [`PairList::renumber`]
+    /// with [`PairList::order`]): per-particle data need no copy into that order.
+    pub fn is_identity(&self) -> bool {
+        self.identity
+    }
+
+    /// Follows a renumbering of the particles: the particle now at index `new` was at index
+    /// `perm[new]` (a permutation of `0..n`). Pairs, histories and the build positions stay
+    /// with their particles; renumbering by [`PairList::order`] right after a build stores the
+    /// particles in the spatial order ([`PairList::is_identity`]).
+    pub fn renumber(&mut self, perm: &[u32]) {
+        let n = perm.len();
+        let mut new_of_old = vec![0u32; n];
+        for (new, &old) in perm.iter().enumerate() {
+            new_of_old[old as usize] = new as u32;
+        }
+        for o in &mut self.order {
+            *o = new_of_old[*o as usize];
+        }
+        self.rank.resize(self.order.len(), 0);
+        for (s, &p) in self.order.iter().enumerate() {
+            self.rank[p as usize] = s as u32;
+        }
+        if self.x_build.len() == n {
+            self.x_build = perm.iter().map(|&o| self.x_build[o as usize]).collect();
+        }
+        self.identity = self.order.iter().enumerate().all(|(s, &p)| p as usize == s);
+        self.generation += 1;
     }
 
     /// The sorted position of particle `i`.
@@ -182,6 +216,7 @@ impl PairList {
         self.red_first.clear();
         self.red.clear();
         self.x_build.clear();
+        self.identity = false;
         self.valid = false;
     }
 
@@ -223,7 +258,18 @@ impl PairList {
 
     /// Builds the list now, carrying the history over.
     pub fn build(&mut self, x: &[V3], radius: &[f64]) {
+        self.build_keyed(x, radius, None);
+    }
+
+    /// [`PairList::build`] for particles stored in another order than their indices:
+    /// `key[i]` is the index particle i stands for (its place in the caller's index order), and
+    /// pairs are oriented and reduction entries ordered by key instead of by index, so sums
+    /// are those of the index order bit for bit. `None`: the key is the index. The key must
+    /// orient every pair as the previous build's did (the histories are carried over as
+    /// stored).
+    pub fn build_keyed(&mut self, x: &[V3], radius: &[f64], key: Option<&[u32]>) {
         let n = x.len();
+        let key_of = |p: u32| key.map_or(p, |k| k[p as usize]);
         let periodic = self.periodic;
         let cells = CellGrid::new(x, radius, self.skin, periodic.as_ref());
         let skin = self.skin;
@@ -257,7 +303,7 @@ impl PairList {
                 (ra, rb)
             })
             .collect();
-        let old = self.old_histories(n);
+        let old = self.old_histories(n, &key_of);
         let order = cells.items;
         let mut rank = vec![0u32; n];
         for (s, &p) in order.iter().enumerate() {
@@ -276,7 +322,7 @@ impl PairList {
                 row_first[a as usize + 1] += 1;
                 low_row[b as usize] = low_row[b as usize].min(a);
                 let (pa, pb) = (order[a as usize], order[b as usize]);
-                let (s_i, s_j, i, j) = if pa < pb {
+                let (s_i, s_j, i, j) = if key_of(pa) < key_of(pb) {
                     (a, b, pa, pb)
                 } else {
                     (b, a, pb, pa)
@@ -309,7 +355,7 @@ impl PairList {
         let partner = |e: u32| {
             let k = (e & !ROLE_J) as usize;
             let s = if e & ROLE_J != 0 { si[k] } else { sj[k] };
-            order[s as usize]
+            key_of(order[s as usize])
         };
         for s in 0..n {
             red[red_first[s] as usize..red_first[s + 1] as usize]
@@ -325,12 +371,14 @@ impl PairList {
         self.red_first = red_first;
         self.red = red;
         self.x_build = x.to_vec();
+        self.identity = self.order.iter().enumerate().all(|(s, &p)| p as usize == s);
         self.generation += 1;
         self.valid = true;
     }
 
-    /// The non-zero histories of the current pairs, by particle index i (for `n` particles).
-    fn old_histories(&self, n: usize) -> OldHistories {
+    /// The non-zero histories of the current pairs, by particle index i (for `n` particles),
+    /// i the member with the smaller key.
+    fn old_histories(&self, n: usize, key_of: &impl Fn(u32) -> u32) -> OldHistories {
         let mut first = vec![0u32; n + 1];
         let mut keep = Vec::new();
         for k in 0..self.si.len() {
@@ -341,8 +389,11 @@ impl PairList {
                 self.order[self.si[k] as usize] as usize,
                 self.order[self.sj[k] as usize] as usize,
             );
-            // as seen from the smaller index (a remap may have reversed the pair)
-            let (i, j, h) = if a < b {
+            if a.max(b) >= n {
+                continue;
+            }
+            // as seen from the smaller key (a remap may have reversed the pair)
+            let (i, j, h) = if key_of(a as u32) < key_of(b as u32) {
                 (a, b, self.hist[k])
             } else {
                 (
@@ -670,6 +721,46 @@ mod tests {
         let old = keyed(&list);
         list.build(&x, &r);
         assert_eq!(keyed(&list), old);
+        // storing the particles in the spatial order keeps every pair and its history, and a
+        // build keyed by the former indices orients and orders them as before
+        let perm = list.order().to_vec();
+        let mut moved = list.clone();
+        moved.renumber(&perm);
+        assert!(moved.is_identity());
+        let (xp, rp): (Vec<V3>, Vec<f64>) =
+            perm.iter().map(|&o| (x[o as usize], r[o as usize])).unzip();
+        moved.build_keyed(&xp, &rp, Some(&perm));
+        let back = |l: &PairList| -> Vec<(u32, u32, History)> {
+            let mut v: Vec<(u32, u32, History)> = (0..l.len())
+                .map(|k| {
+                    let (i, j) = l.pair(k);
+                    (perm[i], perm[j], l.history(k))
+                })
+                .collect();
+            v.sort_unstable_by_key(|p| (p.0, p.1));
+            v
+        };
+        assert_eq!(back(&moved), old);
+        let mut copy = moved.clone();
+        let (view, _) = copy.split_mut();
+        for s in 0..n {
+            let partners: Vec<u32> = view
+                .reduction(s)
+                .iter()
+                .map(|&e| {
+                    let (i, j) = moved.pair((e & !ROLE_J) as usize);
+                    perm[if e & ROLE_J != 0 { i } else { j }]
+                })
+                .collect();
+            assert!(partners.windows(2).all(|w| w[0] < w[1]), "{partners:?}");
+        }
+        // and back in index order, the list is the one built there
+        let mut inverse = vec![0u32; n];
+        for (now, &home) in perm.iter().enumerate() {
+            inverse[home as usize] = now as u32;
+        }
+        moved.renumber(&inverse);
+        assert_eq!(keyed(&moved), old);
         // removing particle 0 drops its pairs and renumbers the others
         let map: Vec<Option<usize>> = (0..n).map(|k| (k > 0).then(|| k - 1)).collect();
         list.remap(&map);

@@ -1,7 +1,10 @@
 //! The particle–particle contact forces of one step, over the half pair list.
 //!
-//! The list stores its pairs row by row in the particles' spatial order ([`PairList`]); the
-//! per-particle data are copied into that order each step, so a pass reads from nearby memory.
+//! The list stores its pairs row by row in the particles' spatial order ([`PairList`]). During
+//! a run the particles themselves are stored in that order ([`PairList::is_identity`]) and the
+//! pass reads their arrays directly; otherwise (the set-up, the steps before the first
+//! rebuild) the per-particle data are copied into that order, so a pass reads from nearby
+//! memory either way.
 //! Each thread takes a contiguous range of rows and, row a after row a:
 //! 1. *evaluates* the pairs of row a: a pair in contact gets its [`ContactOutput`] (force on i,
 //!    torques on i and j) and its history advanced, a pair apart has its history reset;
@@ -56,8 +59,10 @@ pub struct PairForces {
     slot_out: Vec<u32>,
     /// Per sorted position: total contact force (N) and torque (N·m).
     sums: Vec<[V3; 2]>,
-    /// The same by particle index.
+    /// The same by particle index (unused while the two orders are the same).
     sums_by_index: Vec<[V3; 2]>,
+    /// Whether the last evaluation's sorted positions were the particle indices.
+    identity: bool,
 }
 
 /// Per-particle data by sorted position, for the kernel.
@@ -159,9 +164,12 @@ impl PairForces {
         dt: f64,
         history: HistoryUse,
     ) {
-        self.load(pairs, p);
+        self.identity = pairs.is_identity();
+        if !self.identity {
+            self.load(pairs, p);
+        }
         let periodic = pairs.periodic().copied();
-        let n = self.x.len();
+        let n = p.len();
         let np = pairs.len();
         self.out.resize(np, ContactOutput::default());
         self.slot_out.resize(np, APART);
@@ -193,14 +201,25 @@ impl PairForces {
             work.push((rows[c]..rows[c + 1], h, so, o, sm));
             (hist, slot_out, out, sums) = (h_rest, so_rest, o_rest, sm_rest);
         }
-        let frame = Frame {
-            x: &self.x,
-            v: &self.v,
-            omega: &self.omega,
-            radius: &self.radius,
-            mass: &self.mass,
-            atom_type: &self.atom_type,
-            periodic: periodic.as_ref(),
+        let frame = match self.identity {
+            true => Frame {
+                x: &p.x,
+                v: &p.v,
+                omega: &p.omega,
+                radius: &p.radius,
+                mass: &p.mass,
+                atom_type: &p.atom_type,
+                periodic: periodic.as_ref(),
+            },
+            false => Frame {
+                x: &self.x,
+                v: &self.v,
+                omega: &self.omega,
+                radius: &self.radius,
+                mass: &self.mass,
+                atom_type: &self.atom_type,
+                periodic: periodic.as_ref(),
+            },
         };
         let (si, sj) = (view.si, view.sj);
         let deferred: Vec<Vec<usize>> = work
@@ -234,6 +253,9 @@ impl PairForces {
             .collect();
         for s in deferred.into_iter().flatten() {
             self.sums[s] = reduce_position(&view, s, &self.slot_out, &self.out, 0);
+        }
+        if self.identity {
+            return;
         }
         // by particle index, so that the per-particle pass reads them in its own order
         self.sums_by_index.resize(n, [V3::zeros(); 2]);
@@ -275,7 +297,10 @@ impl PairForces {
     /// The total contact force (N) and torque (N·m) on particle `i` from the last evaluation.
     #[inline]
     pub fn sum(&self, i: usize) -> (V3, V3) {
-        let [f, t] = self.sums_by_index[i];
+        let [f, t] = match self.identity {
+            true => self.sums[i],
+            false => self.sums_by_index[i],
+        };
         (f, t)
     }
 }

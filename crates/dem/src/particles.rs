@@ -136,6 +136,23 @@ impl Particles {
         map
     }
 
+    /// Renumbers the particles: the one now at index `new` is the one that was at `perm[new]`
+    /// (`perm` a permutation of `0..len()`).
+    pub fn permute(&mut self, perm: &[u32]) {
+        debug_assert_eq!(perm.len(), self.len());
+        permute(&mut self.id, perm);
+        permute(&mut self.atom_type, perm);
+        permute(&mut self.x, perm);
+        permute(&mut self.v, perm);
+        permute(&mut self.omega, perm);
+        permute(&mut self.radius, perm);
+        permute(&mut self.density, perm);
+        permute(&mut self.mass, perm);
+        permute(&mut self.f, perm);
+        permute(&mut self.torque, perm);
+        permute(&mut self.image, perm);
+    }
+
     /// Total kinetic energy, translational plus rotational (J).
     pub fn kinetic_energy(&self) -> f64 {
         self.translational_energy() + self.rotational_energy()
@@ -157,4 +174,9 @@ impl Particles {
             })
             .sum()
     }
+}
+
+/// Reorders `v` so that `v[new]` is the former `v[perm[new]]`.
+pub(crate) fn permute<T: Copy>(v: &mut Vec<T>, perm: &[u32]) {
+    *v = perm.iter().map(|&old| v[old as usize]).collect();
 }

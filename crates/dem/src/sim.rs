@@ -178,6 +178,10 @@ pub struct Simulation {
     pairs: PairList,
     /// The pair loop's buffers.
     pair_forces: PairForces,
+    /// While a run stores the particles in the list's spatial order ([`Simulation::run`]):
+    /// `home[i]` is the index particle i has outside the run (insertion order); empty while
+    /// they are in that order.
+    home: Vec<u32>,
     coupling: Coupling,
     /// The coupling the current forces were evaluated with, when it was replaced since
     /// ([`Simulation::set_coupling`] between two steps); `None`: the current one.
@@ -234,6 +238,7 @@ impl Simulation {
             sim_box: cfg.sim_box,
             pairs,
             pair_forces: PairForces::default(),
+            home: Vec::new(),
             coupling: Coupling::default(),
             forces_coupling: None,
             forces_valid: false,
@@ -601,12 +606,86 @@ impl Simulation {
     }
 
     /// Runs `n` steps (performing queued insertions and the set-up force evaluation first).
+    ///
+    /// Within the run the particles are stored in the neighbour list's spatial order from its
+    /// first rebuild on (each rebuild renumbers them with all their per-particle state), so the
+    /// passes over particles and pairs read memory in order; before anything sees indices
+    /// (insertions, removals, dumps, the end of the run) they are put back in insertion order.
+    /// Pairs are oriented and summed by that order throughout, so the results are those of a
+    /// run without the renumbering, bit for bit.
     pub fn run(&mut self, n: u64) -> Result<(), DemError> {
-        self.setup()?;
-        for _ in 0..n {
-            self.advance()?;
+        let mut result = self.setup();
+        if result.is_ok() {
+            for _ in 0..n {
+                result = self.advance();
+                if result.is_err() {
+                    break;
+                }
+            }
         }
-        Ok(())
+        self.restore_order();
+        result
+    }
+
+    /// Stores the particles in the order of the list just built (`pairs.order()`), with their
+    /// per-particle state, and records their insertion-order indices in `home`.
+    fn adopt_spatial_order(&mut self) {
+        if self.pairs.is_identity() {
+            return;
+        }
+        let perm = self.pairs.order().to_vec();
+        self.home = match self.home.is_empty() {
+            true => perm.clone(),
+            false => perm.iter().map(|&o| self.home[o as usize]).collect(),
+        };
+        self.permute_all(&perm);
+    }
+
+    /// Puts the particles back in insertion order (undoes [`Simulation::adopt_spatial_order`]).
+    pub(crate) fn restore_order(&mut self) {
+        if self.home.is_empty() {
+            return;
+        }
+        let mut perm = vec![0u32; self.home.len()];
+        for (now, &home) in self.home.iter().enumerate() {
+            perm[home as usize] = now as u32;
+        }
+        self.home.clear();
+        self.permute_all(&perm);
+    }
+
+    /// Renumbers the particles and everything kept per particle (`perm[new] = old`).
+    fn permute_all(&mut self, perm: &[u32]) {
+        self.particles.permute(perm);
+        let nw = self.walls.len();
+        if nw > 0 && self.wall_hist.len() == perm.len() * nw {
+            let old = std::mem::take(&mut self.wall_hist);
+            self.wall_hist = perm
+                .iter()
+                .flat_map(|&o| &old[o as usize * nw..(o as usize + 1) * nw])
+                .copied()
+                .collect();
+        }
+        if self.wall_maybe.len() == perm.len() {
+            crate::particles::permute(&mut self.wall_maybe, perm);
+        }
+        if self.mesh_contacts.len() == perm.len() {
+            let mut old = std::mem::take(&mut self.mesh_contacts);
+            self.mesh_contacts = perm
+                .iter()
+                .map(|&o| std::mem::take(&mut old[o as usize]))
+                .collect();
+        }
+        self.coupling.permute(perm);
+        // the coupling the current forces were evaluated with is kept until the next force
+        // evaluation; particles inserted since have no entry in it (nor current forces), and a
+        // renumbering with them is always followed by that evaluation
+        match &mut self.forces_coupling {
+            Some(c) if c.f_ext.len() == perm.len() => c.permute(perm),
+            Some(_) => self.forces_coupling = None,
+            None => {}
+        }
+        self.pairs.renumber(perm);
     }
 
     /// Insertions, a force evaluation if forces are stale, due dumps.
@@ -743,6 +822,8 @@ impl Simulation {
         if !self.dumps.iter().any(|d| d.is_due(self.step)) {
             return Ok(());
         }
+        // dumps list the particles in insertion order
+        self.restore_order();
         let bounds = self.sim_box.dump_bounds(&self.particles.x);
         for d in &mut self.dumps {
             d.maybe_write(self.step, &self.particles, &self.coupling, bounds)?;
@@ -786,7 +867,10 @@ impl Simulation {
             if let Some(per) = self.pairs.periodic().copied() {
                 self.wrap_periodic(&per);
             }
-            self.pairs.build(&self.particles.x, &self.particles.radius);
+            let key = (!self.home.is_empty()).then_some(&self.home[..]);
+            self.pairs
+                .build_keyed(&self.particles.x, &self.particles.radius, key);
+            self.adopt_spatial_order();
         }
         // forces, then the second half kick in the same pass
         self.compute_forces(HistoryUse::Advance, Some(half));

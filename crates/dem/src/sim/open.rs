@@ -114,6 +114,8 @@ impl Simulation {
         {
             return Ok(());
         }
+        // new particles are appended in insertion order
+        self.restore_order();
         let mut inserts = std::mem::take(&mut self.rate_inserts);
         let mut result = Ok(());
         for r in &mut inserts {
@@ -147,6 +149,11 @@ impl Simulation {
     pub(super) fn remove_lost(&mut self) -> Result<(), DemError> {
         let b = self.sim_box;
         let out_face = |x: V3| b.exit_face(x).map(|(k, f)| face_name(k, f));
+        if !self.particles.x.iter().any(|&x| out_face(x).is_some()) {
+            return Ok(());
+        }
+        // the first one in insertion order is reported, and removals renumber by that order
+        self.restore_order();
         let Some(first) = self.particles.x.iter().position(|&x| out_face(x).is_some()) else {
             return Ok(());
         };
@@ -189,6 +196,7 @@ impl Simulation {
         if keep.iter().all(|&k| k) {
             return;
         }
+        debug_assert!(self.home.is_empty(), "removal while renumbered");
         let p = &self.particles;
         for (i, _) in keep.iter().enumerate().filter(|(_, &k)| !k) {
             tally.add(p.mass[i], p.radius[i], p.v[i]);
