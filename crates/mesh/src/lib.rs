@@ -14,6 +14,7 @@
 //!   a bin index, a tet walk seeded by a previous cell, tests on the face planes that settle
 //!   most queries without the exact tet predicates, points near a located centre
 //!   ([`Locator::locate_near`]), and parallel batch queries;
+//! * [`nearest`]: nearest points on triangles and faces (point–face distances);
 //! * [`build`]: programmatic meshes (graded Cartesian grids, single cells, affine maps).
 //!
 //! Invariant: geometry exactly as OpenFOAM computes it; no I/O (reading meshes is the `foam`
@@ -25,6 +26,7 @@ mod error;
 mod exact;
 pub mod geometry;
 pub mod locate;
+pub mod nearest;
 pub mod tets;
 pub mod v3;
 

@@ -25,6 +25,7 @@
 //! −∇·(ε νeff ∇U) − ∇·(ε νeff dev2(∇Uᵀ)) with νeff = ν + νt (`cfdemCloud::divVoidfractionTau`).
 
 use super::bound::bound;
+use super::near_wall;
 use super::properties::KEpsilonSettings;
 use super::scalar_bc::{self, ScalarBc, TurbulenceField};
 use super::scalar_eqn::{ScalarEqn, Transport};
@@ -223,7 +224,8 @@ pub struct KEpsilon {
     k: ScalarField,
     epsilon: ScalarField,
     nut: ScalarField,
-    /// Wall distance of each boundary face's owner centre, n̂·(C_f − C_P) (m).
+    /// Wall distance y of each boundary face (m): OpenFOAM's `nearWallDist` on `wall` patches
+    /// ([`near_wall`]), 0 elsewhere.
     y: Vec<f64>,
     /// 1/(number of `epsilonWallFunction` faces of the owner) on those faces, else 0.
     wall_weight: Vec<f64>,
@@ -262,9 +264,7 @@ impl KEpsilon {
                 ));
             }
         }
-        let y: Vec<f64> = (g.n_internal..g.n_faces())
-            .map(|f| g.nhat(f).dot(&(g.cf[f] - g.c[g.owner[f] as usize])).abs())
-            .collect();
+        let y = near_wall::near_wall_distances(mesh, g);
         let mut count = vec![0usize; g.n_cells];
         for (p, bc) in g.patches.iter().zip(&epsilon.bcs) {
             if matches!(bc, ScalarBc::EpsilonWallFunction { .. }) {

@@ -5,6 +5,7 @@
 //! * [`properties`]: laminar, RAS kEpsilon (others refused), the schemes and solvers of k, ε;
 //! * [`k_epsilon`]: the model's equations, solved after the PISO correctors;
 //! * [`wall_functions`]: `nutkWallFunction`, `epsilonWallFunction` (log law);
+//! * [`near_wall`]: their wall distance y (OpenFOAM's `nearWallDist`);
 //! * [`scalar_bc`]: boundary conditions of k, ε and νt;
 //! * [`scalar_eqn`]: the transport equation of a cell scalar (ddt, convection, Laplacian,
 //!   `setValues`);
@@ -12,6 +13,7 @@
 
 pub mod bound;
 pub mod k_epsilon;
+pub mod near_wall;
 pub mod properties;
 pub mod scalar_bc;
 pub mod scalar_eqn;

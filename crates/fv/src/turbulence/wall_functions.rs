@@ -4,7 +4,8 @@
 //! from the wall cell's k, u_τ = Cμ^¼ √k, valid for 30 ≲ y⁺ ≲ 300; below y⁺_lam the viscous
 //! sublayer).
 //!
-//! Per wall face with owner cell P at wall distance y (m), ν (m²/s):
+//! Per wall face with owner cell P at wall distance y (m; OpenFOAM's `nearWallDist`, the
+//! distance to the nearest face of the patch around it, [`super::near_wall`]), ν (m²/s):
 //!
 //! * y⁺ = Cμ^¼ y √k_P / ν;
 //! * y⁺_lam: the intersection of u⁺ = y⁺ and the log law, y⁺ = ln(E y⁺)/κ, found by OpenFOAM's
