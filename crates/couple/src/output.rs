@@ -108,27 +108,5 @@ pub fn write_cell_field(
     Ok(())
 }
 
-/// OpenFOAM's name of the time directory for `t` seconds: 12 significant digits, shortest form
-/// (`0.1`, `0.0005`).
-pub fn time_name(t: f64) -> String {
-    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
-    format!("{rounded}")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::time_name;
-
-    /// OpenFOAM's `timeName` (`%g` with `timePrecision 6`, the shortest form of 12 digits
-    /// here): a time summed from Δt carries round-off that the name drops.
-    #[test]
-    fn time_names_drop_summation_round_off() {
-        let summed: f64 = (0..20).map(|_| 5e-4).sum();
-        assert_eq!(format!("{summed}"), "0.010000000000000005");
-        assert_eq!(time_name(summed), "0.01");
-        assert_eq!(time_name(0.0005), "0.0005");
-        assert_eq!(time_name(0.1), "0.1");
-        assert_eq!(time_name(0.0), "0");
-        assert_eq!(time_name(2.1), "2.1");
-    }
-}
+/// OpenFOAM's name of the time directory for `t` seconds ([`foam::case::time_name`]).
+pub use foam::case::time_name;

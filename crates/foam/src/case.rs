@@ -112,3 +112,48 @@ impl Case {
         Ok(out)
     }
 }
+
+/// OpenFOAM's name of the time directory for `t` seconds, as `Time::timeName` writes it with
+/// `timeFormat general`: C's `%g` rule — decimal for exponents −4 … 5, otherwise scientific with
+/// a signed two-digit exponent (`2e-05`, `1.5e+06`) — and 12 significant digits, shortest form
+/// (OpenFOAM's `timePrecision` is 6 and grows when names would collide; 12 digits drop a sum's
+/// round-off, `0.010000000000000005` → `0.01`, and keep distinct times distinct).
+pub fn time_name(t: f64) -> String {
+    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
+    if rounded == 0.0 || !rounded.is_finite() {
+        return format!("{}", if rounded == 0.0 { 0.0 } else { rounded });
+    }
+    let sci = format!("{rounded:e}");
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    if (-4..6).contains(&exp) {
+        format!("{rounded}")
+    } else {
+        let sign = if exp < 0 { '-' } else { '+' };
+        format!("{mantissa}e{sign}{:02}", exp.abs())
+    }
+}
+
+#[cfg(test)]
+mod time_name_tests {
+    use super::time_name;
+
+    /// Names as Debian's OpenFOAM v1912 writes them (pisoFoam with `timeFormat general`:
+    /// `2e-05` for Δt 2e-5 s), and a time summed from Δt without its round-off.
+    #[test]
+    fn time_names_are_openfoams() {
+        let summed: f64 = (0..20).map(|_| 5e-4).sum();
+        assert_eq!(format!("{summed}"), "0.010000000000000005");
+        assert_eq!(time_name(summed), "0.01");
+        assert_eq!(time_name(0.0005), "0.0005");
+        assert_eq!(time_name(1e-4), "0.0001");
+        assert_eq!(time_name(2e-5), "2e-05");
+        assert_eq!(time_name(4e-5), "4e-05");
+        assert_eq!(time_name(1.5e-7), "1.5e-07");
+        assert_eq!(time_name(0.1), "0.1");
+        assert_eq!(time_name(0.0), "0");
+        assert_eq!(time_name(2.1), "2.1");
+        assert_eq!(time_name(123456.0), "123456");
+        assert_eq!(time_name(1.5e6), "1.5e+06");
+    }
+}

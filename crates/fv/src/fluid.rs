@@ -1256,10 +1256,9 @@ impl Fluid {
         }
     }
 
-    /// The directory name OpenFOAM would give the current time (`%g`-like, shortest form).
+    /// The directory name OpenFOAM would give the current time ([`foam::case::time_name`]).
     pub fn time_name(&self) -> String {
-        let t = (self.time * 1e12).round() / 1e12;
-        format!("{t}")
+        foam::case::time_name(self.time)
     }
 
     /// Runs the case as its controlDict says (start to end time, writing time directories);
