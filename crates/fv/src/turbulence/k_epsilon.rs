@@ -29,6 +29,7 @@ use super::properties::KEpsilonSettings;
 use super::scalar_bc::{self, ScalarBc, TurbulenceField};
 use super::scalar_eqn::{ScalarEqn, Transport};
 use super::wall_functions;
+use crate::ddt::CrankNicolsonDdt0;
 use crate::error::{FvError, Result};
 use crate::fvc::{self, Field};
 use crate::geometry::{FvGeometry, V3};
@@ -88,6 +89,8 @@ pub struct Flow<'a> {
     pub lap_dc: &'a [f64],
     /// Explicit non-orthogonal correction of the Laplacians.
     pub corrected: bool,
+    /// `CrankNicolson ψ` for ε and k (`None`: Euler).
+    pub crank_nicolson: Option<f64>,
 }
 
 /// One cell scalar with its boundary values, conditions and the file it came from.
@@ -227,6 +230,9 @@ pub struct KEpsilon {
     y: Vec<f64>,
     /// 1/(number of `epsilonWallFunction` faces of the owner) on those faces, else 0.
     wall_weight: Vec<f64>,
+    /// `CrankNicolson ψ`'s stored derivatives of ε and k, created at the first step as
+    /// OpenFOAM creates its `ddt0(epsilon)` and `ddt0(k)`.
+    cn: Option<[CrankNicolsonDdt0<f64>; 2]>,
 }
 
 /// What one call of [`KEpsilon::correct`] solved.
@@ -288,6 +294,7 @@ impl KEpsilon {
             nut,
             y,
             wall_weight,
+            cn: None,
         };
         let c = m.settings.coeffs;
         bound(g, &mut m.k.cells, &mut m.k.boundary, c.k_min);
@@ -394,6 +401,16 @@ impl KEpsilon {
         let mut prod: Vec<f64> = (0..n).map(|i| self.nut.cells[i] * g_by_nu[i]).collect();
         let k_old = self.k.cells.clone();
         let eps_old = self.epsilon.cells.clone();
+        if let Some(psi) = flow.crank_nicolson {
+            self.cn
+                .get_or_insert_with(|| [CrankNicolsonDdt0::new(psi), CrankNicolsonDdt0::new(psi)]);
+        }
+        let cn_r = self.cn.as_mut().map(|[e, k]| {
+            (
+                e.begin_step(&eps_old, flow.dt),
+                k.begin_step(&k_old, flow.dt),
+            )
+        });
 
         // Wall functions: ε and G in the wall cells, ε on the wall faces.
         let mut eps0 = vec![0.0; n];
@@ -441,13 +458,18 @@ impl KEpsilon {
             lap_dc: flow.lap_dc,
             corrected: flow.corrected,
             dt: flow.dt,
+            crank_nicolson: None,
         };
 
         // ε equation.
         let gamma = self.diffusivity(g, c.sigma_eps, flow.nu);
+        let eps_transport = Transport {
+            crank_nicolson: self.cn.as_ref().zip(cn_r).map(|([e, _], (r, _))| (r, e)),
+            ..transport
+        };
         let mut eqn = ScalarEqn::transport(
             g,
-            &transport,
+            &eps_transport,
             &self.settings.epsilon,
             &self.epsilon.cells,
             &eps_old,
@@ -482,9 +504,13 @@ impl KEpsilon {
 
         // k equation.
         let gamma = self.diffusivity(g, c.sigma_k, flow.nu);
+        let k_transport = Transport {
+            crank_nicolson: self.cn.as_ref().zip(cn_r).map(|([_, k], (_, r))| (r, k)),
+            ..transport
+        };
         let mut eqn = ScalarEqn::transport(
             g,
-            &transport,
+            &k_transport,
             &self.settings.k,
             &self.k.cells,
             &k_old,
