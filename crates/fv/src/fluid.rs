@@ -163,18 +163,20 @@ pub struct Fluid {
     cn: Option<CnState>,
 }
 
-/// The `CrankNicolson ψ` state of the fluid's fields ([`CrankNicolsonDdt0`]): each is
-/// advanced once per step, as OpenFOAM's `ddt0(…)` fields are.
+/// The `CrankNicolson ψ` state of the fluid's fields ([`CrankNicolsonDdt0`]), each updated as
+/// often per step as OpenFOAM v1912 updates its `ddt0(…)` field (once per call of the scheme).
 #[derive(Clone, Debug)]
 struct CnState {
     /// Of εU per cell (m/s²; OpenFOAM's `ddt0(voidfraction,U)`, `ddt0(U)` for ε ≡ 1).
     momentum: CrankNicolsonDdt0<V3>,
-    /// Of ddtCorr's face difference D = φ − ε_f U_f·S (m³/s²). OpenFOAM keeps one of φ and
-    /// one of U (`ddtCorrDdt0(phi)`, `ddtCorrDdt0(U)`) and subtracts the interpolated second
-    /// from the first; both follow the same linear recursion, so one of their difference
-    /// gives the same numbers to round-off.
-    flux: CrankNicolsonDdt0<f64>,
-    /// Of ε per cell (1/s; `ddt0(voidfraction)`, the continuity equation's ∂ε/∂t).
+    /// Of the face flux φ (m³/s²; ddtCorr's `ddtCorrDdt0(phi)`, updated once per corrector).
+    flux_phi: CrankNicolsonDdt0<f64>,
+    /// Of U_f·S, the interpolated old velocity's flux (m³/s²; ddtCorr's `ddtCorrDdt0(U)`,
+    /// interpolated: the interpolation is linear, so the recursion on the face values is the
+    /// interpolated recursion on the cells and boundary faces; updated once per corrector).
+    flux_u: CrankNicolsonDdt0<f64>,
+    /// Of ε per cell (1/s; `ddt0(voidfraction)`, the continuity equation's ∂ε/∂t; updated
+    /// on every pressure equation and continuity error, as grainPisoFoam calls `fvc::ddt`).
     voidage: CrankNicolsonDdt0<f64>,
 }
 
@@ -253,7 +255,8 @@ impl Fluid {
         let cn = match settings.time_scheme {
             TimeScheme::CrankNicolson(psi) => Some(CnState {
                 momentum: CrankNicolsonDdt0::new(psi),
-                flux: CrankNicolsonDdt0::new(psi),
+                flux_phi: CrankNicolsonDdt0::with_late_old_old(psi),
+                flux_u: CrankNicolsonDdt0::new(psi),
                 voidage: CrankNicolsonDdt0::new(psi),
             }),
             _ => None,
@@ -609,9 +612,10 @@ impl Fluid {
 
         let g = &self.g;
         let uf_old = fvc::interpolate(g, Field::new(&u_old, &u_b_old));
-        // ddtCorr's face difference D° = φ° − ε°_f U°_f·S (m³/s)
+        // U°_f·S and ddtCorr's face difference D° = φ° − ε°_f U°_f·S (m³/s)
+        let q_old: Vec<f64> = (0..g.n_faces()).map(|f| uf_old[f].dot(&g.sf[f])).collect();
         let d_old: Vec<f64> = (0..g.n_faces())
-            .map(|f| phi_old[f] - ef_old[f] * uf_old[f].dot(&g.sf[f]))
+            .map(|f| phi_old[f] - ef_old[f] * q_old[f])
             .collect();
         // CrankNicolson ψ: each stored derivative begins the step once ([`CrankNicolsonDdt0`]);
         // `cn_r` = c/Δt (1/s), `cn_src` = c/Δt ε°U° + ψ d₀ per cell (m/s²).
@@ -619,7 +623,8 @@ impl Fluid {
             Some(s) => {
                 let mom_old: Vec<V3> = (0..n).map(|c| u_old[c] * self.eps_old[c]).collect();
                 let r = s.momentum.begin_step(&mom_old, dt);
-                s.flux.begin_step(&d_old, dt);
+                s.flux_phi.begin_step(&phi_old, dt);
+                s.flux_u.begin_step(&q_old, dt);
                 s.voidage.begin_step(&self.eps_old, dt);
                 let src = (0..n)
                     .map(|c| s.momentum.old_part(c, r, mom_old[c]))
@@ -776,7 +781,7 @@ impl Fluid {
             }
             v
         };
-        let ddt_corr: Vec<f64> = (0..g.n_faces())
+        let mut ddt_corr: Vec<f64> = (0..g.n_faces())
             .map(|f| {
                 if !corr_face[f] {
                     return 0.0;
@@ -790,12 +795,30 @@ impl Fluid {
                     return erau_f[f] * coeff * diff / dt;
                 }
                 if let Some(s) = cn {
-                    // CrankNicolson's fvcDdtPhiCorr: c/Δt D° + ψ d₀ in place of D°/Δt
-                    return erau_f[f] * coeff * s.flux.old_part(f, cn_r, diff);
+                    // CrankNicolson's fvcDdtPhiCorr: (c/Δt φ° + ψ d₀(φ)) − ε°_f (c/Δt U°_f·S
+                    // + ψ d₀(U)_f·S) in place of D°/Δt
+                    return erau_f[f]
+                        * coeff
+                        * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f]);
                 }
                 erau_f[f] * coeff * diff / dt
             })
             .collect();
+        // CrankNicolson: ddtCorr's factor (ε/A)_f × coupling coefficient per face, for the
+        // later correctors, where v1912 updates ddtCorr's ddt0 again (CrankNicolsonDdt0)
+        let cn_corr_w: Vec<f64> = match is_cn {
+            true => (0..g.n_faces())
+                .map(|f| {
+                    if !corr_face[f] {
+                        return 0.0;
+                    }
+                    let diff = d_old[f];
+                    let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
+                    erau_f[f] * coeff
+                })
+                .collect(),
+            false => Vec::new(),
+        };
         // Faces next to porous cells take the consistent time term (PorousTimeFlux): their
         // time resistance r_t = 1/(κ_p Δt) per cell (s/m², kinematic) and the mask.
         let consistent = self.harmonic_faces && self.porous_time_flux == PorousTimeFlux::Consistent;
@@ -844,7 +867,7 @@ impl Fluid {
             Vec::new()
         };
         // ∂ε/∂t of the continuity equation (1/s), with the momentum's time scheme
-        let ddt_eps: Vec<f64> = (0..n)
+        let mut ddt_eps: Vec<f64> = (0..n)
             .map(|c| match (backward, cn) {
                 (true, _) => {
                     (ddt_k.c * self.eps[c] - ddt_k.c0 * self.eps_old[c]
@@ -858,6 +881,16 @@ impl Fluid {
             .collect();
         let n_corr = self.settings.n_correctors;
         for corr in 0..n_corr {
+            if let (true, Some(s)) = (corr > 0, self.cn.as_mut()) {
+                s.flux_phi.evaluate_again();
+                s.flux_u.evaluate_again();
+                let s = &*s;
+                ddt_corr = (0..self.g.n_faces())
+                    .map(|f| {
+                        cn_corr_w[f] * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f])
+                    })
+                    .collect();
+            }
             let g = &self.g;
             // H/A; zero in a direction that is not solved (OpenFOAM's fvMatrix::H).
             let mut hbya: Vec<V3> = vec![V3::zeros(); n];
@@ -978,7 +1011,7 @@ impl Fluid {
             let div_star = fvc::surface_integrate(g, &phi_star);
             for c in 0..n {
                 src[c] -= div_star[c] * g.v[c];
-                if self.ddt_voidage {
+                if self.ddt_voidage && !is_cn {
                     src[c] -= g.v[c] * ddt_eps[c];
                 }
             }
@@ -994,6 +1027,17 @@ impl Fluid {
             let mut nonorth_flux = vec![0.0; g.n_internal];
             for nonorth in 0..=self.settings.n_non_orth {
                 let mut rhs = src.clone();
+                if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
+                    // grainPisoFoam's fvc::ddt(voidfraction) of every pressure equation: the
+                    // first of the step uses begin_step's update, each later one updates again
+                    if corr > 0 || nonorth > 0 {
+                        s.voidage.evaluate_again();
+                    }
+                    for c in 0..n {
+                        ddt_eps[c] = s.voidage.explicit(c, cn_r, self.eps[c], self.eps_old[c]);
+                        rhs[c] -= g.v[c] * ddt_eps[c];
+                    }
+                }
                 if corrected {
                     let gp = fvc::grad_scalar(g, &p, &self.p_b);
                     for f in 0..g.n_internal {
@@ -1022,6 +1066,11 @@ impl Fluid {
                     self.eval_p_boundary(t_new, &p, &gamma_b, &phi_unconstrained, &phi_in, &mut pb);
                     self.p_b = pb;
                 }
+            }
+            // grainPisoFoam's continuity error of the corrector calls fvc::ddt(voidfraction)
+            // once more (CrankNicolsonDdt0: v1912 updates ddt0 on every call)
+            if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
+                s.voidage.evaluate_again();
             }
             // Rhie–Chow face flux from the pressure solution.
             for f in 0..g.n_internal {
@@ -1342,6 +1391,13 @@ impl Fluid {
         }
         Ok(n_steps)
     }
+}
+
+/// `CrankNicolson ψ`'s ddtCorr bracket on face `f` (m³/s²): (r φ° + ψ d₀(φ)) − ε°_f (r U°_f·S
+/// + ψ d₀(U)_f·S), r = c/Δt (OpenFOAM v1912 `CrankNicolsonDdtScheme::fvcDdtPhiCorr`, there with
+/// ε ≡ 1; `phi_old` φ°, `ef_old` ε°_f, `q_old` U°_f·S).
+fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, q_old: f64) -> f64 {
+    s.flux_phi.old_part(f, r, phi_old) - ef_old * s.flux_u.old_part(f, r, q_old)
 }
 
 /// The time directory to start from.

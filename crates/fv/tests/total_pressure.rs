@@ -170,8 +170,11 @@ fn total_pressure_inlet_reaches_bernoulli_speed_at_courant_8() {
             "{ddt}: {last} m/s, Bernoulli {u_inf}"
         );
         // The approach overshoots U∞ only slightly (the inlet's ½U² is the previous
-        // corrector's; measured 5.6e-5 with Euler); before the fix the run overflowed.
-        assert!(peak <= u_inf * (1.0 + 1e-3), "{ddt}: peak {peak}");
+        // corrector's; measured 5.6e-5 with Euler, 2.0e-3 with OpenFOAM's CrankNicolson 0.9,
+        // which damps the approach less: θ = 1/(1 + ψ) = 0.53 on a linear problem); before
+        // the fix the run overflowed.
+        let overshoot = if ddt == "Euler" { 1e-3 } else { 4e-3 };
+        assert!(peak <= u_inf * (1.0 + overshoot), "{ddt}: peak {peak}");
     }
 }
 

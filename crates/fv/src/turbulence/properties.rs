@@ -219,12 +219,19 @@ fn equation(
             ),
         ));
     }
+    // k and ε take the momentum's time scheme (Euler or `CrankNicolson ψ`; `backward` with
+    // k–ε is refused with the momentum's settings).
     let (ddt, key) = scheme_words(sch, sch_file, "ddtSchemes", &format!("ddt({field})"))?;
-    if ddt != ["Euler"] {
+    let (ddt_u, _) = scheme_words(sch, sch_file, "ddtSchemes", "ddt(U)")?;
+    if ddt != ddt_u {
         return Err(err(
             sch_file,
             &key,
-            format!("`{}` is not supported for {field} (Euler)", ddt.join(" ")),
+            format!(
+                "`{}` is not supported for {field}: it must be the momentum's `{}`",
+                ddt.join(" "),
+                ddt_u.join(" ")
+            ),
         ));
     }
     let (grad, key) = scheme_words(sch, sch_file, "gradSchemes", &format!("grad({field})"))?;
