@@ -1393,9 +1393,10 @@ impl Fluid {
     }
 }
 
-/// `CrankNicolson ψ`'s ddtCorr bracket on face `f` (m³/s²): (r φ° + ψ d₀(φ)) − ε°_f (r U°_f·S
-/// + ψ d₀(U)_f·S), r = c/Δt (OpenFOAM v1912 `CrankNicolsonDdtScheme::fvcDdtPhiCorr`, there with
-/// ε ≡ 1; `phi_old` φ°, `ef_old` ε°_f, `q_old` U°_f·S).
+/// `CrankNicolson ψ`'s ddtCorr bracket on face `f` (m³/s²):
+/// (r φ° + ψ d₀(φ)) − ε°_f (r U°_f·S + ψ d₀(U)_f·S), r = c/Δt (OpenFOAM v1912
+/// `CrankNicolsonDdtScheme::fvcDdtPhiCorr`, there with ε ≡ 1); `phi_old` φ°, `ef_old` ε°_f,
+/// `q_old` U°_f·S.
 fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, q_old: f64) -> f64 {
     s.flux_phi.old_part(f, r, phi_old) - ef_old * s.flux_u.old_part(f, r, q_old)
 }
