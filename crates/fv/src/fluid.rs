@@ -1146,10 +1146,6 @@ impl Fluid {
                 dt,
                 lap_dc: &self.lap_dc,
                 corrected: self.settings.sn_grad == SnGrad::Corrected,
-                crank_nicolson: match self.settings.time_scheme {
-                    TimeScheme::CrankNicolson(psi) => Some(psi),
-                    _ => None,
-                },
             };
             if let Some(r) = t.correct(&self.g, &flow)? {
                 report.turbulence = vec![r.epsilon, r.k];

@@ -89,8 +89,6 @@ pub struct Flow<'a> {
     pub lap_dc: &'a [f64],
     /// Explicit non-orthogonal correction of the Laplacians.
     pub corrected: bool,
-    /// `CrankNicolson ψ` for ε and k (`None`: Euler).
-    pub crank_nicolson: Option<f64>,
 }
 
 /// One cell scalar with its boundary values, conditions and the file it came from.
@@ -230,9 +228,9 @@ pub struct KEpsilon {
     y: Vec<f64>,
     /// 1/(number of `epsilonWallFunction` faces of the owner) on those faces, else 0.
     wall_weight: Vec<f64>,
-    /// `CrankNicolson ψ`'s stored derivatives of ε and k, created at the first step as
-    /// OpenFOAM creates its `ddt0(epsilon)` and `ddt0(k)`.
-    cn: Option<[CrankNicolsonDdt0<f64>; 2]>,
+    /// `CrankNicolson ψ`'s stored derivatives of ε and k (for the fields whose scheme it
+    /// is), created at the first step as OpenFOAM creates its `ddt0(epsilon)`, `ddt0(k)`.
+    cn: [Option<CrankNicolsonDdt0<f64>>; 2],
 }
 
 /// What one call of [`KEpsilon::correct`] solved.
@@ -294,7 +292,7 @@ impl KEpsilon {
             nut,
             y,
             wall_weight,
-            cn: None,
+            cn: [None, None],
         };
         let c = m.settings.coeffs;
         bound(g, &mut m.k.cells, &mut m.k.boundary, c.k_min);
@@ -401,15 +399,21 @@ impl KEpsilon {
         let mut prod: Vec<f64> = (0..n).map(|i| self.nut.cells[i] * g_by_nu[i]).collect();
         let k_old = self.k.cells.clone();
         let eps_old = self.epsilon.cells.clone();
-        if let Some(psi) = flow.crank_nicolson {
-            self.cn
-                .get_or_insert_with(|| [CrankNicolsonDdt0::new(psi), CrankNicolsonDdt0::new(psi)]);
-        }
-        let cn_r = self.cn.as_mut().map(|[e, k]| {
-            (
-                e.begin_step(&eps_old, flow.dt),
-                k.begin_step(&k_old, flow.dt),
-            )
+        // each field's CrankNicolson state begins its step (rate c/Δt, 1/s)
+        let (eps_cn, k_cn) = (
+            self.settings.epsilon.crank_nicolson,
+            self.settings.k.crank_nicolson,
+        );
+        let cn = &mut self.cn;
+        let eps_r = eps_cn.map(|psi| {
+            cn[0]
+                .get_or_insert_with(|| CrankNicolsonDdt0::new(psi))
+                .begin_step(&eps_old, flow.dt)
+        });
+        let k_r = k_cn.map(|psi| {
+            cn[1]
+                .get_or_insert_with(|| CrankNicolsonDdt0::new(psi))
+                .begin_step(&k_old, flow.dt)
         });
 
         // Wall functions: ε and G in the wall cells, ε on the wall faces.
@@ -464,7 +468,7 @@ impl KEpsilon {
         // ε equation.
         let gamma = self.diffusivity(g, c.sigma_eps, flow.nu);
         let eps_transport = Transport {
-            crank_nicolson: self.cn.as_ref().zip(cn_r).map(|([e, _], (r, _))| (r, e)),
+            crank_nicolson: eps_r.zip(self.cn[0].as_ref()),
             ..transport
         };
         let mut eqn = ScalarEqn::transport(
@@ -505,7 +509,7 @@ impl KEpsilon {
         // k equation.
         let gamma = self.diffusivity(g, c.sigma_k, flow.nu);
         let k_transport = Transport {
-            crank_nicolson: self.cn.as_ref().zip(cn_r).map(|([_, k], (_, r))| (r, k)),
+            crank_nicolson: k_r.zip(self.cn[1].as_ref()),
             ..transport
         };
         let mut eqn = ScalarEqn::transport(

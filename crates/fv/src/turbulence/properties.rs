@@ -219,21 +219,28 @@ fn equation(
             ),
         ));
     }
-    // k and ε take the momentum's time scheme (Euler or `CrankNicolson ψ`; `backward` with
-    // k–ε is refused with the momentum's settings).
+    // Euler or OpenFOAM's `CrankNicolson ψ`, each field its own (`backward` with k–ε is
+    // refused with the momentum's settings).
     let (ddt, key) = scheme_words(sch, sch_file, "ddtSchemes", &format!("ddt({field})"))?;
-    let (ddt_u, _) = scheme_words(sch, sch_file, "ddtSchemes", "ddt(U)")?;
-    if ddt != ddt_u {
-        return Err(err(
-            sch_file,
-            &key,
-            format!(
-                "`{}` is not supported for {field}: it must be the momentum's `{}`",
-                ddt.join(" "),
-                ddt_u.join(" ")
-            ),
-        ));
-    }
+    let crank_nicolson = match ddt.as_slice() {
+        [w] if w == "Euler" => None,
+        [w, psi] if w == "CrankNicolson" => match psi.parse::<f64>() {
+            Ok(p) if (0.0..=1.0).contains(&p) => Some(p),
+            _ => {
+                return Err(err(sch_file, &key, "CrankNicolson needs ψ in [0, 1]"));
+            }
+        },
+        _ => {
+            return Err(err(
+                sch_file,
+                &key,
+                format!(
+                    "`{}` is not supported for {field} (Euler, CrankNicolson ψ)",
+                    ddt.join(" ")
+                ),
+            ));
+        }
+    };
     let (grad, key) = scheme_words(sch, sch_file, "gradSchemes", &format!("grad({field})"))?;
     if grad != ["Gauss", "linear"] {
         return Err(err(
@@ -260,5 +267,6 @@ fn equation(
         convection,
         bounded,
         solver,
+        crank_nicolson,
     })
 }

@@ -32,6 +32,8 @@ pub struct ScalarScheme {
     pub bounded: bool,
     /// The linear solver of fvSolution for x.
     pub solver: LinearSolver,
+    /// `ddt(x)`: `None` Euler, `Some(ψ)` OpenFOAM's `CrankNicolson ψ`.
+    pub crank_nicolson: Option<f64>,
 }
 
 /// The assembled equation of one scalar.
