@@ -18,7 +18,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::bc::{self, PressureBc, VelocityBc};
-use crate::ddt::DdtCoeffs;
+use crate::ddt::{CrankNicolsonDdt0, DdtCoeffs};
 use crate::error::{FvError, Result};
 use crate::fv_options::MeanForce;
 use crate::fvc::{self, Field};
@@ -159,6 +159,25 @@ pub struct Fluid {
     /// The level before the current one and the step that led from it (`backward` only;
     /// `None` before the run's first step).
     old_old: Option<(OldLevel, f64)>,
+    /// `CrankNicolson ψ`'s stored derivatives (`None` for the other schemes).
+    cn: Option<CnState>,
+}
+
+/// The `CrankNicolson ψ` state of the fluid's fields ([`CrankNicolsonDdt0`]), each updated as
+/// often per step as OpenFOAM v1912 updates its `ddt0(…)` field (once per call of the scheme).
+#[derive(Clone, Debug)]
+struct CnState {
+    /// Of εU per cell (m/s²; OpenFOAM's `ddt0(voidfraction,U)`, `ddt0(U)` for ε ≡ 1).
+    momentum: CrankNicolsonDdt0<V3>,
+    /// Of the face flux φ (m³/s²; ddtCorr's `ddtCorrDdt0(phi)`, updated once per corrector).
+    flux_phi: CrankNicolsonDdt0<f64>,
+    /// Of U_f·S, the interpolated old velocity's flux (m³/s²; ddtCorr's `ddtCorrDdt0(U)`,
+    /// interpolated: the interpolation is linear, so the recursion on the face values is the
+    /// interpolated recursion on the cells and boundary faces; updated once per corrector).
+    flux_u: CrankNicolsonDdt0<f64>,
+    /// Of ε per cell (1/s; `ddt0(voidfraction)`, the continuity equation's ∂ε/∂t; updated
+    /// on every pressure equation and continuity error, as grainPisoFoam calls `fvc::ddt`).
+    voidage: CrankNicolsonDdt0<f64>,
 }
 
 /// The fields of one earlier time level (`backward`'s old-old level, [`crate::ddt`]).
@@ -233,6 +252,15 @@ impl Fluid {
                 .collect(),
             _ => g.delta_coeff.clone(),
         };
+        let cn = match settings.time_scheme {
+            TimeScheme::CrankNicolson(psi) => Some(CnState {
+                momentum: CrankNicolsonDdt0::new(psi),
+                flux_phi: CrankNicolsonDdt0::with_late_old_old(psi),
+                flux_u: CrankNicolsonDdt0::new(psi),
+                voidage: CrankNicolsonDdt0::new(psi),
+            }),
+            _ => None,
+        };
         let mut fl = Fluid {
             model: Model::A,
             ddt_voidage: true,
@@ -256,6 +284,7 @@ impl Fluid {
             turbulence,
             mean_forces: Vec::new(),
             old_old: None,
+            cn,
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
@@ -581,18 +610,38 @@ impl Fluid {
             Vec::new()
         };
 
-        // --- momentum matrix: convection + diffusion (θ-weighted), time derivative, Ksl.
-        let theta = match self.settings.time_scheme {
-            TimeScheme::Euler | TimeScheme::Backward => 1.0,
-            TimeScheme::CrankNicolson(psi) => 1.0 - 0.5 * psi,
+        let g = &self.g;
+        let uf_old = fvc::interpolate(g, Field::new(&u_old, &u_b_old));
+        // U°_f·S and ddtCorr's face difference D° = φ° − ε°_f U°_f·S (m³/s)
+        let q_old: Vec<f64> = (0..g.n_faces()).map(|f| uf_old[f].dot(&g.sf[f])).collect();
+        let d_old: Vec<f64> = (0..g.n_faces())
+            .map(|f| phi_old[f] - ef_old[f] * q_old[f])
+            .collect();
+        // CrankNicolson ψ: each stored derivative begins the step once ([`CrankNicolsonDdt0`]);
+        // `cn_r` = c/Δt (1/s), `cn_src` = c/Δt ε°U° + ψ d₀ per cell (m/s²).
+        let (cn_r, cn_src) = match self.cn.as_mut() {
+            Some(s) => {
+                let mom_old: Vec<V3> = (0..n).map(|c| u_old[c] * self.eps_old[c]).collect();
+                let r = s.momentum.begin_step(&mom_old, dt);
+                s.flux_phi.begin_step(&phi_old, dt);
+                s.flux_u.begin_step(&q_old, dt);
+                s.voidage.begin_step(&self.eps_old, dt);
+                let src = (0..n)
+                    .map(|c| s.momentum.old_part(c, r, mom_old[c]))
+                    .collect();
+                (r, src)
+            }
+            None => (0.0, Vec::new()),
         };
+        let cn = self.cn.as_ref();
+        let is_cn = cn.is_some();
+
+        // --- momentum matrix: convection + diffusion (implicit), time derivative, Ksl.
         let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
         let (nu_f, nu_c, nu_bf) = self.eps_nu_eff(&ef);
         let (cd, cd_diag, cd_b) = self.conv_diff(&nu_f, &grad_u);
         let g = &self.g;
-        let mut m = cd.clone();
-        m.upper.iter_mut().for_each(|x| *x *= theta);
-        m.lower.iter_mut().for_each(|x| *x *= theta);
+        let mut m = cd;
         let mut diag: Vec<V3> = vec![V3::zeros(); n];
         let mut b: Vec<V3> = vec![V3::zeros(); n];
         let stress = if self.settings.full_stress {
@@ -606,27 +655,18 @@ impl Fluid {
         } else {
             vec![V3::zeros(); n]
         };
-        // The θ-scheme weights the boundary values too: θ of the new ones (in cd_b) and 1 − θ
-        // of the old ones.
-        let b_old_shift: Vec<V3> = if theta < 1.0 {
-            let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
-            let mut old = vec![V3::zeros(); n];
-            let mut new = vec![V3::zeros(); n];
-            self.add_boundary_terms(&nu_f, &vi, &u_b_old, None, &mut old);
-            self.add_boundary_terms(&nu_f, &vi, &self.u_b, None, &mut new);
-            (0..n)
-                .map(|c| V3::from_fn(|k, _| (1.0 - theta) * (old[c][k] - new[c][k])))
-                .collect()
-        } else {
-            Vec::new()
-        };
         for k in 0..3 {
-            let uk: Vec<f64> = u_old.iter().map(|v| v[k]).collect();
             for c in 0..n {
                 let v = g.v[c];
-                let ddt = ddt_k.c * self.eps[c] * v / dt;
                 let ksl = self.ksl[c] / rho * v;
-                let mut old_source = self.eps_old[c] * v / dt * u_old[c][k];
+                let (ddt, mut old_source) = match cn {
+                    // OpenFOAM's CrankNicolson fvmDdt: diag c/Δt ε V, source (c/Δt ε°U° + ψ d₀) V
+                    Some(_) => (cn_r * self.eps[c] * v, cn_src[c][k] * v),
+                    None => (
+                        ddt_k.c * self.eps[c] * v / dt,
+                        self.eps_old[c] * v / dt * u_old[c][k],
+                    ),
+                };
                 if backward {
                     old_source = ddt_k.c0 * old_source
                         - ddt_k.c00 * (old_old.eps[c] * v / dt * old_old.u[c][k]);
@@ -639,12 +679,7 @@ impl Fluid {
                 for s in &self.mean_forces {
                     rhs += v * s.source(c)[k];
                 }
-                if theta < 1.0 {
-                    let r_old = cd_diag[c][k] * uk[c] + cd.off_row(g, c, &uk);
-                    rhs -= (1.0 - theta) * r_old;
-                    rhs += b_old_shift[c][k];
-                }
-                diag[c][k] = theta * cd_diag[c][k] + ddt + ksl;
+                diag[c][k] = cd_diag[c][k] + ddt + ksl;
                 b[c][k] = rhs;
             }
         }
@@ -697,7 +732,6 @@ impl Fluid {
         let g = &self.g;
         let fixed_flux = bc::flux_fixed(g, &self.u_bc, &self.phi);
         let fixes_p = self.p_bc.iter().any(PressureBc::fixes_value);
-        let uf_old = fvc::interpolate(g, Field::new(&u_old, &u_b_old));
         let uf_oo = if backward {
             fvc::interpolate(g, Field::new(&old_old.u, &old_old.u_b))
         } else {
@@ -747,13 +781,12 @@ impl Fluid {
             }
             v
         };
-        let ddt_corr: Vec<f64> = (0..g.n_faces())
+        let mut ddt_corr: Vec<f64> = (0..g.n_faces())
             .map(|f| {
                 if !corr_face[f] {
                     return 0.0;
                 }
-                let old = ef_old[f] * uf_old[f].dot(&g.sf[f]);
-                let diff = phi_old[f] - old;
+                let diff = d_old[f];
                 let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
                 if backward {
                     // backward's fvcDdtPhiCorr: the coefficient from the old level alone
@@ -761,9 +794,31 @@ impl Fluid {
                     let diff = ddt_k.c0 * diff - ddt_k.c00 * diff_oo;
                     return erau_f[f] * coeff * diff / dt;
                 }
+                if let Some(s) = cn {
+                    // CrankNicolson's fvcDdtPhiCorr: (c/Δt φ° + ψ d₀(φ)) − ε°_f (c/Δt U°_f·S
+                    // + ψ d₀(U)_f·S) in place of D°/Δt
+                    return erau_f[f]
+                        * coeff
+                        * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f]);
+                }
                 erau_f[f] * coeff * diff / dt
             })
             .collect();
+        // CrankNicolson: ddtCorr's factor (ε/A)_f × coupling coefficient per face, for the
+        // later correctors, where v1912 updates ddtCorr's ddt0 again (CrankNicolsonDdt0)
+        let cn_corr_w: Vec<f64> = match is_cn {
+            true => (0..g.n_faces())
+                .map(|f| {
+                    if !corr_face[f] {
+                        return 0.0;
+                    }
+                    let diff = d_old[f];
+                    let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
+                    erau_f[f] * coeff
+                })
+                .collect(),
+            false => Vec::new(),
+        };
         // Faces next to porous cells take the consistent time term (PorousTimeFlux): their
         // time resistance r_t = 1/(κ_p Δt) per cell (s/m², kinematic) and the mask.
         let consistent = self.harmonic_faces && self.porous_time_flux == PorousTimeFlux::Consistent;
@@ -772,8 +827,18 @@ impl Fluid {
         } else {
             vec![false; g.n_faces()]
         };
-        // (backward: T = c ε/Δt, grainPisoFoam's ddtUEqn.A())
-        let r_t: Vec<f64> = (0..n).map(|c| ddt_k.c / (kappa_p(c) * dt)).collect();
+        // (backward: T = c ε/Δt, CrankNicolson: T = c/Δt ε, grainPisoFoam's ddtUEqn.A())
+        let r_t: Vec<f64> = (0..n)
+            .map(|c| match cn {
+                Some(_) => cn_r / kappa_p(c),
+                None => ddt_k.c / (kappa_p(c) * dt),
+            })
+            .collect();
+        // CrankNicolson's old-time source over κ_p (m/s² per κ_p), for H′ below
+        let cn_h: Vec<V3> = match is_cn && consistent {
+            true => (0..n).map(|c| cn_src[c] / kappa_p(c)).collect(),
+            false => Vec::new(),
+        };
         // The steady flux coefficient γ′ = ε κ_p/A′ (A′ = A − ε/Δt, the diagonal without the
         // time derivative) weighs the face pressures of ∇p on porous faces, so that the cell
         // velocities U = HbyA − κ∇p, and through H′ the face fluxes, reach a steady state that
@@ -782,7 +847,10 @@ impl Fluid {
         let gam_steady: Vec<f64> = if consistent {
             (0..n)
                 .map(|c| {
-                    let a_steady = a_mean[c] - ddt_k.c * self.eps[c] / dt;
+                    let a_steady = match cn {
+                        Some(_) => a_mean[c] - cn_r * self.eps[c],
+                        None => a_mean[c] - ddt_k.c * self.eps[c] / dt,
+                    };
                     if a_steady > 0.0 {
                         self.eps[c] * kappa_p(c) / a_steady
                     } else {
@@ -799,18 +867,30 @@ impl Fluid {
             Vec::new()
         };
         // ∂ε/∂t of the continuity equation (1/s), with the momentum's time scheme
-        let ddt_eps: Vec<f64> = (0..n)
-            .map(|c| match backward {
-                true => {
+        let mut ddt_eps: Vec<f64> = (0..n)
+            .map(|c| match (backward, cn) {
+                (true, _) => {
                     (ddt_k.c * self.eps[c] - ddt_k.c0 * self.eps_old[c]
                         + ddt_k.c00 * old_old.eps[c])
                         / dt
                 }
-                false => (self.eps[c] - self.eps_old[c]) / dt,
+                // CrankNicolson's fvcDdt: c/Δt (ε − ε°) − ψ d₀
+                (false, Some(s)) => s.voidage.explicit(c, cn_r, self.eps[c], self.eps_old[c]),
+                (false, None) => (self.eps[c] - self.eps_old[c]) / dt,
             })
             .collect();
         let n_corr = self.settings.n_correctors;
         for corr in 0..n_corr {
+            if let (true, Some(s)) = (corr > 0, self.cn.as_mut()) {
+                s.flux_phi.evaluate_again();
+                s.flux_u.evaluate_again();
+                let s = &*s;
+                ddt_corr = (0..self.g.n_faces())
+                    .map(|f| {
+                        cn_corr_w[f] * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f])
+                    })
+                    .collect();
+            }
             let g = &self.g;
             // H/A; zero in a direction that is not solved (OpenFOAM's fvMatrix::H).
             let mut hbya: Vec<V3> = vec![V3::zeros(); n];
@@ -834,6 +914,8 @@ impl Fluid {
                 let ht_steady: Vec<V3> = if consistent {
                     (0..n)
                         .map(|c| match backward {
+                            // CrankNicolson: H_ddt/κ_p = (c/Δt ε°U° + ψ d₀)/κ_p
+                            _ if is_cn => ht[c] - cn_h[c],
                             // H_ddt/κ_p = (c₀ ε°U° − c₀₀ ε°°U°°)/(κ_p Δt)
                             true => {
                                 ht[c]
@@ -929,7 +1011,7 @@ impl Fluid {
             let div_star = fvc::surface_integrate(g, &phi_star);
             for c in 0..n {
                 src[c] -= div_star[c] * g.v[c];
-                if self.ddt_voidage {
+                if self.ddt_voidage && !is_cn {
                     src[c] -= g.v[c] * ddt_eps[c];
                 }
             }
@@ -945,6 +1027,17 @@ impl Fluid {
             let mut nonorth_flux = vec![0.0; g.n_internal];
             for nonorth in 0..=self.settings.n_non_orth {
                 let mut rhs = src.clone();
+                if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
+                    // grainPisoFoam's fvc::ddt(voidfraction) of every pressure equation: the
+                    // first of the step uses begin_step's update, each later one updates again
+                    if corr > 0 || nonorth > 0 {
+                        s.voidage.evaluate_again();
+                    }
+                    for c in 0..n {
+                        ddt_eps[c] = s.voidage.explicit(c, cn_r, self.eps[c], self.eps_old[c]);
+                        rhs[c] -= g.v[c] * ddt_eps[c];
+                    }
+                }
                 if corrected {
                     let gp = fvc::grad_scalar(g, &p, &self.p_b);
                     for f in 0..g.n_internal {
@@ -973,6 +1066,11 @@ impl Fluid {
                     self.eval_p_boundary(t_new, &p, &gamma_b, &phi_unconstrained, &phi_in, &mut pb);
                     self.p_b = pb;
                 }
+            }
+            // grainPisoFoam's continuity error of the corrector calls fvc::ddt(voidfraction)
+            // once more (CrankNicolsonDdt0: v1912 updates ddt0 on every call)
+            if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
+                s.voidage.evaluate_again();
             }
             // Rhie–Chow face flux from the pressure solution.
             for f in 0..g.n_internal {
@@ -1288,6 +1386,14 @@ impl Fluid {
         }
         Ok(n_steps)
     }
+}
+
+/// `CrankNicolson ψ`'s ddtCorr bracket on face `f` (m³/s²):
+/// (r φ° + ψ d₀(φ)) − ε°_f (r U°_f·S + ψ d₀(U)_f·S), r = c/Δt (OpenFOAM v1912
+/// `CrankNicolsonDdtScheme::fvcDdtPhiCorr`, there with ε ≡ 1); `phi_old` φ°, `ef_old` ε°_f,
+/// `q_old` U°_f·S.
+fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, q_old: f64) -> f64 {
+    s.flux_phi.old_part(f, r, phi_old) - ef_old * s.flux_u.old_part(f, r, q_old)
 }
 
 /// The time directory to start from.

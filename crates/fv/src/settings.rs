@@ -35,9 +35,10 @@ use std::path::{Path, PathBuf};
 pub enum TimeScheme {
     /// Implicit Euler (first order).
     Euler,
-    /// θ-scheme with θ = 1 − ψ/2 on convection and diffusion (ψ = 1: Crank–Nicolson, second
-    /// order; ψ = 0: Euler). OpenFOAM's `CrankNicolson ψ` keyword selects it; the off-centring
-    /// matches OpenFOAM's meaning of ψ, not its ddt0-field implementation.
+    /// OpenFOAM v1912's `CrankNicolson ψ`: spatial terms implicit, the time derivative
+    /// (1 + ψ)/Δt (x − x⁰) − ψ ddt0 with ddt0 the recursive estimate of the previous step's
+    /// derivative, Euler on a run's first step ([`crate::ddt::CrankNicolsonDdt0`]; ψ = 1:
+    /// second order, ψ = 0: Euler), also in `ddtCorr` and ∂ε/∂t.
     CrankNicolson(f64),
     /// Second-order backward differencing over the two previous levels ([`crate::ddt`];
     /// the first step of a run is Euler, as OpenFOAM's).

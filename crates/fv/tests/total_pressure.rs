@@ -170,8 +170,11 @@ fn total_pressure_inlet_reaches_bernoulli_speed_at_courant_8() {
             "{ddt}: {last} m/s, Bernoulli {u_inf}"
         );
         // The approach overshoots U∞ only slightly (the inlet's ½U² is the previous
-        // corrector's; measured 5.6e-5 with Euler); before the fix the run overflowed.
-        assert!(peak <= u_inf * (1.0 + 1e-3), "{ddt}: peak {peak}");
+        // corrector's; measured 5.6e-5 with Euler, 2.0e-3 with OpenFOAM's CrankNicolson 0.9,
+        // which damps the approach less: θ = 1/(1 + ψ) = 0.53 on a linear problem); before
+        // the fix the run overflowed.
+        let overshoot = if ddt == "Euler" { 1e-3 } else { 4e-3 };
+        assert!(peak <= u_inf * (1.0 + overshoot), "{ddt}: peak {peak}");
     }
 }
 
@@ -211,11 +214,32 @@ fn total_pressure_transient_follows_the_tanh_closed_form() {
 /// (2.4e-4 of max |U| after step 2, 1.7e-3 after 10, 6.8e-3 after 60 — measured; the cause
 /// is not found yet: there is no backflow at the outlet). The bound 2e-2 therefore checks
 /// that both run stably to the same flow at Courant numbers up to ≈ 9, not round-off.
+/// The same with OpenFOAM's `CrankNicolson 0.9` (each solver's own implementation; the native
+/// one is OpenFOAM's recursion, `fv::ddt::CrankNicolsonDdt0`): the same bound, for the same
+/// reason (Euler's difference, not the time scheme's: the cavity and the k–ε channel agree
+/// with pisoFoam's CrankNicolson to round-off). Measured after 60 steps: max|ΔU|/max|U|
+/// 5.1e-3, max|Δp|/max|p| 1.3e-2 (the θ-scheme it replaced: 1.8e-2, 2.4e-2).
 #[test]
 fn total_pressure_channel_matches_pisofoam_at_high_courant() {
     if !testkit::tool("pisoFoam") {
         return;
     }
+    for ddt in ["Euler", "CrankNicolson 0.9"] {
+        let (co_max, umax, du, dp) = channel_vs_pisofoam(ddt);
+        eprintln!(
+            "channel, {ddt}, pisoFoam's largest Courant number {co_max:.2}, max |U| {umax:.3} m/s: \
+             max|ΔU|/max|U| {du:.2e}, max|Δp|/max|p| {dp:.2e}"
+        );
+        // The comparison is made where it matters: well above Courant 1, in a moving flow.
+        assert!(co_max > 4.0, "{ddt}: largest Courant number {co_max}");
+        assert!(umax > 5.0, "{ddt}: max |U| {umax}");
+        assert!(du < 2e-2 && dp < 2e-2, "{ddt}: ΔU {du:e}, Δp {dp:e}");
+    }
+}
+
+/// Runs the channel with `ddt` natively and with pisoFoam: (pisoFoam's largest Courant number,
+/// max |U| (m/s), max|ΔU|/max|U|, max|Δp|/max|p|) at the end.
+fn channel_vs_pisofoam(ddt: &str) -> (f64, f64, f64, f64) {
     let root = tempfile::tempdir().unwrap();
     let (ours, theirs) = (root.path().join("fv"), root.path().join("pisoFoam"));
     let dt = DT_CHANNEL;
@@ -226,7 +250,7 @@ fn total_pressure_channel_matches_pisofoam_at_high_courant() {
         0.1,
         0.1,
         "type noSlip;",
-        "Euler",
+        ddt,
         dt,
         dt * steps as f64,
     );
@@ -254,12 +278,5 @@ fn total_pressure_channel_matches_pisofoam_at_high_courant() {
     let du = rel(&vectors(&a.join("U"), n), &u_ref);
     let dp = rel(&scalars(&a.join("p"), n), &scalars(&b.join("p"), n));
     let umax = u_ref.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    eprintln!(
-        "channel, pisoFoam's largest Courant number {co_max:.2}, max |U| {umax:.3} m/s: \
-         max|ΔU|/max|U| {du:.2e}, max|Δp|/max|p| {dp:.2e}"
-    );
-    // The comparison is made where it matters: well above Courant 1, in a moving flow.
-    assert!(co_max > 4.0, "largest Courant number {co_max}");
-    assert!(umax > 5.0, "max |U| {umax}");
-    assert!(du < 2e-2 && dp < 2e-2, "ΔU {du:e}, Δp {dp:e}");
+    (co_max, umax, du, dp)
 }

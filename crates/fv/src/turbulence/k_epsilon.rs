@@ -30,6 +30,7 @@ use super::properties::KEpsilonSettings;
 use super::scalar_bc::{self, ScalarBc, TurbulenceField};
 use super::scalar_eqn::{ScalarEqn, Transport};
 use super::wall_functions;
+use crate::ddt::CrankNicolsonDdt0;
 use crate::error::{FvError, Result};
 use crate::fvc::{self, Field};
 use crate::geometry::{FvGeometry, V3};
@@ -229,6 +230,9 @@ pub struct KEpsilon {
     y: Vec<f64>,
     /// 1/(number of `epsilonWallFunction` faces of the owner) on those faces, else 0.
     wall_weight: Vec<f64>,
+    /// `CrankNicolson ψ`'s stored derivatives of ε and k (for the fields whose scheme it
+    /// is), created at the first step as OpenFOAM creates its `ddt0(epsilon)`, `ddt0(k)`.
+    cn: [Option<CrankNicolsonDdt0<f64>>; 2],
 }
 
 /// What one call of [`KEpsilon::correct`] solved.
@@ -288,6 +292,7 @@ impl KEpsilon {
             nut,
             y,
             wall_weight,
+            cn: [None, None],
         };
         let c = m.settings.coeffs;
         bound(g, &mut m.k.cells, &mut m.k.boundary, c.k_min);
@@ -394,6 +399,22 @@ impl KEpsilon {
         let mut prod: Vec<f64> = (0..n).map(|i| self.nut.cells[i] * g_by_nu[i]).collect();
         let k_old = self.k.cells.clone();
         let eps_old = self.epsilon.cells.clone();
+        // each field's CrankNicolson state begins its step (rate c/Δt, 1/s)
+        let (eps_cn, k_cn) = (
+            self.settings.epsilon.crank_nicolson,
+            self.settings.k.crank_nicolson,
+        );
+        let cn = &mut self.cn;
+        let eps_r = eps_cn.map(|psi| {
+            cn[0]
+                .get_or_insert_with(|| CrankNicolsonDdt0::new(psi))
+                .begin_step(&eps_old, flow.dt)
+        });
+        let k_r = k_cn.map(|psi| {
+            cn[1]
+                .get_or_insert_with(|| CrankNicolsonDdt0::new(psi))
+                .begin_step(&k_old, flow.dt)
+        });
 
         // Wall functions: ε and G in the wall cells, ε on the wall faces.
         let mut eps0 = vec![0.0; n];
@@ -441,13 +462,18 @@ impl KEpsilon {
             lap_dc: flow.lap_dc,
             corrected: flow.corrected,
             dt: flow.dt,
+            crank_nicolson: None,
         };
 
         // ε equation.
         let gamma = self.diffusivity(g, c.sigma_eps, flow.nu);
+        let eps_transport = Transport {
+            crank_nicolson: eps_r.zip(self.cn[0].as_ref()),
+            ..transport
+        };
         let mut eqn = ScalarEqn::transport(
             g,
-            &transport,
+            &eps_transport,
             &self.settings.epsilon,
             &self.epsilon.cells,
             &eps_old,
@@ -482,9 +508,13 @@ impl KEpsilon {
 
         // k equation.
         let gamma = self.diffusivity(g, c.sigma_k, flow.nu);
+        let k_transport = Transport {
+            crank_nicolson: k_r.zip(self.cn[1].as_ref()),
+            ..transport
+        };
         let mut eqn = ScalarEqn::transport(
             g,
-            &transport,
+            &k_transport,
             &self.settings.k,
             &self.k.cells,
             &k_old,

@@ -219,14 +219,28 @@ fn equation(
             ),
         ));
     }
+    // Euler or OpenFOAM's `CrankNicolson ψ`, each field its own (`backward` with k–ε is
+    // refused with the momentum's settings).
     let (ddt, key) = scheme_words(sch, sch_file, "ddtSchemes", &format!("ddt({field})"))?;
-    if ddt != ["Euler"] {
-        return Err(err(
-            sch_file,
-            &key,
-            format!("`{}` is not supported for {field} (Euler)", ddt.join(" ")),
-        ));
-    }
+    let crank_nicolson = match ddt.as_slice() {
+        [w] if w == "Euler" => None,
+        [w, psi] if w == "CrankNicolson" => match psi.parse::<f64>() {
+            Ok(p) if (0.0..=1.0).contains(&p) => Some(p),
+            _ => {
+                return Err(err(sch_file, &key, "CrankNicolson needs ψ in [0, 1]"));
+            }
+        },
+        _ => {
+            return Err(err(
+                sch_file,
+                &key,
+                format!(
+                    "`{}` is not supported for {field} (Euler, CrankNicolson ψ)",
+                    ddt.join(" ")
+                ),
+            ));
+        }
+    };
     let (grad, key) = scheme_words(sch, sch_file, "gradSchemes", &format!("grad({field})"))?;
     if grad != ["Gauss", "linear"] {
         return Err(err(
@@ -253,5 +267,6 @@ fn equation(
         convection,
         bounded,
         solver,
+        crank_nicolson,
     })
 }

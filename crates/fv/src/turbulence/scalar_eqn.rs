@@ -15,6 +15,7 @@
 
 use super::scalar_bc::ScalarBc;
 use crate::convection::Convection;
+use crate::ddt::CrankNicolsonDdt0;
 use crate::error::Result;
 use crate::fvc;
 use crate::geometry::FvGeometry;
@@ -31,6 +32,8 @@ pub struct ScalarScheme {
     pub bounded: bool,
     /// The linear solver of fvSolution for x.
     pub solver: LinearSolver,
+    /// `ddt(x)`: `None` Euler, `Some(ψ)` OpenFOAM's `CrankNicolson ψ`.
+    pub crank_nicolson: Option<f64>,
 }
 
 /// The assembled equation of one scalar.
@@ -56,6 +59,9 @@ pub struct Transport<'a> {
     pub corrected: bool,
     /// Time step (s).
     pub dt: f64,
+    /// `CrankNicolson ψ`: the step's rate c/Δt (1/s) and the equation's stored derivative
+    /// ([`CrankNicolsonDdt0`], begun for this step); `None`: Euler.
+    pub crank_nicolson: Option<(f64, &'a CrankNicolsonDdt0<f64>)>,
 }
 
 impl ScalarEqn {
@@ -102,10 +108,18 @@ impl ScalarEqn {
                 source[nb] -= corr;
             }
         }
-        let rdt = 1.0 / flow.dt;
-        for c in 0..n {
-            m.diag[c] += rdt * g.v[c];
-            source[c] += rdt * x_old[c] * g.v[c];
+        if let Some((r, cn)) = flow.crank_nicolson {
+            // OpenFOAM's CrankNicolson fvmDdt: diag c/Δt V, source (c/Δt x⁰ + ψ d₀) V
+            for c in 0..n {
+                m.diag[c] += r * g.v[c];
+                source[c] += cn.old_part(c, r, x_old[c]) * g.v[c];
+            }
+        } else {
+            let rdt = 1.0 / flow.dt;
+            for c in 0..n {
+                m.diag[c] += rdt * g.v[c];
+                source[c] += rdt * x_old[c] * g.v[c];
+            }
         }
         if scheme.bounded {
             let div_phi = fvc::surface_integrate(g, phi);
