@@ -40,6 +40,26 @@ pub struct SmoothingSettings {
     pub upper: f64,
 }
 
+impl SmoothingSettings {
+    /// What makes these settings unusable, if anything: the `constDiffSmoothingProps` key at
+    /// fault and why (a length that is not positive and finite, limits that are not ordered).
+    pub fn problem(&self) -> Option<(&'static str, String)> {
+        if !(self.length.is_finite() && self.length > 0.0) {
+            return Some((
+                "smoothingLength",
+                format!("{} is not a positive length (m)", self.length),
+            ));
+        }
+        if self.lower.is_nan() || self.upper.is_nan() || self.lower > self.upper {
+            return Some((
+                "lowerLimit",
+                format!("{} is above upperLimit {}", self.lower, self.upper),
+            ));
+        }
+        None
+    }
+}
+
 /// The smoothing operator on one mesh: the matrix V + L²·(−∇²) assembled once.
 #[derive(Debug)]
 pub struct ConstDiffSmoothing {
@@ -62,16 +82,9 @@ pub struct SmoothingReport {
 impl ConstDiffSmoothing {
     /// The operator on `mesh` for `settings`.
     pub fn new(mesh: &PolyMesh, settings: SmoothingSettings) -> Result<Self, CoupleError> {
-        if !(settings.length.is_finite() && settings.length > 0.0) {
+        if let Some((key, why)) = settings.problem() {
             return Err(CoupleError::Parameter(format!(
-                "constDiffSmoothing: smoothingLength {} m is not a positive length",
-                settings.length
-            )));
-        }
-        if settings.lower.is_nan() || settings.upper.is_nan() || settings.lower > settings.upper {
-            return Err(CoupleError::Parameter(format!(
-                "constDiffSmoothing: lowerLimit {} is above upperLimit {}",
-                settings.lower, settings.upper
+                "constDiffSmoothing: {key}: {why}"
             )));
         }
         let g = FvGeometry::new(mesh)

@@ -573,19 +573,10 @@ fn read_smoothing(
         lower: number("lowerLimit")?,
         upper: number("upperLimit")?,
     };
-    if settings.length <= 0.0 {
-        return Err(r.err(
-            &format!("{dict}/smoothingLength"),
-            format!("{} is not a positive length (m)", settings.length),
-        ));
+    match settings.problem() {
+        Some((key, why)) => Err(r.err(&format!("{dict}/{key}"), why)),
+        None => Ok(settings),
     }
-    if settings.lower > settings.upper {
-        return Err(r.err(
-            &format!("{dict}/lowerLimit"),
-            format!("{} is above upperLimit {}", settings.lower, settings.upper),
-        ));
-    }
-    Ok(settings)
 }
 
 fn read_momentum(r: &mut Reader<'_>, top: &Dict) -> Result<MomentumCoupling, CoupleError> {
