@@ -242,11 +242,15 @@ impl Observer {
     ///
     /// The particle side's part only: [`Observer::observe_fluid`] adds the time and the
     /// fluid's, once the fluid has advanced the step's interval.
+    ///
+    /// `evacuation` follows a conveyor's bed by id (rank 0 keeps it; the others pass theirs
+    /// unused).
     fn sample<P: ParticleSide>(
         &self,
         dem: &P,
         step: &CouplingStep,
         ranks: &dyn couple::Ranks,
+        evacuation: Option<&mut crate::conveyor::Evacuation>,
     ) -> Sample {
         let ps = dem.state();
         let ax = self.column.axis;
@@ -294,6 +298,19 @@ impl Observer {
             ranks.all_sum(&mut sums);
             sums
         });
+        let evacuated = match (&self.conveyor, evacuation) {
+            (Some(spec), Some(ev)) => {
+                let ids = crate::conveyor::annulus_ids(spec, ax, ps.position, ps.ids);
+                let all: Vec<u64> = ranks
+                    .gather(&ids)
+                    .iter()
+                    .flatten()
+                    .map(|&id| id as u64)
+                    .collect();
+                (ranks.rank() == 0).then(|| ev.update(&all))
+            }
+            _ => None,
+        };
         Sample {
             time: f64::NAN,
             inlet_velocity: None,
@@ -328,6 +345,9 @@ impl Observer {
             tube_axial_velocity: zones.and_then(|z| (z[0] > 0.0).then(|| z[1] / z[0])),
             chamber_particles: zones.map(|z| z[2] as usize),
             annulus_particles: zones.map(|z| z[3] as usize),
+            bed_particles: evacuated.map(|e| e.bed),
+            bed_never_left: evacuated.map(|e| e.never_left),
+            annulus_returned: evacuated.map(|e| e.returned),
         }
     }
 
@@ -1087,6 +1107,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         n_ranks,
     };
     let mut held_max = 0;
+    let mut evacuation = observer
+        .conveyor
+        .as_ref()
+        .map(|_| crate::conveyor::Evacuation::default());
     let mut open: Option<Open> = None;
     for k in 1..=steps {
         coupler.advance_particles(&mut dem)?;
@@ -1098,7 +1122,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         let (step, dt) = coupler.hand_over(&mut dem, &mut fluid)?;
         fluid.start_advance(dt).map_err(RunError::Fluid)?;
         held_max = held_max.max(dem.state().len());
-        let sample = observer.sample(&dem, &step, coupler.ranks());
+        let sample = observer.sample(&dem, &step, coupler.ranks(), evacuation.as_mut());
         // every rank stops at the same step (a signal reaches the ranks at different steps)
         let stop_now = {
             let mut s = [f64::from(u8::from(stop.load(Ordering::SeqCst)))];

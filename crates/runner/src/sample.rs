@@ -67,9 +67,16 @@ pub struct Sample {
     pub chamber_particles: Option<usize>,
     /// Of those, the particles in its annulus (axial coordinate < its `annulusTop`).
     pub annulus_particles: Option<usize>,
+    /// The conveyor's bed: particles that were ever counted in the annulus before leaving it
+    /// ([`crate::conveyor::Evacuation`]; on rank 0 only).
+    pub bed_particles: Option<usize>,
+    /// Of the bed, the particles that have been in the annulus at every sample so far.
+    pub bed_never_left: Option<usize>,
+    /// Particles in the annulus that had left it before (fallen back from the plenum).
+    pub annulus_returned: Option<usize>,
 }
 
-const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles";
+const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles,bed_particles,bed_never_left,annulus_returned";
 
 /// The rows of an earlier run's CSV at `path` up to time `start` (s; to a relative 10⁻⁹),
 /// as text: what a run restarted at `start` keeps (none when there is no such file or its
@@ -112,7 +119,7 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
         for s in samples {
             writeln!(
                 w,
-                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{}",
+                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{},{}",
                 s.time,
                 o(s.inlet_velocity),
                 o(s.pressure_drop),
@@ -145,7 +152,10 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
                 n(s.tube_particles),
                 o(s.tube_axial_velocity),
                 n(s.chamber_particles),
-                n(s.annulus_particles)
+                n(s.annulus_particles),
+                n(s.bed_particles),
+                n(s.bed_never_left),
+                n(s.annulus_returned)
             )?;
         }
         Ok(())
