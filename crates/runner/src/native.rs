@@ -185,10 +185,13 @@ impl RunFluid for NativeFluid {
     }
 
     fn inflow_velocity(&self, name: &str) -> Option<f64> {
+        // the face fluxes φ = ε_f U_f·S_f the solver conserves (superficial), as grainPisoFoam
+        // reports them: on a pressure-driven inlet they differ from the boundary velocity
         let g = self.fluid.geometry();
-        patch_mean(g, name, self.fluid.u_boundary(), |u, face| {
-            -u.dot(&g.sf[face]) / g.mag_sf[face]
-        })
+        let p = g.patches.iter().find(|p| p.name == name)?;
+        let flux: f64 = p.face_fluxes(self.fluid.phi()).iter().sum();
+        let area: f64 = g.mag_sf[solver_faces(p).0].iter().sum();
+        (area > 0.0).then(|| -flux / area)
     }
 
     fn patch_faces(&self, name: &str) -> Option<crate::fluid::PatchFaces> {
