@@ -180,11 +180,11 @@ fn read_series<T: Copy>(items: &[Item], one: impl Fn(&Item) -> Option<T>) -> Opt
 }
 
 /// A vector of a dictionary entry (`(x y z)`).
-fn as_v3(i: &Item) -> Option<V3> {
+pub(crate) fn as_v3(i: &Item) -> Option<V3> {
     i.as_vector().map(V3::from)
 }
 
-fn vec_list(i: &Item) -> Option<Vec<V3>> {
+pub(crate) fn vec_list(i: &Item) -> Option<Vec<V3>> {
     match i {
         Item::Vectors(v) => Some(mesh::v3::from_arrays(v)),
         Item::List(l) => l.iter().map(as_v3).collect(),

@@ -91,9 +91,11 @@ impl DdtCoeffs {
 /// so d₀ = 0 on step 2; U, k and ε have their old-old level from step 1 on (`fvmDdt` asks for
 /// it on every call).
 ///
-/// The state starts at the run's first step: a run restarted from a written time starts with
-/// Euler, as OpenFOAM's does when the `ddt0(…)` fields are not in the start directory (they
-/// are neither written nor read here).
+/// Restarts: OpenFOAM writes d₀ at every write time as the field `ddt0(…)` and the old level
+/// x⁰ as `<field>_0`; a run started from that time reads both and continues the recursion
+/// with c = c₀ = 1 + ψ from its first step ([`Self::restarted`]: v1912's `DDt0Field` read
+/// from a file has start index −2), which reproduces the uninterrupted run. A field whose
+/// `ddt0(…)` file is missing starts as at a run's first step ([`Self::new`]: Euler first).
 #[derive(Clone, Debug)]
 pub struct CrankNicolsonDdt0<T> {
     /// The off-centring coefficient ψ ∈ [0, 1] (OpenFOAM's `ocCoeff`).
@@ -132,6 +134,42 @@ where
         }
     }
 
+    /// The state of a run restarted from a written time (OpenFOAM's `DDt0Field` read from the
+    /// start directory): `ddt0` the written d₀ (units of x per second), `old` the written old
+    /// level x⁰ of the last step before the write (OpenFOAM's `<field>_0`), `dt0` that step
+    /// (s; `None`: the same as the first step after the restart). The first step continues the
+    /// recursion with c = c₀ = 1 + ψ.
+    pub fn restarted(psi: f64, ddt0: Vec<T>, old: Vec<T>, dt0: Option<f64>) -> Self {
+        CrankNicolsonDdt0 {
+            // a restarted field is past its first two steps (OpenFOAM: start index −2)
+            steps: 2,
+            ddt0,
+            old0: old,
+            // NaN: take the first step's Δt (begin_step)
+            dt: dt0.unwrap_or(f64::NAN),
+            ..Self::new(psi)
+        }
+    }
+
+    /// The stored derivative d₀ to write (units of x per second), `None` before the run's
+    /// first step (OpenFOAM creates its `ddt0(…)` field at the first step); zero on the first
+    /// step, as OpenFOAM's is.
+    pub fn ddt0(&self) -> Option<Vec<T>>
+    where
+        T: Default,
+    {
+        match (self.steps, self.ddt0.is_empty()) {
+            (0, _) => None,
+            (_, true) => Some(vec![T::default(); self.old0.len()]),
+            (_, false) => Some(self.ddt0.clone()),
+        }
+    }
+
+    /// The off-centring coefficient ψ.
+    pub fn psi(&self) -> f64 {
+        self.psi
+    }
+
     /// The same for a field whose old-old level appears only on step 2, as a copy of the old
     /// level (see the type's documentation).
     pub fn with_late_old_old(psi: f64) -> Self {
@@ -149,7 +187,7 @@ where
         if self.late_old_old && self.steps == 2 {
             self.old00.clone_from(&self.old0);
         }
-        self.dt0 = self.dt;
+        self.dt0 = if self.dt.is_nan() { dt } else { self.dt };
         self.dt = dt;
         self.evaluate_again();
         let c = if self.steps >= 2 { 1.0 + self.psi } else { 1.0 };

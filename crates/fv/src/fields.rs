@@ -127,7 +127,7 @@ pub fn read_phi(path: &Path, g: &FvGeometry) -> Result<Vec<f64>> {
         return Err(FvError::setting(
             path,
             "class",
-            format!("`{class}`: phi must be a surfaceScalarField"),
+            format!("`{class}`: expected a surfaceScalarField"),
         ));
     }
     let values = |items: &[Item], n: usize, key: &str| -> Result<Vec<f64>> {
@@ -179,8 +179,21 @@ pub fn read_phi(path: &Path, g: &FvGeometry) -> Result<Vec<f64>> {
 /// read it back at a restart (`createPhi` reads `phi` when present), so a run continued by
 /// OpenFOAM keeps the Rhie–Chow fluxes instead of recomputing them from U.
 pub fn write_phi(path: &Path, g: &FvGeometry, phi: &[f64], format: foam::Format) -> Result<()> {
+    write_surface_scalar(path, "phi", [0, 3, -1, 0, 0, 0, 0], g, phi, format)
+}
+
+/// Writes a surfaceScalarField `object` (one value per solver face, dimensions `dims`) in
+/// [`write_phi`]'s layout: OpenFOAM's `phi`, `phi_0` and `ddtCorrDdt0(phi)` files.
+pub fn write_surface_scalar(
+    path: &Path,
+    object: &str,
+    dims: [i64; 7],
+    g: &FvGeometry,
+    phi: &[f64],
+    format: foam::Format,
+) -> Result<()> {
     use foam::{Dict, Item, Value};
-    FvError::check_len("phi", phi.len(), g.n_faces())?;
+    FvError::check_len(object, phi.len(), g.n_faces())?;
     let list = |v: &[f64]| {
         Value::Stream(vec![
             Item::Word("nonuniform".into()),
@@ -204,17 +217,14 @@ pub fn write_phi(path: &Path, g: &FvGeometry, phi: &[f64], format: foam::Format)
         boundary.set(&p.name, Value::Dict(e));
     }
     let mut body = Dict::new();
-    body.set_item(
-        "dimensions",
-        Item::Dims([0, 3, -1, 0, 0, 0, 0].map(Item::Label).to_vec()),
-    );
+    body.set_item("dimensions", Item::Dims(dims.map(Item::Label).to_vec()));
     body.set("internalField", list(&phi[..g.n_mesh_internal]));
     body.set("boundaryField", Value::Dict(boundary));
     let header = foam::Header {
         format,
         arch: foam::Arch::default(),
         class: "surfaceScalarField".into(),
-        object: "phi".into(),
+        object: object.into(),
         location: path
             .parent()
             .and_then(Path::file_name)

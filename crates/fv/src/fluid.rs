@@ -161,23 +161,39 @@ pub struct Fluid {
     old_old: Option<(OldLevel, f64)>,
     /// `CrankNicolson ψ`'s stored derivatives (`None` for the other schemes).
     cn: Option<CnState>,
+    /// `CrankNicolson ψ`: the old level of the last step and that step (s), written with the
+    /// derivatives as OpenFOAM's `U_0`, `phi_0`, `voidfraction_0` ([`crate::cn_files`]).
+    cn_prev: Option<(OldLevel, f64)>,
 }
 
 /// The `CrankNicolson ψ` state of the fluid's fields ([`CrankNicolsonDdt0`]), each updated as
 /// often per step as OpenFOAM v1912 updates its `ddt0(…)` field (once per call of the scheme).
 #[derive(Clone, Debug)]
 struct CnState {
-    /// Of εU per cell (m/s²; OpenFOAM's `ddt0(voidfraction,U)`, `ddt0(U)` for ε ≡ 1).
+    /// Of εU per cell, then per boundary face (m/s²; OpenFOAM's `ddt0(voidfraction,U)`,
+    /// `ddt0(U)` for ε ≡ 1; the matrix uses the cells', the file holds both).
     momentum: CrankNicolsonDdt0<V3>,
     /// Of the face flux φ (m³/s²; ddtCorr's `ddtCorrDdt0(phi)`, updated once per corrector).
     flux_phi: CrankNicolsonDdt0<f64>,
-    /// Of U_f·S, the interpolated old velocity's flux (m³/s²; ddtCorr's `ddtCorrDdt0(U)`,
-    /// interpolated: the interpolation is linear, so the recursion on the face values is the
-    /// interpolated recursion on the cells and boundary faces; updated once per corrector).
-    flux_u: CrankNicolsonDdt0<f64>,
-    /// Of ε per cell (1/s; `ddt0(voidfraction)`, the continuity equation's ∂ε/∂t; updated
-    /// on every pressure equation and continuity error, as grainPisoFoam calls `fvc::ddt`).
+    /// Of U per cell, then per boundary face (m/s²; ddtCorr's `ddtCorrDdt0(U)`, interpolated
+    /// to the faces where it is used; updated once per corrector).
+    flux_u: CrankNicolsonDdt0<V3>,
+    /// Of ε per cell, then per boundary face (1/s; `ddt0(voidfraction)`, the continuity
+    /// equation's ∂ε/∂t; updated on every pressure equation and continuity error, as
+    /// grainPisoFoam calls `fvc::ddt`).
     voidage: CrankNicolsonDdt0<f64>,
+}
+
+impl CnState {
+    /// The state before a run's first step.
+    fn new(psi: f64) -> CnState {
+        CnState {
+            momentum: CrankNicolsonDdt0::new(psi),
+            flux_phi: CrankNicolsonDdt0::with_late_old_old(psi),
+            flux_u: CrankNicolsonDdt0::new(psi),
+            voidage: CrankNicolsonDdt0::new(psi),
+        }
+    }
 }
 
 /// The fields of one earlier time level (`backward`'s old-old level, [`crate::ddt`]).
@@ -228,7 +244,176 @@ impl Fluid {
             .collect::<Result<Vec<_>>>()?;
         let mut fl = Self::build(case, settings, g, fields, turbulence)?;
         fl.mean_forces = mean_forces;
+        fl.read_cn_state(&start, &mesh)?;
         Ok(fl)
+    }
+
+    /// Whether the case is a VANS one (it has a `voidfraction` field): the names of
+    /// grainPisoFoam's CrankNicolson files ([`crate::cn_files`]).
+    fn is_vans(&self) -> bool {
+        self.eps_file.is_some()
+    }
+
+    /// Continues `CrankNicolson ψ` from the start directory `dir` when it holds the scheme's
+    /// files ([`crate::cn_files`]): all of `ddt0(U)` (`ddt0(voidfraction,U)`),
+    /// `ddtCorrDdt0(U)`, `ddtCorrDdt0(phi)` (and `ddt0(voidfraction)`) with the old levels
+    /// `U_0`, `phi_0` (`voidfraction_0`). None of them: the scheme starts afresh, Euler on the
+    /// first step, as OpenFOAM's does without the files. Some but not all, or a file that
+    /// does not fit the mesh: an error naming it.
+    fn read_cn_state(&mut self, dir: &Path, mesh: &foam::PolyMesh) -> Result<()> {
+        use crate::cn_files::{self, read_vol};
+        let Some(psi) = self.cn.as_ref().map(|s| s.momentum.psi()) else {
+            return Ok(());
+        };
+        let vans = self.is_vans();
+        let mut ddt0_names = vec![
+            cn_files::momentum_name(vans),
+            cn_files::CORR_U,
+            cn_files::CORR_PHI,
+        ];
+        if vans {
+            ddt0_names.push(cn_files::VOIDAGE);
+        }
+        let (present, missing): (Vec<&str>, Vec<&str>) =
+            ddt0_names.iter().partition(|n| dir.join(n).is_file());
+        if present.is_empty() {
+            return Ok(());
+        }
+        let mut old_names = vec!["U", "phi"];
+        if vans {
+            old_names.push("voidfraction");
+        }
+        let missing_old: Vec<String> = old_names
+            .iter()
+            .map(|f| cn_files::old_name(f))
+            .filter(|n| !dir.join(n).is_file())
+            .collect();
+        if !missing.is_empty() || !missing_old.is_empty() {
+            let all: Vec<String> = (missing.iter().map(|s| s.to_string()))
+                .chain(missing_old)
+                .collect();
+            return Err(FvError::setting(
+                dir.join(present[0]),
+                "CrankNicolson",
+                format!(
+                    "the restart of CrankNicolson needs {} next to it in {}; remove the                      ddt0 files to restart the scheme with an Euler step",
+                    all.join(", "),
+                    dir.display()
+                ),
+            ));
+        }
+        let g = &self.g;
+        let need = |name: &str, v: Option<Vec<f64>>| v.ok_or_else(|| missing_file(dir, name));
+        let vneed = |name: &str, v: Option<Vec<V3>>| v.ok_or_else(|| missing_file(dir, name));
+        let mom_name = cn_files::momentum_name(vans);
+        let d_mom = vneed(mom_name, read_vol::<V3>(dir, mom_name, mesh, g)?)?;
+        let d_u = vneed(
+            cn_files::CORR_U,
+            read_vol::<V3>(dir, cn_files::CORR_U, mesh, g)?,
+        )?;
+        let d_phi = crate::fields::read_phi(&dir.join(cn_files::CORR_PHI), g)?;
+        let u0 = read_cells::<V3>(dir, "U_0", g.n_cells)?;
+        let phi0 = crate::fields::read_phi(&dir.join("phi_0"), g)?;
+        let eps0 = match vans {
+            true => read_cells::<f64>(dir, "voidfraction_0", g.n_cells)?,
+            false => vec![1.0; g.n_cells],
+        };
+        let d_eps = match vans {
+            true => Some(need(
+                cn_files::VOIDAGE,
+                read_vol::<f64>(dir, cn_files::VOIDAGE, mesh, g)?,
+            )?),
+            false => None,
+        };
+        let dt0 = previous_step(dir)?;
+        // the old level's boundary values as the solver evaluated them then
+        let t0 = self.time - dt0.unwrap_or(self.settings.delta_t);
+        let mut u0_b = vec![V3::zeros(); g.n_boundary()];
+        bc::eval_velocity(g, &self.u_bc, t0, &u0, &phi0, &mut u0_b);
+        let ef0 = self.eps_faces(&eps0);
+        let (mom0, eps0_ext) = cn_old_levels(&self.g, &u0, &u0_b, &ef0, &eps0);
+        let s = self.cn.as_mut().expect("checked above");
+        s.momentum = CrankNicolsonDdt0::restarted(psi, d_mom, mom0, dt0);
+        s.flux_u = CrankNicolsonDdt0::restarted(psi, d_u, [u0.clone(), u0_b.clone()].concat(), dt0);
+        s.flux_phi = CrankNicolsonDdt0::restarted(psi, d_phi, phi0.clone(), dt0);
+        if let Some(d) = d_eps {
+            s.voidage = CrankNicolsonDdt0::restarted(psi, d, eps0_ext, dt0);
+        }
+        self.cn_prev = Some((
+            OldLevel {
+                u: u0,
+                u_b: u0_b,
+                phi: phi0,
+                eps: eps0,
+            },
+            dt0.unwrap_or(self.settings.delta_t),
+        ));
+        Ok(())
+    }
+
+    /// Writes `CrankNicolson ψ`'s files into the time directory `dir` ([`crate::cn_files`];
+    /// nothing before the scheme's first step or for other schemes).
+    fn write_cn_state(&self, dir: &Path, fmt: foam::Format) -> Result<()> {
+        use crate::cn_files::{self, write_vol};
+        let (Some(s), Some((prev, _))) = (&self.cn, &self.cn_prev) else {
+            return Ok(());
+        };
+        let (Some(d_mom), Some(d_u), Some(d_phi), Some(d_eps)) = (
+            s.momentum.ddt0(),
+            s.flux_u.ddt0(),
+            s.flux_phi.ddt0(),
+            s.voidage.ddt0(),
+        ) else {
+            return Ok(());
+        };
+        let g = &self.g;
+        let vans = self.is_vans();
+        let accel = [0, 1, -2, 0, 0, 0, 0];
+        write_vol(dir, cn_files::momentum_name(vans), accel, &d_mom, g, fmt)?;
+        write_vol(dir, cn_files::CORR_U, accel, &d_u, g, fmt)?;
+        crate::fields::write_surface_scalar(
+            &dir.join(cn_files::CORR_PHI),
+            cn_files::CORR_PHI,
+            [0, 3, -2, 0, 0, 0, 0],
+            g,
+            &d_phi,
+            fmt,
+        )?;
+        let mut u0 = self.u_file.clone();
+        u0.header.object = "U_0".into();
+        u0.set_internal(FieldValues::Vector(mesh::v3::to_arrays(&prev.u)))
+            .map_err(|m| FvError::Value {
+                what: "U_0".into(),
+                msg: m,
+            })?;
+        u0.write(&dir.join("U_0"), fmt)?;
+        crate::fields::write_surface_scalar(
+            &dir.join("phi_0"),
+            "phi_0",
+            [0, 3, -1, 0, 0, 0, 0],
+            g,
+            &prev.phi,
+            fmt,
+        )?;
+        if let (true, Some(file)) = (vans, &self.eps_file) {
+            write_vol(
+                dir,
+                cn_files::VOIDAGE,
+                [0, 0, -1, 0, 0, 0, 0],
+                &d_eps,
+                g,
+                fmt,
+            )?;
+            let mut e0 = file.clone();
+            e0.header.object = "voidfraction_0".into();
+            e0.set_internal(FieldValues::Scalar(prev.eps.clone()))
+                .map_err(|m| FvError::Value {
+                    what: "voidfraction_0".into(),
+                    msg: m,
+                })?;
+            e0.write(&dir.join("voidfraction_0"), fmt)?;
+        }
+        Ok(())
     }
 
     fn build(
@@ -253,12 +438,7 @@ impl Fluid {
             _ => g.delta_coeff.clone(),
         };
         let cn = match settings.time_scheme {
-            TimeScheme::CrankNicolson(psi) => Some(CnState {
-                momentum: CrankNicolsonDdt0::new(psi),
-                flux_phi: CrankNicolsonDdt0::with_late_old_old(psi),
-                flux_u: CrankNicolsonDdt0::new(psi),
-                voidage: CrankNicolsonDdt0::new(psi),
-            }),
+            TimeScheme::CrankNicolson(psi) => Some(CnState::new(psi)),
             _ => None,
         };
         let mut fl = Fluid {
@@ -285,6 +465,7 @@ impl Fluid {
             mean_forces: Vec::new(),
             old_old: None,
             cn,
+            cn_prev: None,
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
@@ -333,8 +514,23 @@ impl Fluid {
 
     /// Moves the clock on by `dt` seconds without solving: U, p and φ stay as they are
     /// (CFDEM's `solveFlow off`, where the particles and the voidage go on over a fixed flow).
+    ///
+    /// The time schemes' history ends here: the stored derivatives of `CrankNicolson ψ` (of
+    /// U, φ, ε, k, ε_turb) and `backward`'s old-old level describe the steps before the hold,
+    /// not the held interval, so the next solved step starts the schemes afresh (Euler, as a
+    /// run's first step, or a restart without `ddt0` files) instead of using them as the
+    /// previous step's. grainPisoFoam and CFDEM's solvers, which skip the equations, keep
+    /// them and continue the recursion with the derivative from before the hold.
     pub fn hold(&mut self, dt: f64) {
         self.time += dt;
+        if let Some(s) = &mut self.cn {
+            *s = CnState::new(s.momentum.psi());
+        }
+        self.cn_prev = None;
+        self.old_old = None;
+        if let Some(t) = &mut self.turbulence {
+            t.restart_time_schemes();
+        }
     }
 
     /// Number of steps taken.
@@ -621,11 +817,13 @@ impl Fluid {
         // `cn_r` = c/Δt (1/s), `cn_src` = c/Δt ε°U° + ψ d₀ per cell (m/s²).
         let (cn_r, cn_src) = match self.cn.as_mut() {
             Some(s) => {
-                let mom_old: Vec<V3> = (0..n).map(|c| u_old[c] * self.eps_old[c]).collect();
+                let (mom_old, eps_old_ext) =
+                    cn_old_levels(g, &u_old, &u_b_old, &ef_old, &self.eps_old);
                 let r = s.momentum.begin_step(&mom_old, dt);
                 s.flux_phi.begin_step(&phi_old, dt);
-                s.flux_u.begin_step(&q_old, dt);
-                s.voidage.begin_step(&self.eps_old, dt);
+                s.flux_u
+                    .begin_step(&[&u_old[..], &u_b_old[..]].concat(), dt);
+                s.voidage.begin_step(&eps_old_ext, dt);
                 let src = (0..n)
                     .map(|c| s.momentum.old_part(c, r, mom_old[c]))
                     .collect();
@@ -635,6 +833,11 @@ impl Fluid {
         };
         let cn = self.cn.as_ref();
         let is_cn = cn.is_some();
+        // CrankNicolson: ddtCorr's (r U° + ψ d₀(U))_f·S per face (m³/s²)
+        let mut cn_uq = match cn {
+            Some(s) => cn_old_velocity_flux(&self.g, s, cn_r, &u_old, &u_b_old),
+            None => Vec::new(),
+        };
 
         // --- momentum matrix: convection + diffusion (implicit), time derivative, Ksl.
         let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
@@ -799,7 +1002,7 @@ impl Fluid {
                     // + ψ d₀(U)_f·S) in place of D°/Δt
                     return erau_f[f]
                         * coeff
-                        * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f]);
+                        * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], cn_uq[f]);
                 }
                 erau_f[f] * coeff * diff / dt
             })
@@ -885,9 +1088,10 @@ impl Fluid {
                 s.flux_phi.evaluate_again();
                 s.flux_u.evaluate_again();
                 let s = &*s;
+                cn_uq = cn_old_velocity_flux(&self.g, s, cn_r, &u_old, &u_b_old);
                 ddt_corr = (0..self.g.n_faces())
                     .map(|f| {
-                        cn_corr_w[f] * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f])
+                        cn_corr_w[f] * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], cn_uq[f])
                     })
                     .collect();
             }
@@ -1153,16 +1357,17 @@ impl Fluid {
         }
         self.time = t_new;
         self.time_index += 1;
+        // the old level of this step: backward's old-old level, CrankNicolson's `_0` files
+        let level = || OldLevel {
+            u: u_old,
+            u_b: u_b_old,
+            phi: phi_old,
+            eps: self.eps_old.clone(),
+        };
         if backward {
-            self.old_old = Some((
-                OldLevel {
-                    u: u_old,
-                    u_b: u_b_old,
-                    phi: phi_old,
-                    eps: self.eps_old.clone(),
-                },
-                dt,
-            ));
+            self.old_old = Some((level(), dt));
+        } else if self.cn.is_some() {
+            self.cn_prev = Some((level(), dt));
         }
         Ok(report)
     }
@@ -1317,6 +1522,7 @@ impl Fluid {
         for s in &self.mean_forces {
             s.write(&dir, fmt)?;
         }
+        self.write_cn_state(&dir, fmt)?;
         if self.harmonic_faces {
             let grad = VolField::new(
                 crate::fields::GRAD_P_FILE,
@@ -1388,12 +1594,83 @@ impl Fluid {
     }
 }
 
+/// `CrankNicolson ψ`'s old levels of εU and ε (cells, then boundary faces) from U° (cells
+/// `u`, boundary faces `u_b`), ε° per face `ef` and per cell `eps`.
+fn cn_old_levels(
+    g: &FvGeometry,
+    u: &[V3],
+    u_b: &[V3],
+    ef: &[f64],
+    eps: &[f64],
+) -> (Vec<V3>, Vec<f64>) {
+    let nb = g.n_boundary();
+    let ef_b = &ef[g.n_internal..];
+    let mom = (u.iter().zip(eps).map(|(&u, &e)| u * e))
+        .chain((0..nb).map(|b| u_b[b] * ef_b[b]))
+        .collect();
+    let eps = eps.iter().chain(ef_b).copied().collect();
+    (mom, eps)
+}
+
 /// `CrankNicolson ψ`'s ddtCorr bracket on face `f` (m³/s²):
-/// (r φ° + ψ d₀(φ)) − ε°_f (r U°_f·S + ψ d₀(U)_f·S), r = c/Δt (OpenFOAM v1912
+/// (r φ° + ψ d₀(φ)) − ε°_f (r U° + ψ d₀(U))_f·S, r = c/Δt (OpenFOAM v1912
 /// `CrankNicolsonDdtScheme::fvcDdtPhiCorr`, there with ε ≡ 1); `phi_old` φ°, `ef_old` ε°_f,
-/// `q_old` U°_f·S.
-fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, q_old: f64) -> f64 {
-    s.flux_phi.old_part(f, r, phi_old) - ef_old * s.flux_u.old_part(f, r, q_old)
+/// `uq` the face's (r U° + ψ d₀(U))_f·S ([`cn_old_velocity_flux`]).
+fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, uq: f64) -> f64 {
+    s.flux_phi.old_part(f, r, phi_old) - ef_old * uq
+}
+
+/// (r U° + ψ d₀(U))_f·S on every face (m³/s²): the cell and boundary values of
+/// `ddtCorrDdt0(U)`'s bracket interpolated linearly, as OpenFOAM's `fvc::dotInterpolate`.
+fn cn_old_velocity_flux(
+    g: &FvGeometry,
+    s: &CnState,
+    r: f64,
+    u_old: &[V3],
+    u_b_old: &[V3],
+) -> Vec<f64> {
+    let n = g.n_cells;
+    let cells: Vec<V3> = (0..n).map(|c| s.flux_u.old_part(c, r, u_old[c])).collect();
+    let bnd: Vec<V3> = (0..g.n_boundary())
+        .map(|b| s.flux_u.old_part(n + b, r, u_b_old[b]))
+        .collect();
+    let uf = fvc::interpolate(g, Field::new(&cells, &bnd));
+    (0..g.n_faces()).map(|f| uf[f].dot(&g.sf[f])).collect()
+}
+
+/// The error of a file a restart needs.
+fn missing_file(dir: &Path, name: &str) -> FvError {
+    FvError::setting(
+        dir.join(name),
+        "CrankNicolson",
+        "the restart needs this file",
+    )
+}
+
+/// The cell values of the volume field `name` in `dir` (a `U_0` or `voidfraction_0`, whose
+/// boundary entries are the field's conditions).
+fn read_cells<T: crate::cn_files::CellValue>(dir: &Path, name: &str, n: usize) -> Result<Vec<T>> {
+    let path = dir.join(name);
+    let file = VolField::read(&path)?;
+    let v = file
+        .internal(n)
+        .map_err(|m| FvError::setting(&path, "internalField", m))?;
+    T::from_values(v).ok_or_else(|| FvError::setting(&path, "class", "wrong kind of field"))
+}
+
+/// The step that led to the time directory `dir` (s): `deltaT` of OpenFOAM's `uniform/time`
+/// when it is there, else `None`.
+fn previous_step(dir: &Path) -> Result<Option<f64>> {
+    let path = dir.join("uniform/time");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let file = foam::parse_file(&path)?;
+    let dt = file
+        .body
+        .f64("deltaT")
+        .map_err(|e| FvError::setting(&path, "deltaT", e.0))?;
+    Ok(Some(dt))
 }
 
 /// The time directory to start from.

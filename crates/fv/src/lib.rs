@@ -39,6 +39,7 @@
 
 pub mod amg;
 pub mod bc;
+pub mod cn_files;
 pub mod convection;
 pub mod courant;
 pub mod cyclic;

@@ -311,6 +311,12 @@ impl KEpsilon {
         &self.nut.cells
     }
 
+    /// Forgets the stored derivatives of `CrankNicolson ψ`: the next step is Euler, as a run's
+    /// first ([`crate::Fluid::hold`]).
+    pub fn restart_time_schemes(&mut self) {
+        self.cn = [None, None];
+    }
+
     /// νt on the boundary faces (m²/s; the wall function's value on walls).
     pub fn nut_boundary(&self) -> &[f64] {
         &self.nut.boundary
