@@ -178,6 +178,9 @@ struct CnState {
     /// Of ε per cell (1/s; `ddt0(voidfraction)`, the continuity equation's ∂ε/∂t; updated
     /// on every pressure equation and continuity error, as grainPisoFoam calls `fvc::ddt`).
     voidage: CrankNicolsonDdt0<f64>,
+    /// Of the face flux φ for the porous faces' own momentum balance (m³/s²;
+    /// [`PorousTimeFlux::Consistent`]; updated once per step, as the cells' `momentum`).
+    porous_flux: CrankNicolsonDdt0<f64>,
 }
 
 /// The fields of one earlier time level (`backward`'s old-old level, [`crate::ddt`]).
@@ -258,6 +261,7 @@ impl Fluid {
                 flux_phi: CrankNicolsonDdt0::with_late_old_old(psi),
                 flux_u: CrankNicolsonDdt0::new(psi),
                 voidage: CrankNicolsonDdt0::new(psi),
+                porous_flux: CrankNicolsonDdt0::new(psi),
             }),
             _ => None,
         };
@@ -626,6 +630,7 @@ impl Fluid {
                 s.flux_phi.begin_step(&phi_old, dt);
                 s.flux_u.begin_step(&q_old, dt);
                 s.voidage.begin_step(&self.eps_old, dt);
+                s.porous_flux.begin_step(&phi_old, dt);
                 let src = (0..n)
                     .map(|c| s.momentum.old_part(c, r, mom_old[c]))
                     .collect();
@@ -861,6 +866,23 @@ impl Fluid {
         } else {
             Vec::new()
         };
+        // The porous faces' old-time flux term φ_t: with it the face's time derivative is the
+        // cells' scheme applied to the face flux, r_t (φ − φ_t) = (c/Δt)(φ − φ_t)/κ_p:
+        // Euler φ_t = φ°; backward φ_t = (c₀ φ° − c₀₀ φ°°)/c; CrankNicolson ψ
+        // φ_t = φ° + ψ d₀(φ)/r, r = c/Δt, d₀(φ) the face flux's stored derivative (the cells'
+        // old-time source r ε°U° + ψ d₀(εU), written for the face). φ° alone there would make
+        // the face derivative (1 + ψ)(φ − φ°)/Δt resp. c (φ − φ°)/Δt, an inertia (1 + ψ) resp.
+        // 1.5 times the cells' whatever Δt (tests/coupled_time.rs).
+        let phi_t: Vec<f64> = match (consistent, cn, backward) {
+            (false, _, _) => Vec::new(),
+            (true, Some(s), _) => (0..g.n_faces())
+                .map(|f| s.porous_flux.old_part(f, cn_r, phi_old[f]) / cn_r)
+                .collect(),
+            (true, None, true) => (0..g.n_faces())
+                .map(|f| (ddt_k.c0 * phi_old[f] - ddt_k.c00 * old_old.phi[f]) / ddt_k.c)
+                .collect(),
+            (true, None, false) => phi_old.clone(),
+        };
         let jump_zone = if self.reconstruct_u {
             jump_zone(&self.g, &gam_c, JUMP_RATIO, JUMP_LAYERS)
         } else {
@@ -944,11 +966,11 @@ impl Fluid {
                             let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                             let w = g.weight[f];
                             let rtf = (1.0 - w) * r_t[o] + w * r_t[nb_];
-                            gamma[f] * (htsf[f].dot(&g.sf[f]) + rtf * phi_old[f])
+                            gamma[f] * (htsf[f].dot(&g.sf[f]) + rtf * phi_t[f])
                         } else if porous_face[f] {
                             // The owner's half cell with the face's old flux.
                             let o = g.owner[f] as usize;
-                            gamma[f] * (ht_steady[o].dot(&g.sf[f]) + r_t[o] * phi_old[f])
+                            gamma[f] * (ht_steady[o].dot(&g.sf[f]) + r_t[o] * phi_t[f])
                         } else if internal {
                             gamma[f] * htf[f].dot(&g.sf[f]) + ddt_corr[f]
                         } else {

@@ -192,7 +192,7 @@ fn study(
     e
 }
 
-const SCHEMES: [&str; 3] = ["Euler", "CrankNicolson 0.9", "CrankNicolson 1"];
+const SCHEMES: [&str; 4] = ["Euler", "CrankNicolson 0.9", "CrankNicolson 1", "backward"];
 
 #[test]
 fn drag_relaxation_with_constant_voidage_converges_in_time() {

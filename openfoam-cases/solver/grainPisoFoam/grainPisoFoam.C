@@ -43,6 +43,7 @@
 #include "couplingFields.H"
 #include "couplingSource.H"
 #include "porousFaces.H"
+#include "porousTimeFlux.H"
 #include "meanForceSources.H"
 
 int main(int argc, char *argv[])
