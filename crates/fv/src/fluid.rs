@@ -171,12 +171,21 @@ struct CnState {
     momentum: CrankNicolsonDdt0<V3>,
     /// Of the face flux φ (m³/s²; ddtCorr's `ddtCorrDdt0(phi)`, updated once per corrector).
     flux_phi: CrankNicolsonDdt0<f64>,
-    /// Of U_f·S, the interpolated old velocity's flux (m³/s²; ddtCorr's `ddtCorrDdt0(U)`,
-    /// interpolated: the interpolation is linear, so the recursion on the face values is the
-    /// interpolated recursion on the cells and boundary faces; updated once per corrector).
+    /// Of ε_f U_f·S, the interpolated old velocity's flux weighted by the face voidage
+    /// (m³/s²; for ε ≡ 1 ddtCorr's `ddtCorrDdt0(U)`, interpolated: the interpolation is
+    /// linear, so the recursion on the face values is the interpolated recursion on the cells
+    /// and boundary faces; updated once per corrector). Weighted so that both stored
+    /// derivatives of the bracket ([`cn_flux_corr`]) are of the same quantity: ε°_f d₀(U_f·S)
+    /// in its place left ψ U_f·S ∂ε_f/∂t in the bracket when ε changes in time, and the face
+    /// flux of a drag relaxation with ε(t) then missed its closed form by ~3 % of Us at every
+    /// Δt (tests/coupled_time.rs).
     flux_u: CrankNicolsonDdt0<f64>,
     /// Of ε per cell (1/s; `ddt0(voidfraction)`, the continuity equation's ∂ε/∂t; updated
-    /// on every pressure equation and continuity error, as grainPisoFoam calls `fvc::ddt`).
+    /// once per step: grainPisoFoam evaluates `fvc::ddt(voidfraction)` once per step too.
+    /// Updating it on every pressure equation and continuity error, as v1912 does on every
+    /// call, applied the recursion d₀ ← r₀(ε° − ε°°) − ψ d₀ m times per step: a lagging
+    /// derivative, and with ψ = 1 and m even a d₀ that never changed, so ∂ε/∂t did not
+    /// converge with Δt (tests/coupled_time.rs, the column).
     voidage: CrankNicolsonDdt0<f64>,
     /// Of the face flux φ for the porous faces' own momentum balance (m³/s²;
     /// [`PorousTimeFlux::Consistent`]; updated once per step, as the cells' `momentum`).
@@ -628,7 +637,8 @@ impl Fluid {
                 let mom_old: Vec<V3> = (0..n).map(|c| u_old[c] * self.eps_old[c]).collect();
                 let r = s.momentum.begin_step(&mom_old, dt);
                 s.flux_phi.begin_step(&phi_old, dt);
-                s.flux_u.begin_step(&q_old, dt);
+                let eq_old: Vec<f64> = (0..g.n_faces()).map(|f| ef_old[f] * q_old[f]).collect();
+                s.flux_u.begin_step(&eq_old, dt);
                 s.voidage.begin_step(&self.eps_old, dt);
                 s.porous_flux.begin_step(&phi_old, dt);
                 let src = (0..n)
@@ -889,7 +899,7 @@ impl Fluid {
             Vec::new()
         };
         // ∂ε/∂t of the continuity equation (1/s), with the momentum's time scheme
-        let mut ddt_eps: Vec<f64> = (0..n)
+        let ddt_eps: Vec<f64> = (0..n)
             .map(|c| match (backward, cn) {
                 (true, _) => {
                     (ddt_k.c * self.eps[c] - ddt_k.c0 * self.eps_old[c]
@@ -1033,7 +1043,7 @@ impl Fluid {
             let div_star = fvc::surface_integrate(g, &phi_star);
             for c in 0..n {
                 src[c] -= div_star[c] * g.v[c];
-                if self.ddt_voidage && !is_cn {
+                if self.ddt_voidage {
                     src[c] -= g.v[c] * ddt_eps[c];
                 }
             }
@@ -1049,17 +1059,6 @@ impl Fluid {
             let mut nonorth_flux = vec![0.0; g.n_internal];
             for nonorth in 0..=self.settings.n_non_orth {
                 let mut rhs = src.clone();
-                if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
-                    // grainPisoFoam's fvc::ddt(voidfraction) of every pressure equation: the
-                    // first of the step uses begin_step's update, each later one updates again
-                    if corr > 0 || nonorth > 0 {
-                        s.voidage.evaluate_again();
-                    }
-                    for c in 0..n {
-                        ddt_eps[c] = s.voidage.explicit(c, cn_r, self.eps[c], self.eps_old[c]);
-                        rhs[c] -= g.v[c] * ddt_eps[c];
-                    }
-                }
                 if corrected {
                     let gp = fvc::grad_scalar(g, &p, &self.p_b);
                     for f in 0..g.n_internal {
@@ -1088,11 +1087,6 @@ impl Fluid {
                     self.eval_p_boundary(t_new, &p, &gamma_b, &phi_unconstrained, &phi_in, &mut pb);
                     self.p_b = pb;
                 }
-            }
-            // grainPisoFoam's continuity error of the corrector calls fvc::ddt(voidfraction)
-            // once more (CrankNicolsonDdt0: v1912 updates ddt0 on every call)
-            if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
-                s.voidage.evaluate_again();
             }
             // Rhie–Chow face flux from the pressure solution.
             for f in 0..g.n_internal {
@@ -1411,11 +1405,11 @@ impl Fluid {
 }
 
 /// `CrankNicolson ψ`'s ddtCorr bracket on face `f` (m³/s²):
-/// (r φ° + ψ d₀(φ)) − ε°_f (r U°_f·S + ψ d₀(U)_f·S), r = c/Δt (OpenFOAM v1912
+/// (r φ° + ψ d₀(φ)) − (r ε°_f U°_f·S + ψ d₀(ε_f U_f·S)), r = c/Δt (OpenFOAM v1912
 /// `CrankNicolsonDdtScheme::fvcDdtPhiCorr`, there with ε ≡ 1); `phi_old` φ°, `ef_old` ε°_f,
 /// `q_old` U°_f·S.
 fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, q_old: f64) -> f64 {
-    s.flux_phi.old_part(f, r, phi_old) - ef_old * s.flux_u.old_part(f, r, q_old)
+    s.flux_phi.old_part(f, r, phi_old) - s.flux_u.old_part(f, r, ef_old * q_old)
 }
 
 /// The time directory to start from.

@@ -17,7 +17,8 @@
 //! flux φ(x, t) = −ε′(t) x S exactly (linear in x, so exact on the mesh too), whatever the
 //! momentum equation does:
 //!
-//! * (c) φ at the faces against −ε′(T) x_f S.
+//! * (c) φ at the faces against −ε′(T) x_f S (the cell velocities −ε′x/ε are printed, not
+//!   checked: near the wall and the open end they carry the mesh's error too).
 //!
 //! Both the native fluid's OpenFOAM-like faces (`harmonic_faces` off) and the coupled runs'
 //! faces (`harmonic_faces` on, `PorousTimeFlux::Consistent`, what `runner::native` sets) are run.
@@ -192,27 +193,113 @@ fn study(
     e
 }
 
+/// Whether the error (`pick` of each pair) at 80 steps is below 1/2.5 of that at 20 (first
+/// order: 1/4; the 10-step error can be small by a cancellation, so it is not the reference).
+fn converges(e: &[(f64, f64)], pick: impl Fn(&(f64, f64)) -> f64) -> bool {
+    pick(&e[3]) < pick(&e[1]) / 2.5
+}
+
 const SCHEMES: [&str; 4] = ["Euler", "CrankNicolson 0.9", "CrankNicolson 1", "backward"];
 
-#[test]
-fn drag_relaxation_with_constant_voidage_converges_in_time() {
-    const EPS: f64 = 0.6;
-    let (k, us, t_end) = (6.0, 1.0, 0.2);
-    let exact_u = us * (1.0 - (-k * t_end / EPS).exp());
+/// Runs the uniform periodic problem with ε(t) = `eps`, k = 6 1/s, Us = 1 m/s to T = 0.2 s
+/// with every scheme and both face treatments; returns the runs whose cell or face error
+/// against `exact_u` (m/s, with ε(T) = `eps_end`) does not converge.
+fn uniform_failures(
+    eps: fn(f64) -> f64,
+    ddt_voidage: bool,
+    eps_end: f64,
+    exact_u: f64,
+) -> Vec<String> {
+    let mut failed = Vec::new();
     for harmonic in [false, true] {
         let p = Problem {
-            eps: |_| EPS,
-            k,
-            us,
-            ddt_voidage: true,
+            eps,
+            k: K,
+            us: US,
+            ddt_voidage,
             periodic: true,
             harmonic,
         };
         for ddt in SCHEMES {
-            let e = study(&p, ddt, t_end, |f| uniform_errors(f, EPS, exact_u));
-            // converging: the error at 80 steps is below a third of that at 10
-            assert!(e[3].0 < e[0].0 / 3.0, "{ddt} cells {e:?}");
-            assert!(e[3].1 < e[0].1 / 3.0, "{ddt} faces {e:?}");
+            let e = study(&p, ddt, T_END, |f| uniform_errors(f, eps_end, exact_u));
+            if !(converges(&e, |x| x.0) && converges(&e, |x| x.1)) {
+                failed.push(format!("{ddt} harmonic {harmonic}: {e:?}"));
+            }
         }
     }
+    failed
+}
+
+/// k = Ksl/ρ (1/s), Us (m/s) and T (s) of the uniform problems.
+const K: f64 = 6.0;
+const US: f64 = 1.0;
+const T_END: f64 = 0.2;
+
+#[test]
+fn drag_relaxation_with_constant_voidage_converges_in_time() {
+    const EPS: f64 = 0.6;
+    let exact_u = US * (1.0 - (-K * T_END / EPS).exp());
+    let failed = uniform_failures(|_| EPS, true, EPS, exact_u);
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+#[test]
+fn drag_relaxation_with_voidage_changing_in_time_converges_in_time() {
+    // ε = ε₀ + a t. With m = εU: dm/dt + (k/ε) m = k Us; ε^(k/a) is an integrating factor
+    // (d ε^(k/a)/dt = k ε^(k/a − 1)), so d(m ε^(k/a))/dt = k Us ε^(k/a), and with m(0) = 0
+    // m ε^(k/a) = k Us (ε^(k/a + 1) − ε₀^(k/a + 1))/(a (k/a + 1)), i.e.
+    // U = m/ε = k Us/(k + a) (1 − (ε₀/ε)^(k/a + 1)).
+    const EPS0: f64 = 0.5;
+    const RATE: f64 = 1.5;
+    let eps_end = EPS0 + RATE * T_END;
+    let exact_u = K * US / (K + RATE) * (1.0 - (EPS0 / eps_end).powf(K / RATE + 1.0));
+    let failed = uniform_failures(|t| EPS0 + RATE * t, false, eps_end, exact_u);
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+/// ε(t) of the column: 0.6 + 0.2 sin(ωt), ω = 10 1/s (two radians over T = 0.2 s).
+fn column_eps(t: f64) -> f64 {
+    0.6 + 0.2 * (10.0 * t).sin()
+}
+
+#[test]
+fn continuity_with_voidage_changing_in_time_converges_in_time() {
+    let t_end: f64 = 0.2;
+    let deps = 0.2 * 10.0 * (10.0 * t_end).cos();
+    let mut failed = Vec::new();
+    for harmonic in [false, true] {
+        let p = Problem {
+            eps: column_eps,
+            k: 6.0,
+            us: 0.0,
+            ddt_voidage: true,
+            periodic: false,
+            harmonic,
+        };
+        for ddt in SCHEMES {
+            // φ = −ε′ x S on the x-faces; the error as a velocity of the fluid, |φ − φ_exact|/(εS)
+            let e = study(&p, ddt, t_end, |f| {
+                let g = f.geometry();
+                let eps = column_eps(t_end);
+                let face = (0..g.n_faces())
+                    .filter(|&i| g.sf[i][0].abs() > 0.5 * g.mag_sf[i])
+                    .map(|i| {
+                        (f.phi()[i] + deps * g.cf[i][0] * g.sf[i][0]).abs() / (eps * g.mag_sf[i])
+                    })
+                    .fold(0.0, f64::max);
+                let cell =
+                    g.c.iter()
+                        .zip(f.u())
+                        .map(|(c, u)| (u[0] + deps * c[0] / eps).abs())
+                        .fold(0.0, f64::max);
+                (cell, face)
+            });
+            // the faces only: the cell velocities carry the mesh's error at the wall and the
+            // open end too (Δt-independent), the face fluxes are exact on the mesh
+            if !converges(&e, |x| x.1) {
+                failed.push(format!("{ddt} harmonic {harmonic}: {e:?}"));
+            }
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
 }
