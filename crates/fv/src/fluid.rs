@@ -54,7 +54,10 @@ pub enum PorousTimeFlux {
     ///   r_t,f = (1 − w) r_t,P + w r_t,N,
     ///
     /// H′ = H − ε° U°/Δt the momentum source without the old-time term (m/s² per volume),
-    /// φ° the face's own old flux (m³/s). At steady state (φ = φ°) the face flux solves
+    /// φ° the face's own old flux (m³/s). That is Euler's form; the other schemes replace φ°
+    /// by their old-time flux term φ_t, the face analogue of the cells' old-time source
+    /// (backward (c₀φ° − c₀₀φ°°)/c, CrankNicolson ψ φ° + ψ d₀(φ)/r; see `Fluid::advance`), so
+    /// that the face flux follows the cells' time scheme (tests/coupled_time.rs). At steady state (φ = φ°) the face flux solves
     /// r′_f φ = (H′/κ_p)_f·S − |S| snGrad p whatever Δt: the time term cancels exactly, as in
     /// the time-step-independent momentum interpolation of Choi (AIAA J. 37 (1999) 1004) and
     /// Yu, Ozoe & Churchill (Numer. Heat Transfer B 42 (2002) 141), here written for the
