@@ -54,7 +54,10 @@ pub enum PorousTimeFlux {
     ///   r_t,f = (1 − w) r_t,P + w r_t,N,
     ///
     /// H′ = H − ε° U°/Δt the momentum source without the old-time term (m/s² per volume),
-    /// φ° the face's own old flux (m³/s). At steady state (φ = φ°) the face flux solves
+    /// φ° the face's own old flux (m³/s). That is Euler's form; the other schemes replace φ°
+    /// by their old-time flux term φ_t, the face analogue of the cells' old-time source
+    /// (backward (c₀φ° − c₀₀φ°°)/c, CrankNicolson ψ φ° + ψ d₀(φ)/r; see `Fluid::advance`), so
+    /// that the face flux follows the cells' time scheme (tests/coupled_time.rs). At steady state (φ = φ°) the face flux solves
     /// r′_f φ = (H′/κ_p)_f·S − |S| snGrad p whatever Δt: the time term cancels exactly, as in
     /// the time-step-independent momentum interpolation of Choi (AIAA J. 37 (1999) 1004) and
     /// Yu, Ozoe & Churchill (Numer. Heat Transfer B 42 (2002) 141), here written for the
@@ -175,13 +178,30 @@ struct CnState {
     momentum: CrankNicolsonDdt0<V3>,
     /// Of the face flux φ (m³/s²; ddtCorr's `ddtCorrDdt0(phi)`, updated once per corrector).
     flux_phi: CrankNicolsonDdt0<f64>,
-    /// Of U per cell, then per boundary face (m/s²; ddtCorr's `ddtCorrDdt0(U)`, interpolated
-    /// to the faces where it is used; updated once per corrector).
-    flux_u: CrankNicolsonDdt0<V3>,
-    /// Of ε per cell, then per boundary face (1/s; `ddt0(voidfraction)`, the continuity
-    /// equation's ∂ε/∂t; updated on every pressure equation and continuity error, as
-    /// grainPisoFoam calls `fvc::ddt`).
+    /// Of ε_f U_f·S, the interpolated old velocity's flux weighted by the face voidage
+    /// (m³/s²; for ε ≡ 1 ddtCorr's `ddtCorrDdt0(U)`, interpolated: the interpolation is
+    /// linear, so the recursion on the face values is the interpolated recursion on the cells
+    /// and boundary faces; updated once per corrector). Weighted so that both stored
+    /// derivatives of the bracket ([`cn_flux_corr`]) are of the same quantity: ε°_f d₀(U_f·S)
+    /// in its place left ψ U_f·S ∂ε_f/∂t in the bracket when ε changes in time, and the face
+    /// flux of a drag relaxation with ε(t) then missed its closed form by ~3 % of Us at every
+    /// Δt (tests/coupled_time.rs).
+    flux_u: CrankNicolsonDdt0<f64>,
+    /// Of U per cell, then per boundary face (m/s²; OpenFOAM's `ddtCorrDdt0(U)`): the
+    /// recursion OpenFOAM keeps, carried only to write it into time directories and read it
+    /// back (pisoFoam and the native fluid restart from each other's files); the bracket
+    /// uses `flux_u`, which equals its interpolated flux when ε is constant in time.
+    flux_u_file: CrankNicolsonDdt0<V3>,
+    /// Of ε per cell, then per boundary face (1/s; `ddt0(voidfraction)`, the continuity equation's ∂ε/∂t; updated
+    /// once per step: grainPisoFoam evaluates `fvc::ddt(voidfraction)` once per step too.
+    /// Updating it on every pressure equation and continuity error, as v1912 does on every
+    /// call, applied the recursion d₀ ← r₀(ε° − ε°°) − ψ d₀ m times per step: a lagging
+    /// derivative, and with ψ = 1 and m even a d₀ that never changed, so ∂ε/∂t did not
+    /// converge with Δt (tests/coupled_time.rs, the column).
     voidage: CrankNicolsonDdt0<f64>,
+    /// Of the face flux φ for the porous faces' own momentum balance (m³/s²;
+    /// [`PorousTimeFlux::Consistent`]; updated once per step, as the cells' `momentum`).
+    porous_flux: CrankNicolsonDdt0<f64>,
 }
 
 impl CnState {
@@ -191,7 +211,9 @@ impl CnState {
             momentum: CrankNicolsonDdt0::new(psi),
             flux_phi: CrankNicolsonDdt0::with_late_old_old(psi),
             flux_u: CrankNicolsonDdt0::new(psi),
+            flux_u_file: CrankNicolsonDdt0::new(psi),
             voidage: CrankNicolsonDdt0::new(psi),
+            porous_flux: CrankNicolsonDdt0::new(psi),
         }
     }
 }
@@ -332,9 +354,29 @@ impl Fluid {
         bc::eval_velocity(g, &self.u_bc, t0, &u0, &phi0, &mut u0_b);
         let ef0 = self.eps_faces(&eps0);
         let (mom0, eps0_ext) = cn_old_levels(&self.g, &u0, &u0_b, &ef0, &eps0);
+        // the bracket's d₀(ε_f U_f·S) from the file's d₀(U): ε°_f (d₀(U))_f·S, exact when ε is
+        // constant in time (pisoFoam's cases, ε ≡ 1; linear interpolation commutes with the
+        // recursion), otherwise it leaves out d₀(ε_f) U_f·S for the first step after the restart
+        let q_of = |cells: &[V3], bnd: &[V3]| -> Vec<f64> {
+            let uf = fvc::interpolate(&self.g, Field::new(cells, bnd));
+            (0..self.g.n_faces())
+                .map(|f| uf[f].dot(&self.g.sf[f]))
+                .collect()
+        };
+        let n = g.n_cells;
+        let d_q = q_of(&d_u[..n], &d_u[n..]);
+        let q0 = q_of(&u0, &u0_b);
+        let d_eq: Vec<f64> = (0..g.n_faces()).map(|f| ef0[f] * d_q[f]).collect();
+        let eq0: Vec<f64> = (0..g.n_faces()).map(|f| ef0[f] * q0[f]).collect();
         let s = self.cn.as_mut().expect("checked above");
         s.momentum = CrankNicolsonDdt0::restarted(psi, d_mom, mom0, dt0);
-        s.flux_u = CrankNicolsonDdt0::restarted(psi, d_u, [u0.clone(), u0_b.clone()].concat(), dt0);
+        s.flux_u = CrankNicolsonDdt0::restarted(psi, d_eq, eq0, dt0);
+        s.flux_u_file =
+            CrankNicolsonDdt0::restarted(psi, d_u, [u0.clone(), u0_b.clone()].concat(), dt0);
+        // the porous faces' d₀(φ) (updated once per step) is not one of OpenFOAM's files: it
+        // restarts from ddtCorrDdt0(phi), the same flux's derivative updated once per corrector
+        // (an approximation for the first step after a restart, on porous faces only)
+        s.porous_flux = CrankNicolsonDdt0::restarted(psi, d_phi.clone(), phi0.clone(), dt0);
         s.flux_phi = CrankNicolsonDdt0::restarted(psi, d_phi, phi0.clone(), dt0);
         if let Some(d) = d_eps {
             s.voidage = CrankNicolsonDdt0::restarted(psi, d, eps0_ext, dt0);
@@ -360,7 +402,7 @@ impl Fluid {
         };
         let (Some(d_mom), Some(d_u), Some(d_phi), Some(d_eps)) = (
             s.momentum.ddt0(),
-            s.flux_u.ddt0(),
+            s.flux_u_file.ddt0(),
             s.flux_phi.ddt0(),
             s.voidage.ddt0(),
         ) else {
@@ -821,9 +863,12 @@ impl Fluid {
                     cn_old_levels(g, &u_old, &u_b_old, &ef_old, &self.eps_old);
                 let r = s.momentum.begin_step(&mom_old, dt);
                 s.flux_phi.begin_step(&phi_old, dt);
-                s.flux_u
+                let eq_old: Vec<f64> = (0..g.n_faces()).map(|f| ef_old[f] * q_old[f]).collect();
+                s.flux_u.begin_step(&eq_old, dt);
+                s.flux_u_file
                     .begin_step(&[&u_old[..], &u_b_old[..]].concat(), dt);
                 s.voidage.begin_step(&eps_old_ext, dt);
+                s.porous_flux.begin_step(&phi_old, dt);
                 let src = (0..n)
                     .map(|c| s.momentum.old_part(c, r, mom_old[c]))
                     .collect();
@@ -833,11 +878,6 @@ impl Fluid {
         };
         let cn = self.cn.as_ref();
         let is_cn = cn.is_some();
-        // CrankNicolson: ddtCorr's (r U° + ψ d₀(U))_f·S per face (m³/s²)
-        let mut cn_uq = match cn {
-            Some(s) => cn_old_velocity_flux(&self.g, s, cn_r, &u_old, &u_b_old),
-            None => Vec::new(),
-        };
 
         // --- momentum matrix: convection + diffusion (implicit), time derivative, Ksl.
         let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
@@ -998,11 +1038,11 @@ impl Fluid {
                     return erau_f[f] * coeff * diff / dt;
                 }
                 if let Some(s) = cn {
-                    // CrankNicolson's fvcDdtPhiCorr: (c/Δt φ° + ψ d₀(φ)) − ε°_f (c/Δt U°_f·S
-                    // + ψ d₀(U)_f·S) in place of D°/Δt
+                    // CrankNicolson's fvcDdtPhiCorr: (c/Δt φ° + ψ d₀(φ)) − (c/Δt ε°_f U°_f·S
+                    // + ψ d₀(ε_f U_f·S)) in place of D°/Δt
                     return erau_f[f]
                         * coeff
-                        * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], cn_uq[f]);
+                        * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f]);
                 }
                 erau_f[f] * coeff * diff / dt
             })
@@ -1064,13 +1104,30 @@ impl Fluid {
         } else {
             Vec::new()
         };
+        // The porous faces' old-time flux term φ_t: with it the face's time derivative is the
+        // cells' scheme applied to the face flux, r_t (φ − φ_t) = (c/Δt)(φ − φ_t)/κ_p:
+        // Euler φ_t = φ°; backward φ_t = (c₀ φ° − c₀₀ φ°°)/c; CrankNicolson ψ
+        // φ_t = φ° + ψ d₀(φ)/r, r = c/Δt, d₀(φ) the face flux's stored derivative (the cells'
+        // old-time source r ε°U° + ψ d₀(εU), written for the face). φ° alone there would make
+        // the face derivative (1 + ψ)(φ − φ°)/Δt resp. c (φ − φ°)/Δt, an inertia (1 + ψ) resp.
+        // 1.5 times the cells' whatever Δt (tests/coupled_time.rs).
+        let phi_t: Vec<f64> = match (consistent, cn, backward) {
+            (false, _, _) => Vec::new(),
+            (true, Some(s), _) => (0..g.n_faces())
+                .map(|f| s.porous_flux.old_part(f, cn_r, phi_old[f]) / cn_r)
+                .collect(),
+            (true, None, true) => (0..g.n_faces())
+                .map(|f| (ddt_k.c0 * phi_old[f] - ddt_k.c00 * old_old.phi[f]) / ddt_k.c)
+                .collect(),
+            (true, None, false) => phi_old.clone(),
+        };
         let jump_zone = if self.reconstruct_u {
             jump_zone(&self.g, &gam_c, JUMP_RATIO, JUMP_LAYERS)
         } else {
             Vec::new()
         };
         // ∂ε/∂t of the continuity equation (1/s), with the momentum's time scheme
-        let mut ddt_eps: Vec<f64> = (0..n)
+        let ddt_eps: Vec<f64> = (0..n)
             .map(|c| match (backward, cn) {
                 (true, _) => {
                     (ddt_k.c * self.eps[c] - ddt_k.c0 * self.eps_old[c]
@@ -1087,11 +1144,11 @@ impl Fluid {
             if let (true, Some(s)) = (corr > 0, self.cn.as_mut()) {
                 s.flux_phi.evaluate_again();
                 s.flux_u.evaluate_again();
+                s.flux_u_file.evaluate_again();
                 let s = &*s;
-                cn_uq = cn_old_velocity_flux(&self.g, s, cn_r, &u_old, &u_b_old);
                 ddt_corr = (0..self.g.n_faces())
                     .map(|f| {
-                        cn_corr_w[f] * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], cn_uq[f])
+                        cn_corr_w[f] * cn_flux_corr(s, f, cn_r, phi_old[f], ef_old[f], q_old[f])
                     })
                     .collect();
             }
@@ -1148,11 +1205,11 @@ impl Fluid {
                             let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                             let w = g.weight[f];
                             let rtf = (1.0 - w) * r_t[o] + w * r_t[nb_];
-                            gamma[f] * (htsf[f].dot(&g.sf[f]) + rtf * phi_old[f])
+                            gamma[f] * (htsf[f].dot(&g.sf[f]) + rtf * phi_t[f])
                         } else if porous_face[f] {
                             // The owner's half cell with the face's old flux.
                             let o = g.owner[f] as usize;
-                            gamma[f] * (ht_steady[o].dot(&g.sf[f]) + r_t[o] * phi_old[f])
+                            gamma[f] * (ht_steady[o].dot(&g.sf[f]) + r_t[o] * phi_t[f])
                         } else if internal {
                             gamma[f] * htf[f].dot(&g.sf[f]) + ddt_corr[f]
                         } else {
@@ -1215,7 +1272,7 @@ impl Fluid {
             let div_star = fvc::surface_integrate(g, &phi_star);
             for c in 0..n {
                 src[c] -= div_star[c] * g.v[c];
-                if self.ddt_voidage && !is_cn {
+                if self.ddt_voidage {
                     src[c] -= g.v[c] * ddt_eps[c];
                 }
             }
@@ -1231,17 +1288,6 @@ impl Fluid {
             let mut nonorth_flux = vec![0.0; g.n_internal];
             for nonorth in 0..=self.settings.n_non_orth {
                 let mut rhs = src.clone();
-                if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
-                    // grainPisoFoam's fvc::ddt(voidfraction) of every pressure equation: the
-                    // first of the step uses begin_step's update, each later one updates again
-                    if corr > 0 || nonorth > 0 {
-                        s.voidage.evaluate_again();
-                    }
-                    for c in 0..n {
-                        ddt_eps[c] = s.voidage.explicit(c, cn_r, self.eps[c], self.eps_old[c]);
-                        rhs[c] -= g.v[c] * ddt_eps[c];
-                    }
-                }
                 if corrected {
                     let gp = fvc::grad_scalar(g, &p, &self.p_b);
                     for f in 0..g.n_internal {
@@ -1270,11 +1316,6 @@ impl Fluid {
                     self.eval_p_boundary(t_new, &p, &gamma_b, &phi_unconstrained, &phi_in, &mut pb);
                     self.p_b = pb;
                 }
-            }
-            // grainPisoFoam's continuity error of the corrector calls fvc::ddt(voidfraction)
-            // once more (CrankNicolsonDdt0: v1912 updates ddt0 on every call)
-            if let (true, Some(s)) = (self.ddt_voidage, self.cn.as_mut()) {
-                s.voidage.evaluate_again();
             }
             // Rhie–Chow face flux from the pressure solution.
             for f in 0..g.n_internal {
@@ -1613,29 +1654,11 @@ fn cn_old_levels(
 }
 
 /// `CrankNicolson ψ`'s ddtCorr bracket on face `f` (m³/s²):
-/// (r φ° + ψ d₀(φ)) − ε°_f (r U° + ψ d₀(U))_f·S, r = c/Δt (OpenFOAM v1912
+/// (r φ° + ψ d₀(φ)) − (r ε°_f U°_f·S + ψ d₀(ε_f U_f·S)), r = c/Δt (OpenFOAM v1912
 /// `CrankNicolsonDdtScheme::fvcDdtPhiCorr`, there with ε ≡ 1); `phi_old` φ°, `ef_old` ε°_f,
-/// `uq` the face's (r U° + ψ d₀(U))_f·S ([`cn_old_velocity_flux`]).
-fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, uq: f64) -> f64 {
-    s.flux_phi.old_part(f, r, phi_old) - ef_old * uq
-}
-
-/// (r U° + ψ d₀(U))_f·S on every face (m³/s²): the cell and boundary values of
-/// `ddtCorrDdt0(U)`'s bracket interpolated linearly, as OpenFOAM's `fvc::dotInterpolate`.
-fn cn_old_velocity_flux(
-    g: &FvGeometry,
-    s: &CnState,
-    r: f64,
-    u_old: &[V3],
-    u_b_old: &[V3],
-) -> Vec<f64> {
-    let n = g.n_cells;
-    let cells: Vec<V3> = (0..n).map(|c| s.flux_u.old_part(c, r, u_old[c])).collect();
-    let bnd: Vec<V3> = (0..g.n_boundary())
-        .map(|b| s.flux_u.old_part(n + b, r, u_b_old[b]))
-        .collect();
-    let uf = fvc::interpolate(g, Field::new(&cells, &bnd));
-    (0..g.n_faces()).map(|f| uf[f].dot(&g.sf[f])).collect()
+/// `q_old` U°_f·S.
+fn cn_flux_corr(s: &CnState, f: usize, r: f64, phi_old: f64, ef_old: f64, q_old: f64) -> f64 {
+    s.flux_phi.old_part(f, r, phi_old) - s.flux_u.old_part(f, r, ef_old * q_old)
 }
 
 /// The error of a file a restart needs.

@@ -379,7 +379,8 @@ fn plots(
     }
     if initial > 0 {
         LinePlot {
-            title: "Particles in the chamber (seed, Fig. 3: the annulus evacuated by 0.125 s)".into(),
+            title: "Particles in the chamber (seed, Fig. 3: the annulus evacuated by 0.125 s)"
+                .into(),
             x_label: "t (s)".into(),
             y_label: "fraction of the initial particles".into(),
             series: vec![

@@ -43,6 +43,7 @@
 #include "couplingFields.H"
 #include "couplingSource.H"
 #include "porousFaces.H"
+#include "porousTimeFlux.H"
 #include "meanForceSources.H"
 
 int main(int argc, char *argv[])
@@ -87,6 +88,17 @@ int main(int argc, char *argv[])
             coupling.checkVoidfraction();
 
             const surfaceScalarField voidfractionf(fvc::interpolate(voidfraction));
+
+            // ∂ε/∂t of this step (1/s), evaluated once and used by every pressure equation and
+            // continuity error: OpenFOAM v1912's CrankNicolson advances its ddt0 field on every
+            // fvc::ddt call, so one call per use applied its recursion several times per step
+            // (with ψ = 1 and an even number of calls the stored derivative never changed and
+            // ∂ε/∂t did not converge with Δt; fv's tests/coupled_time.rs).
+            tmp<volScalarField> tddtVoidfraction;
+            if (vans.ddtVoidfraction())
+            {
+                tddtVoidfraction = fvc::ddt(voidfraction);
+            }
 
             #include "interstitialCourantNo.H"
 
