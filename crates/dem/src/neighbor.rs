@@ -12,11 +12,11 @@
 //! position, so a pass over the pairs reads per-particle data copied in that order
 //! ([`PairList::order`]) from nearby memory. The particle indices themselves never change.
 //!
-//! For the per-particle sums, each sorted position has its *reduction entries*: the pairs it
-//! belongs to, ordered by the particle index of the partner. Summing in that order gives a
-//! result that depends neither on the spatial order nor on how the pairs were split between
-//! threads (see `pair_loop`). The history of pairs present before and after a rebuild is
-//! carried over, keyed by the two particle indices.
+//! Each pair is oriented by the particles' indices (its i is the smaller; with
+//! [`PairList::build_keyed`], the smaller key), so its history keeps its sense across builds and
+//! renumberings; the pairs of a row are stored in ascending sorted position of the partner,
+//! which fixes the order of the per-particle sums (see `pair_loop`). The history of pairs
+//! present before and after a rebuild is carried over, keyed by the two particle indices.
 
 use mesh::v3::V3;
 use rayon::prelude::*;
@@ -26,9 +26,6 @@ use crate::periodic::Periodic;
 
 /// Particles per parallel chunk in builds.
 const CHUNK: usize = 512;
-
-/// Marks a reduction entry whose particle is the pair's j (else its i).
-pub const ROLE_J: u32 = 1 << 31;
 
 /// Half pair list with contact history, in the particles' spatial order.
 #[derive(Debug, Clone, Default)]
@@ -52,10 +49,6 @@ pub struct PairList {
     row_first: Vec<u32>,
     /// Per sorted position: the smallest row holding one of its pairs (itself if none).
     low_row: Vec<u32>,
-    /// Reduction entries by sorted position (CSR offsets, length N + 1).
-    red_first: Vec<u32>,
-    /// Reduction entries: pair index, with [`ROLE_J`] set where the particle is the pair's j.
-    red: Vec<u32>,
     /// Number of builds and renumberings so far (per-particle copies in the sorted order
     /// follow it).
     generation: u64,
@@ -181,8 +174,6 @@ impl PairList {
                 sj: &self.sj,
                 row_first: &self.row_first,
                 low_row: &self.low_row,
-                red_first: &self.red_first,
-                red: &self.red,
             },
             &mut self.hist,
         )
@@ -213,8 +204,6 @@ impl PairList {
         self.hist.truncate(k);
         self.row_first.clear();
         self.low_row.clear();
-        self.red_first.clear();
-        self.red.clear();
         self.x_build.clear();
         self.identity = false;
         self.valid = false;
@@ -263,10 +252,9 @@ impl PairList {
 
     /// [`PairList::build`] for particles stored in another order than their indices:
     /// `key[i]` is the index particle i stands for (its place in the caller's index order), and
-    /// pairs are oriented and reduction entries ordered by key instead of by index, so sums
-    /// are those of the index order bit for bit. `None`: the key is the index. The key must
-    /// orient every pair as the previous build's did (the histories are carried over as
-    /// stored).
+    /// pairs are oriented by key instead of by index, so each pair computes its force as in the
+    /// index order. `None`: the key is the index. The key must orient every pair as the
+    /// previous build's did (the histories are carried over as stored).
     pub fn build_keyed(&mut self, x: &[V3], radius: &[f64], key: Option<&[u32]>) {
         let n = x.len();
         let key_of = |p: u32| key.map_or(p, |k| k[p as usize]);
@@ -335,32 +323,6 @@ impl PairList {
         for a in 0..n {
             row_first[a + 1] += row_first[a];
         }
-        // reduction entries: counting sort by sorted position, then by partner index
-        let mut red_first = vec![0u32; n + 1];
-        for k in 0..si.len() {
-            red_first[si[k] as usize + 1] += 1;
-            red_first[sj[k] as usize + 1] += 1;
-        }
-        for s in 0..n {
-            red_first[s + 1] += red_first[s];
-        }
-        let mut fill = red_first.clone();
-        let mut red = vec![0u32; 2 * si.len()];
-        for k in 0..si.len() {
-            for (s, e) in [(si[k], k as u32), (sj[k], k as u32 | ROLE_J)] {
-                red[fill[s as usize] as usize] = e;
-                fill[s as usize] += 1;
-            }
-        }
-        let partner = |e: u32| {
-            let k = (e & !ROLE_J) as usize;
-            let s = if e & ROLE_J != 0 { si[k] } else { sj[k] };
-            key_of(order[s as usize])
-        };
-        for s in 0..n {
-            red[red_first[s] as usize..red_first[s + 1] as usize]
-                .sort_unstable_by_key(|&e| partner(e));
-        }
         self.order = order;
         self.rank = rank;
         self.si = si;
@@ -368,8 +330,6 @@ impl PairList {
         self.hist = hist;
         self.row_first = row_first;
         self.low_row = low_row;
-        self.red_first = red_first;
-        self.red = red;
         self.x_build = x.to_vec();
         self.identity = self.order.iter().enumerate().all(|(s, &p)| p as usize == s);
         self.generation += 1;
@@ -436,27 +396,12 @@ pub struct PairView<'a> {
     /// Sorted position of each pair's j.
     pub sj: &'a [u32],
     /// Pairs by row (length N + 1): row a holds the pairs whose smaller sorted position is a,
-    /// `row_first[a]..row_first[a + 1]`; pairs are stored row by row.
+    /// `row_first[a]..row_first[a + 1]`; pairs are stored row by row, each row in ascending
+    /// sorted position of the partner.
     pub row_first: &'a [u32],
-    low_row: &'a [u32],
-    red_first: &'a [u32],
-    red: &'a [u32],
-}
-
-impl PairView<'_> {
-    /// The smallest row holding a pair of sorted position `s` (`s` itself if none lies
-    /// below): once rows `low_row(s)..=s` are evaluated, all of `s`'s pairs are.
-    #[inline]
-    pub fn low_row(&self, s: usize) -> usize {
-        self.low_row[s] as usize
-    }
-
-    /// The reduction entries of sorted position `s`: pair indices (with [`ROLE_J`] where the
-    /// particle is the pair's j), ordered by the partner's particle index.
-    #[inline]
-    pub fn reduction(&self, s: usize) -> &[u32] {
-        &self.red[self.red_first[s] as usize..self.red_first[s + 1] as usize]
-    }
+    /// Per sorted position s: the smallest row holding a pair of s (`s` itself if none lies
+    /// below): once rows `low_row[s]..=s` are evaluated, all of `s`'s pairs are.
+    pub low_row: &'a [u32],
 }
 
 /// Non-zero histories of a list about to be rebuilt, by particle index i (CSR).
@@ -639,6 +584,29 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
+    /// Row a holds the pairs whose smaller sorted position is a, partners ascending, and
+    /// `low_row` is each position's lowest row.
+    fn assert_rows(list: &mut PairList) {
+        let n = list.order().len();
+        let (view, _) = list.split_mut();
+        let mut low: Vec<u32> = (0..n as u32).collect();
+        for a in 0..n {
+            let row = view.row_first[a] as usize..view.row_first[a + 1] as usize;
+            let partners: Vec<u32> = row
+                .clone()
+                .map(|k| {
+                    let (s_i, s_j) = (view.si[k], view.sj[k]);
+                    let b = if s_i as usize == a { s_j } else { s_i };
+                    assert_eq!(s_i.min(s_j) as usize, a);
+                    low[b as usize] = low[b as usize].min(a as u32);
+                    b
+                })
+                .collect();
+            assert!(partners.windows(2).all(|w| w[0] < w[1]), "{partners:?}");
+        }
+        assert_eq!(view.low_row, &low[..]);
+    }
+
     #[test]
     fn same_pairs_as_brute_force_and_history_kept() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
@@ -676,31 +644,8 @@ mod tests {
         };
         let got: Vec<(u32, u32)> = pairs(&list).iter().map(|p| (p.0, p.1)).collect();
         assert_eq!(got, brute);
-        // every pair twice in the reduction entries, each particle's ordered by partner
-        let mut seen = vec![0u8; list.len()];
-        let mut copy = list.clone();
-        let (view, _) = copy.split_mut();
-        for s in 0..n {
-            let me = list.order()[s] as usize;
-            assert_eq!(list.rank(me), s);
-            let partners: Vec<usize> = view
-                .reduction(s)
-                .iter()
-                .map(|&e| {
-                    let k = (e & !ROLE_J) as usize;
-                    seen[k] += 1;
-                    let (i, j) = list.pair(k);
-                    assert_eq!(me, if e & ROLE_J != 0 { j } else { i });
-                    if e & ROLE_J != 0 {
-                        i
-                    } else {
-                        j
-                    }
-                })
-                .collect();
-            assert!(partners.windows(2).all(|w| w[0] < w[1]), "{partners:?}");
-        }
-        assert!(seen.iter().all(|&c| c == 2));
+        // rows in order, each row's partners ascending, and every particle's lowest row
+        assert_rows(&mut list.clone());
         // history survives a rebuild, keyed by the pair
         for k in 0..list.len() {
             let (i, j) = list.pair(k);
@@ -741,19 +686,7 @@ mod tests {
             v
         };
         assert_eq!(back(&moved), old);
-        let mut copy = moved.clone();
-        let (view, _) = copy.split_mut();
-        for s in 0..n {
-            let partners: Vec<u32> = view
-                .reduction(s)
-                .iter()
-                .map(|&e| {
-                    let (i, j) = moved.pair((e & !ROLE_J) as usize);
-                    perm[if e & ROLE_J != 0 { i } else { j }]
-                })
-                .collect();
-            assert!(partners.windows(2).all(|w| w[0] < w[1]), "{partners:?}");
-        }
+        assert_rows(&mut moved.clone());
         // and back in index order, the list is the one built there
         let mut inverse = vec![0u32; n];
         for (now, &home) in perm.iter().enumerate() {

@@ -1,23 +1,27 @@
 //! The particle–particle contact forces of one step, over the half pair list.
 //!
-//! The list stores its pairs row by row in the particles' spatial order ([`PairList`]). During
-//! a run the particles themselves are stored in that order ([`PairList::is_identity`]) and the
-//! pass reads their arrays directly; otherwise (the set-up, the steps before the first
-//! rebuild) the per-particle data are copied into that order, so a pass reads from nearby
-//! memory either way.
-//! Each thread takes a contiguous range of rows and, row a after row a:
-//! 1. *evaluates* the pairs of row a: a pair in contact gets its [`ContactOutput`] (force on i,
-//!    torques on i and j) and its history advanced, a pair apart has its history reset;
-//! 2. *reduces* sorted position a, whose pairs all lie in rows ≤ a: its force and torque are
-//!    summed from zero over its contacts in ascending order of the partner's particle index —
-//!    −F and the j-torque where it is the pair's j (partners below it), +F and the i-torque
-//!    where it is the pair's i (partners above). Positions with a pair in an earlier thread's
-//!    range are reduced after all threads are done.
+//! The list stores its pairs row by row in the particles' spatial order ([`PairList`]): row a
+//! holds the pairs of sorted position a with the partners b > a, ascending. During a run the
+//! particles themselves are stored in that order ([`PairList::is_identity`]) and the pass
+//! reads their arrays directly; otherwise (the set-up, the steps before the first rebuild) the
+//! per-particle data are copied into that order, so a pass reads from nearby memory either
+//! way.
 //!
-//! That order is the one a serial loop over particles i with their partners j > i produces,
-//! so the sums are those of the serial loop bit for bit, for every thread count and whatever
-//! the spatial order (a run continued from a restart file builds its list at other positions
-//! and still sums alike).
+//! As LIGGGHTS's half-list pair loop does (Newton's third law), each pair in contact adds its
+//! force and torques to both of its particles' sums as soon as it is evaluated: +F and the
+//! i-torque to the pair's i, −F and the j-torque to its j (i the member with the smaller
+//! insertion index, [`PairList::build_keyed`]). Sweeping the rows in order, a sorted position
+//! p receives the contributions of rows a < p in ascending a and then those of its own row in
+//! ascending partner: its sum runs from zero over its contacts in *ascending sorted position
+//! of the partner*. That is the canonical order of the sums.
+//!
+//! Each thread takes a contiguous range of rows. A sorted position whose pairs all lie in its
+//! own thread's range is summed there directly, in the canonical order; one with a pair in an
+//! earlier thread's range (a few cell layers at each range boundary) gets every contribution
+//! written to its thread's *spill* list instead, and after all threads are done the spill
+//! lists are added in thread order — again the canonical order. So the sums are the same bit
+//! for bit on every thread count; they depend on the spatial order, i.e. on the positions at
+//! the last list build.
 
 use mesh::v3::V3;
 use rayon::prelude::*;
@@ -26,13 +30,10 @@ use crate::contact::{
     contact_force, ContactInput, ContactModel, ContactOutput, History, HistoryUse,
 };
 use crate::material::Materials;
-use crate::neighbor::{PairList, PairView, ROLE_J};
+use crate::neighbor::PairList;
 use crate::particles::Particles;
 use crate::periodic::Periodic;
 use crate::sim::STREAM_BLOCK;
-
-/// `slot_out` of a pair not in contact.
-const APART: u32 = u32::MAX;
 
 /// Per-particle data in the list's spatial order and the per-pair results of the last
 /// evaluation (buffers kept from step to step).
@@ -52,11 +53,6 @@ pub struct PairForces {
     atom_type: Vec<u32>,
     /// The list generation radii, masses and types were copied for.
     generation: Option<u64>,
-    /// Outputs of the pairs in contact; each thread's range of pairs fills its own range of
-    /// `out` from the start, so only contacts are written and read back.
-    out: Vec<ContactOutput>,
-    /// Per pair: its index in `out`, [`APART`] when not in contact.
-    slot_out: Vec<u32>,
     /// Per sorted position: total contact force (N) and torque (N·m).
     sums: Vec<[V3; 2]>,
     /// The same by particle index (unused while the two orders are the same).
@@ -123,32 +119,32 @@ fn evaluate_pair(
     Some(contact_force(model, coeffs, &inp, h, dt, history))
 }
 
-/// Force and torque on sorted position `s` in the canonical order (module docs); `slot_out`
-/// and `out` hold pairs and outputs from index `offset` on.
+/// A contribution to the sums of a sorted position owned by another thread or summed after
+/// the threads (module docs): position, force (N), torque (N·m).
+type Spill = (u32, V3, V3);
+
+/// Adds a contact's force `f` and torque `t` to sorted position `s`: directly into `sums`
+/// (rows `lo..hi` of this thread) when all of `s`'s pairs lie in this thread's range, else to
+/// `spill`.
 #[inline]
-fn reduce_position(
-    view: &PairView,
+#[allow(clippy::too_many_arguments)]
+fn add(
     s: usize,
-    slot_out: &[u32],
-    out: &[ContactOutput],
-    offset: usize,
-) -> [V3; 2] {
-    let (mut f, mut t) = (V3::zeros(), V3::zeros());
-    for &e in view.reduction(s) {
-        let k = slot_out[(e & !ROLE_J) as usize - offset];
-        if k == APART {
-            continue;
-        }
-        let o = &out[k as usize - offset];
-        if e & ROLE_J != 0 {
-            f -= o.force;
-            t += o.torque_j;
-        } else {
-            f += o.force;
-            t += o.torque_i;
-        }
+    f: V3,
+    t: V3,
+    lo: usize,
+    hi: usize,
+    low_row: &[u32],
+    sums: &mut [[V3; 2]],
+    spill: &mut Vec<Spill>,
+) {
+    if s < hi && (lo == 0 || low_row[s] as usize >= lo) {
+        let sum = &mut sums[s - lo];
+        sum[0] += f;
+        sum[1] += t;
+    } else {
+        spill.push((s as u32, f, t));
     }
-    [f, t]
 }
 
 impl PairForces {
@@ -171,8 +167,6 @@ impl PairForces {
         let periodic = pairs.periodic().copied();
         let n = p.len();
         let np = pairs.len();
-        self.out.resize(np, ContactOutput::default());
-        self.slot_out.resize(np, APART);
         self.sums.resize(n, [V3::zeros(); 2]);
         let (view, hist) = pairs.split_mut();
         // rows split into one range per thread with about equal numbers of pairs (any split
@@ -186,20 +180,13 @@ impl PairForces {
         }
         rows[nt] = n;
         let mut work = Vec::with_capacity(nt);
-        let (mut hist, mut slot_out, mut out, mut sums) = (
-            hist,
-            &mut self.slot_out[..],
-            &mut self.out[..],
-            &mut self.sums[..],
-        );
+        let (mut hist, mut sums) = (hist, &mut self.sums[..]);
         for c in 0..nt {
             let len = (first[rows[c + 1]] - first[rows[c]]) as usize;
             let (h, h_rest) = hist.split_at_mut(len);
-            let (so, so_rest) = slot_out.split_at_mut(len);
-            let (o, o_rest) = out.split_at_mut(len);
             let (sm, sm_rest) = sums.split_at_mut(rows[c + 1] - rows[c]);
-            work.push((rows[c]..rows[c + 1], h, so, o, sm));
-            (hist, slot_out, out, sums) = (h_rest, so_rest, o_rest, sm_rest);
+            work.push((rows[c]..rows[c + 1], h, sm));
+            (hist, sums) = (h_rest, sm_rest);
         }
         let frame = match self.identity {
             true => Frame {
@@ -221,38 +208,29 @@ impl PairForces {
                 periodic: periodic.as_ref(),
             },
         };
-        let (si, sj) = (view.si, view.sj);
-        let deferred: Vec<Vec<usize>> = work
+        let (si, sj, low_row) = (view.si, view.sj, view.low_row);
+        let spills: Vec<Vec<Spill>> = work
             .into_par_iter()
-            .map(|(range, hist, slot_out, out, sums)| {
-                let base = first[range.start] as usize;
-                let mut used = 0;
-                let mut later = Vec::new();
-                for a in range.clone() {
-                    for k in first[a] as usize..first[a + 1] as usize {
-                        let (i, j) = (si[k] as usize, sj[k] as usize);
-                        let q = k - base;
-                        let o = evaluate_pair(&frame, i, j, &mut hist[q], mats, model, dt, history);
-                        slot_out[q] = match o {
-                            Some(o) => {
-                                out[used] = o;
-                                used += 1;
-                                (base + used - 1) as u32
-                            }
-                            None => APART,
-                        };
-                    }
-                    if view.low_row(a) >= range.start {
-                        sums[a - range.start] = reduce_position(&view, a, slot_out, out, base);
-                    } else {
-                        later.push(a);
+            .map(|(range, hist, sums)| {
+                let (lo, hi) = (range.start, range.end);
+                sums.fill([V3::zeros(); 2]);
+                let base = first[lo] as usize;
+                let mut spill = Vec::new();
+                for k in base..first[hi] as usize {
+                    let (i, j) = (si[k] as usize, sj[k] as usize);
+                    let h = &mut hist[k - base];
+                    if let Some(o) = evaluate_pair(&frame, i, j, h, mats, model, dt, history) {
+                        add(i, o.force, o.torque_i, lo, hi, low_row, sums, &mut spill);
+                        add(j, -o.force, o.torque_j, lo, hi, low_row, sums, &mut spill);
                     }
                 }
-                later
+                spill
             })
             .collect();
-        for s in deferred.into_iter().flatten() {
-            self.sums[s] = reduce_position(&view, s, &self.slot_out, &self.out, 0);
+        for (s, f, t) in spills.into_iter().flatten() {
+            let sum = &mut self.sums[s as usize];
+            sum[0] += f;
+            sum[1] += t;
         }
         if self.identity {
             return;

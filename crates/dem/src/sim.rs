@@ -8,8 +8,9 @@
 //! integrates exactly (x = x₀ + v₀t + ½at²).
 //!
 //! The pair forces ([`crate::pair_loop`]) are evaluated over the half pair list in the
-//! particles' spatial order and summed per particle in a fixed order (by partner index), so
-//! results are bit-identical from run to run and for any number of rayon threads. Walls,
+//! particles' spatial order and summed per particle in a fixed order (by the partner's place in
+//! the spatial order of the last list build), so results are bit-identical from run to run and
+//! for any number of rayon threads. Walls,
 //! gravity, coupling and the kicks are per particle, in index order.
 
 use dem_io::{Boundary, BoxBounds};
@@ -611,8 +612,9 @@ impl Simulation {
     /// first rebuild on (each rebuild renumbers them with all their per-particle state), so the
     /// passes over particles and pairs read memory in order; before anything sees indices
     /// (insertions, removals, dumps, the end of the run) they are put back in insertion order.
-    /// Pairs are oriented and summed by that order throughout, so the results are those of a
-    /// run without the renumbering, bit for bit.
+    /// Pairs are oriented by that order and summed in the list's spatial order, which the
+    /// renumbering does not change, so the results are those of a run without the renumbering,
+    /// bit for bit.
     pub fn run(&mut self, n: u64) -> Result<(), DemError> {
         let mut result = self.setup();
         if result.is_ok() {

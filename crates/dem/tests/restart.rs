@@ -265,8 +265,11 @@ fn liggghts_restart_continues_as_liggghts_continues_it() {
 }
 
 /// A native run continued from its own restart file is the uninterrupted run, bit for bit,
-/// on one thread and on two (the continued run builds its neighbour list at other positions,
-/// in another spatial order and thread split, but the per-particle sums keep one order). The
+/// on one thread and on two. The per-particle contact sums run in the spatial order of the
+/// last list build (`pair_loop`), which the continued run makes afresh at its first step: the
+/// two agree bit for bit because on this settled bed that build gives the order the
+/// uninterrupted run's list has (a run whose particles have moved between the two builds
+/// differs by round-off). The
 /// file's half-step block lets the set-up use the forces of the file's step. Without it the set-up is LIGGGHTS's, and the continuation drifts like
 /// LIGGGHTS's own (measured 4.0e-8 m, 2.0e-4 m/s after 1000 steps).
 #[test]
