@@ -31,6 +31,14 @@ pub const CORR_U: &str = "ddtCorrDdt0(U)";
 /// `ddtCorr`'s stored derivative of the face flux (surfaceScalarField, m³/s²).
 pub const CORR_PHI: &str = "ddtCorrDdt0(phi)";
 
+/// The native bracket's stored derivative of ε_f U_f·S (surfaceScalarField, m³/s²; not an
+/// OpenFOAM file: for constant ε it is `ddtCorrDdt0(U)` interpolated, which a restart uses
+/// when this file is missing, exactly so for pisoFoam's cases).
+pub const CORR_EPS_U: &str = "ddtCorrDdt0(voidfractionPhiU)";
+/// The porous faces' stored derivative of φ (surfaceScalarField, m³/s²; native, updated once
+/// per step; a restart without it starts from `ddtCorrDdt0(phi)`).
+pub const POROUS_PHI: &str = "ddt0(porousPhi)";
+
 /// The momentum equation's stored derivative: `ddt0(U)` for a plain case, grainPisoFoam's
 /// `ddt0(voidfraction,U)` when the case has a `voidfraction` field.
 pub fn momentum_name(vans: bool) -> &'static str {

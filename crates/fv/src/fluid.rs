@@ -354,9 +354,10 @@ impl Fluid {
         bc::eval_velocity(g, &self.u_bc, t0, &u0, &phi0, &mut u0_b);
         let ef0 = self.eps_faces(&eps0);
         let (mom0, eps0_ext) = cn_old_levels(&self.g, &u0, &u0_b, &ef0, &eps0);
-        // the bracket's d₀(ε_f U_f·S) from the file's d₀(U): ε°_f (d₀(U))_f·S, exact when ε is
-        // constant in time (pisoFoam's cases, ε ≡ 1; linear interpolation commutes with the
-        // recursion), otherwise it leaves out d₀(ε_f) U_f·S for the first step after the restart
+        // the bracket's d₀(ε_f U_f·S): its native file, or (a directory of pisoFoam's) from
+        // d₀(U) as ε°_f (d₀(U))_f·S, exact to round-off when ε is constant in time (linear
+        // interpolation commutes with the recursion), otherwise without d₀(ε_f) U_f·S for the
+        // first step after the restart
         let q_of = |cells: &[V3], bnd: &[V3]| -> Vec<f64> {
             let uf = fvc::interpolate(&self.g, Field::new(cells, bnd));
             (0..self.g.n_faces())
@@ -366,17 +367,24 @@ impl Fluid {
         let n = g.n_cells;
         let d_q = q_of(&d_u[..n], &d_u[n..]);
         let q0 = q_of(&u0, &u0_b);
-        let d_eq: Vec<f64> = (0..g.n_faces()).map(|f| ef0[f] * d_q[f]).collect();
+        let d_eq: Vec<f64> = match dir.join(cn_files::CORR_EPS_U) {
+            p if p.is_file() => crate::fields::read_phi(&p, g)?,
+            _ => (0..g.n_faces()).map(|f| ef0[f] * d_q[f]).collect(),
+        };
         let eq0: Vec<f64> = (0..g.n_faces()).map(|f| ef0[f] * q0[f]).collect();
         let s = self.cn.as_mut().expect("checked above");
         s.momentum = CrankNicolsonDdt0::restarted(psi, d_mom, mom0, dt0);
         s.flux_u = CrankNicolsonDdt0::restarted(psi, d_eq, eq0, dt0);
         s.flux_u_file =
             CrankNicolsonDdt0::restarted(psi, d_u, [u0.clone(), u0_b.clone()].concat(), dt0);
-        // the porous faces' d₀(φ) (updated once per step) is not one of OpenFOAM's files: it
-        // restarts from ddtCorrDdt0(phi), the same flux's derivative updated once per corrector
-        // (an approximation for the first step after a restart, on porous faces only)
-        s.porous_flux = CrankNicolsonDdt0::restarted(psi, d_phi.clone(), phi0.clone(), dt0);
+        // the porous faces' d₀(φ) (updated once per step): its native file, or (a directory of
+        // pisoFoam's, which has no porous faces) ddtCorrDdt0(phi), the same flux's derivative
+        // updated once per corrector
+        let d_porous = match dir.join(cn_files::POROUS_PHI) {
+            p if p.is_file() => crate::fields::read_phi(&p, g)?,
+            _ => d_phi.clone(),
+        };
+        s.porous_flux = CrankNicolsonDdt0::restarted(psi, d_porous, phi0.clone(), dt0);
         s.flux_phi = CrankNicolsonDdt0::restarted(psi, d_phi, phi0.clone(), dt0);
         if let Some(d) = d_eps {
             s.voidage = CrankNicolsonDdt0::restarted(psi, d, eps0_ext, dt0);
@@ -413,14 +421,23 @@ impl Fluid {
         let accel = [0, 1, -2, 0, 0, 0, 0];
         write_vol(dir, cn_files::momentum_name(vans), accel, &d_mom, g, fmt)?;
         write_vol(dir, cn_files::CORR_U, accel, &d_u, g, fmt)?;
-        crate::fields::write_surface_scalar(
-            &dir.join(cn_files::CORR_PHI),
-            cn_files::CORR_PHI,
-            [0, 3, -2, 0, 0, 0, 0],
-            g,
-            &d_phi,
-            fmt,
-        )?;
+        for (name, d) in [
+            (cn_files::CORR_PHI, Some(d_phi)),
+            (cn_files::CORR_EPS_U, s.flux_u.ddt0()),
+            (cn_files::POROUS_PHI, s.porous_flux.ddt0()),
+        ] {
+            if let Some(d) = d {
+                let path = dir.join(name);
+                crate::fields::write_surface_scalar(
+                    &path,
+                    name,
+                    [0, 3, -2, 0, 0, 0, 0],
+                    g,
+                    &d,
+                    fmt,
+                )?;
+            }
+        }
         let mut u0 = self.u_file.clone();
         u0.header.object = "U_0".into();
         u0.set_internal(FieldValues::Vector(mesh::v3::to_arrays(&prev.u)))
