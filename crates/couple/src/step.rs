@@ -36,7 +36,9 @@ use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, Particle
 use foam::{Label, PolyMesh};
 use mesh::v3::V3;
 use rayon::prelude::*;
-use voidage::{voidage_field, CellShares, Deposit, Method, ParticleSet, Voidage, VoidageMesh};
+use voidage::{
+    voidage_field, CellShares, Deposit, DividedMemo, Method, ParticleSet, Voidage, VoidageMesh,
+};
 
 /// What a coupler needs besides the mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,6 +82,9 @@ pub struct Coupler {
     /// particles `hint_ids`: followed by tag when the population changes.
     hints: Vec<Option<Label>>,
     hint_ids: Vec<u64>,
+    /// `divided`'s marker cells of the last exchange, for the particles `hint_ids`
+    /// ([`voidage::memo`]: reused while a particle stays within their clearance).
+    memo: DividedMemo,
     population: Population,
     steps: u64,
     spare: Spare,
@@ -145,6 +150,7 @@ impl Coupler {
             voidage: vec![1.0; n],
             hints: Vec::new(),
             hint_ids: Vec::new(),
+            memo: DividedMemo::new(),
             population: Population::default(),
             steps: 0,
             spare: Spare::default(),
@@ -330,7 +336,9 @@ impl Coupler {
         particles: &ParticleState<'_>,
     ) -> Result<(CellShares, Deposit), CoupleError> {
         if self.hint_ids != particles.ids {
-            self.hints = follow_tags(&self.hint_ids, &self.hints, particles.ids);
+            let from = follow_tags(&self.hint_ids, particles.ids);
+            self.hints = from.iter().map(|k| k.and_then(|k| self.hints[k])).collect();
+            self.memo.reorder(&from);
             self.hint_ids.clear();
             self.hint_ids.extend_from_slice(particles.ids);
         }
@@ -347,9 +355,13 @@ impl Coupler {
             cells: Vec::new(),
             volumes: Vec::new(),
         });
-        let deposit = self
-            .vm
-            .shares_with_cells_into(method, &set, &mut self.hints, &mut shares)?;
+        let deposit = self.vm.shares_with_memo_into(
+            method,
+            &set,
+            &mut self.hints,
+            &mut self.memo,
+            &mut shares,
+        )?;
         Ok((shares, deposit))
     }
 
@@ -708,12 +720,12 @@ fn touched_cells(shares: &CellShares, centre: &[Option<Label>]) -> Vec<Label> {
     cells
 }
 
-/// The hints of the particles `ids` from those of the particles `old_ids` (by tag; `None`
-/// for a particle not seen before).
-fn follow_tags(old_ids: &[u64], old: &[Option<Label>], ids: &[u64]) -> Vec<Option<Label>> {
-    let at: std::collections::HashMap<u64, Option<Label>> =
-        old_ids.iter().copied().zip(old.iter().copied()).collect();
-    ids.iter().map(|id| at.get(id).copied().flatten()).collect()
+/// For each particle of `ids`, its index among the particles `old_ids` (by tag; `None` for a
+/// particle not seen before): how the per-particle state kept between exchanges follows a
+/// changed population.
+fn follow_tags(old_ids: &[u64], ids: &[u64]) -> Vec<Option<usize>> {
+    let at: std::collections::HashMap<u64, usize> = old_ids.iter().copied().zip(0..).collect();
+    ids.iter().map(|id| at.get(id).copied()).collect()
 }
 
 /// ε, U, p, ∇p and ∇·τ of cell `c` ([`FLUID_WIDTH`] values), appended to `out`.

@@ -26,6 +26,7 @@
 
 use crate::error::MeshError;
 use crate::geometry::{Aabb, MeshGeometry};
+use crate::nearest::face_distance;
 use crate::tets::{tet_sides, TetDecomposition, TetId};
 use crate::v3::V3;
 use foam::{Label, PolyMesh};
@@ -695,6 +696,9 @@ pub struct Locator {
     /// Per cell, how far beyond one of its face planes a vertex of its tets may lie, plus the
     /// certainty margin of those vertices ([`cell_excess`]); 0 up to rounding for convex cells.
     cell_excess: Vec<f64>,
+    /// Per cell, whether every tet is positively oriented: then the tets fill the region the
+    /// cell's fan triangles enclose, star-shaped about the cell apex, once.
+    cell_star: Vec<bool>,
     /// Mesh bounds, enlarged slightly: points outside are outside the mesh.
     bounds: Aabb,
 }
@@ -755,6 +759,11 @@ impl Locator {
             .with_min_len(1024)
             .map(|c| cell_excess(&tets, c, &face_normals, &face_certainty))
             .collect();
+        let cell_star = (0..tets.n_cells() as Label)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|c| tets.cell_tets(c).all(|t| t.volume() > 0.0))
+            .collect();
         let mut cell_faces = Vec::new();
         let mut cell_face_start = Vec::with_capacity(tets.n_cells() + 1);
         for c in 0..tets.n_cells() as Label {
@@ -785,6 +794,7 @@ impl Locator {
             cell_face_start,
             cell_bounds,
             cell_excess,
+            cell_star,
             bounds,
         };
         if locator.grid.is_none() {
@@ -931,6 +941,16 @@ impl Locator {
     /// A point beyond one of them is tested the same way against the cell across that face
     /// (whose near faces are computed once per call too), and given that cell when surely
     /// inside it; the others are located from there by [`Locator::locate_from`].
+    ///
+    /// Returns a **clearance** (m): every point lies on the inner side of every fan-triangle
+    /// plane of the cell it was given by more than this distance, so moving all of them by the
+    /// same vector of length below it leaves every answer unchanged (a point surely inside a
+    /// cell's kernel is in that cell under any tie rule). For a point given by the face tests it
+    /// is the least of −(d + s·o·n̂ + margin) over the near faces of its cell (the computed bound
+    /// on its fan-triangle distances, [`FaceCertainty`], which already covers the rounding) and
+    /// −(d + radius + margin) over the other faces; for a point located by a walk, how far it
+    /// lies from its cell's boundary (`clearance_at`); 0 when a point lies outside the mesh or
+    /// no bound applies.
     // `!(x < 0.0)` is used on purpose: it is also true for NaN (a face that cannot certify).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn locate_near(
@@ -940,14 +960,14 @@ impl Locator {
         scale: f64,
         offsets: &[V3],
         mut f: impl FnMut(usize, Option<Label>),
-    ) {
+    ) -> f64 {
         /// Neighbour cells whose near faces one call keeps.
         const CELLS: usize = 8;
         if cell as usize >= self.tets.n_cells() {
             for (i, o) in offsets.iter().enumerate() {
                 f(i, self.locate(V3::from_fn(|a, _| centre[a] + scale * o[a])));
             }
-            return;
+            return 0.0;
         }
         let radius = scale
             * offsets
@@ -955,64 +975,128 @@ impl Locator {
                 .map(|o| o.norm_squared())
                 .fold(0.0, f64::max)
                 .sqrt();
-        // The near faces of `cell` first, then those of the neighbours met (`nb`: cell and
-        // range), as long as they fit.
+        // The near faces of `cell` first, then those of the neighbours met (`nb`: cell, range
+        // and the far faces' clearance), as long as they fit.
         let mut near = [NearFace::default(); NEAR_MAX];
-        let n = self.near_faces(cell, centre, radius, true, &mut near);
-        let mut nb = [(NO_LABEL, 0usize, 0usize); CELLS];
+        let own = self.near_faces(cell, centre, radius, true, &mut near);
+        let mut nb = [(NO_LABEL, 0usize, 0usize, 0.0f64); CELLS];
         let mut nb_len = 0;
-        let mut used = n.unwrap_or(0);
+        let mut used = own.map_or(0, |(n, _)| n);
+        let mut clearance = f64::INFINITY;
         for (i, o) in offsets.iter().enumerate() {
             let p = V3::from_fn(|a, _| centre[a] + scale * o[a]);
-            let Some(n) = n else {
-                f(i, self.locate_from(p, cell));
+            let Some((n, far)) = own else {
+                let got = self.locate_from(p, cell);
+                clearance = clearance.min(self.clearance_at(got, p));
+                f(i, got);
                 continue;
             };
-            // The face the point lies farthest beyond (or not surely inside).
+            // The face the point lies farthest beyond (or not surely inside), and the largest
+            // excess over all near faces.
             let mut worst: Option<(f64, usize)> = None;
+            let mut top = f64::NEG_INFINITY;
             for nf in &near[..n] {
                 let e = nf.excess(scale, o);
+                top = top.max(e);
                 if !(e < 0.0) && worst.is_none_or(|w| e > w.0) {
                     worst = Some((e, nf.face));
                 }
             }
             let Some((_, face)) = worst else {
+                clearance = clearance.min(-top).min(far);
                 f(i, Some(cell));
                 continue;
             };
             let Some(next) = self.tets.across(face, cell) else {
-                f(i, self.locate_from(p, cell));
+                let got = self.locate_from(p, cell);
+                clearance = clearance.min(self.clearance_at(got, p));
+                f(i, got);
                 continue;
             };
             let range = match nb[..nb_len].iter().find(|e| e.0 == next) {
-                Some(&(_, a, b)) => Some((a, b)),
+                Some(&(_, a, b, far)) => Some((a, b, far)),
                 None if nb_len < CELLS => {
                     let got = self.near_faces(next, centre, radius, false, &mut near[used..]);
-                    got.map(|k| {
-                        nb[nb_len] = (next, used, used + k);
+                    got.map(|(k, far)| {
+                        nb[nb_len] = (next, used, used + k, far);
                         nb_len += 1;
                         used += k;
-                        (used - k, used)
+                        (used - k, used, far)
                     })
                 }
                 None => None,
             };
-            let surely_next =
-                range.is_some_and(|(a, b)| near[a..b].iter().all(|nf| nf.excess(scale, o) < 0.0));
-            f(
-                i,
-                if surely_next {
-                    Some(next)
-                } else {
-                    self.locate_from(p, next)
-                },
-            );
+            // Surely in `next`: inside all its near faces; then the largest excess among them.
+            let next_top = range.and_then(|(a, b, far)| {
+                let mut top = f64::NEG_INFINITY;
+                for nf in &near[a..b] {
+                    let e = nf.excess(scale, o);
+                    if !(e < 0.0) {
+                        return None;
+                    }
+                    top = top.max(e);
+                }
+                Some((top, far))
+            });
+            match next_top {
+                Some((top, far)) => {
+                    clearance = clearance.min(-top).min(far);
+                    f(i, Some(next));
+                }
+                None => {
+                    let got = self.locate_from(p, next);
+                    clearance = clearance.min(self.clearance_at(got, p));
+                    f(i, got);
+                }
+            }
         }
+        clearance
+    }
+
+    /// How far `p`, which lies in cell `cell` (`None`: outside the mesh), may move and surely
+    /// stay in it: for each face, −(d + margin) when `p` lies inside the planes of all its fan
+    /// triangles by that much ([`Locator::cell_surely_holds`]'s bound), else, in a cell whose
+    /// tets are all positively oriented (star-shaped: the tets fill the region the fan
+    /// triangles enclose), the distance from `p` to the face's fan triangles less 10⁻¹² of
+    /// the coordinates' size for rounding; the least over the faces. 0 outside the mesh, or
+    /// where neither bound applies.
+    // `!(x > 0.0)` is used on purpose: it is also true for NaN (a face that cannot certify).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    fn clearance_at(&self, cell: Option<Label>, p: V3) -> f64 {
+        let Some(cell) = cell else { return 0.0 };
+        let mut clearance = f64::INFINITY;
+        let faces = self.tets.cell_faces(cell);
+        for (&face, cf) in faces.iter().zip(self.faces_of(cell)) {
+            let (d, margin) = cf.outward_distance(p, 0.0);
+            let inside = -(d + margin);
+            let bound = if inside > 0.0 {
+                inside
+            } else if self.cell_star[cell as usize] {
+                let f = face as usize;
+                let dist = face_distance(
+                    p,
+                    self.tets.points(),
+                    self.tets.faces.face(f),
+                    self.tets.face_apex[f],
+                );
+                dist - 1e-12 * (p.amax() + dist)
+            } else {
+                0.0
+            };
+            if !(bound > 0.0) {
+                return 0.0;
+            }
+            clearance = clearance.min(bound);
+        }
+        clearance
     }
 
     /// The faces of `cell` whose planes may pass within `radius` of `centre` ([`NearFace`]),
-    /// into `near`, and their number; `None` when the cell has more faces than `near` holds,
-    /// or, with `centre_inside`, when `centre` is not surely on the inner side of one of them.
+    /// into `near`, their number and the least −(d + radius + margin) of the other faces (how
+    /// far inside those faces' fan-triangle planes every point within `radius` of `centre`
+    /// lies; infinite when every face is near); `None` when the cell has more faces than `near`
+    /// holds, or, with `centre_inside`, when `centre` is not surely on the inner side of one of
+    /// them.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     fn near_faces(
         &self,
@@ -1021,16 +1105,18 @@ impl Locator {
         radius: f64,
         centre_inside: bool,
         near: &mut [NearFace],
-    ) -> Option<usize> {
+    ) -> Option<(usize, f64)> {
         let faces = self.tets.cell_faces(cell);
         if faces.len() > near.len() {
             return None;
         }
         let reach = 3f64.sqrt() * radius;
         let mut n = 0;
+        let mut far = f64::INFINITY;
         for (&face, cf) in faces.iter().zip(self.faces_of(cell)) {
             let (d, margin) = cf.outward_distance(centre, reach);
-            if !(d + radius + margin < 0.0) {
+            let beyond = d + radius + margin;
+            if !(beyond < 0.0) {
                 if centre_inside && !(d + margin < 0.0) {
                     return None;
                 }
@@ -1041,9 +1127,11 @@ impl Locator {
                     face: face as usize,
                 };
                 n += 1;
+            } else {
+                far = far.min(-beyond);
             }
         }
-        Some(n)
+        Some((n, far))
     }
 
     /// [`Locator::locate_from`] for every point, in parallel: `cells[i]` is the hint for

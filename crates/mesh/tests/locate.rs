@@ -163,13 +163,18 @@ fn points_outside_return_none() {
     }
 }
 
-#[test]
-fn locate_from_any_hint_agrees_with_locate() {
-    for m in [
+/// The warped, polyhedral and sheared meshes of the general path's tests.
+fn general_meshes() -> [PolyMesh; 3] {
+    [
         fixture_mesh("skewed_blocks"),
         fixture_mesh("poly_dual"),
         sheared_grid().0,
-    ] {
+    ]
+}
+
+#[test]
+fn locate_from_any_hint_agrees_with_locate() {
+    for m in general_meshes() {
         let g = MeshGeometry::new(&m).unwrap();
         let loc = locator(&m, true);
         let mut rng = Rng(6);
@@ -293,11 +298,7 @@ fn multi_block_grid_map_matches_cell_geometry() {
 /// inside (the cell centres of hexahedra with planar faces).
 #[test]
 fn surely_holds_agrees_with_brute_force_near_faces() {
-    for m in [
-        fixture_mesh("skewed_blocks"),
-        fixture_mesh("poly_dual"),
-        sheared_grid().0,
-    ] {
+    for m in general_meshes() {
         let g = MeshGeometry::new(&m).unwrap();
         let loc = locator(&m, false);
         let t = loc.tets();
@@ -398,4 +399,100 @@ fn locate_near_agrees_with_locate() {
         }
         assert!(checked > 1000);
     }
+}
+
+/// The clearance `Locator::locate_near` returns is a true bound: moving the centre (and so
+/// every point of the cluster) by any vector shorter than it leaves every point in the cell
+/// `locate` gave it, checked against `locate` at the moved points in random directions up to
+/// 0.999999 of the clearance. Clusters that needed a walk report a clearance too (from their
+/// cell's faces at the point), so almost every cluster inside the mesh has one.
+#[test]
+fn locate_near_clearance_bounds_the_motion_that_keeps_every_answer() {
+    for m in general_meshes() {
+        let g = MeshGeometry::new(&m).unwrap();
+        let loc = locator(&m, false);
+        let mut rng = Rng(41);
+        let h = (g.total_volume() / m.n_cells as f64).cbrt();
+        let offsets = mesh_marker_offsets();
+        let centres = random_points(&mut rng, &g.bounds, 800, 0.0);
+        let (mut bounded, mut clusters, mut moved, mut beyond) = (0, 0, 0, 0);
+        for c in &centres {
+            let Some(cell) = loc.locate(*c) else { continue };
+            let scale = h * 10f64.powf(rng.range(-1.5, -0.2));
+            let mut answers = vec![None; offsets.len()];
+            let clearance = loc.locate_near(cell, *c, scale, &offsets, |k, got| answers[k] = got);
+            assert!(clearance >= 0.0, "clearance {clearance}");
+            if answers.iter().all(|a| a.is_some()) {
+                clusters += 1;
+            }
+            if clearance == 0.0 {
+                continue;
+            }
+            if answers.iter().any(|a| a.is_none()) {
+                panic!("a clearance {clearance} with a point outside the mesh, centre {c:?}");
+            }
+            bounded += 1;
+            let room = clearance.min(h);
+            for t in [0.5, 0.9, 0.999, 0.999999] {
+                for _ in 0..4 {
+                    let u = loop {
+                        let u = V3::from_fn(|_, _| rng.range(-1.0, 1.0));
+                        if u.norm() > 0.1 && u.norm() <= 1.0 {
+                            break u / u.norm();
+                        }
+                    };
+                    let c2 = c + t * room * u;
+                    for (k, o) in offsets.iter().enumerate() {
+                        let p = V3::from_fn(|a, _| c2[a] + scale * o[a]);
+                        assert_eq!(
+                            loc.locate(p),
+                            answers[k],
+                            "centre {c:?} moved {} of clearance {clearance}, point {k}",
+                            t
+                        );
+                        moved += 1;
+                    }
+                }
+            }
+            // The bound is not vacuous: 20 times farther, some answers change.
+            let c2 = c + 20.0 * clearance.min(h) * V3::new(0.48, -0.6, 0.64);
+            beyond += offsets
+                .iter()
+                .zip(&answers)
+                .filter(|(o, got)| loc.locate(V3::from_fn(|a, _| c2[a] + scale * o[a])) != **got)
+                .count();
+        }
+        eprintln!("{bounded} of {clusters} clusters inside the mesh have a clearance");
+        assert!(
+            bounded * 10 > 9 * clusters,
+            "{bounded} of {clusters} clusters inside the mesh have a clearance"
+        );
+        assert!(moved > 10_000);
+        assert!(beyond > 0, "moving 20 clearances changed no answer");
+    }
+}
+
+/// CFDEM's 29 `divided` marker offsets of a unit ball without the centre: 8 diagonal and 6
+/// axis directions on two shells (radii 0.6276 and 0.9085, as in the voidage crate).
+fn mesh_marker_offsets() -> Vec<V3> {
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let mut dirs = Vec::new();
+    for x in [-0.5, 0.5] {
+        for y in [-0.5, 0.5] {
+            for z in [-s, s] {
+                dirs.push(V3::new(x, y, z));
+            }
+        }
+    }
+    for a in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let mut v = V3::zeros();
+            v[a] = sign;
+            dirs.push(v);
+        }
+    }
+    [0.627607, 0.908528]
+        .iter()
+        .flat_map(|&r| dirs.iter().map(move |d| r * d))
+        .collect()
 }

@@ -72,6 +72,7 @@ use crate::cube::{cube_axis_fraction, khawaja_correction};
 use crate::divided::{divided_offsets, DIVIDED_MARKERS};
 use crate::error::{ParticleProblem, VoidageError};
 use crate::label_map::LabelMap;
+use crate::memo::{DividedMemo, MemoEntry};
 use crate::method::Method;
 use crate::sphere_box::{
     ball_volume, cut_ball_unit, interval_dist2, sphere_grid_volumes, GridScratch,
@@ -213,6 +214,17 @@ pub struct CellShares {
 }
 
 impl CellShares {
+    /// Empties the lists for a deposit of `n` particles with `method`, keeping their
+    /// allocations.
+    fn restart(&mut self, method: Method, n: usize) {
+        self.method = method;
+        self.offsets.clear();
+        self.offsets.reserve(n + 1);
+        self.offsets.push(0);
+        self.cells.clear();
+        self.volumes.clear();
+    }
+
     /// Number of particles.
     pub fn particles(&self) -> usize {
         self.offsets.len() - 1
@@ -406,8 +418,8 @@ struct Scratch {
     clip: ClipScratch,
     polygon: Vec<V3>,
     markers: Vec<(Label, u32)>,
-    /// The particles of a work item: centre, radius, centre cell.
-    gathered: Vec<(V3, f64, Option<Label>)>,
+    /// The particles of a work item: centre, radius, centre cell, kept `divided` markers.
+    gathered: Vec<(V3, f64, Option<Label>, MemoEntry)>,
 }
 
 /// The plane of one face of a cell, as seen from the cell.
@@ -507,6 +519,10 @@ struct ChunkOut {
     volume: f64,
     fully_outside: usize,
     partly_outside: usize,
+    /// With a memo: each particle's new entry, in order.
+    memo: Vec<MemoEntry>,
+    /// With a memo: particles whose kept entry was used.
+    reused: usize,
 }
 
 /// What one batch of work items produced.
@@ -686,7 +702,7 @@ impl VoidageMesh {
         particles: &ParticleSet<'_>,
         cells: &mut [Option<Label>],
     ) -> Result<Deposit, VoidageError> {
-        self.run(method, particles, cells, None)
+        self.run(method, particles, cells, None, None)
     }
 
     /// The (cell, volume) shares each particle deposits with `method`, together with the
@@ -720,13 +736,25 @@ impl VoidageMesh {
         cells: &mut [Option<Label>],
         shares: &mut CellShares,
     ) -> Result<Deposit, VoidageError> {
-        shares.method = method;
-        shares.offsets.clear();
-        shares.offsets.reserve(particles.len() + 1);
-        shares.offsets.push(0);
-        shares.cells.clear();
-        shares.volumes.clear();
-        self.run(method, particles, cells, Some(shares))
+        shares.restart(method, particles.len());
+        self.run(method, particles, cells, Some(shares), None)
+    }
+
+    /// [`VoidageMesh::shares_with_cells_into`] that reuses the `divided` markers' cells kept
+    /// in `memo` where the particle has not moved past their clearance, and keeps this
+    /// deposit's for the next ([`crate::memo`]). The result is bit for bit the one without a
+    /// memo, whatever the memo holds; `memo` is only read and written by `divided` on a general
+    /// mesh. Entry i belongs to particle i ([`DividedMemo::reorder`] follows a changed order).
+    pub fn shares_with_memo_into(
+        &self,
+        method: Method,
+        particles: &ParticleSet<'_>,
+        cells: &mut [Option<Label>],
+        memo: &mut DividedMemo,
+        shares: &mut CellShares,
+    ) -> Result<Deposit, VoidageError> {
+        shares.restart(method, particles.len());
+        self.run(method, particles, cells, Some(shares), Some(memo))
     }
 
     /// [`VoidageMesh::shares_with_cells`] without a cell hint.
@@ -739,13 +767,15 @@ impl VoidageMesh {
         self.shares_with_cells(method, particles, &mut cells)
     }
 
-    /// Locates, deposits and reduces; keeps the per-particle shares when `keep` is given.
+    /// Locates, deposits and reduces; keeps the per-particle shares when `keep` is given, and
+    /// uses and renews the `divided` memo when `memo` is.
     fn run(
         &self,
         method: Method,
         particles: &ParticleSet<'_>,
         cells: &mut [Option<Label>],
         mut keep: Option<&mut CellShares>,
+        memo: Option<&mut DividedMemo>,
     ) -> Result<Deposit, VoidageError> {
         self.check_method(method)?;
         particles.check()?;
@@ -775,6 +805,23 @@ impl VoidageMesh {
             .map(|s| s..(s + CHUNK * BATCH).min(n))
             .collect();
         let cells: &[Option<Label>] = cells;
+        // The memo's entries of the last deposit (read by the work items) and this one's
+        // (written in particle order with the shares).
+        let mut memo = memo.filter(|_| method == Method::Divided && self.grid.is_none());
+        let (mut kept, mut renewed) = (Vec::new(), Vec::new());
+        if let Some(m) = memo.as_deref_mut() {
+            kept = std::mem::take(&mut m.entries);
+            if kept.len() != n {
+                kept.clear();
+                kept.resize(n, MemoEntry::EMPTY);
+            }
+            renewed = std::mem::take(&mut m.spare);
+            renewed.clear();
+            renewed.resize(n, MemoEntry::EMPTY);
+        }
+        let mut reused = 0;
+        let kept_all = kept;
+        let kept = memo.is_some().then_some(&kept_all[..]);
         // On a general mesh the particles of a batch are computed in the order of their
         // centre's cell, so that consecutive particles read the same mesh data (random particle
         // orders otherwise wait on memory); the shares are still added in particle order.
@@ -784,7 +831,7 @@ impl VoidageMesh {
         let mut done: Option<BatchOut> = None;
         for batch in batches.iter().map(Some).chain([None]) {
             let (next, ()) = rayon::join(
-                || batch.map(|b| self.batch(method, particles, cells, b.clone(), sort)),
+                || batch.map(|b| self.batch(method, particles, cells, kept, b.clone(), sort)),
                 || {
                     let Some(out) = done.take() else { return };
                     let mut add = |shares: &[(Label, f64)], counts: &[u32]| {
@@ -795,6 +842,18 @@ impl VoidageMesh {
                             k.append(shares, counts);
                         }
                     };
+                    if kept.is_some() {
+                        for (k, o) in out.chunks.iter().enumerate() {
+                            reused += o.reused;
+                            for (j, &e) in o.memo.iter().enumerate() {
+                                let i = match &out.order {
+                                    None => out.start + k * CHUNK + j,
+                                    Some(order) => order[k * CHUNK + j] as usize,
+                                };
+                                renewed[i] = e;
+                            }
+                        }
+                    }
                     match &out.order {
                         None => {
                             for o in &out.chunks {
@@ -828,6 +887,11 @@ impl VoidageMesh {
             );
             done = next;
         }
+        if let Some(m) = memo {
+            m.entries = renewed;
+            m.spare = kept_all;
+            m.reused = reused;
+        }
         dep.deposited_volume = solid.iter().sum();
         dep.solid = solid;
         Ok(dep)
@@ -850,6 +914,7 @@ impl VoidageMesh {
         method: Method,
         p: &ParticleSet<'_>,
         cells: &[Option<Label>],
+        kept: Option<&[MemoEntry]>,
         range: std::ops::Range<usize>,
         sort: bool,
     ) -> BatchOut {
@@ -863,7 +928,7 @@ impl VoidageMesh {
             let chunks = items
                 .par_iter()
                 .map_init(Scratch::default, |s, r| {
-                    self.chunk(method, p, cells, r.clone(), s)
+                    self.chunk(method, p, cells, kept, r.clone(), s)
                 })
                 .collect();
             return BatchOut {
@@ -880,7 +945,7 @@ impl VoidageMesh {
         let chunks = order
             .par_chunks(CHUNK)
             .map_init(Scratch::default, |s, idx| {
-                self.chunk(method, p, cells, idx.iter().map(|&i| i as usize), s)
+                self.chunk(method, p, cells, kept, idx.iter().map(|&i| i as usize), s)
             })
             .collect();
         BatchOut {
@@ -899,12 +964,16 @@ impl VoidageMesh {
         method: Method,
         p: &ParticleSet<'_>,
         cells: &[Option<Label>],
+        kept: Option<&[MemoEntry]>,
         indices: impl Iterator<Item = usize>,
         s: &mut Scratch,
     ) -> ChunkOut {
         let mut gathered = std::mem::take(&mut s.gathered);
         gathered.clear();
-        gathered.extend(indices.map(|i| (p.positions[i], p.radii[i], cells[i])));
+        gathered.extend(indices.map(|i| {
+            let e = kept.map_or(MemoEntry::EMPTY, |k| k[i]);
+            (p.positions[i], p.radii[i], cells[i], e)
+        }));
         let len = gathered.len();
         let mut out = ChunkOut {
             shares: Vec::with_capacity(len * 2),
@@ -913,16 +982,29 @@ impl VoidageMesh {
             volume: 0.0,
             fully_outside: 0,
             partly_outside: 0,
+            memo: Vec::with_capacity(if kept.is_some() { len } else { 0 }),
+            reused: 0,
         };
-        for &(c, r, cell) in &gathered {
+        for &(c, r, cell, entry) in &gathered {
             let start = out.shares.len();
             if r == 0.0 {
                 out.counts.push(0);
+                if kept.is_some() {
+                    out.memo.push(MemoEntry::EMPTY);
+                }
                 continue;
             }
             let v = ball_volume(r);
             let ball = Ball { c, r, v, cell };
-            let outside = self.particle(method, ball, s, &mut out.shares);
+            let outside = if kept.is_some() {
+                let (outside, renewed, reused) =
+                    self.divided(ball, Some(&entry), s, &mut out.shares);
+                out.reused += usize::from(reused);
+                out.memo.push(renewed);
+                outside
+            } else {
+                self.particle(method, ball, s, &mut out.shares)
+            };
             out.counts.push((out.shares.len() - start) as u32);
             out.volume += v;
             out.outside += outside;
@@ -953,7 +1035,7 @@ impl VoidageMesh {
                 }
                 None => b.v,
             },
-            (Method::Divided, _) => self.divided(b, s, out),
+            (Method::Divided, _) => self.divided(b, None, s, out).0,
             (Method::Trilinear, _) => {
                 let g = self.locator.tets().axis_grid();
                 let g = g.expect("trilinear: the grid is checked before depositing");
@@ -966,41 +1048,64 @@ impl VoidageMesh {
         }
     }
 
-    fn divided(&self, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
+    /// `divided`'s shares of one particle (module docs), and the memo entry for the next
+    /// deposit ([`crate::memo`]): `kept` is used when it holds for the ball, then returned
+    /// (the flag says so).
+    fn divided(
+        &self,
+        b: Ball,
+        kept: Option<&MemoEntry>,
+        s: &mut Scratch,
+        out: &mut Vec<(Label, f64)>,
+    ) -> (f64, MemoEntry, bool) {
         let Ball { c, r, v, cell } = b;
         let Some(c0) = cell else {
-            return v;
+            return (v, MemoEntry::EMPTY, false);
         };
         s.markers.clear();
-        s.markers.push((c0, 1));
-        let mut add = |m: Option<Label>| {
-            let m = m.unwrap_or(c0);
-            match s.markers.iter_mut().find(|(cell, _)| *cell == m) {
-                Some(e) => e.1 += 1,
-                None => s.markers.push((m, 1)),
+        let mut reused = false;
+        let entry = match kept {
+            Some(e) if e.holds(c, r, c0) => {
+                s.markers.extend(e.found());
+                reused = true;
+                *e
             }
-        };
-        match &self.grid {
-            Some(g) => {
-                for off in &self.markers[1..] {
-                    add(g.locate(V3::from_fn(|a, _| c[a] + r * off[a])));
+            _ => {
+                s.markers.push((c0, 1));
+                let mut add = |m: Option<Label>| {
+                    let m = m.unwrap_or(c0);
+                    match s.markers.iter_mut().find(|(cell, _)| *cell == m) {
+                        Some(e) => e.1 += 1,
+                        None => s.markers.push((m, 1)),
+                    }
+                };
+                match &self.grid {
+                    Some(g) => {
+                        for off in &self.markers[1..] {
+                            add(g.locate(V3::from_fn(|a, _| c[a] + r * off[a])));
+                        }
+                        MemoEntry::EMPTY
+                    }
+                    None => {
+                        let clearance =
+                            self.locator
+                                .locate_near(c0, c, r, &self.markers[1..], |_, m| add(m));
+                        MemoEntry::new(c, r, clearance, &s.markers)
+                    }
                 }
             }
-            None => self
-                .locator
-                .locate_near(c0, c, r, &self.markers[1..], |_, m| add(m)),
-        }
+        };
         if let [(m, _)] = s.markers[..] {
             // Every marker in one cell (no kernel test first: the centre's face distances,
             // which locate_near computes anyway, show most such particles at once).
             out.push((m, v));
-            return 0.0;
+            return (0.0, entry, reused);
         }
         let each = v / DIVIDED_MARKERS as f64;
         for &(m, k) in &s.markers {
             out.push((m, k as f64 * each));
         }
-        0.0
+        (0.0, entry, reused)
     }
 
     /// The cells that may overlap `q` (module docs), into `s.candidates`.

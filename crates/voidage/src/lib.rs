@@ -46,6 +46,7 @@ pub mod divided;
 pub mod engine;
 mod error;
 mod label_map;
+pub mod memo;
 mod method;
 pub mod sphere_box;
 pub mod sphere_poly;
@@ -57,6 +58,7 @@ pub use engine::{
     voidage_field, CellShares, Deposit, MeshOptions, ParticleSet, Voidage, VoidageMesh,
 };
 pub use error::{ParticleProblem, VoidageError};
+pub use memo::{DividedMemo, MEMO_CELLS};
 pub use method::{Method, UnknownMethod};
 
 pub use cube::{
