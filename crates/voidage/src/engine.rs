@@ -28,7 +28,9 @@
 //! * `divided`: the markers by [`mesh::Locator::locate_near`] from the centre's cell (each
 //!   marker tested only against the face planes that pass within the ball, the others located
 //!   from the cell across the face they lie beyond); a particle whose markers all fall in one
-//!   cell puts its whole volume there;
+//!   cell puts its whole volume there. With a [`DividedMemo`]
+//!   ([`VoidageMesh::shares_with_memo_into`]) a particle that has moved less than its markers'
+//!   clearance since they were located takes the kept cells instead ([`crate::memo`]);
 //! * `trilinear`: not defined ([`crate::VoidageError::UnsupportedMesh`]);
 //! * `exact`: Σ ball ∩ tet over [`mesh::TetDecomposition::cell_tets`], computed from the terms
 //!   of the cells' faces (each face's polygon, or its fan triangles if warped: the boundary of
