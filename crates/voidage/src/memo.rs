@@ -24,6 +24,9 @@
 //! marker needed a walk, lies outside the mesh, or the markers fall in more than
 //! [`MEMO_CELLS`] cells. Only the general-mesh path keeps entries (on an axis-aligned grid the
 //! markers are located by arithmetic).
+//!
+//! Memory: an entry is 88 bytes, and a memo holds two per particle (the last deposit's, read,
+//! and this one's, written), 176 MB for 10⁶ particles.
 
 use crate::vec3::V3;
 use foam::Label;
@@ -32,7 +35,7 @@ use foam::Label;
 /// most 8 hexahedra).
 pub const MEMO_CELLS: usize = 8;
 
-/// One particle's markers: where they were located and what was found.
+/// One particle's markers: where they were located and what was found (88 bytes).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MemoEntry {
     /// Centre at which the markers were located, m.
@@ -48,6 +51,8 @@ pub struct MemoEntry {
     /// Markers in each cell (29 in all).
     pub(crate) counts: [u8; MEMO_CELLS],
 }
+
+const _: () = assert!(std::mem::size_of::<MemoEntry>() == 88);
 
 impl MemoEntry {
     /// No entry.
