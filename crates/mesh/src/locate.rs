@@ -942,7 +942,21 @@ impl Locator {
     /// (whose near faces are computed once per call too), and given that cell when surely
     /// inside it; the others are located from there by [`Locator::locate_from`].
     ///
-    /// Returns a **clearance** (m): every point lies on the inner side of every fan-triangle
+    /// [`Locator::locate_near_clearance`] also returns how far the cluster may move with every
+    /// answer unchanged.
+    pub fn locate_near(
+        &self,
+        cell: Label,
+        centre: V3,
+        scale: f64,
+        offsets: &[V3],
+        f: impl FnMut(usize, Option<Label>),
+    ) {
+        self.near::<false>(cell, centre, scale, offsets, f);
+    }
+
+    /// [`Locator::locate_near`], returning a **clearance** (m): every point lies on the inner
+    /// side of every fan-triangle
     /// plane of the cell it was given by more than this distance, so moving all of them by the
     /// same vector of length below it leaves every answer unchanged (a point surely inside a
     /// cell's kernel is in that cell under any tie rule). For a point given by the face tests it
@@ -951,9 +965,23 @@ impl Locator {
     /// −(d + radius + margin) over the other faces; for a point located by a walk, how far it
     /// lies from its cell's boundary (`clearance_at`); 0 when a point lies outside the mesh or
     /// no bound applies.
+    pub fn locate_near_clearance(
+        &self,
+        cell: Label,
+        centre: V3,
+        scale: f64,
+        offsets: &[V3],
+        f: impl FnMut(usize, Option<Label>),
+    ) -> f64 {
+        self.near::<true>(cell, centre, scale, offsets, f)
+    }
+
+    /// [`Locator::locate_near`] and, with `CLEAR`, the clearance of
+    /// [`Locator::locate_near_clearance`] (without, 0 where a point needed a walk: the bound
+    /// from its cell's fan triangles is what costs).
     // `!(x < 0.0)` is used on purpose: it is also true for NaN (a face that cannot certify).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    pub fn locate_near(
+    fn near<const CLEAR: bool>(
         &self,
         cell: Label,
         centre: V3,
@@ -987,7 +1015,11 @@ impl Locator {
             let p = V3::from_fn(|a, _| centre[a] + scale * o[a]);
             let Some((n, far)) = own else {
                 let got = self.locate_from(p, cell);
-                clearance = clearance.min(self.clearance_at(got, p));
+                clearance = clearance.min(if CLEAR {
+                    self.clearance_at(got, p)
+                } else {
+                    0.0
+                });
                 f(i, got);
                 continue;
             };
@@ -997,7 +1029,9 @@ impl Locator {
             let mut top = f64::NEG_INFINITY;
             for nf in &near[..n] {
                 let e = nf.excess(scale, o);
-                top = top.max(e);
+                if CLEAR {
+                    top = top.max(e);
+                }
                 if !(e < 0.0) && worst.is_none_or(|w| e > w.0) {
                     worst = Some((e, nf.face));
                 }
@@ -1009,7 +1043,11 @@ impl Locator {
             };
             let Some(next) = self.tets.across(face, cell) else {
                 let got = self.locate_from(p, cell);
-                clearance = clearance.min(self.clearance_at(got, p));
+                clearance = clearance.min(if CLEAR {
+                    self.clearance_at(got, p)
+                } else {
+                    0.0
+                });
                 f(i, got);
                 continue;
             };
@@ -1045,7 +1083,11 @@ impl Locator {
                 }
                 None => {
                     let got = self.locate_from(p, next);
-                    clearance = clearance.min(self.clearance_at(got, p));
+                    clearance = clearance.min(if CLEAR {
+                        self.clearance_at(got, p)
+                    } else {
+                        0.0
+                    });
                     f(i, got);
                 }
             }

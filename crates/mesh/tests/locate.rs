@@ -401,7 +401,7 @@ fn locate_near_agrees_with_locate() {
     }
 }
 
-/// The clearance `Locator::locate_near` returns is a true bound: moving the centre (and so
+/// The clearance `Locator::locate_near_clearance` returns is a true bound: moving the centre (and so
 /// every point of the cluster) by any vector shorter than it leaves every point in the cell
 /// `locate` gave it, checked against `locate` at the moved points in random directions up to
 /// 0.999999 of the clearance. Clusters that needed a walk report a clearance too (from their
@@ -420,7 +420,8 @@ fn locate_near_clearance_bounds_the_motion_that_keeps_every_answer() {
             let Some(cell) = loc.locate(*c) else { continue };
             let scale = h * 10f64.powf(rng.range(-1.5, -0.2));
             let mut answers = vec![None; offsets.len()];
-            let clearance = loc.locate_near(cell, *c, scale, &offsets, |k, got| answers[k] = got);
+            let clearance =
+                loc.locate_near_clearance(cell, *c, scale, &offsets, |k, got| answers[k] = got);
             assert!(clearance >= 0.0, "clearance {clearance}");
             if answers.iter().all(|a| a.is_some()) {
                 clusters += 1;

@@ -420,8 +420,8 @@ struct Scratch {
     clip: ClipScratch,
     polygon: Vec<V3>,
     markers: Vec<(Label, u32)>,
-    /// The particles of a work item: centre, radius, centre cell, kept `divided` markers.
-    gathered: Vec<(V3, f64, Option<Label>, MemoEntry)>,
+    /// The particles of a work item: centre, radius, centre cell, index.
+    gathered: Vec<(V3, f64, Option<Label>, u32)>,
 }
 
 /// The plane of one face of a cell, as seen from the cell.
@@ -972,10 +972,7 @@ impl VoidageMesh {
     ) -> ChunkOut {
         let mut gathered = std::mem::take(&mut s.gathered);
         gathered.clear();
-        gathered.extend(indices.map(|i| {
-            let e = kept.map_or(MemoEntry::EMPTY, |k| k[i]);
-            (p.positions[i], p.radii[i], cells[i], e)
-        }));
+        gathered.extend(indices.map(|i| (p.positions[i], p.radii[i], cells[i], i as u32)));
         let len = gathered.len();
         let mut out = ChunkOut {
             shares: Vec::with_capacity(len * 2),
@@ -987,7 +984,7 @@ impl VoidageMesh {
             memo: Vec::with_capacity(if kept.is_some() { len } else { 0 }),
             reused: 0,
         };
-        for &(c, r, cell, entry) in &gathered {
+        for &(c, r, cell, i) in &gathered {
             let start = out.shares.len();
             if r == 0.0 {
                 out.counts.push(0);
@@ -998,9 +995,9 @@ impl VoidageMesh {
             }
             let v = ball_volume(r);
             let ball = Ball { c, r, v, cell };
-            let outside = if kept.is_some() {
+            let outside = if let Some(kept) = kept {
                 let (outside, renewed, reused) =
-                    self.divided(ball, Some(&entry), s, &mut out.shares);
+                    self.divided_kept(ball, &kept[i as usize], s, &mut out.shares);
                 out.reused += usize::from(reused);
                 out.memo.push(renewed);
                 outside
@@ -1037,7 +1034,7 @@ impl VoidageMesh {
                 }
                 None => b.v,
             },
-            (Method::Divided, _) => self.divided(b, None, s, out).0,
+            (Method::Divided, _) => self.divided(b, s, out),
             (Method::Trilinear, _) => {
                 let g = self.locator.tets().axis_grid();
                 let g = g.expect("trilinear: the grid is checked before depositing");
@@ -1050,13 +1047,37 @@ impl VoidageMesh {
         }
     }
 
-    /// `divided`'s shares of one particle (module docs), and the memo entry for the next
-    /// deposit ([`crate::memo`]): `kept` is used when it holds for the ball, then returned
-    /// (the flag says so).
-    fn divided(
+    /// `divided`'s shares of one particle (module docs).
+    fn divided(&self, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
+        let Ball { c, r, v, cell } = b;
+        let Some(c0) = cell else {
+            return v;
+        };
+        s.markers.clear();
+        s.markers.push((c0, 1));
+        let mut add = |m: Option<Label>| count_marker(&mut s.markers, m.unwrap_or(c0));
+        match &self.grid {
+            Some(g) => {
+                for off in &self.markers[1..] {
+                    add(g.locate(V3::from_fn(|a, _| c[a] + r * off[a])));
+                }
+            }
+            None => self
+                .locator
+                .locate_near(c0, c, r, &self.markers[1..], |_, m| add(m)),
+        }
+        push_markers(&s.markers, v, out);
+        0.0
+    }
+
+    /// [`VoidageMesh::divided`] on a general mesh with a memo ([`crate::memo`]): the kept
+    /// entry's cells when it holds for the ball, else the markers located afresh with their
+    /// clearance; returns the outside volume, the entry for the next deposit and whether the
+    /// kept one was used.
+    fn divided_kept(
         &self,
         b: Ball,
-        kept: Option<&MemoEntry>,
+        kept: &MemoEntry,
         s: &mut Scratch,
         out: &mut Vec<(Label, f64)>,
     ) -> (f64, MemoEntry, bool) {
@@ -1065,49 +1086,18 @@ impl VoidageMesh {
             return (v, MemoEntry::EMPTY, false);
         };
         s.markers.clear();
-        let mut reused = false;
-        let entry = match kept {
-            Some(e) if e.holds(c, r, c0) => {
-                s.markers.extend(e.found());
-                reused = true;
-                *e
-            }
-            _ => {
-                s.markers.push((c0, 1));
-                let mut add = |m: Option<Label>| {
-                    let m = m.unwrap_or(c0);
-                    match s.markers.iter_mut().find(|(cell, _)| *cell == m) {
-                        Some(e) => e.1 += 1,
-                        None => s.markers.push((m, 1)),
-                    }
-                };
-                match &self.grid {
-                    Some(g) => {
-                        for off in &self.markers[1..] {
-                            add(g.locate(V3::from_fn(|a, _| c[a] + r * off[a])));
-                        }
-                        MemoEntry::EMPTY
-                    }
-                    None => {
-                        let clearance =
-                            self.locator
-                                .locate_near(c0, c, r, &self.markers[1..], |_, m| add(m));
-                        MemoEntry::new(c, r, clearance, &s.markers)
-                    }
-                }
-            }
-        };
-        if let [(m, _)] = s.markers[..] {
-            // Every marker in one cell (no kernel test first: the centre's face distances,
-            // which locate_near computes anyway, show most such particles at once).
-            out.push((m, v));
-            return (0.0, entry, reused);
+        if kept.holds(c, r, c0) {
+            s.markers.extend(kept.found());
+            push_markers(&s.markers, v, out);
+            return (0.0, *kept, true);
         }
-        let each = v / DIVIDED_MARKERS as f64;
-        for &(m, k) in &s.markers {
-            out.push((m, k as f64 * each));
-        }
-        (0.0, entry, reused)
+        s.markers.push((c0, 1));
+        let mut add = |m: Option<Label>| count_marker(&mut s.markers, m.unwrap_or(c0));
+        let clearance = self
+            .locator
+            .locate_near_clearance(c0, c, r, &self.markers[1..], |_, m| add(m));
+        push_markers(&s.markers, v, out);
+        (0.0, MemoEntry::new(c, r, clearance, &s.markers), false)
     }
 
     /// The cells that may overlap `q` (module docs), into `s.candidates`.
@@ -1606,6 +1596,29 @@ fn axis_range(g: &AxisGrid, axis: usize, lo: f64, hi: f64) -> Option<(usize, usi
 }
 
 /// Exact shares on an axis-aligned grid.
+/// Counts one `divided` marker in cell `m` ((cell, count) in the order first met).
+fn count_marker(markers: &mut Vec<(Label, u32)>, m: Label) {
+    match markers.iter_mut().find(|(cell, _)| *cell == m) {
+        Some(e) => e.1 += 1,
+        None => markers.push((m, 1)),
+    }
+}
+
+/// The shares of `divided`'s markers (cell, count), the centre's cell first: the whole volume
+/// `v` when every marker is in one cell, else v/29 per marker.
+fn push_markers(markers: &[(Label, u32)], v: f64, out: &mut Vec<(Label, f64)>) {
+    if let [(m, _)] = markers[..] {
+        // Every marker in one cell (no kernel test first: the centre's face distances, which
+        // locate_near computes anyway, show most such particles at once).
+        out.push((m, v));
+        return;
+    }
+    let each = v / DIVIDED_MARKERS as f64;
+    for &(m, k) in markers {
+        out.push((m, k as f64 * each));
+    }
+}
+
 fn grid_exact(g: &AxisGrid, b: Ball, s: &mut Scratch, out: &mut Vec<(Label, f64)>) -> f64 {
     let Ball { c, r, v, .. } = b;
     let mut first = [0usize; 3];

@@ -1,12 +1,14 @@
 //! The `divided` markers' cells kept from one deposit to the next.
 //!
 //! In a coupling loop most particles move far less per coupling step than the distance of
-//! their nearest marker from a face of the cell holding it. [`mesh::Locator::locate_near`]
-//! returns that distance, the **clearance**: each marker lies on the inner side of every
-//! fan-triangle plane of its cell by more than it (the bound is the locator's own certainty
-//! margin, which covers the rounding). Moving the ball by a vector δ moves every marker by δ,
-//! so while |δ| stays below the clearance each marker is still surely inside the same cell,
-//! where [`mesh::Locator::locate`] — and hence `divided` — puts it under any tie rule. A
+//! their nearest marker from a face of the cell holding it.
+//! [`mesh::Locator::locate_near_clearance`] returns that distance, the **clearance**: each
+//! marker lies on the inner side of every fan-triangle plane of its cell by more than it (the
+//! bound is the locator's own certainty margin, which covers the rounding), or, for a marker
+//! found by a walk, at least that far from its cell's fan triangles. Moving the ball by a
+//! vector δ moves every marker by δ, so while |δ| stays below the clearance each marker is
+//! still surely inside the same cell, where [`mesh::Locator::locate`] — and hence `divided` —
+//! puts it under any tie rule. A
 //! [`DividedMemo`] keeps, per particle, the centre and radius at which the markers were last
 //! located, the clearance and the cells with their marker counts; the next deposit reuses them
 //! when
