@@ -961,7 +961,7 @@ impl Locator {
     /// same vector of length below it leaves every answer unchanged (a point surely inside a
     /// cell's kernel is in that cell under any tie rule). For a point given by the face tests it
     /// is the least of −(d + s·o·n̂ + margin) over the near faces of its cell (the computed bound
-    /// on its fan-triangle distances, [`FaceCertainty`], which already covers the rounding) and
+    /// on its fan-triangle distances, the face's certainty margin, which already covers the rounding) and
     /// −(d + radius + margin) over the other faces; for a point located by a walk, how far it
     /// lies from its cell's boundary (`clearance_at`); 0 when a point lies outside the mesh or
     /// no bound applies.
@@ -1014,13 +1014,7 @@ impl Locator {
         for (i, o) in offsets.iter().enumerate() {
             let p = V3::from_fn(|a, _| centre[a] + scale * o[a]);
             let Some((n, far)) = own else {
-                let got = self.locate_from(p, cell);
-                clearance = clearance.min(if CLEAR {
-                    self.clearance_at(got, p)
-                } else {
-                    0.0
-                });
-                f(i, got);
+                f(i, self.walked::<CLEAR>(p, cell, &mut clearance));
                 continue;
             };
             // The face the point lies farthest beyond (or not surely inside), and the largest
@@ -1042,13 +1036,7 @@ impl Locator {
                 continue;
             };
             let Some(next) = self.tets.across(face, cell) else {
-                let got = self.locate_from(p, cell);
-                clearance = clearance.min(if CLEAR {
-                    self.clearance_at(got, p)
-                } else {
-                    0.0
-                });
-                f(i, got);
+                f(i, self.walked::<CLEAR>(p, cell, &mut clearance));
                 continue;
             };
             let range = match nb[..nb_len].iter().find(|e| e.0 == next) {
@@ -1081,18 +1069,24 @@ impl Locator {
                     clearance = clearance.min(-top).min(far);
                     f(i, Some(next));
                 }
-                None => {
-                    let got = self.locate_from(p, next);
-                    clearance = clearance.min(if CLEAR {
-                        self.clearance_at(got, p)
-                    } else {
-                        0.0
-                    });
-                    f(i, got);
-                }
+                None => f(i, self.walked::<CLEAR>(p, next, &mut clearance)),
             }
         }
         clearance
+    }
+
+    /// [`Locator::locate_from`] for a point of [`Locator::near`]'s cluster that the face tests
+    /// did not settle, lowering `clearance` to the point's own (`clearance_at`; 0 without
+    /// `CLEAR`).
+    #[inline]
+    fn walked<const CLEAR: bool>(&self, p: V3, from: Label, clearance: &mut f64) -> Option<Label> {
+        let got = self.locate_from(p, from);
+        *clearance = clearance.min(if CLEAR {
+            self.clearance_at(got, p)
+        } else {
+            0.0
+        });
+        got
     }
 
     /// How far `p`, which lies in cell `cell` (`None`: outside the mesh), may move and surely
