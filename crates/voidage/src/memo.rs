@@ -127,11 +127,6 @@ impl DividedMemo {
         self.reused
     }
 
-    /// Particles with an entry kept by the last deposit.
-    pub fn kept(&self) -> usize {
-        self.entries.iter().filter(|e| e.len > 0).count()
-    }
-
     /// Re-keys the memo to a new particle order: particle i of the next deposit takes the
     /// entry of particle `from[i]` of the last one (`None`: a new particle). Without it a
     /// changed population only loses reuse, never correctness (module docs).
