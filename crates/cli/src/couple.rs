@@ -9,7 +9,6 @@ use anyhow::{bail, Context};
 use clap::Args;
 use couple::frozen::FrozenFluid;
 use couple::replay::{expand_glob, DumpReplay};
-use couple::timestep::DeckSettings;
 use couple::{Coupler, CouplingConfig, CouplingStep, FluidSide, ParticleSide};
 use dem_io::{Boundary, BoxBounds, ReadOptions, Snapshot};
 use foam::{Case, Format};
@@ -130,9 +129,10 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
 /// `timestep` of the DEM deck next to a CFDEM-layout case.
 fn deck_time_step(case: &Path) -> anyhow::Result<f64> {
     let deck = case.join("../DEM/in.liggghts_run");
-    let text = std::fs::read_to_string(&deck)
-        .with_context(|| format!("no --dem-dt given and cannot read {}", deck.display()))?;
-    match DeckSettings::scan(&text).timestep {
+    if !deck.is_file() {
+        bail!("no --dem-dt given and there is no {}", deck.display());
+    }
+    match liggghts_deck::Deck::read(&deck)?.time_step() {
         Some(dt) if dt > 0.0 => Ok(dt),
         _ => bail!("{}: no `timestep` line; give --dem-dt", deck.display()),
     }

@@ -1,5 +1,6 @@
 //! `foamgrain`: the command-line front end. It only wires the library crates together and turns
-//! their typed errors into messages and exit codes (1 for a failed command, 2 for bad usage).
+//! their typed errors into messages and exit codes: 0 done (and every check passed), 1 an error
+//! (bad usage included), 2 a run that completed with a failed check.
 
 mod args;
 mod convert;
@@ -53,7 +54,15 @@ enum Command {
 
 fn main() {
     restore_default_sigpipe();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // --help and --version exit 0; bad usage is an error like any other (exit 1)
+        Err(e) if e.exit_code() == 0 => e.exit(),
+        Err(e) => {
+            let _ = e.print();
+            std::process::exit(1);
+        }
+    };
     let result = match cli.command {
         Command::Info(a) => info::run(&a),
         Command::Convert(c) => convert::run(&c),
@@ -67,7 +76,16 @@ fn main() {
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
-        std::process::exit(1);
+        std::process::exit(exit_code(&e));
+    }
+}
+
+/// 2 when a run completed and a check failed ([`run::ChecksFailed`]), 1 for any other error.
+fn exit_code(e: &anyhow::Error) -> i32 {
+    if e.downcast_ref::<run::ChecksFailed>().is_some() {
+        2
+    } else {
+        1
     }
 }
 

@@ -180,14 +180,28 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
     print!("{}", summary(&report.checks));
     let failed = report.checks.iter().filter(|c| !c.pass).count();
     if failed > 0 {
-        bail!(
+        return Err(ChecksFailed(format!(
             "{failed} of {} checks failed (see {})",
             report.checks.len(),
             a.case.join("postProcessing/validation.json").display()
-        );
+        ))
+        .into());
     }
     Ok(())
 }
+
+/// A run that completed but failed at least one of its checks: `foamgrain` exits 2 (an error
+/// exits 1), so a script can tell a wrong answer from a run that did not finish.
+#[derive(Debug)]
+pub struct ChecksFailed(String);
+
+impl std::fmt::Display for ChecksFailed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ChecksFailed {}
 
 /// A measured quantity with `digits` decimals, or `—` when it was not measured.
 fn measured(x: Option<f64>, digits: usize) -> String {

@@ -10,9 +10,10 @@
 use anyhow::{bail, Context};
 use clap::Args;
 use closures::{DragClosure, DragLaw};
-use couple::timestep::{advise, DeckSettings, TimestepInput, COUPLING_FRACTION};
+use couple::timestep::{advise, TimestepInput, COUPLING_FRACTION};
 use couple::CouplingConfig;
 use foam::{Case, FieldValues, VolField};
+use liggghts_deck::{Deck, Materials};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `foamgrain timestep`.
@@ -78,14 +79,14 @@ pub struct TimestepArgs {
 
 /// Runs the command.
 pub fn run(a: &TimestepArgs) -> anyhow::Result<()> {
-    let mut deck = DeckSettings::default();
+    let mut deck = Materials::default();
     let mut config = None;
     let (mut rho, mut nu, mut cfd_dt, mut speed, mut cell) = (None, None, None, None, None);
     if let Some(dir) = &a.case {
         for name in ["in.liggghts_run", "in.liggghts_init"] {
             let path = dir.join("../DEM").join(name);
-            if let Ok(text) = std::fs::read_to_string(&path) {
-                deck = deck.or(DeckSettings::scan(&text));
+            if path.is_file() {
+                deck = deck.or(Deck::read(&path)?.materials());
             }
         }
         let c = CouplingConfig::read_case(dir)?;

@@ -225,7 +225,8 @@ fn bad_input_is_reported() {
         "--method",
         "bigParticle",
     ]);
-    assert_eq!(o.status.code(), Some(2));
+    // bad usage is an error (exit 1); 2 is kept for a run whose check failed
+    assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
     for m in METHODS {
         assert!(err.contains(m), "{err}");

@@ -27,7 +27,7 @@ fn ergun_decks_pack_then_couple() {
         &vars(&[("np", "150"), ("tsettle", "400")]),
     )
     .unwrap();
-    assert!(init.coupling().is_none());
+    assert!(init.coupling().unwrap().is_none());
     let sim = Simulation::from_deck(&init, dir.path()).unwrap();
     assert_eq!(sim.particles.len(), 150);
     assert_eq!(sim.step(), 400);
@@ -39,7 +39,7 @@ fn ergun_decks_pack_then_couple() {
     assert!(dir.path().join("post/packed.data").is_file());
 
     let run = Deck::read(case_deck("ergun/DEM/in.liggghts_run")).unwrap();
-    let c = run.coupling().expect("the run deck is coupled");
+    let c = run.coupling().unwrap().expect("the run deck is coupled");
     assert_eq!(c.couple_every, 50);
     assert!(c.implicit && c.has_force_fix);
     let mut sim2 = Simulation::from_deck(&run, dir.path()).unwrap();
@@ -69,7 +69,7 @@ fn ergun_decks_pack_then_couple() {
 fn settling_deck_makes_one_coupled_sphere() {
     let dir = tempfile::tempdir().unwrap();
     let deck = Deck::read(case_deck("settling/DEM/in.liggghts_run")).unwrap();
-    let c = deck.coupling().unwrap();
+    let c = deck.coupling().unwrap().unwrap();
     assert_eq!(c.couple_every, 100);
     assert!(!c.implicit && c.has_force_fix);
     let mut sim = Simulation::from_deck(&deck, dir.path()).unwrap();

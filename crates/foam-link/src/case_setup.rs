@@ -82,12 +82,13 @@ pub fn simple_decomposition(points: &[[f64; 3]], ranks: usize) -> String {
     let mut n = [1usize; 3];
     n[axis] = ranks;
     format!(
-        "FoamFile\n{{\n    version     2.0;\n    format      ascii;\n    class       dictionary;\n    \
-         location    \"system\";\n    object      decomposeParDict;\n}}\n\n\
-         // Written by foamgrain's foam-link: {ranks} slabs along the longest axis.\n\
+        "{}// Written by foamgrain's foam-link: {ranks} slabs along the longest axis.\n\
          numberOfSubdomains {ranks};\nmethod          simple;\n\
          coeffs          {{ n ({} {} {}); }}\n",
-        n[0], n[1], n[2]
+        foam::writer::ascii_header("dictionary", "system", "decomposeParDict"),
+        n[0],
+        n[1],
+        n[2]
     )
 }
 

@@ -312,6 +312,22 @@ impl Writer {
     }
 }
 
+/// The banner and `FoamFile` header of an ASCII file, as every file this crate writes starts:
+/// the one writer of FoamFile headers. A crate that writes a file body by hand (CFDEM's
+/// `basicIO` clouds, a `decomposeParDict`) starts the file with this.
+pub fn ascii_header(class: &str, location: &str, object: &str) -> String {
+    let mut w = Writer::new(Format::Ascii, Arch::default());
+    w.header(&Header {
+        format: Format::Ascii,
+        arch: Arch::default(),
+        class: class.to_owned(),
+        object: object.to_owned(),
+        location: location.to_owned(),
+        note: None,
+    });
+    String::from_utf8(w.into_bytes()).expect("a FoamFile header is UTF-8 when its words are")
+}
+
 /// Serialises a whole dictionary file (header + body).
 pub fn dict_file_bytes(header: &Header, body: &Dict) -> Result<Vec<u8>, String> {
     let mut w = Writer::new(header.format, header.arch);

@@ -6,7 +6,9 @@
 //! index|string|equal|delete …` with `$x`, `${name}` and `$(formula)` substitution ([`expr`]
 //! evaluates formulas; equal-style values are formatted `%.15g`, `$(formula)` `%.20g`, as LAMMPS does, [`format`]);
 //! values given on the command line (`-var NAME VALUE`) take precedence over `index`
-//! definitions. What a command means is not this crate's business: it returns the words.
+//! definitions. What a command means is not this crate's business: it returns the words, and
+//! [`declared`]'s typed accessors read what the commands declare that other crates need before
+//! running the deck (time step, files, `processors`, the CFD coupling fixes, materials).
 //!
 //! ```
 //! let deck = liggghts_deck::Deck::parse(
@@ -21,9 +23,15 @@
 //!
 //! *Invariant:* every error names the file and the 1-based line of the command.
 
+mod declared;
 pub mod expr;
 pub mod format;
 pub mod lines;
+
+pub use declared::{
+    CfdFix, CoupleFix, CoupledDeck, DataCoupling, DeckFile, ForceFix, ForceLawOption, Materials,
+    Processors,
+};
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -160,17 +168,6 @@ impl Variables {
     }
 }
 
-/// What `fix couple/cfd` and `fix couple/cfd/force[/implicit]` declare.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CoupledDeck {
-    /// `couple_every N`: DEM steps per coupling exchange.
-    pub couple_every: u64,
-    /// Whether the force fix is `couple/cfd/force/implicit` (else `couple/cfd/force`, or none).
-    pub implicit: bool,
-    /// Whether a force fix is present at all.
-    pub has_force_fix: bool,
-}
-
 #[derive(Debug, Clone, PartialEq)]
 enum Var {
     Text(String),
@@ -260,40 +257,6 @@ impl Deck {
             line: c.line,
             command: c.label(),
         }
-    }
-
-    /// Whether and how the deck is coupled to a CFD solver (`fix couple/cfd …`).
-    pub fn coupling(&self) -> Option<CoupledDeck> {
-        let mut out: Option<CoupledDeck> = None;
-        for c in &self.commands {
-            if c.words.first().map(String::as_str) != Some("fix") {
-                continue;
-            }
-            match c.words.get(3).map(String::as_str) {
-                Some("couple/cfd") => {
-                    let every = c
-                        .words
-                        .iter()
-                        .position(|w| w == "couple_every")
-                        .and_then(|k| c.words.get(k + 1))
-                        .and_then(|w| w.parse().ok())
-                        .unwrap_or(1);
-                    out = Some(CoupledDeck {
-                        couple_every: every,
-                        implicit: false,
-                        has_force_fix: false,
-                    });
-                }
-                Some(s @ ("couple/cfd/force" | "couple/cfd/force/implicit")) => {
-                    if let Some(o) = out.as_mut() {
-                        o.has_force_fix = true;
-                        o.implicit = s.ends_with("implicit");
-                    }
-                }
-                _ => {}
-            }
-        }
-        out
     }
 }
 

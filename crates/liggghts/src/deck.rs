@@ -21,33 +21,11 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use liggghts_deck::{CfdFix, CoupleFix, Deck};
+
 use crate::error::LiggghtsError;
 
-/// How the deck's `couple/cfd` exchanges data.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum DataCoupling {
-    /// `mpi`: through the library calls (in-process).
-    Mpi,
-    /// `file PREFIX`: through files named PREFIX + property + `0`/`1`.
-    File(String),
-}
-
-/// The force fix of the deck.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ForceFix {
-    /// 1-based deck line.
-    pub line: usize,
-    /// `couple/cfd/force/implicit` (applies Ksl·(uf − v) + dragforce every step) rather than
-    /// `couple/cfd/force` (applies dragforce only).
-    pub implicit: bool,
-    /// `transfer_density yes`.
-    pub transfer_density: bool,
-    /// `transfer_type yes`.
-    pub transfer_type: bool,
-    /// Options other than transfer_density/transfer_type/transfer_torque (file coupling refuses
-    /// them: they add exchange files whose layout it does not handle).
-    pub other_options: bool,
-}
+pub use liggghts_deck::{DataCoupling, DeckFile, ForceFix, ForceLawOption, Processors};
 
 /// A `run` command the coupler skips.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -75,15 +53,14 @@ pub struct CouplingDeck {
     pub data_coupling: DataCoupling,
     /// The force fix.
     pub force: ForceFix,
-    force_words: Vec<String>,
     /// The trailing `run` commands, skipped.
     pub skipped_runs: Vec<SkippedRun>,
     /// `timestep` when given as a number (s).
     pub time_step: Option<f64>,
-    read_data: Vec<(usize, String)>,
-    dump_files: Vec<(usize, String)>,
-    /// `processors Px Py Pz`: its line and grid (`None` for `*`, LIGGGHTS's choice).
-    pub processors: Option<(usize, [Option<usize>; 3])>,
+    read_data: Vec<DeckFile>,
+    dump_files: Vec<DeckFile>,
+    /// `processors Px Py Pz`.
+    pub processors: Option<Processors>,
 }
 
 impl CouplingDeck {
@@ -106,130 +83,19 @@ impl CouplingDeck {
             line,
             message,
         };
-        let mut map = false;
-        let mut couple: Option<(usize, String, String, Option<u64>, DataCoupling)> = None;
-        let mut force: Option<(ForceFix, Vec<String>)> = None;
-        let mut time_step = None;
-        let mut read_data = Vec::new();
-        let mut dump_files = Vec::new();
-        let mut processors = None;
-        for c in &deck.commands {
-            let w = &c.words;
-            match w[0].as_str() {
-                "atom_modify" => {
-                    if let Some(k) = w.iter().position(|x| x == "map") {
-                        map = matches!(w.get(k + 1).map(String::as_str), Some("array" | "hash"));
-                    }
-                }
-                "include" | "jump" | "label" | "next" => {
-                    return Err(err(
-                        c.line,
-                        format!(
-                            "`{}` is not supported in a coupled deck (the checks that must pass \
-                             before LIGGGHTS runs could not see through it): inline the commands",
-                            w[0]
-                        ),
-                    ))
-                }
-                "dump" => {
-                    if let Some(f) = w.get(5) {
-                        dump_files.push((c.line, f.clone()));
-                    }
-                }
-                // `fix ID group print N TEXT file|append F`
-                "fix" if w.get(3).map(String::as_str) == Some("print") => {
-                    if let Some(k) = w.iter().skip(6).position(|x| x == "file" || x == "append") {
-                        if let Some(f) = w.get(6 + k + 1) {
-                            dump_files.push((c.line, f.clone()));
-                        }
-                    }
-                }
-                "timestep" => time_step = w.get(1).and_then(|s| s.parse::<f64>().ok()),
-                "read_data" | "read_restart" => {
-                    if let Some(f) = w.get(1) {
-                        read_data.push((c.line, f.clone()));
-                    }
-                }
-                "processors" => {
-                    let mut grid = [None; 3];
-                    for (k, g) in grid.iter_mut().enumerate() {
-                        let word = w.get(k + 1).map(String::as_str).unwrap_or("");
-                        *g = match word {
-                            "*" => None,
-                            n => match n.parse::<usize>() {
-                                Ok(n) if n >= 1 => Some(n),
-                                _ => {
-                                    return Err(err(
-                                        c.line,
-                                        format!(
-                                            "processors: `{word}` is not a rank count ≥ 1 or `*`"
-                                        ),
-                                    ))
-                                }
-                            },
-                        };
-                    }
-                    processors = Some((c.line, grid));
-                }
-                "fix" if w.get(3).map(String::as_str) == Some("couple/cfd") => {
-                    if let Some((first, ..)) = &couple {
-                        return Err(err(
-                            c.line,
-                            format!("a second `fix … couple/cfd` (the first is on line {first})"),
-                        ));
-                    }
-                    couple = Some(parse_couple(w).map_err(|m| err(c.line, m))?);
-                    let (line, ..) = couple.as_mut().unwrap();
-                    *line = c.line;
-                }
-                "fix"
-                    if matches!(
-                        w.get(3).map(String::as_str),
-                        Some("couple/cfd/force" | "couple/cfd/force/implicit")
-                    ) =>
-                {
-                    if couple.is_none() {
-                        return Err(err(
-                            c.line,
-                            format!(
-                                "`fix … {}` before `fix … couple/cfd`: LIGGGHTS 3.8.0 segfaults \
-                                 in this order; define couple/cfd first",
-                                w[3]
-                            ),
-                        ));
-                    }
-                    if let Some((f, _)) = &force {
-                        return Err(err(
-                            c.line,
-                            format!(
-                                "a second coupling force fix (the first is on line {})",
-                                f.line
-                            ),
-                        ));
-                    }
-                    let f = parse_force(w, c.line).map_err(|m| err(c.line, m))?;
-                    force = Some((f, w.clone()));
-                }
-                _ => {}
-            }
-        }
-        let Some((couple_line, couple_id, couple_group, couple_every, data_coupling)) = couple
-        else {
-            return Err(err(
-                0,
-                "no `fix ID all couple/cfd couple_every N mpi`: the deck is not coupled to a CFD \
-                 solver"
-                    .into(),
-            ));
-        };
-        let Some((force, force_words)) = force else {
-            return Err(err(
-                0,
-                "no `fix ID all couple/cfd/force/implicit` (or `couple/cfd/force`) after \
-                 `couple/cfd`: the particles would receive no fluid force"
-                    .into(),
-            ));
-        };
+        refuse_hidden_commands(&deck).map_err(|(l, m)| err(l, m))?;
+        let (couple, force) = coupling_fixes(deck.cfd_fixes()?).map_err(|(l, m)| err(l, m))?;
+        let map = deck
+            .named("atom_modify")
+            .filter_map(|c| {
+                let k = c.words.iter().position(|x| x == "map")?;
+                Some(matches!(
+                    c.words.get(k + 1).map(String::as_str),
+                    Some("array" | "hash")
+                ))
+            })
+            .last()
+            .unwrap_or(false);
         if !map {
             return Err(err(
                 0,
@@ -238,47 +104,25 @@ impl CouplingDeck {
                     .into(),
             ));
         }
-        // trailing runs, then any other run after couple/cfd that takes steps (`run 0` and
-        // `run 0 upto`, CFDEM's way to set up dumps between commands, take none: LIGGGHTS runs
-        // them as they are)
-        let mut first_trailing = deck.commands.len();
-        while first_trailing > 0 && deck.commands[first_trailing - 1].words[0] == "run" {
-            first_trailing -= 1;
-        }
-        if let Some(c) = deck.commands[..first_trailing].iter().find(|c| {
-            c.words[0] == "run"
-                && c.line > couple_line
-                && c.words.get(1).map(String::as_str) != Some("0")
-        }) {
-            return Err(err(
-                c.line,
-                "a `run` after `fix … couple/cfd` followed by other commands: the coupler drives \
-                 the steps of a coupled deck and can only skip trailing runs"
-                    .into(),
-            ));
-        }
-        let skipped_runs = deck.commands[first_trailing..]
-            .iter()
-            .map(|c| SkippedRun {
-                line: c.line,
-                command: c.words.join(" "),
-            })
-            .collect();
+        let skipped_runs = trailing_runs(&deck, couple.line).map_err(|(l, m)| err(l, m))?;
         Ok(CouplingDeck {
             file: file.to_path_buf(),
             source: source.to_string(),
-            couple_line,
-            couple_id,
-            couple_group,
-            couple_every,
-            data_coupling,
+            couple_line: couple.line,
+            couple_id: couple.id,
+            couple_group: couple.group,
+            couple_every: couple.couple_every,
+            data_coupling: couple.data,
             force,
-            force_words,
             skipped_runs,
-            time_step,
-            read_data,
-            dump_files,
-            processors,
+            time_step: deck.time_step(),
+            read_data: deck.read_files(),
+            dump_files: deck
+                .written_files()
+                .into_iter()
+                .filter(|f| f.command == "dump" || f.command == "fix print")
+                .collect(),
+            processors: deck.processors()?,
         })
     }
 
@@ -286,7 +130,7 @@ impl CouplingDeck {
     /// of its numbers equals `ranks`, or divides it when a `*` lets LIGGGHTS choose the rest);
     /// LIGGGHTS would stop the whole process otherwise.
     pub fn check_ranks(&self, ranks: usize) -> Result<(), LiggghtsError> {
-        let Some((line, grid)) = self.processors else {
+        let Some(Processors { line, grid }) = self.processors else {
             return Ok(());
         };
         let fixed: usize = grid.iter().flatten().product();
@@ -328,7 +172,7 @@ impl CouplingDeck {
                 workdir.display()
             )));
         }
-        for (line, f) in &self.read_data {
+        for DeckFile { line, path: f, .. } in &self.read_data {
             if !workdir.join(f).is_file() {
                 return Err(LiggghtsError::Deck {
                     file: self.file.clone(),
@@ -342,7 +186,7 @@ impl CouplingDeck {
                 });
             }
         }
-        for (line, f) in &self.dump_files {
+        for DeckFile { line, path: f, .. } in &self.dump_files {
             let Some(parent) = workdir.join(f).parent().map(Path::to_path_buf) else {
                 continue;
             };
@@ -416,7 +260,7 @@ impl CouplingDeck {
         ];
         replace_span(&mut out, couple_span, block.join("\n"));
         let force_span = physical_span(&lines, self.force.line);
-        let mut force = self.force_words.join(" ");
+        let mut force = self.force.words.join(" ");
         if !self.force.transfer_density {
             force.push_str(" transfer_density yes");
         }
@@ -461,87 +305,128 @@ fn physical_span(lines: &[&str], line: usize) -> Range<usize> {
     start..(end + 1).min(lines.len())
 }
 
-type CoupleFix = (usize, String, String, Option<u64>, DataCoupling);
-
-/// `fix ID GROUP couple/cfd [couple_every|every N] mpi|file PREFIX`.
-fn parse_couple(w: &[String]) -> Result<CoupleFix, String> {
-    let mut k = 4;
-    let mut every = None;
-    if matches!(w.get(k).map(String::as_str), Some("couple_every" | "every")) {
-        let n = w
-            .get(k + 1)
-            .and_then(|s| s.parse::<u64>().ok())
-            .filter(|&n| n > 0)
-            .ok_or("couple_every needs a positive whole number")?;
-        every = Some(n);
-        k += 2;
+/// `include`, `jump`, `label` and `next` are refused: the checks could not see through them.
+fn refuse_hidden_commands(deck: &Deck) -> Result<(), (usize, String)> {
+    for c in &deck.commands {
+        if matches!(c.words[0].as_str(), "include" | "jump" | "label" | "next") {
+            return Err((
+                c.line,
+                format!(
+                    "`{}` is not supported in a coupled deck (the checks that must pass before \
+                     LIGGGHTS runs could not see through it): inline the commands",
+                    c.words[0]
+                ),
+            ));
+        }
     }
-    let mode = match w.get(k).map(String::as_str) {
-        Some("mpi") => DataCoupling::Mpi,
-        Some("file") => {
-            DataCoupling::File(w.get(k + 1).cloned().ok_or("`file` needs a path prefix")?)
-        }
-        other => {
-            return Err(format!(
-                "couple/cfd: expected `mpi` or `file PREFIX`, found {}",
-                other.map_or("nothing".to_string(), |s| format!("`{s}`"))
-            ))
-        }
-    };
-    Ok((0, w[1].clone(), w[2].clone(), every, mode))
+    Ok(())
 }
 
-/// The options of `fix … couple/cfd/force[/implicit]`.
-fn parse_force(w: &[String], line: usize) -> Result<ForceFix, String> {
-    let mut f = ForceFix {
-        line,
-        implicit: w[3].ends_with("implicit"),
-        transfer_density: false,
-        transfer_type: false,
-        other_options: false,
-    };
-    let yes = |k: usize| -> Result<bool, String> {
-        match w.get(k).map(String::as_str) {
-            Some("yes") => Ok(true),
-            Some("no") => Ok(false),
-            _ => Err(format!("`{}` needs yes or no", w[k - 1])),
-        }
-    };
-    let mut k = 4;
-    while k < w.len() {
-        match w[k].as_str() {
-            "transfer_torque" => {
-                if !yes(k + 1)? {
-                    return Err(
-                        "`transfer_torque no` segfaults LIGGGHTS 3.8.0; leave it out \
-                                (the hydrodynamic torques stay zero)"
-                            .into(),
-                    );
+/// Exactly one `couple/cfd` and one force fix after it, with the options LIGGGHTS 3.8.0
+/// survives.
+fn coupling_fixes(fixes: Vec<CfdFix>) -> Result<(CoupleFix, ForceFix), (usize, String)> {
+    let mut couple: Option<CoupleFix> = None;
+    let mut force: Option<ForceFix> = None;
+    for f in fixes {
+        match f {
+            CfdFix::Couple(c) => {
+                if let Some(first) = &couple {
+                    return Err((
+                        c.line,
+                        format!(
+                            "a second `fix … couple/cfd` (the first is on line {})",
+                            first.line
+                        ),
+                    ));
                 }
-                k += 2;
+                couple = Some(c);
             }
-            "transfer_density" => {
-                f.transfer_density = yes(k + 1)?;
-                k += 2;
-            }
-            "transfer_type" => {
-                f.transfer_type = yes(k + 1)?;
-                k += 2;
-            }
-            "CrankNicolson" | "CAddRhoFluid" => {
-                return Err(format!(
-                    "`{}` changes the particle force law; foamgrain applies \
-                     F = F_ext + β(u_f − v) each step (ADR 0004): remove it",
-                    w[k]
-                ))
-            }
-            _ => {
-                f.other_options = true;
-                k += 1;
+            CfdFix::Force(f) => {
+                if couple.is_none() {
+                    return Err((
+                        f.line,
+                        format!(
+                            "`fix … {}` before `fix … couple/cfd`: LIGGGHTS 3.8.0 segfaults in \
+                             this order; define couple/cfd first",
+                            f.words[3]
+                        ),
+                    ));
+                }
+                if let Some(first) = &force {
+                    return Err((
+                        f.line,
+                        format!(
+                            "a second coupling force fix (the first is on line {})",
+                            first.line
+                        ),
+                    ));
+                }
+                if let Some(o) = f.law_options.first() {
+                    return Err((f.line, law_refusal(o)));
+                }
+                force = Some(f);
             }
         }
     }
-    Ok(f)
+    let Some(couple) = couple else {
+        return Err((
+            0,
+            "no `fix ID all couple/cfd couple_every N mpi`: the deck is not coupled to a CFD \
+             solver"
+                .into(),
+        ));
+    };
+    let Some(force) = force else {
+        return Err((
+            0,
+            "no `fix ID all couple/cfd/force/implicit` (or `couple/cfd/force`) after \
+             `couple/cfd`: the particles would receive no fluid force"
+                .into(),
+        ));
+    };
+    Ok((couple, force))
+}
+
+/// Why LIGGGHTS cannot be given a force fix option.
+fn law_refusal(o: &ForceLawOption) -> String {
+    match o {
+        ForceLawOption::NoTorque => "`transfer_torque no` segfaults LIGGGHTS 3.8.0; leave it out \
+                                     (the hydrodynamic torques stay zero)"
+            .into(),
+        ForceLawOption::Law(word) => format!(
+            "`{word}` changes the particle force law; foamgrain applies F = F_ext + β(u_f − v) \
+             each step (ADR 0004): remove it"
+        ),
+    }
+}
+
+/// The trailing `run` commands, skipped; any other run after couple/cfd that takes steps is an
+/// error (`run 0` and `run 0 upto`, CFDEM's way to set up dumps between commands, take none:
+/// LIGGGHTS runs them as they are).
+fn trailing_runs(deck: &Deck, couple_line: usize) -> Result<Vec<SkippedRun>, (usize, String)> {
+    let mut first_trailing = deck.commands.len();
+    while first_trailing > 0 && deck.commands[first_trailing - 1].words[0] == "run" {
+        first_trailing -= 1;
+    }
+    if let Some(c) = deck.commands[..first_trailing].iter().find(|c| {
+        c.words[0] == "run"
+            && c.line > couple_line
+            && c.words.get(1).map(String::as_str) != Some("0")
+    }) {
+        return Err((
+            c.line,
+            "a `run` after `fix … couple/cfd` followed by other commands: the coupler drives \
+             the steps of a coupled deck and can only skip trailing runs"
+                .into(),
+        ));
+    }
+    Ok(deck.commands[first_trailing..]
+        .iter()
+        .map(|c| SkippedRun {
+            line: c.line,
+            command: c.words.join(" "),
+        })
+        .collect())
 }
 
 #[cfg(test)]
@@ -567,7 +452,13 @@ mod tests {
             "timestep 1e-5\nprocessors 2 2 1\nread_restart post/restart/liggghts.restart\n",
         ))
         .unwrap();
-        assert_eq!(d.processors, Some((4, [Some(2), Some(2), Some(1)])));
+        assert_eq!(
+            d.processors,
+            Some(Processors {
+                line: 4,
+                grid: [Some(2), Some(2), Some(1)]
+            })
+        );
         d.check_ranks(4).unwrap();
         let e = d.check_ranks(1).unwrap_err().to_string();
         assert!(

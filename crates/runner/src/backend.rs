@@ -9,8 +9,11 @@
 //! chooses and wires them. A pair that this build cannot run is refused before anything starts,
 //! with the cargo feature that would enable it.
 
+use crate::error::RunError;
 use crate::native::{NativeDem, NativeFluid};
-use crate::run::{couple_loop, coupling_steps, Event, LoopContext, RunError, RunReport};
+use crate::plan::RunPlan;
+use crate::report::{Event, RunReport};
+use crate::run_loop::{couple_loop, coupling_steps, LoopContext};
 use liggghts_deck::Deck;
 use std::path::{Path, PathBuf};
 
@@ -190,15 +193,6 @@ fn backend_err(what: &str, e: impl std::fmt::Display) -> RunError {
     RunError::Backend(format!("{what}: {e}"))
 }
 
-/// The DEM time step of a deck (`timestep DT`), s.
-fn deck_time_step(deck: &Deck) -> Option<f64> {
-    deck.commands
-        .iter()
-        .find(|c| c.words.first().map(String::as_str) == Some("timestep"))
-        .and_then(|c| c.words.get(1))
-        .and_then(|w| w.parse().ok())
-}
-
 /// The grainPisoFoam binary: `$FOAMGRAIN_SOLVER`, else `$FOAMGRAIN_CACHE/bin/grainPisoFoam`,
 /// else `~/.cache/foamgrain/bin/grainPisoFoam` (where `openfoam-cases/solver/build.sh` puts
 /// it).
@@ -247,37 +241,47 @@ fn native_dem(
     )?)
 }
 
+/// The native fluid of the run's case with the coupling's settings (`modelType`,
+/// `useDDTvoidfraction`, `solveFlow`, the coupling's ρ).
+fn open_native_fluid(plan: &RunPlan) -> Result<NativeFluid, RunError> {
+    let config = &plan.layout.coupling;
+    NativeFluid::open(
+        &plan.layout.cfd,
+        plan.fluid_model(),
+        config.ddt_voidage,
+        config.solve_flow,
+        plan.settings.physics.rho,
+    )
+    .map_err(RunError::Fluid)
+}
+
 /// Runs stage 2 on the chosen pair of sides.
 pub(crate) fn run_pair(
     ctx: LoopContext<'_>,
-    run_deck: &Deck,
-    model: fv::Model,
     fluid: FluidBackend,
     dem: DemBackend,
     launch: &Launch,
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
-    let layout = ctx.layout;
-    let (ddt, solve, rho) = (ctx.ddt_voidage, ctx.solve_flow, ctx.settings.physics.rho);
-    let native_fluid =
-        || NativeFluid::open(&layout.cfd, model, ddt, solve, rho).map_err(RunError::Fluid);
+    let plan = ctx.plan;
+    let (layout, run_deck) = (&plan.layout, &plan.run_deck);
+    let native_fluid = || open_native_fluid(plan);
     match (fluid, dem) {
         (FluidBackend::Native, DemBackend::Native) => {
             let dem = native_dem(run_deck, &layout.dem, events)?;
             couple_loop(ctx, dem, native_fluid()?, events)
         }
         (FluidBackend::Native, DemBackend::LiggghtsFile) => {
-            let dt = deck_time_step(run_deck).ok_or_else(|| {
+            let dt = run_deck.time_step().ok_or_else(|| {
                 RunError::Backend(format!(
                     "{}: file coupling needs `timestep DT` with a number",
                     layout.run_deck.display()
                 ))
             })?;
-            let dt_c = ctx.coupling_interval as f64 * dt;
-            let start = ctx.fluid_settings.start_time;
-            let end = ctx.opts.end_time.unwrap_or(ctx.fluid_settings.end_time);
-            let steps = coupling_steps(start, end, dt_c);
-            let options = liggghts::FileOptions::new(steps * ctx.coupling_interval);
+            let interval = plan.settings.coupling_interval;
+            let dt_c = interval as f64 * dt;
+            let steps = coupling_steps(plan.fluid.start_time, plan.end_time(ctx.opts), dt_c);
+            let options = liggghts::FileOptions::new(steps * interval);
             events(Event::Message(format!(
                 "LIGGGHTS file coupling: {steps} exchanges of about 10 s each (LIGGGHTS polls \
                  its files every 10 s)"
@@ -292,7 +296,7 @@ pub(crate) fn run_pair(
             "file coupling is offered with the native fluid only",
         )),
         #[cfg(any(feature = "mpi", feature = "liggghts"))]
-        (fluid, dem) => mpi_pair::run(ctx, run_deck, model, fluid, dem, launch, events),
+        (fluid, dem) => mpi_pair::run(ctx, fluid, dem, launch, events),
         #[cfg(not(any(feature = "mpi", feature = "liggghts")))]
         (fluid, dem) => {
             let _ = launch;
@@ -318,8 +322,6 @@ mod mpi_pair {
     /// of them ([`Launch::fail_together`]).
     pub(super) fn run(
         ctx: LoopContext<'_>,
-        #[cfg_attr(not(feature = "mpi"), allow(unused_variables))] run_deck: &Deck,
-        #[cfg_attr(not(feature = "liggghts"), allow(unused_variables))] model: fv::Model,
         fluid: FluidBackend,
         dem: DemBackend,
         launch: &Launch,
@@ -329,20 +331,20 @@ mod mpi_pair {
             .world()
             .ok_or_else(|| RunError::Backend("MPI was not initialised for this pair".into()))?;
         if launch.size() > 1 {
-            return ranked(ctx, model, fluid, launch, &world, events)
-                .map_err(|e| launch.fail_together(e));
+            return ranked(ctx, fluid, launch, &world, events).map_err(|e| launch.fail_together(e));
         }
-        let layout = ctx.layout;
+        let plan = ctx.plan;
+        let layout = &plan.layout;
         match (fluid, dem) {
             #[cfg(feature = "liggghts")]
             (FluidBackend::Native, DemBackend::Liggghts) => {
                 let dem = open_liggghts(&world, layout)?;
-                let fluid = open_native_fluid(&ctx, model)?;
+                let fluid = open_native_fluid(plan)?;
                 couple_loop(ctx, dem, fluid, events)
             }
             #[cfg(feature = "mpi")]
             (FluidBackend::OpenFoam, DemBackend::Native) => {
-                let dem = native_dem(run_deck, &layout.dem, events)?;
+                let dem = native_dem(&plan.run_deck, &layout.dem, events)?;
                 let fluid = open_foam(&world, layout, ctx.opts.fluid_ranks)?;
                 couple_loop(ctx, dem, fluid, events)
             }
@@ -368,22 +370,22 @@ mod mpi_pair {
     #[cfg(feature = "liggghts")]
     fn ranked(
         mut ctx: LoopContext<'_>,
-        model: fv::Model,
         fluid: FluidBackend,
         launch: &Launch,
         world: &mpi::topology::SimpleCommunicator,
         events: &mut dyn FnMut(Event),
     ) -> Result<RunReport, RunError> {
-        let layout = ctx.layout;
+        let plan = ctx.plan;
+        let layout = &plan.layout;
         let dem = open_liggghts(world, layout)?;
         ctx.ranks = Some(Box::new(crate::ranks::MpiRanks::new(world)));
         match fluid {
             FluidBackend::Native if launch.rank() == 0 => {
-                let fluid = open_native_fluid(&ctx, model)?;
+                let fluid = open_native_fluid(plan)?;
                 couple_loop(ctx, dem, fluid, events)
             }
             FluidBackend::Native => {
-                let stand_in = crate::fluid::StandInFluid::open(&layout.cfd)?;
+                let stand_in = crate::fluid::StandInFluid::open(plan)?;
                 couple_loop(ctx, dem, stand_in, events)
             }
             #[cfg(feature = "mpi")]
@@ -394,7 +396,7 @@ mod mpi_pair {
                 match fluid {
                     Some(fluid) => couple_loop(ctx, dem, fluid, events),
                     None => {
-                        let stand_in = crate::fluid::StandInFluid::open(&layout.cfd)?;
+                        let stand_in = crate::fluid::StandInFluid::open(plan)?;
                         couple_loop(ctx, dem, stand_in, events)
                     }
                 }
@@ -411,7 +413,6 @@ mod mpi_pair {
     #[cfg(not(feature = "liggghts"))]
     fn ranked(
         _ctx: LoopContext<'_>,
-        _model: fv::Model,
         fluid: FluidBackend,
         _launch: &Launch,
         _world: &mpi::topology::SimpleCommunicator,
@@ -422,19 +423,6 @@ mod mpi_pair {
             DemBackend::Liggghts,
             "N ranks run LIGGGHTS in-process: build foamgrain with `--features mpi,liggghts`",
         ))
-    }
-
-    /// The native fluid of the run's case with the coupling's settings.
-    #[cfg(feature = "liggghts")]
-    fn open_native_fluid(ctx: &LoopContext<'_>, model: fv::Model) -> Result<NativeFluid, RunError> {
-        NativeFluid::open(
-            &ctx.layout.cfd,
-            model,
-            ctx.ddt_voidage,
-            ctx.solve_flow,
-            ctx.settings.physics.rho,
-        )
-        .map_err(RunError::Fluid)
     }
 
     #[cfg(feature = "liggghts")]

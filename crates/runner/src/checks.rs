@@ -16,13 +16,13 @@
 //! * `fluidisedBed`: [`crate::fluidised`].
 //! * `pneumaticConveying`: [`crate::conveyor`].
 
+use crate::error::RunError;
 use crate::layout::ValidationSpec;
 use crate::plot::{LinePlot, Series, Style};
 use crate::reference::{
     ergun_pressure_gradient, ergun_velocity_for, settling_speed_history,
     settling_speed_history_with, terminal_speed_with,
 };
-use crate::run::RunError;
 use crate::sample::Sample;
 use crate::validation::Check;
 use closures::input::{sphere_volume, DragInput};

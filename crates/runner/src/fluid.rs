@@ -121,16 +121,14 @@ pub struct StandInFluid {
 }
 
 impl StandInFluid {
-    /// The mesh and start time (`system/controlDict`) of the OpenFOAM case `cfd`.
-    pub fn open(cfd: &Path) -> Result<StandInFluid, crate::run::RunError> {
-        let case = foam::Case::open(cfd)?;
-        let settings = fv::settings::Settings::read(&case)
-            .map_err(|e| crate::run::RunError::Fluid(Box::new(e)))?;
-        let mesh = case.read_mesh()?;
+    /// The mesh of the run's OpenFOAM case and its start time (`system/controlDict`, read
+    /// once into the plan).
+    pub fn open(plan: &crate::plan::RunPlan) -> Result<StandInFluid, crate::error::RunError> {
+        let mesh = foam::Case::open(&plan.layout.cfd)?.read_mesh()?;
         let n = mesh.n_cells;
         Ok(StandInFluid {
             mesh,
-            time: settings.start_time,
+            time: plan.fluid.start_time,
             u: vec![mesh::v3::V3::zeros(); n],
             p: vec![0.0; n],
         })

@@ -22,9 +22,9 @@
 //! law's packed-bed Δp during the ramp).
 
 use crate::checks::mean_of;
+use crate::error::RunError;
 use crate::plot::{LinePlot, Series, Style};
 use crate::reference::{packed_bed_pressure_gradient_with, packed_bed_velocity_for};
-use crate::run::RunError;
 use crate::sample::Sample;
 use crate::validation::Check;
 use closures::input::DragInput;

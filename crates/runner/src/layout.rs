@@ -48,6 +48,8 @@ pub struct CaseLayout {
     pub run_deck: PathBuf,
     /// What `CASE/validationDict` asks for (`None` if the case has no such file).
     pub validation: Option<ValidationSpec>,
+    /// `CFD/constant/couplingProperties`, read once here (it also names the coupled deck).
+    pub coupling: couple::CouplingConfig,
 }
 
 /// The reference a case is checked against (`type` in `validationDict`).
@@ -233,8 +235,8 @@ impl CaseLayout {
         }
         // CFDEM names the coupled deck in couplingProperties (`twoWayMPIProps/liggghtsPath`,
         // relative to the CFD case); without it, DEM/in.liggghts_run.
-        let named = couple::CouplingConfig::read(&coupling)?.liggghts_path;
-        let (run_deck, what) = match &named {
+        let config = couple::CouplingConfig::read(&coupling)?;
+        let (run_deck, what) = match &config.liggghts_path {
             Some(p) => (
                 lexically_normal(&cfd.join(p)),
                 "the coupled LIGGGHTS deck that couplingProperties names (liggghtsPath)",
@@ -261,6 +263,7 @@ impl CaseLayout {
             init_deck: init.is_file().then_some(init),
             run_deck,
             validation,
+            coupling: config,
         })
     }
 

@@ -7,6 +7,7 @@ pub mod backend;
 pub mod bed;
 pub mod checks;
 pub mod conveyor;
+pub mod error;
 pub mod fluid;
 pub mod fluidised;
 #[cfg(feature = "mpi")]
@@ -14,15 +15,20 @@ pub mod foam_fluid;
 pub mod layout;
 mod monitors;
 pub mod native;
+mod outputs;
 pub mod patches;
+pub mod plan;
 pub mod plot;
 pub mod probes;
 #[cfg(any(feature = "mpi", feature = "liggghts"))]
 pub mod ranks;
 pub mod ranks_report;
 pub mod reference;
+pub mod report;
 pub mod run;
+mod run_loop;
 pub mod sample;
+mod stage1;
 pub mod surface_values;
 pub mod timed;
 pub mod validation;

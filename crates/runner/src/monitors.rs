@@ -18,7 +18,7 @@
 //! columns after it, and the tutorials' octave scripts `load` these files, which reads `NaN`.
 //! The text files are rewritten whole (atomically) at each write time and at the end.
 
-use crate::run::RunError;
+use crate::error::RunError;
 use couple::config::monitors::{ParticleCellVolume, VolWeightedAverage};
 use couple::config::Monitors;
 use couple::monitor::{particle_cell_volume, vol_weighted_scalar, vol_weighted_vector};
@@ -414,13 +414,14 @@ fn write_basic_io(
     let inside: Vec<(usize, usize)> = (0..particles.len())
         .filter_map(|i| step.placement.centre[i].map(|c| (i, c as usize)))
         .collect();
+    let location = dir
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let header = |class: &str, object: &str| {
         format!(
-            "FoamFile\n{{\n    version 2.0;\n    format ascii;\n    class {class};\n    \
-             location \"{}\";\n    object {object};\n}}\n\n{}\n(\n",
-            dir.file_name()
-                .map(|s| s.to_string_lossy())
-                .unwrap_or_default(),
+            "{}{}\n(\n",
+            foam::writer::ascii_header(class, &location, object),
             inside.len()
         )
     };

@@ -411,14 +411,10 @@ impl ParticleSide for NativeDem {
 
 /// Warnings for what `system/controlDict` asks of OpenFOAM that the native fluid does not do:
 /// its `functions` (function objects such as CFDEM tutorials' `probes` and
-/// `surfaceFieldValue`) are not run — one line naming them. A controlDict that cannot be read
-/// gives none here (the fluid reports it).
-pub fn control_dict_warnings(cfd: &Path) -> Vec<String> {
-    let path = cfd.join("system/controlDict");
-    let Ok(file) = foam::parse_file(&path) else {
-        return Vec::new();
-    };
-    let Some(f) = file.body.opt_dict("functions") else {
+/// `surfaceFieldValue`) are not run — one line naming them.
+pub fn control_dict_warnings(control: &crate::plan::ControlDict) -> Vec<String> {
+    let path = &control.path;
+    let Some(f) = control.body.opt_dict("functions") else {
         return Vec::new();
     };
     // `probes` and `surfaceFieldValue` are run ([`crate::probes`],

@@ -16,11 +16,13 @@
 //! sample, the time and each probe's value to `writePrecision` significant digits (6 by
 //! default) in columns `writePrecision + 7` characters wide (vectors as `(x y z)`). With `--fluid openfoam` grainPisoFoam runs OpenFOAM's own probes instead.
 
+use crate::error::RunError;
 use crate::monitors::{Field, StepFields};
-use crate::run::RunError;
+use crate::plan::ControlDict;
 use foam::{Dict, Item};
 use mesh::v3::V3;
 use std::fmt::Write as _;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The fields a probe may sample, and whether each is a vector.
@@ -70,24 +72,25 @@ pub struct Probes {
 }
 
 impl Probes {
-    /// Reads the `probes` entries of `<cfd>/system/controlDict` and locates their points in
+    /// Reads the `probes` entries of the case's `system/controlDict` (`cfd`: the case, where
+    /// `postProcessing/` goes) and locates their points in
     /// `mesh` (`locate` gives the cell holding a point). Returns the probes and the warnings
     /// (fields or points left out). A malformed entry is an error naming the file and the key.
     pub fn read(
         cfd: &Path,
+        control: &ControlDict,
         start_name: &str,
         locate: &dyn Fn(V3) -> Option<usize>,
     ) -> Result<(Probes, Vec<String>), RunError> {
-        let path = cfd.join("system/controlDict");
+        let path = &control.path;
         let err = |message: String| RunError::Setup {
             file: path.clone(),
             message,
         };
-        let file = foam::parse_file(&path).map_err(|e| err(e.to_string()))?;
         let mut probes = Probes::default();
         let mut warnings = Vec::new();
-        let precision = write_precision(&file.body).map_err(err)?;
-        let Some(functions) = file.body.opt_dict("functions") else {
+        let precision = write_precision(&control.body).map_err(err)?;
+        let Some(functions) = control.body.opt_dict("functions") else {
             return Ok((probes, warnings));
         };
         for key in functions.keys() {
@@ -198,7 +201,8 @@ impl ProbeSet {
         std::fs::create_dir_all(&self.dir).map_err(io(&self.dir))?;
         for (name, text) in self.fields.iter().zip(&self.text) {
             let path = self.dir.join(name);
-            std::fs::write(&path, text).map_err(io(&path))?;
+            atomic_write::write_atomically(&path, |w| w.write_all(text.as_bytes()))
+                .map_err(io(&path))?;
         }
         Ok(())
     }

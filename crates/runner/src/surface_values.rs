@@ -28,12 +28,14 @@
 //! value in scientific notation with `writePrecision` digits after the point (vectors as
 //! `(x y z)`).
 
+use crate::error::RunError;
 use crate::fluid::{FaceField, PatchFaces, RunFluid};
+use crate::plan::ControlDict;
 use crate::probes::{word_list, Control};
-use crate::run::RunError;
 use foam::Dict;
 use mesh::v3::V3;
 use std::fmt::Write as _;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The patch fields a `surfaceFieldValue` may name, and whether each is a vector.
@@ -225,19 +227,19 @@ impl SurfaceValues {
     /// malformed entry is an error naming the file and the key.
     pub fn read(
         cfd: &Path,
+        control: &ControlDict,
         start_name: &str,
         patches: &[String],
     ) -> Result<(SurfaceValues, Vec<String>), RunError> {
-        let path = cfd.join("system/controlDict");
+        let path = &control.path;
         let err = |message: String| RunError::Setup {
             file: path.clone(),
             message,
         };
-        let file = foam::parse_file(&path).map_err(|e| err(e.to_string()))?;
-        let precision = crate::probes::write_precision(&file.body).map_err(err)?;
+        let precision = crate::probes::write_precision(&control.body).map_err(err)?;
         let mut out = SurfaceValues::default();
         let mut warnings = Vec::new();
-        let Some(functions) = file.body.opt_dict("functions") else {
+        let Some(functions) = control.body.opt_dict("functions") else {
             return Ok((out, warnings));
         };
         for key in functions.keys() {
@@ -247,7 +249,7 @@ impl SurfaceValues {
             if d.word("type").ok() != Some("surfaceFieldValue") {
                 continue;
             }
-            match read_one(&path, key, d, patches, precision)? {
+            match read_one(path, key, d, patches, precision)? {
                 Ok((object, mut w)) => {
                     warnings.append(&mut w);
                     out.objects.push(SurfaceValue {
@@ -456,7 +458,8 @@ impl SurfaceValue {
         if let Some(dir) = self.path.parent() {
             std::fs::create_dir_all(dir).map_err(io(dir))?;
         }
-        std::fs::write(&self.path, &self.text).map_err(io(&self.path))
+        atomic_write::write_atomically(&self.path, |w| w.write_all(self.text.as_bytes()))
+            .map_err(io(&self.path))
     }
 }
 

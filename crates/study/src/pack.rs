@@ -53,11 +53,10 @@ pub fn packed_bed(
 ) -> Result<PackedBed, StudyError> {
     let run_deck = Deck::read(&layout.run_deck)?;
     let data = run_deck
-        .commands
-        .iter()
-        .filter(|c| c.words.first().is_some_and(|w| w == "read_data"))
-        .find_map(|c| c.words.get(1))
-        .map(|file| layout.dem.join(file))
+        .read_files()
+        .into_iter()
+        .find(|f| f.command == "read_data")
+        .map(|f| layout.dem.join(f.path))
         .ok_or_else(|| StudyError::Setup {
             file: layout.run_deck.clone(),
             message: "has no `read_data FILE`: the study needs a packed bed to freeze".into(),

@@ -1,0 +1,66 @@
+//! Errors of a run ([`RunError`]): each names the file or the side it comes from.
+
+use crate::layout::LayoutError;
+use std::path::{Path, PathBuf};
+
+/// Errors of a run; each names the file or the side it comes from.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The case layout or validationDict.
+    #[error(transparent)]
+    Layout(#[from] LayoutError),
+    /// The coupling configuration or a coupling step.
+    #[error(transparent)]
+    Couple(#[from] couple::CoupleError),
+    /// A LIGGGHTS deck that cannot be read (file, line).
+    #[error(transparent)]
+    Deck(#[from] liggghts_deck::DeckError),
+    /// The native DEM (deck, setup, run).
+    #[error(transparent)]
+    Dem(#[from] dem::DemError),
+    /// The native fluid.
+    #[error("fluid: {0}")]
+    Fluid(couple::SideError),
+    /// A setting that cannot work together with another.
+    #[error("{file}: {message}")]
+    Setup {
+        /// The file with the offending setting.
+        file: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+    /// Writing an output.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The output.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Writing a field.
+    #[error(transparent)]
+    Foam(#[from] foam::FoamError),
+    /// Writing particles.
+    #[error(transparent)]
+    Vtk(#[from] vtk::VtkError),
+    /// Drawing a plot.
+    #[error(transparent)]
+    Plot(#[from] crate::plot::PlotError),
+    /// A backend that is not available or failed to start.
+    #[error("{0}")]
+    Backend(String),
+}
+
+pub(crate) fn setup_err(file: &Path, message: String) -> RunError {
+    RunError::Setup {
+        file: file.to_owned(),
+        message,
+    }
+}
+
+pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
+    move |source| RunError::Io {
+        path: path.to_owned(),
+        source,
+    }
+}

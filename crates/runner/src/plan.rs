@@ -1,0 +1,182 @@
+//! One plan per run: the case read once into typed settings, before anything runs.
+//!
+//! [`RunPlan::read`] reads `couplingProperties` (with `transportProperties` and `g`, through
+//! the layout), `liggghtsCommands`, `system/controlDict`, `fvSchemes` and `fvSolution` (the
+//! fluid's settings), the coupled LIGGGHTS deck and `validationDict`, and checks what they say
+//! of each other (the deck's `couple_every` against `couplingInterval`). Every later stage
+//! takes what it needs from the plan; no stage reads these files again. Each setting has one
+//! home: the coupling interval is [`couple::CouplerSettings::coupling_interval`], the fluid's
+//! clock `fv::settings::Settings`, the DEM step the deck's [`Deck::time_step`].
+
+use crate::backend::{DemBackend, FluidBackend};
+use crate::error::{setup_err, RunError};
+use crate::layout::CaseLayout;
+use couple::config::LiggghtsCommands;
+use couple::CouplerSettings;
+use liggghts_deck::Deck;
+use std::path::{Path, PathBuf};
+
+/// Options of a run (the command line's).
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Stop at this simulated time instead of `endTime`.
+    pub end_time: Option<f64>,
+    /// Variables for the init deck (`-var NAME VALUE`, e.g. a smaller particle count).
+    pub init_vars: Vec<(String, String)>,
+    /// Pack again even if the packed-bed file exists.
+    pub repack: bool,
+    /// The fluid backend.
+    pub fluid: FluidBackend,
+    /// The particle backend.
+    pub dem: DemBackend,
+    /// MPI ranks of the fluid solver (OpenFOAM backend; 0: `numberOfSubdomains` of the case's
+    /// `system/decomposeParDict`, 1 without one).
+    pub fluid_ranks: usize,
+    /// Advance the fluid and the DEM one after the other even where the fluid computes in
+    /// processes of its own (grainPisoFoam), whose advance otherwise runs during the next DEM
+    /// interval; the results are the same bit for bit.
+    pub no_overlap: bool,
+}
+
+/// `system/controlDict`, parsed once: the fluid's function objects (`probes`,
+/// `surfaceFieldValue`) and the warnings read it from here.
+#[derive(Clone, Debug)]
+pub struct ControlDict {
+    /// The file (named in errors).
+    pub path: PathBuf,
+    /// Its entries.
+    pub body: foam::Dict,
+}
+
+/// A case read once.
+pub struct RunPlan {
+    /// Where the case's parts are; its `coupling` is `couplingProperties`, its `validation`
+    /// `validationDict`.
+    pub layout: CaseLayout,
+    /// The coupler's settings (couplingProperties with ρ, ν, g).
+    pub settings: CouplerSettings,
+    /// CFDEM's `liggghtsCommands`.
+    pub commands: LiggghtsCommands,
+    /// The fluid's settings (controlDict, fvSchemes, fvSolution).
+    pub fluid: fv::settings::Settings,
+    /// `system/controlDict` for the function objects.
+    pub control: ControlDict,
+    /// The coupled LIGGGHTS deck.
+    pub run_deck: Deck,
+    /// What the reading found worth a warning (printed before the run starts).
+    pub warnings: Vec<String>,
+}
+
+impl RunPlan {
+    /// Reads the case at `case` for a run with `opts`.
+    pub fn read(case: &Path, opts: &RunOptions) -> Result<RunPlan, RunError> {
+        let layout = CaseLayout::open(case)?;
+        let config = &layout.coupling;
+        let mut warnings = config.warnings.clone();
+        let settings = config.coupler_settings(&layout.cfd)?;
+        let commands = LiggghtsCommands::read_case(&layout.cfd)?;
+        warnings.extend(commands.warnings.iter().cloned());
+        let control_path = layout.cfd.join("system/controlDict");
+        let control = ControlDict {
+            body: foam::parse_file(&control_path)?.body,
+            path: control_path,
+        };
+        if opts.fluid == FluidBackend::Native {
+            warnings.extend(crate::native::control_dict_warnings(&control));
+        }
+        let fluid = fv::settings::Settings::read(&foam::Case::open(&layout.cfd)?)
+            .map_err(|e| RunError::Fluid(Box::new(e)))?;
+        let run_deck = Deck::read(&layout.run_deck)?;
+        let plan = RunPlan {
+            layout,
+            settings,
+            commands,
+            fluid,
+            control,
+            run_deck,
+            warnings,
+        };
+        plan.check_couple_every(opts.dem)
+    }
+
+    /// The deck's `couple_every` against `couplingInterval`: CFDEM's twoWayMPI exchanges every
+    /// couplingInterval DEM steps whatever the deck says (a difference is a warning); LIGGGHTS's
+    /// file coupling is driven by couple_every, so there they must be equal.
+    fn check_couple_every(mut self, dem: DemBackend) -> Result<RunPlan, RunError> {
+        let deck = &self.layout.run_deck;
+        let every = self
+            .run_deck
+            .coupling()?
+            .ok_or_else(|| {
+                setup_err(
+                    deck,
+                    "is not coupled: it needs `fix ... couple/cfd couple_every N ...`".into(),
+                )
+            })?
+            .couple_every;
+        let interval = self.settings.coupling_interval;
+        let config = &self.layout.coupling.file;
+        if every != interval && dem != DemBackend::LiggghtsFile {
+            self.warnings.push(format!(
+                "{}: couple_every {every} differs from couplingInterval {interval} in {}; the \
+                 coupling interval is couplingInterval (as CFDEM's twoWayMPI)",
+                deck.display(),
+                config.display()
+            ));
+        } else if every != interval {
+            return Err(setup_err(
+                deck,
+                format!(
+                    "couple_every {every} differs from couplingInterval {interval} in {} \
+                     (LIGGGHTS's file coupling exchanges every couple_every steps: make them \
+                     equal)",
+                    config.display()
+                ),
+            ));
+        }
+        Ok(self)
+    }
+
+    /// The file the coupled deck starts from ([`start_file`]).
+    pub fn start_file(&self) -> Option<(PathBuf, bool)> {
+        start_file(&self.run_deck, &self.layout.dem)
+    }
+
+    /// The native fluid's momentum-coupling model (`modelType`).
+    pub fn fluid_model(&self) -> fv::Model {
+        match self.layout.coupling.model {
+            closures::model::ModelType::A => fv::Model::A,
+            _ => fv::Model::B,
+        }
+    }
+
+    /// The simulated time the run ends: `--end-time`, else the controlDict's `endTime`.
+    pub fn end_time(&self, opts: &RunOptions) -> f64 {
+        opts.end_time.unwrap_or(self.fluid.end_time)
+    }
+}
+
+/// The file a coupled deck starts from — `read_data FILE` or `read_restart FILE` (CFDEM's
+/// decks) — resolved against the deck's directory, and whether it exists (a `*` in a restart
+/// name stands for any step, as LIGGGHTS reads the latest).
+pub(crate) fn start_file(deck: &Deck, dem_dir: &Path) -> Option<(PathBuf, bool)> {
+    let first = deck.read_files().into_iter().next()?;
+    let path = dem_dir.join(first.path);
+    let exists = match path.file_name().and_then(|n| n.to_str()) {
+        Some(name) if name.contains('*') => {
+            let (head, tail) = name.split_once('*').unwrap_or((name, ""));
+            path.parent()
+                .and_then(|d| std::fs::read_dir(d).ok())
+                .is_some_and(|entries| {
+                    entries.flatten().any(|e| {
+                        let n = e.file_name().to_string_lossy().into_owned();
+                        n.len() >= head.len() + tail.len()
+                            && n.starts_with(head)
+                            && n.ends_with(tail)
+                    })
+                })
+        }
+        _ => path.exists(),
+    };
+    Some((path, exists))
+}
