@@ -194,3 +194,38 @@ pub fn read_vol<T: CellValue>(
     }
     Ok(Some(ext))
 }
+
+/// The error of a file a restart needs.
+pub(crate) fn missing_file(dir: &Path, name: &str) -> FvError {
+    FvError::setting(
+        dir.join(name),
+        "CrankNicolson",
+        "the restart needs this file",
+    )
+}
+
+/// The cell values of the volume field `name` in `dir` (a `U_0` or `voidfraction_0`, whose
+/// boundary entries are the field's conditions).
+pub(crate) fn read_cells<T: CellValue>(dir: &Path, name: &str, n: usize) -> Result<Vec<T>> {
+    let path = dir.join(name);
+    let file = VolField::read(&path)?;
+    let v = file
+        .internal(n)
+        .map_err(|m| FvError::setting(&path, "internalField", m))?;
+    T::from_values(v).ok_or_else(|| FvError::setting(&path, "class", "wrong kind of field"))
+}
+
+/// The step that led to the time directory `dir` (s): `deltaT` of OpenFOAM's `uniform/time`
+/// when it is there, else `None`.
+pub(crate) fn previous_step(dir: &Path) -> Result<Option<f64>> {
+    let path = dir.join("uniform/time");
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let file = foam::parse_file(&path)?;
+    let dt = file
+        .body
+        .f64("deltaT")
+        .map_err(|e| FvError::setting(&path, "deltaT", e.0))?;
+    Ok(Some(dt))
+}

@@ -150,32 +150,13 @@ impl FvGeometry {
     pub fn from_geometry(mesh: &PolyMesh, g: &MeshGeometry) -> Result<Self> {
         g.check_matches(mesh)?;
         let n_cells = mesh.n_cells;
-        let n_mesh_internal = mesh.n_internal_faces();
         let pairs = crate::cyclic::pairs(mesh, g)?;
-        // The solver's faces as mesh faces: internal, the first side of each cyclic pair, the
-        // faces of the other patches.
-        let mut mesh_face: Vec<usize> = (0..n_mesh_internal).collect();
-        let mut partner: Vec<usize> = Vec::new();
-        let mut pair_start = vec![usize::MAX; mesh.boundary.len()];
-        for pr in &pairs {
-            pair_start[pr.first] = mesh_face.len();
-            pair_start[pr.second] = mesh_face.len();
-            let (a, b) = (&mesh.boundary[pr.first], &mesh.boundary[pr.second]);
-            mesh_face.extend(a.faces());
-            partner.extend(b.faces());
-        }
-        let n_internal = mesh_face.len();
-        let mut patch_start = vec![0; mesh.boundary.len()];
-        for (i, p) in mesh.boundary.iter().enumerate() {
-            patch_start[i] = mesh_face.len();
-            if p.patch_type != "cyclic" {
-                mesh_face.extend(p.faces());
-            }
-        }
-        let n_faces = mesh_face.len();
+        let order = FaceOrder::new(mesh, &pairs);
+        let (n_mesh_internal, n_internal) = (order.n_mesh_internal, order.n_internal);
+        let mesh_face = &order.mesh_face;
         let owner: Vec<u32> = mesh_face.iter().map(|&f| mesh.owner[f]).collect();
         let mut neighbour = mesh.neighbour.clone();
-        neighbour.extend(partner.iter().map(|&f| mesh.owner[f]));
+        neighbour.extend(order.partner.iter().map(|&f| mesh.owner[f]));
         let sf: Vec<V3> = mesh_face.iter().map(|&f| g.face_areas[f]).collect();
         let cf: Vec<V3> = mesh_face.iter().map(|&f| g.face_centres[f]).collect();
         let c = g.cell_centres.clone();
@@ -186,103 +167,22 @@ impl FvGeometry {
                 msg: "zero area".into(),
             });
         }
-        let mut weight = vec![0.5; n_internal];
-        let mut delta = vec![V3::zeros(); n_faces];
-        let mut delta_coeff = vec![0.0; n_faces];
-        let mut corr_vec = vec![V3::zeros(); n_internal];
-        for f in 0..n_internal {
-            let (p, n) = (owner[f] as usize, neighbour[f] as usize);
-            let nhat = 1.0 / mag_sf[f] * sf[f];
-            let d = if f < n_mesh_internal {
-                let sfd_own = sf[f].dot(&(cf[f] - c[p])).abs();
-                let sfd_nei = sf[f].dot(&(c[n] - cf[f])).abs();
-                if sfd_own + sfd_nei > mesh::geometry::ROOTVSMALL {
-                    weight[f] = sfd_nei / (sfd_own + sfd_nei);
-                }
-                c[n] - c[p]
-            } else {
-                let k = f - n_mesh_internal;
-                let pg =
-                    crate::cyclic::CyclicPair::face_geometry(g, p, n, mesh_face[f], partner[k]);
-                weight[f] = pg.weight;
-                pg.delta
-            };
-            delta[f] = d;
-            delta_coeff[f] = 1.0 / nhat.dot(&d).max(0.05 * d.norm());
-            corr_vec[f] = nhat - (delta_coeff[f] * d);
-        }
-        for f in n_internal..n_faces {
-            let p = owner[f] as usize;
-            let nhat = 1.0 / mag_sf[f] * sf[f];
-            let d = nhat.dot(&(cf[f] - c[p])) * nhat;
-            delta[f] = d;
-            let dn = nhat.dot(&d);
-            delta_coeff[f] = 1.0 / dn.max(0.05 * d.norm()).max(mesh::geometry::VSMALL);
-        }
-        let patches: Vec<FvPatch> = mesh
-            .boundary
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let cyclic = pairs
-                    .iter()
-                    .find(|pr| pr.first == i || pr.second == i)
-                    .map(|pr| CyclicSide {
-                        neighbour_patch: if pr.first == i { pr.second } else { pr.first },
-                        pair_faces: pair_start[i]..pair_start[i] + p.n_faces,
-                        owner_side: pr.first == i,
-                    });
-                let start = patch_start[i];
-                FvPatch {
-                    name: p.name.clone(),
-                    patch_type: p.patch_type.clone(),
-                    faces: if cyclic.is_some() {
-                        start..start
-                    } else {
-                        start..start + p.n_faces
-                    },
-                    mesh_faces: p.faces(),
-                    cyclic,
-                }
-            })
-            .collect();
-        let mut boundary_empty = vec![false; n_faces - n_internal];
+        let faces = SolverFaces {
+            owner: &owner,
+            neighbour: &neighbour,
+            sf: &sf,
+            mag_sf: &mag_sf,
+            cf: &cf,
+        };
+        let deltas = Deltas::new(g, &order, &faces);
+        let patches = order.patches(mesh, &pairs);
+        let mut boundary_empty = vec![false; mesh_face.len() - n_internal];
         for p in patches.iter().filter(|p| p.is_empty()) {
             for b in p.boundary_range(n_internal) {
                 boundary_empty[b] = true;
             }
         }
-        let mut count = vec![0u32; n_cells + 1];
-        for f in 0..n_faces {
-            if f >= n_internal && boundary_empty[f - n_internal] {
-                continue;
-            }
-            count[owner[f] as usize + 1] += 1;
-            if f < n_internal {
-                count[neighbour[f] as usize + 1] += 1;
-            }
-        }
-        for i in 0..n_cells {
-            count[i + 1] += count[i];
-        }
-        let cell_offsets = count;
-        let mut fill: Vec<u32> = cell_offsets[..n_cells].to_vec();
-        let mut cell_faces = vec![0u32; cell_offsets[n_cells] as usize];
-        for f in 0..n_faces {
-            if f >= n_internal && boundary_empty[f - n_internal] {
-                continue;
-            }
-            let p = owner[f] as usize;
-            cell_faces[fill[p] as usize] = f as u32;
-            fill[p] += 1;
-            if f < n_internal {
-                let n = neighbour[f] as usize;
-                cell_faces[fill[n] as usize] = f as u32;
-                fill[n] += 1;
-            }
-        }
-        // Faces were visited in increasing order, so each cell's list is sorted: sums over a
-        // cell's faces run in face order, as OpenFOAM's face loops accumulate them.
+        let (cell_offsets, cell_faces) = cell_faces(n_cells, &faces, n_internal, &boundary_empty);
         let rows = RowAddressing::new(n_cells, &owner[..n_internal], &neighbour, n_mesh_internal);
         let solution_dirs = solution_dirs(&sf, &boundary_empty, n_internal);
         Ok(FvGeometry {
@@ -296,10 +196,10 @@ impl FvGeometry {
             cf,
             c,
             v: g.cell_volumes.clone(),
-            weight,
-            delta,
-            delta_coeff,
-            corr_vec,
+            weight: deltas.weight,
+            delta: deltas.delta,
+            delta_coeff: deltas.delta_coeff,
+            corr_vec: deltas.corr_vec,
             patches,
             boundary_empty,
             cell_offsets,
@@ -412,4 +312,205 @@ fn solution_dirs(sf: &[V3], boundary_empty: &[bool], n_internal: usize) -> [bool
         return [true; 3];
     }
     std::array::from_fn(|i| sum[i] / m <= 1e-6)
+}
+
+/// The solver's faces as mesh faces ([`FvGeometry`]'s numbering): the mesh's internal faces,
+/// the first side of each cyclic pair, the faces of the other patches.
+struct FaceOrder {
+    /// The mesh face of each solver face (the first side's for a pair face).
+    mesh_face: Vec<usize>,
+    /// The second side's mesh face of each pair face, in pair-face order.
+    partner: Vec<usize>,
+    /// Per patch, the first pair face of a cyclic patch (`usize::MAX` for the others).
+    pair_start: Vec<usize>,
+    /// Per patch, the first solver face of its faces (an empty range for a cyclic patch).
+    patch_start: Vec<usize>,
+    /// The mesh's own internal faces.
+    n_mesh_internal: usize,
+    /// Internal faces, pair faces included.
+    n_internal: usize,
+}
+
+impl FaceOrder {
+    fn new(mesh: &PolyMesh, pairs: &[crate::cyclic::CyclicPair]) -> FaceOrder {
+        let n_mesh_internal = mesh.n_internal_faces();
+        let mut mesh_face: Vec<usize> = (0..n_mesh_internal).collect();
+        let mut partner: Vec<usize> = Vec::new();
+        let mut pair_start = vec![usize::MAX; mesh.boundary.len()];
+        for pr in pairs {
+            pair_start[pr.first] = mesh_face.len();
+            pair_start[pr.second] = mesh_face.len();
+            let (a, b) = (&mesh.boundary[pr.first], &mesh.boundary[pr.second]);
+            mesh_face.extend(a.faces());
+            partner.extend(b.faces());
+        }
+        let n_internal = mesh_face.len();
+        let mut patch_start = vec![0; mesh.boundary.len()];
+        for (i, p) in mesh.boundary.iter().enumerate() {
+            patch_start[i] = mesh_face.len();
+            if p.patch_type != "cyclic" {
+                mesh_face.extend(p.faces());
+            }
+        }
+        FaceOrder {
+            mesh_face,
+            partner,
+            pair_start,
+            patch_start,
+            n_mesh_internal,
+            n_internal,
+        }
+    }
+
+    /// The mesh's patches with their solver faces ([`FvPatch`]).
+    fn patches(&self, mesh: &PolyMesh, pairs: &[crate::cyclic::CyclicPair]) -> Vec<FvPatch> {
+        mesh.boundary
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let cyclic = pairs
+                    .iter()
+                    .find(|pr| pr.first == i || pr.second == i)
+                    .map(|pr| CyclicSide {
+                        neighbour_patch: if pr.first == i { pr.second } else { pr.first },
+                        pair_faces: self.pair_start[i]..self.pair_start[i] + p.n_faces,
+                        owner_side: pr.first == i,
+                    });
+                let start = self.patch_start[i];
+                FvPatch {
+                    name: p.name.clone(),
+                    patch_type: p.patch_type.clone(),
+                    faces: if cyclic.is_some() {
+                        start..start
+                    } else {
+                        start..start + p.n_faces
+                    },
+                    mesh_faces: p.faces(),
+                    cyclic,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The per-face arrays of [`FvGeometry`] in the solver's numbering, for the helpers building
+/// the rest.
+struct SolverFaces<'a> {
+    owner: &'a [u32],
+    neighbour: &'a [u32],
+    sf: &'a [V3],
+    mag_sf: &'a [f64],
+    cf: &'a [V3],
+}
+
+/// [`FvGeometry`]'s interpolation weights, delta vectors and coefficients and non-orthogonal
+/// correction vectors (see the fields' docs there).
+struct Deltas {
+    weight: Vec<f64>,
+    delta: Vec<V3>,
+    delta_coeff: Vec<f64>,
+    corr_vec: Vec<V3>,
+}
+
+impl Deltas {
+    fn new(g: &MeshGeometry, order: &FaceOrder, faces: &SolverFaces) -> Deltas {
+        let (n_mesh_internal, n_internal) = (order.n_mesh_internal, order.n_internal);
+        let n_faces = order.mesh_face.len();
+        let SolverFaces {
+            owner,
+            neighbour,
+            sf,
+            mag_sf,
+            cf,
+        } = *faces;
+        let c = &g.cell_centres;
+        let mut weight = vec![0.5; n_internal];
+        let mut delta = vec![V3::zeros(); n_faces];
+        let mut delta_coeff = vec![0.0; n_faces];
+        let mut corr_vec = vec![V3::zeros(); n_internal];
+        for f in 0..n_internal {
+            let (p, n) = (owner[f] as usize, neighbour[f] as usize);
+            let nhat = 1.0 / mag_sf[f] * sf[f];
+            let d = if f < n_mesh_internal {
+                let sfd_own = sf[f].dot(&(cf[f] - c[p])).abs();
+                let sfd_nei = sf[f].dot(&(c[n] - cf[f])).abs();
+                if sfd_own + sfd_nei > mesh::geometry::ROOTVSMALL {
+                    weight[f] = sfd_nei / (sfd_own + sfd_nei);
+                }
+                c[n] - c[p]
+            } else {
+                let k = f - n_mesh_internal;
+                let pg = crate::cyclic::CyclicPair::face_geometry(
+                    g,
+                    p,
+                    n,
+                    order.mesh_face[f],
+                    order.partner[k],
+                );
+                weight[f] = pg.weight;
+                pg.delta
+            };
+            delta[f] = d;
+            delta_coeff[f] = 1.0 / nhat.dot(&d).max(0.05 * d.norm());
+            corr_vec[f] = nhat - (delta_coeff[f] * d);
+        }
+        for f in n_internal..n_faces {
+            let p = owner[f] as usize;
+            let nhat = 1.0 / mag_sf[f] * sf[f];
+            let d = nhat.dot(&(cf[f] - c[p])) * nhat;
+            delta[f] = d;
+            let dn = nhat.dot(&d);
+            delta_coeff[f] = 1.0 / dn.max(0.05 * d.norm()).max(mesh::geometry::VSMALL);
+        }
+        Deltas {
+            weight,
+            delta,
+            delta_coeff,
+            corr_vec,
+        }
+    }
+}
+
+/// The cell → face adjacency ([`FvGeometry::cell_offsets`], [`FvGeometry::cell_faces`]),
+/// faces of `empty` patches left out.
+fn cell_faces(
+    n_cells: usize,
+    faces: &SolverFaces,
+    n_internal: usize,
+    boundary_empty: &[bool],
+) -> (Vec<u32>, Vec<u32>) {
+    let (owner, neighbour) = (faces.owner, faces.neighbour);
+    let n_faces = owner.len();
+    let mut count = vec![0u32; n_cells + 1];
+    for f in 0..n_faces {
+        if f >= n_internal && boundary_empty[f - n_internal] {
+            continue;
+        }
+        count[owner[f] as usize + 1] += 1;
+        if f < n_internal {
+            count[neighbour[f] as usize + 1] += 1;
+        }
+    }
+    for i in 0..n_cells {
+        count[i + 1] += count[i];
+    }
+    let cell_offsets = count;
+    let mut fill: Vec<u32> = cell_offsets[..n_cells].to_vec();
+    let mut cell_faces = vec![0u32; cell_offsets[n_cells] as usize];
+    for f in 0..n_faces {
+        if f >= n_internal && boundary_empty[f - n_internal] {
+            continue;
+        }
+        let p = owner[f] as usize;
+        cell_faces[fill[p] as usize] = f as u32;
+        fill[p] += 1;
+        if f < n_internal {
+            let n = neighbour[f] as usize;
+            cell_faces[fill[n] as usize] = f as u32;
+            fill[n] += 1;
+        }
+    }
+    // Faces were visited in increasing order, so each cell's list is sorted: sums over a
+    // cell's faces run in face order, as OpenFOAM's face loops accumulate them.
+    (cell_offsets, cell_faces)
 }

@@ -466,31 +466,43 @@ pub(crate) fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearS
     })
 }
 
-impl Settings {
-    /// Reads the settings of `case`.
-    pub fn read(case: &Case) -> Result<Settings> {
-        let root = case.root();
-        let path = |rel: &str| -> PathBuf { root.join(rel) };
-        let cd_file = path("system/controlDict");
-        let cd = case.control_dict()?;
-        let tp_file = path("constant/transportProperties");
-        let tp = case.read_dict("constant/transportProperties")?;
-        if let Ok(m) = tp.word("transportModel") {
-            if m != "Newtonian" {
-                return Err(err(
-                    &tp_file,
-                    "transportModel",
-                    format!("`{m}` is not supported (Newtonian)"),
-                ));
-            }
+/// `nu` and `rho` (default 1) of `constant/transportProperties` (m²/s, kg/m³), a Newtonian
+/// fluid.
+fn transport(case: &Case) -> Result<(f64, f64)> {
+    let tp_file = case.root().join("constant/transportProperties");
+    let tp = case.read_dict("constant/transportProperties")?;
+    if let Ok(m) = tp.word("transportModel") {
+        if m != "Newtonian" {
+            return Err(err(
+                &tp_file,
+                "transportModel",
+                format!("`{m}` is not supported (Newtonian)"),
+            ));
         }
-        let nu = dimensioned(&tp, &tp_file, "nu")?.ok_or_else(|| err(&tp_file, "nu", "missing"))?;
-        if nu <= 0.0 {
-            return Err(err(&tp_file, "nu", "must be positive"));
-        }
-        let rho = dimensioned(&tp, &tp_file, "rho")?.unwrap_or(1.0);
+    }
+    let nu = dimensioned(&tp, &tp_file, "nu")?.ok_or_else(|| err(&tp_file, "nu", "missing"))?;
+    if nu <= 0.0 {
+        return Err(err(&tp_file, "nu", "must be positive"));
+    }
+    let rho = dimensioned(&tp, &tp_file, "rho")?.unwrap_or(1.0);
+    Ok((nu, rho))
+}
+
+/// What `system/controlDict` says of the run's times and writes.
+struct Control {
+    start_time: f64,
+    end_time: f64,
+    delta_t: f64,
+    write: WriteControl,
+    write_format: foam::Format,
+}
+
+impl Control {
+    /// Reads the controlDict `cd` of `case`.
+    fn read(case: &Case, cd: &Dict) -> Result<Control> {
+        let cd_file = case.root().join("system/controlDict");
         let start_time = match cd.word("startFrom").unwrap_or("startTime") {
-            "startTime" => f64_of(&cd, &cd_file, "startTime")?,
+            "startTime" => f64_of(cd, &cd_file, "startTime")?,
             "firstTime" => case.times()?.first().map_or(0.0, |t| t.value),
             "latestTime" => case.latest_time()?.map_or(0.0, |t| t.value),
             other => {
@@ -504,8 +516,8 @@ impl Settings {
         if cd.word("stopAt").unwrap_or("endTime") != "endTime" {
             return Err(err(&cd_file, "stopAt", "only `endTime` is supported"));
         }
-        let end_time = f64_of(&cd, &cd_file, "endTime")?;
-        let delta_t = f64_of(&cd, &cd_file, "deltaT")?;
+        let end_time = f64_of(cd, &cd_file, "endTime")?;
+        let delta_t = f64_of(cd, &cd_file, "deltaT")?;
         if delta_t.is_nan() || delta_t <= 0.0 {
             return Err(err(&cd_file, "deltaT", "must be positive"));
         }
@@ -516,132 +528,170 @@ impl Settings {
                 "adjustable time steps are not supported",
             ));
         }
-        let interval = f64_of(&cd, &cd_file, "writeInterval")?;
-        let write = match cd.word("writeControl").unwrap_or("timeStep") {
-            "timeStep" => WriteControl::TimeStep(interval.max(1.0) as usize),
-            "runTime" | "adjustableRunTime" => WriteControl::RunTime(interval),
-            other => {
-                return Err(err(
-                    &cd_file,
-                    "writeControl",
-                    format!("`{other}` is not supported"),
-                ))
-            }
-        };
-        let write_format = match cd.word("writeFormat").unwrap_or("ascii") {
-            "ascii" => foam::Format::Ascii,
-            "binary" => foam::Format::Binary,
-            other => {
-                return Err(err(
-                    &cd_file,
-                    "writeFormat",
-                    format!("`{other}` is not supported"),
-                ))
-            }
-        };
+        let (write, write_format) = writes(cd, &cd_file)?;
+        Ok(Control {
+            start_time,
+            end_time,
+            delta_t,
+            write,
+            write_format,
+        })
+    }
+}
 
-        let sch_file = path("system/fvSchemes");
-        let sch = case.read_dict("system/fvSchemes")?;
-        let ddt = sch
-            .dict("ddtSchemes")
-            .map_err(|e| err(&sch_file, "ddtSchemes", e.0))?;
-        let (ddt_s, ddt_key) = match ddt.stream("ddt(U)") {
-            Ok(s) => (s, "ddtSchemes.ddt(U)"),
-            Err(_) => (
-                ddt.stream("default")
-                    .map_err(|e| err(&sch_file, "ddtSchemes.default", e.0))?,
-                "ddtSchemes.default",
-            ),
-        };
-        let time_scheme = match ddt_s {
-            [w] if w.as_word() == Some("Euler") => TimeScheme::Euler,
-            [w] if w.as_word() == Some("backward") => TimeScheme::Backward,
-            [w, psi] if w.as_word() == Some("CrankNicolson") => match psi.as_f64() {
-                Some(p) if (0.0..=1.0).contains(&p) => TimeScheme::CrankNicolson(p),
-                _ => return Err(err(&sch_file, ddt_key, "CrankNicolson needs ψ in [0, 1]")),
-            },
-            _ => {
+/// The controlDict's `writeControl` with `writeInterval`, and `writeFormat`.
+fn writes(cd: &Dict, cd_file: &Path) -> Result<(WriteControl, foam::Format)> {
+    let interval = f64_of(cd, cd_file, "writeInterval")?;
+    let write = match cd.word("writeControl").unwrap_or("timeStep") {
+        "timeStep" => WriteControl::TimeStep(interval.max(1.0) as usize),
+        "runTime" | "adjustableRunTime" => WriteControl::RunTime(interval),
+        other => {
+            return Err(err(
+                cd_file,
+                "writeControl",
+                format!("`{other}` is not supported"),
+            ))
+        }
+    };
+    let write_format = match cd.word("writeFormat").unwrap_or("ascii") {
+        "ascii" => foam::Format::Ascii,
+        "binary" => foam::Format::Binary,
+        other => {
+            return Err(err(
+                cd_file,
+                "writeFormat",
+                format!("`{other}` is not supported"),
+            ))
+        }
+    };
+    Ok((write, write_format))
+}
+
+/// The momentum equation's time scheme in fvSchemes `sch` (`ddt(U)`, else `default`), with
+/// the dotted key that supplied it (for error messages).
+fn time_scheme(sch: &Dict, sch_file: &Path) -> Result<(TimeScheme, &'static str)> {
+    let ddt = sch
+        .dict("ddtSchemes")
+        .map_err(|e| err(sch_file, "ddtSchemes", e.0))?;
+    let (ddt_s, ddt_key) = match ddt.stream("ddt(U)") {
+        Ok(s) => (s, "ddtSchemes.ddt(U)"),
+        Err(_) => (
+            ddt.stream("default")
+                .map_err(|e| err(sch_file, "ddtSchemes.default", e.0))?,
+            "ddtSchemes.default",
+        ),
+    };
+    let time_scheme = match ddt_s {
+        [w] if w.as_word() == Some("Euler") => TimeScheme::Euler,
+        [w] if w.as_word() == Some("backward") => TimeScheme::Backward,
+        [w, psi] if w.as_word() == Some("CrankNicolson") => match psi.as_f64() {
+            Some(p) if (0.0..=1.0).contains(&p) => TimeScheme::CrankNicolson(p),
+            _ => return Err(err(sch_file, ddt_key, "CrankNicolson needs ψ in [0, 1]")),
+        },
+        _ => {
+            return Err(err(
+                sch_file,
+                ddt_key,
+                "supported: `Euler`, `backward`, `CrankNicolson ψ`",
+            ))
+        }
+    };
+    Ok((time_scheme, ddt_key))
+}
+
+/// The snGrad scheme of the Laplacians in fvSchemes `sch` (default `corrected`).
+fn sn_grad(sch: &Dict, sch_file: &Path) -> Result<SnGrad> {
+    // One snGrad scheme serves the momentum and the pressure Laplacians, so every
+    // Laplacian the solver forms must name the same one.
+    let mut sn_grad = None;
+    let laplacians = [MOMENTUM_LAPLACIANS, PRESSURE_LAPLACIANS]
+        .into_iter()
+        .map(|keys| scheme_group(sch, sch_file, "laplacianSchemes", keys))
+        .collect::<Result<Vec<_>>>()?;
+    for (lap, lap_key) in laplacians.into_iter().flatten() {
+        let lap: Vec<&str> = lap.iter().map(String::as_str).collect();
+        let this = match lap.as_slice() {
+            ["Gauss", "linear", "corrected"] => SnGrad::Corrected,
+            ["Gauss", "linear", "uncorrected"] => SnGrad::Uncorrected,
+            ["Gauss", "linear", "orthogonal"] => SnGrad::Orthogonal,
+            other => {
                 return Err(err(
-                    &sch_file,
-                    ddt_key,
-                    "supported: `Euler`, `backward`, `CrankNicolson ψ`",
-                ))
-            }
-        };
-        let (convection, bounded_convection) = convection_scheme(&sch, &sch_file)?;
-        // One snGrad scheme serves the momentum and the pressure Laplacians, so every
-        // Laplacian the solver forms must name the same one.
-        let mut sn_grad = None;
-        let laplacians = [MOMENTUM_LAPLACIANS, PRESSURE_LAPLACIANS]
-            .into_iter()
-            .map(|keys| scheme_group(&sch, &sch_file, "laplacianSchemes", keys))
-            .collect::<Result<Vec<_>>>()?;
-        for (lap, lap_key) in laplacians.into_iter().flatten() {
-            let lap: Vec<&str> = lap.iter().map(String::as_str).collect();
-            let this = match lap.as_slice() {
-                ["Gauss", "linear", "corrected"] => SnGrad::Corrected,
-                ["Gauss", "linear", "uncorrected"] => SnGrad::Uncorrected,
-                ["Gauss", "linear", "orthogonal"] => SnGrad::Orthogonal,
-                other => {
-                    return Err(err(
-                        &sch_file,
-                        &lap_key,
-                        format!(
-                            "`{}` is not supported (Gauss linear corrected|uncorrected|orthogonal)",
-                            other.join(" ")
-                        ),
-                    ))
-                }
-            };
-            if sn_grad.is_some_and(|s| s != this) {
-                return Err(err(
-                    &sch_file,
+                    sch_file,
                     &lap_key,
-                    "the momentum and pressure Laplacians must use the same scheme",
-                ));
+                    format!(
+                        "`{}` is not supported (Gauss linear corrected|uncorrected|orthogonal)",
+                        other.join(" ")
+                    ),
+                ))
             }
-            sn_grad = Some(this);
+        };
+        if sn_grad.is_some_and(|s| s != this) {
+            return Err(err(
+                sch_file,
+                &lap_key,
+                "the momentum and pressure Laplacians must use the same scheme",
+            ));
         }
-        let sn_grad = sn_grad.unwrap_or(SnGrad::Corrected);
-        // The gradients the solver forms: ∇p, ∇U, and ∇|U|² for limitedLinear's limiter
-        // (OpenFOAM names it `grad(magSqr(U))`).
-        let mut grads = vec!["grad(p)", "grad(U)"];
-        if matches!(convection, Convection::LimitedLinear(_)) {
-            grads.push("grad(magSqr(U))");
-        }
-        for key in grads {
-            gauss_linear_grad(&sch, &sch_file, key)?;
-        }
-        if let Ok((i, key)) = scheme_words(&sch, &sch_file, "interpolationSchemes", "default") {
-            if i != ["linear"] {
-                return Err(err(&sch_file, &key, "only `linear` is supported"));
-            }
-        }
+        sn_grad = Some(this);
+    }
+    Ok(sn_grad.unwrap_or(SnGrad::Corrected))
+}
 
-        let fv_options = crate::fv_options::read(case)?;
-        let sol_file = path("system/fvSolution");
-        let sol = case.read_dict("system/fvSolution")?;
+/// Checks the gradient and interpolation schemes the solver forms with `convection`.
+fn gradients(sch: &Dict, sch_file: &Path, convection: Convection) -> Result<()> {
+    // The gradients the solver forms: ∇p, ∇U, and ∇|U|² for limitedLinear's limiter
+    // (OpenFOAM names it `grad(magSqr(U))`).
+    let mut grads = vec!["grad(p)", "grad(U)"];
+    if matches!(convection, Convection::LimitedLinear(_)) {
+        grads.push("grad(magSqr(U))");
+    }
+    for key in grads {
+        gauss_linear_grad(sch, sch_file, key)?;
+    }
+    if let Ok((i, key)) = scheme_words(sch, sch_file, "interpolationSchemes", "default") {
+        if i != ["linear"] {
+            return Err(err(sch_file, &key, "only `linear` is supported"));
+        }
+    }
+    Ok(())
+}
+
+/// What fvSolution's `PISO` (else one-outer-corrector `PIMPLE`) dictionary and `solvers` ask
+/// for.
+struct Piso {
+    n_correctors: usize,
+    n_non_orth: usize,
+    momentum_predictor: bool,
+    p_ref: (usize, f64),
+    p_solver: LinearSolver,
+    p_final: LinearSolver,
+    u_solver: LinearSolver,
+}
+
+impl Piso {
+    /// Reads fvSolution `sol` (the file `sol_file`).
+    fn read(sol: &Dict, sol_file: &Path) -> Result<Piso> {
         let algo = match (sol.dict("PISO"), sol.dict("PIMPLE")) {
             (Ok(d), _) => d,
             (_, Ok(d)) => {
                 if d.f64_or("nOuterCorrectors", 1.0).unwrap_or(1.0) != 1.0 {
                     return Err(err(
-                        &sol_file,
+                        sol_file,
                         "PIMPLE.nOuterCorrectors",
                         "only 1 (PISO) is supported",
                     ));
                 }
                 d
             }
-            _ => return Err(err(&sol_file, "PISO", "missing (or PIMPLE)")),
+            _ => return Err(err(sol_file, "PISO", "missing (or PIMPLE)")),
         };
         let count = |k: &str, default: f64| -> Result<usize> {
             let v = algo
                 .f64_or(k, default)
-                .map_err(|e| err(&sol_file, &format!("PISO.{k}"), e.0))?;
+                .map_err(|e| err(sol_file, &format!("PISO.{k}"), e.0))?;
             if v < 0.0 || v.fract() != 0.0 {
                 return Err(err(
-                    &sol_file,
+                    sol_file,
                     &format!("PISO.{k}"),
                     "must be a non-negative integer",
                 ));
@@ -655,58 +705,15 @@ impl Settings {
             count("pRefCell", 0.0)?,
             algo.f64_or("pRefValue", 0.0).unwrap_or(0.0),
         );
-        let p_solver = linear_solver(&sol, &sol_file, "p")?;
+        let p_solver = linear_solver(sol, sol_file, "p")?;
         let p_final = if sol.lookup_path("solvers.pFinal").is_some() {
-            linear_solver(&sol, &sol_file, "pFinal")?
+            linear_solver(sol, sol_file, "pFinal")?
         } else {
             p_solver
         };
-        let u_solver = linear_solver(&sol, &sol_file, "U")?;
-        momentum_relaxation(&sol, &sol_file)?;
-
-        let mom_lap = scheme_group(&sch, &sch_file, "laplacianSchemes", MOMENTUM_LAPLACIANS)?
-            .into_iter()
-            .next()
-            .map(|(w, _)| w)
-            .unwrap_or_default();
-        let turbulence = crate::turbulence::properties::read(case, &sch, &sol, &mom_lap)?;
-        let full_stress = turbulence.full_stress();
-        if time_scheme == TimeScheme::Backward
-            && matches!(
-                turbulence,
-                crate::turbulence::TurbulenceSettings::KEpsilon(_)
-            )
-        {
-            return Err(err(
-                &sch_file,
-                ddt_key,
-                "`backward` with the RAS kEpsilon model is not supported (its k and epsilon \
-                 equations are Euler): use `Euler` or `CrankNicolson ψ`",
-            ));
-        }
-        if full_stress {
-            for (w, used) in scheme_group(&sch, &sch_file, "divSchemes", STRESS_DIVERGENCES)? {
-                if w != ["Gauss", "linear"] {
-                    return Err(err(
-                        &sch_file,
-                        &used,
-                        format!("`{}` is not supported (Gauss linear)", w.join(" ")),
-                    ));
-                }
-            }
-        }
-        Ok(Settings {
-            nu,
-            rho,
-            start_time,
-            end_time,
-            delta_t,
-            write,
-            write_format,
-            time_scheme,
-            convection,
-            bounded_convection,
-            sn_grad,
+        let u_solver = linear_solver(sol, sol_file, "U")?;
+        momentum_relaxation(sol, sol_file)?;
+        Ok(Piso {
             n_correctors,
             n_non_orth,
             momentum_predictor,
@@ -714,6 +721,94 @@ impl Settings {
             p_solver,
             p_final,
             u_solver,
+        })
+    }
+}
+
+/// The turbulence model of `case` ([`crate::turbulence::properties`]; fvSchemes `sch` in
+/// `sch_file`, fvSolution `sol`), checked against the momentum equation's time scheme
+/// (`ddt_key` supplied it) and, with the full stress, the stress divergences' schemes.
+fn turbulence(
+    case: &Case,
+    (sch, sch_file): (&Dict, &Path),
+    sol: &Dict,
+    (time_scheme, ddt_key): (TimeScheme, &str),
+) -> Result<crate::turbulence::TurbulenceSettings> {
+    let mom_lap = scheme_group(sch, sch_file, "laplacianSchemes", MOMENTUM_LAPLACIANS)?
+        .into_iter()
+        .next()
+        .map(|(w, _)| w)
+        .unwrap_or_default();
+    let turbulence = crate::turbulence::properties::read(case, sch, sol, &mom_lap)?;
+    if time_scheme == TimeScheme::Backward
+        && matches!(
+            turbulence,
+            crate::turbulence::TurbulenceSettings::KEpsilon(_)
+        )
+    {
+        return Err(err(
+            sch_file,
+            ddt_key,
+            "`backward` with the RAS kEpsilon model is not supported (its k and epsilon \
+             equations are Euler): use `Euler` or `CrankNicolson ψ`",
+        ));
+    }
+    if turbulence.full_stress() {
+        for (w, used) in scheme_group(sch, sch_file, "divSchemes", STRESS_DIVERGENCES)? {
+            if w != ["Gauss", "linear"] {
+                return Err(err(
+                    sch_file,
+                    &used,
+                    format!("`{}` is not supported (Gauss linear)", w.join(" ")),
+                ));
+            }
+        }
+    }
+    Ok(turbulence)
+}
+
+impl Settings {
+    /// Reads the settings of `case`.
+    pub fn read(case: &Case) -> Result<Settings> {
+        let root = case.root();
+        let path = |rel: &str| -> PathBuf { root.join(rel) };
+        let cd = case.control_dict()?;
+        let (nu, rho) = transport(case)?;
+        let control = Control::read(case, &cd)?;
+
+        let sch_file = path("system/fvSchemes");
+        let sch = case.read_dict("system/fvSchemes")?;
+        let (time_scheme, ddt_key) = time_scheme(&sch, &sch_file)?;
+        let (convection, bounded_convection) = convection_scheme(&sch, &sch_file)?;
+        let sn_grad = sn_grad(&sch, &sch_file)?;
+        gradients(&sch, &sch_file, convection)?;
+
+        let fv_options = crate::fv_options::read(case)?;
+        let sol_file = path("system/fvSolution");
+        let sol = case.read_dict("system/fvSolution")?;
+        let piso = Piso::read(&sol, &sol_file)?;
+
+        let turbulence = turbulence(case, (&sch, &sch_file), &sol, (time_scheme, ddt_key))?;
+        let full_stress = turbulence.full_stress();
+        Ok(Settings {
+            nu,
+            rho,
+            start_time: control.start_time,
+            end_time: control.end_time,
+            delta_t: control.delta_t,
+            write: control.write,
+            write_format: control.write_format,
+            time_scheme,
+            convection,
+            bounded_convection,
+            sn_grad,
+            n_correctors: piso.n_correctors,
+            n_non_orth: piso.n_non_orth,
+            momentum_predictor: piso.momentum_predictor,
+            p_ref: piso.p_ref,
+            p_solver: piso.p_solver,
+            p_final: piso.p_final,
+            u_solver: piso.u_solver,
             full_stress,
             turbulence,
             fv_options,

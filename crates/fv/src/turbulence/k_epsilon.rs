@@ -380,32 +380,42 @@ impl KEpsilon {
             return Ok(None);
         }
         let n = g.n_cells;
-        let c = self.settings.coeffs;
         let div_u = fvc::surface_integrate(g, flow.phi);
         let grad_u = fvc::grad_vector(g, flow.u, flow.u_b);
-        // G/νt = ∇U : dev(∇U + ∇Uᵀ) (1/s²).
-        let g_by_nu: Vec<f64> = grad_u
-            .iter()
-            .map(|t| {
-                let s = t + t.transpose();
-                let tr = s[(0, 0)] + s[(1, 1)] + s[(2, 2)];
-                let mut d = s;
-                for i in 0..3 {
-                    d[(i, i)] -= tr / 3.0;
-                }
-                let mut sum = 0.0;
-                for i in 0..3 {
-                    for j in 0..3 {
-                        sum += t[(i, j)] * d[(i, j)];
-                    }
-                }
-                sum
-            })
-            .collect();
+        let g_by_nu = production_by_nut(&grad_u);
         let mut prod: Vec<f64> = (0..n).map(|i| self.nut.cells[i] * g_by_nu[i]).collect();
         let k_old = self.k.cells.clone();
         let eps_old = self.epsilon.cells.clone();
-        // each field's CrankNicolson state begins its step (rate c/Δt, 1/s)
+        let (eps_r, k_r) = self.begin_time_schemes(&k_old, &eps_old, flow.dt);
+        let wall_cells = self.apply_wall_functions(g, flow, &mut prod);
+        let step = Step {
+            flow,
+            div_u,
+            k_old,
+            eps_old,
+        };
+        let eps_stats = self.solve_epsilon(g, &step, eps_r, &g_by_nu, &wall_cells)?;
+        let k_stats = self.solve_k(g, &step, k_r, &prod)?;
+        self.correct_nut(g, flow.nu);
+        if let Some(i) = self.nut.cells.iter().position(|v| !v.is_finite()) {
+            return Err(FvError::Diverged(format!(
+                "k-epsilon: nut is not finite in cell {i}"
+            )));
+        }
+        Ok(Some(CorrectReport {
+            epsilon: eps_stats,
+            k: k_stats,
+        }))
+    }
+
+    /// Each field's `CrankNicolson ψ` state begins its step from the old values `k_old`,
+    /// `eps_old`: the rates c/Δt (1/s) of ε and k (`None`: Euler).
+    fn begin_time_schemes(
+        &mut self,
+        k_old: &[f64],
+        eps_old: &[f64],
+        dt: f64,
+    ) -> (Option<f64>, Option<f64>) {
         let (eps_cn, k_cn) = (
             self.settings.epsilon.crank_nicolson,
             self.settings.k.crank_nicolson,
@@ -414,15 +424,25 @@ impl KEpsilon {
         let eps_r = eps_cn.map(|psi| {
             cn[0]
                 .get_or_insert_with(|| CrankNicolsonDdt0::new(psi))
-                .begin_step(&eps_old, flow.dt)
+                .begin_step(eps_old, dt)
         });
         let k_r = k_cn.map(|psi| {
             cn[1]
                 .get_or_insert_with(|| CrankNicolsonDdt0::new(psi))
-                .begin_step(&k_old, flow.dt)
+                .begin_step(k_old, dt)
         });
+        (eps_r, k_r)
+    }
 
-        // Wall functions: ε and G in the wall cells, ε on the wall faces.
+    /// Wall functions: ε and G in the wall cells (G into `prod`), ε on the wall faces; returns
+    /// the wall cells, once per wall face.
+    fn apply_wall_functions(
+        &mut self,
+        g: &FvGeometry,
+        flow: &Flow<'_>,
+        prod: &mut [f64],
+    ) -> Vec<usize> {
+        let n = g.n_cells;
         let mut eps0 = vec![0.0; n];
         let mut g0 = vec![0.0; n];
         let mut wall_cells = Vec::new();
@@ -463,35 +483,40 @@ impl KEpsilon {
             prod[o] = g0[o];
             self.epsilon.cells[o] = eps0[o];
         }
-        let transport = Transport {
-            phi: flow.phi,
-            lap_dc: flow.lap_dc,
-            corrected: flow.corrected,
-            dt: flow.dt,
-            crank_nicolson: None,
-        };
+        wall_cells
+    }
 
-        // ε equation.
-        let gamma = self.diffusivity(g, c.sigma_eps, flow.nu);
-        let eps_transport = Transport {
-            crank_nicolson: eps_r.zip(self.cn[0].as_ref()),
-            ..transport
-        };
+    /// The ε equation with k of the last step (`eps_r`: its CrankNicolson rate), the rows of
+    /// the `wall_cells` fixed to their wall-function ε; then ε's boundary values and bound.
+    fn solve_epsilon(
+        &mut self,
+        g: &FvGeometry,
+        step: &Step<'_>,
+        eps_r: Option<f64>,
+        g_by_nu: &[f64],
+        wall_cells: &[usize],
+    ) -> Result<SolveStats> {
+        let n = g.n_cells;
+        let c = self.settings.coeffs;
+        let gamma = self.diffusivity(g, c.sigma_eps, step.flow.nu);
+        let eps_transport = step.transport(eps_r.zip(self.cn[0].as_ref()));
         let mut eqn = ScalarEqn::transport(
             g,
             &eps_transport,
             &self.settings.epsilon,
             &self.epsilon.cells,
-            &eps_old,
+            &step.eps_old,
             &self.epsilon.boundary,
             &self.epsilon.bcs,
             &gamma,
         );
+        let k_old = &step.k_old;
         let src: Vec<f64> = (0..n)
             .map(|i| c.c1 * g_by_nu[i] * c.cmu * k_old[i])
             .collect();
         eqn.add_source(g, &src);
-        let susp: Vec<f64> = div_u
+        let susp: Vec<f64> = step
+            .div_u
             .iter()
             .map(|d| ((2.0 / 3.0) * c.c1 - c.c3) * d)
             .collect();
@@ -501,53 +526,54 @@ impl KEpsilon {
             .collect();
         eqn.add_sp(g, &sp);
         let values: Vec<f64> = wall_cells.iter().map(|&o| self.epsilon.cells[o]).collect();
-        eqn.set_values(g, &wall_cells, &values, &mut self.epsilon.cells);
+        eqn.set_values(g, wall_cells, &values, &mut self.epsilon.cells);
         let solver = self.settings.epsilon.solver;
         let eps_stats = eqn.solve(g, &solver, &mut self.epsilon.cells, "epsilon")?;
-        self.epsilon.evaluate(g, flow.phi);
+        self.epsilon.evaluate(g, step.flow.phi);
         bound(
             g,
             &mut self.epsilon.cells,
             &mut self.epsilon.boundary,
             c.epsilon_min,
         );
+        Ok(eps_stats)
+    }
 
-        // k equation.
-        let gamma = self.diffusivity(g, c.sigma_k, flow.nu);
-        let k_transport = Transport {
-            crank_nicolson: k_r.zip(self.cn[1].as_ref()),
-            ..transport
-        };
+    /// The k equation with the new ε (`k_r`: its CrankNicolson rate, `prod` the production
+    /// G); then k's boundary values and bound.
+    fn solve_k(
+        &mut self,
+        g: &FvGeometry,
+        step: &Step<'_>,
+        k_r: Option<f64>,
+        prod: &[f64],
+    ) -> Result<SolveStats> {
+        let n = g.n_cells;
+        let c = self.settings.coeffs;
+        let gamma = self.diffusivity(g, c.sigma_k, step.flow.nu);
+        let k_transport = step.transport(k_r.zip(self.cn[1].as_ref()));
         let mut eqn = ScalarEqn::transport(
             g,
             &k_transport,
             &self.settings.k,
             &self.k.cells,
-            &k_old,
+            &step.k_old,
             &self.k.boundary,
             &self.k.bcs,
             &gamma,
         );
-        eqn.add_source(g, &prod);
-        let susp: Vec<f64> = div_u.iter().map(|d| (2.0 / 3.0) * d).collect();
+        eqn.add_source(g, prod);
+        let susp: Vec<f64> = step.div_u.iter().map(|d| (2.0 / 3.0) * d).collect();
         eqn.add_susp(g, &susp, &self.k.cells);
-        let sp: Vec<f64> = (0..n).map(|i| self.epsilon.cells[i] / k_old[i]).collect();
+        let sp: Vec<f64> = (0..n)
+            .map(|i| self.epsilon.cells[i] / step.k_old[i])
+            .collect();
         eqn.add_sp(g, &sp);
         let solver = self.settings.k.solver;
         let k_stats = eqn.solve(g, &solver, &mut self.k.cells, "k")?;
-        self.k.evaluate(g, flow.phi);
+        self.k.evaluate(g, step.flow.phi);
         bound(g, &mut self.k.cells, &mut self.k.boundary, c.k_min);
-
-        self.correct_nut(g, flow.nu);
-        if let Some(i) = self.nut.cells.iter().position(|v| !v.is_finite()) {
-            return Err(FvError::Diverged(format!(
-                "k-epsilon: nut is not finite in cell {i}"
-            )));
-        }
-        Ok(Some(CorrectReport {
-            epsilon: eps_stats,
-            k: k_stats,
-        }))
+        Ok(k_stats)
     }
 
     /// Writes `k`, `epsilon` and `nut` into the time directory `dir` (cell values and the
@@ -557,4 +583,54 @@ impl KEpsilon {
         self.epsilon.write(g, &dir.join("epsilon"), format)?;
         self.nut.write(g, &dir.join("nut"), format)
     }
+}
+
+/// What one step of the model keeps fixed while it solves ε and k.
+struct Step<'a> {
+    /// The flow at the end of the PISO correctors.
+    flow: &'a Flow<'a>,
+    /// ∇·φ at cells (m³/s per m³).
+    div_u: Vec<f64>,
+    /// k of the last step (m²/s²).
+    k_old: Vec<f64>,
+    /// ε of the last step (m²/s³).
+    eps_old: Vec<f64>,
+}
+
+impl Step<'_> {
+    /// The transport terms of a k or ε equation with its `CrankNicolson ψ` rate and state.
+    fn transport<'s>(
+        &'s self,
+        crank_nicolson: Option<(f64, &'s CrankNicolsonDdt0<f64>)>,
+    ) -> Transport<'s> {
+        Transport {
+            phi: self.flow.phi,
+            lap_dc: self.flow.lap_dc,
+            corrected: self.flow.corrected,
+            dt: self.flow.dt,
+            crank_nicolson,
+        }
+    }
+}
+
+/// G/νt = ∇U : dev(∇U + ∇Uᵀ) (1/s²) per cell from ∇U.
+fn production_by_nut(grad_u: &[crate::fvc::Tensor]) -> Vec<f64> {
+    grad_u
+        .iter()
+        .map(|t| {
+            let s = t + t.transpose();
+            let tr = s[(0, 0)] + s[(1, 1)] + s[(2, 2)];
+            let mut d = s;
+            for i in 0..3 {
+                d[(i, i)] -= tr / 3.0;
+            }
+            let mut sum = 0.0;
+            for i in 0..3 {
+                for j in 0..3 {
+                    sum += t[(i, j)] * d[(i, j)];
+                }
+            }
+            sum
+        })
+        .collect()
 }

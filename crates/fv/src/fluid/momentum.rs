@@ -1,0 +1,257 @@
+//! The momentum stage of a PISO step: the matrix of the momentum equation (pisoFoam's
+//! `UEqn.H`; CFDEM's cfdemSolverPiso `UEqn.H` for the volume-averaged terms: ε in the time
+//! derivative and the stress, the implicit exchange Ksl/ρ, the explicit force f/ρ, the
+//! `fvOptions` sources) and the momentum predictor with the old pressure gradient.
+
+use super::{Fluid, Levels, StepReport};
+use crate::bc;
+use crate::error::Result;
+use crate::fvc::{self, Field};
+use crate::geometry::V3;
+use crate::ldu::Ldu;
+use crate::linsolve;
+use crate::settings::SnGrad;
+
+/// The momentum equation of a step, fixed through its correctors.
+pub(super) struct MomentumEqn {
+    /// The off-diagonal coefficients of convection and diffusion (the predictor sets the
+    /// diagonal of the component it solves).
+    pub(super) m: Ldu,
+    /// The diagonal per component (m³/s).
+    pub(super) diag: Vec<V3>,
+    /// The source per component (m⁴/s²).
+    pub(super) b: Vec<V3>,
+    /// A, the mean of the three diagonals per volume (1/s).
+    pub(super) a_mean: Vec<f64>,
+    /// 1/A (s).
+    pub(super) r_au: Vec<f64>,
+}
+
+impl Fluid {
+    /// Stage 2: the momentum matrix — convection and diffusion (implicit, [`Self::conv_diff`]),
+    /// the full stress's explicit part, the time derivative of εU with the step's scheme
+    /// (`lv`), the implicit exchange Ksl/ρ (U − Us), the explicit force f/ρ and the `fvOptions`
+    /// sources — and its A = mean diagonal per volume.
+    pub(super) fn momentum_matrix(&self, lv: &Levels) -> MomentumEqn {
+        let n = self.g.n_cells;
+        let rho = self.settings.rho;
+        let (dt, ddt_k, old_old) = (lv.dt, lv.ddt_k, &lv.old_old);
+        let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
+        let (nu_f, nu_c, nu_bf) = self.eps_nu_eff(&lv.ef);
+        let (cd, cd_diag, cd_b) = self.conv_diff(&nu_f, &grad_u);
+        let g = &self.g;
+        let m = cd;
+        let mut diag: Vec<V3> = vec![V3::zeros(); n];
+        let mut b: Vec<V3> = vec![V3::zeros(); n];
+        let stress = if self.settings.full_stress {
+            let fl = fvc::dev2_transpose_flux(
+                g,
+                Field::new(&nu_c, &nu_bf),
+                Field::new(&self.u, &self.u_b),
+                &grad_u,
+            );
+            fvc::surface_integrate(g, &fl)
+        } else {
+            vec![V3::zeros(); n]
+        };
+        for k in 0..3 {
+            for c in 0..n {
+                let v = g.v[c];
+                let ksl = self.ksl[c] / rho * v;
+                let (ddt, mut old_source) = match self.cn {
+                    // OpenFOAM's CrankNicolson fvmDdt: diag c/Δt ε V, source (c/Δt ε°U° + ψ d₀) V
+                    Some(_) => (lv.cn_r * self.eps[c] * v, lv.cn_src[c][k] * v),
+                    None => (
+                        ddt_k.c * self.eps[c] * v / dt,
+                        self.eps_old[c] * v / dt * lv.u_old[c][k],
+                    ),
+                };
+                if lv.backward {
+                    old_source = ddt_k.c0 * old_source
+                        - ddt_k.c00 * (old_old.eps[c] * v / dt * old_old.u[c][k]);
+                }
+                let mut rhs = cd_b[c][k]
+                    + old_source
+                    + ksl * self.us[c][k]
+                    + v * self.force[c][k] / rho
+                    + v * stress[c][k];
+                for s in &self.mean_forces {
+                    rhs += v * s.source(c)[k];
+                }
+                diag[c][k] = cd_diag[c][k] + ddt + ksl;
+                b[c][k] = rhs;
+            }
+        }
+        let a_mean: Vec<f64> = (0..n)
+            .map(|c| (diag[c][0] + diag[c][1] + diag[c][2]) / 3.0 / g.v[c])
+            .collect();
+        let r_au: Vec<f64> = a_mean.iter().map(|a| 1.0 / a).collect();
+        MomentumEqn {
+            m,
+            diag,
+            b,
+            a_mean,
+            r_au,
+        }
+    }
+
+    /// Stage 3: the mean-velocity sources take 1/A of the matrix (`fvOptions.constrain`), and
+    /// with `momentumPredictor` the momentum equation is solved component by component with
+    /// the old pressure gradient, −κ_p ∇p° (pisoFoam's `solve(UEqn == -fvc::grad(p))`; model
+    /// A's −ε∇p° as CFDEM's cfdemSolverPiso), the velocity's boundary values evaluated and the
+    /// mean-velocity sources' correction applied.
+    pub(super) fn momentum_predictor(
+        &mut self,
+        lv: &Levels,
+        eqn: &mut MomentumEqn,
+        report: &mut StepReport,
+    ) -> Result<()> {
+        // The mean-velocity sources take 1/A of this matrix (fvOptions.constrain).
+        for s in &mut self.mean_forces {
+            s.constrain(&eqn.r_au);
+        }
+        if !self.settings.momentum_predictor {
+            return Ok(());
+        }
+        let g = &self.g;
+        let n = g.n_cells;
+        let solver = self.settings.u_solver;
+        for k in (0..3).filter(|&k| g.solution_dirs[k]) {
+            eqn.m.diag = eqn.diag.iter().map(|d| d[k]).collect();
+            let rhs: Vec<f64> = (0..n)
+                .map(|c| eqn.b[c][k] - g.v[c] * self.kappa_p(c) * self.grad_p[c][k])
+                .collect();
+            let mut x: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
+            let what = ["Ux", "Uy", "Uz"][k];
+            let s = linsolve::solve(
+                solver.method,
+                &eqn.m,
+                g,
+                &rhs,
+                &mut x,
+                &solver.controls,
+                what,
+            )?;
+            report.momentum.push(s);
+            for c in 0..n {
+                self.u[c][k] = x[c];
+            }
+        }
+        self.update_u_boundary(lv.t_new);
+        for s in &mut self.mean_forces {
+            s.correct(&self.g.v, &self.eps, &mut self.u);
+        }
+        Ok(())
+    }
+
+    /// ε νeff at faces (m²/s): the product formed at cells and boundary faces (ε of the
+    /// boundary the `voidfraction` condition's) and interpolated linearly, as
+    /// grainPisoFoam's and CFDEM's `voidfraction*nuEff` fields are; also the cell and
+    /// boundary values.
+    fn eps_nu_eff(&self, ef: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let g = &self.g;
+        let (nu_c, nu_b) = self.nu_eff();
+        let a_c: Vec<f64> = (0..g.n_cells).map(|c| self.eps[c] * nu_c[c]).collect();
+        let a_b: Vec<f64> = (0..g.n_boundary())
+            .map(|b| ef[g.n_internal + b] * nu_b[b])
+            .collect();
+        let a_f = fvc::interpolate(g, Field::new(&a_c, &a_b));
+        (a_f, a_c, a_b)
+    }
+
+    /// Convection (flux φ, current) and diffusion (ε νeff at faces, `nu_f`) of the momentum
+    /// equation: off-diagonal matrix, per-component diagonal and source (including boundary
+    /// contributions and the explicit non-orthogonal correction).
+    fn conv_diff(&self, nu_f: &[f64], grad_u: &[crate::fvc::Tensor]) -> (Ldu, Vec<V3>, Vec<V3>) {
+        let g = &self.g;
+        let mut m = Ldu::zeros(g);
+        let mut diag = vec![V3::zeros(); g.n_cells];
+        let mut b = vec![V3::zeros(); g.n_cells];
+        let corrected = self.settings.sn_grad == SnGrad::Corrected;
+        let conv = self.settings.convection;
+        let weights = conv.weights(g, &self.phi, &self.u, &self.u_b, grad_u);
+        for f in 0..g.n_internal {
+            let (o, nn) = (g.owner[f] as usize, g.neighbour[f] as usize);
+            let phi = self.phi[f];
+            let w = weights[f];
+            let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
+            m.upper[f] = phi * (1.0 - w) - gam;
+            m.lower[f] = -phi * w - gam;
+            let d_o = phi * w + gam;
+            let d_n = -phi * (1.0 - w) + gam;
+            for k in 0..3 {
+                diag[o][k] += d_o;
+                diag[nn][k] += d_n;
+            }
+            if corrected {
+                let wf = g.weight[f];
+                let kv = g.corr_vec[f];
+                let c = nu_f[f] * g.mag_sf[f];
+                for j in 0..3 {
+                    let mut s = 0.0;
+                    for i in 0..3 {
+                        s += kv[i]
+                            * (wf * (grad_u[o][(i, j)] - grad_u[nn][(i, j)]) + grad_u[nn][(i, j)]);
+                    }
+                    b[o][j] += c * s;
+                    b[nn][j] -= c * s;
+                }
+            }
+        }
+        let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
+        self.add_boundary_terms(nu_f, &vi, &self.u_b, Some(&mut diag), &mut b);
+        // linearUpwind's explicit part: the source loses V ∇·(φ c) (OpenFOAM's
+        // `fvm += fvc::surfaceIntegrate(faceFlux*correction)`).
+        if let Some(corr) = conv.correction(g, &self.phi, &self.u, grad_u) {
+            let mut flux: Vec<V3> = (0..g.n_internal).map(|f| self.phi[f] * corr[f]).collect();
+            flux.resize(g.n_faces(), V3::zeros());
+            let div = fvc::surface_integrate(g, &flux);
+            for c in 0..g.n_cells {
+                for k in 0..3 {
+                    b[c][k] -= g.v[c] * div[c][k];
+                }
+            }
+        }
+        // `bounded`: minus (∇·φ) U, implicit (OpenFOAM's `fvm::Sp(fvc::surfaceIntegrate(phi), U)`).
+        if self.settings.bounded_convection {
+            let div_phi = fvc::surface_integrate(g, &self.phi);
+            for c in 0..g.n_cells {
+                for k in 0..3 {
+                    diag[c][k] -= g.v[c] * div_phi[c];
+                }
+            }
+        }
+        (m, diag, b)
+    }
+
+    /// Adds the boundary faces' part of convection and diffusion: with the face value
+    /// U_b = vi ⊙ U_P + vb (vi from [`bc::velocity_value_coeffs`], `u_b` the face values), the
+    /// implicit φ vi + a_f|S|δ (1 − vi) to `diag` (when given) and the explicit
+    /// (−φ + a_f|S|δ) vb to `b` (a_f = ε νeff at the face, `nu_f`).
+    fn add_boundary_terms(
+        &self,
+        nu_f: &[f64],
+        vi: &[V3],
+        u_b: &[V3],
+        mut diag: Option<&mut Vec<V3>>,
+        b: &mut [V3],
+    ) {
+        let g = &self.g;
+        for f in g.n_internal..g.n_faces() {
+            let bi = f - g.n_internal;
+            if g.boundary_empty[bi] {
+                continue;
+            }
+            let o = g.owner[f] as usize;
+            let phi = self.phi[f];
+            let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
+            for k in 0..3 {
+                if let Some(d) = diag.as_deref_mut() {
+                    d[o][k] += phi * vi[bi][k] + gam * (1.0 - vi[bi][k]);
+                }
+                let vb = u_b[bi][k] - vi[bi][k] * self.u[o][k];
+                b[o][k] += -phi * vb + gam * vb;
+            }
+        }
+    }
+}
