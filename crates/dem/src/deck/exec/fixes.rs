@@ -29,72 +29,56 @@ struct Fix<'w> {
     words: &'w [String],
 }
 
+/// What defines a fix of a style.
+type Handler = fn(&mut Session<'_>, Fix<'_>) -> Result<(), Failure>;
+
 /// A fix style: its LIGGGHTS name and aliases, and the handler that defines such a fix.
 struct FixStyle {
     /// The names that select it.
     names: &'static [&'static str],
     /// Defines the fix.
-    handler: fn(&mut Session<'_>, Fix<'_>) -> Result<(), Failure>,
+    handler: Handler,
 }
 
 /// Every fix style the native DEM knows.
 static FIXES: &[FixStyle] = &[
-    FixStyle {
-        names: &["property/global"],
-        handler: properties::property_global,
-    },
-    FixStyle {
-        names: &["gravity"],
-        handler: integration::gravity,
-    },
-    FixStyle {
-        names: &["wall/gran"],
-        handler: walls::wall_gran,
-    },
-    FixStyle {
-        names: &["mesh/surface", "mesh/surface/stress"],
-        handler: walls::mesh_surface,
-    },
-    FixStyle {
-        names: &["particletemplate/sphere"],
-        handler: properties::particletemplate_sphere,
-    },
-    FixStyle {
-        names: &[
+    row(&["property/global"], properties::property_global),
+    row(&["gravity"], integration::gravity),
+    row(&["wall/gran"], walls::wall_gran),
+    row(
+        &["mesh/surface", "mesh/surface/stress"],
+        walls::mesh_surface,
+    ),
+    row(
+        &["particletemplate/sphere"],
+        properties::particletemplate_sphere,
+    ),
+    row(
+        &[
             "particledistribution/discrete",
             "particledistribution/discrete/numberbased",
         ],
-        handler: properties::particledistribution_discrete,
-    },
-    FixStyle {
-        names: &["insert/pack"],
-        handler: insert::insert_pack,
-    },
-    FixStyle {
-        names: &["insert/rate/region", "insert/stream"],
-        handler: insert::insert_rate,
-    },
-    FixStyle {
-        names: &["nve/sphere"],
-        handler: integration::nve_sphere,
-    },
-    FixStyle {
-        names: &["check/timestep/gran"],
-        handler: integration::check_timestep_gran,
-    },
-    FixStyle {
-        names: &["couple/cfd"],
-        handler: coupling::couple_cfd,
-    },
-    FixStyle {
-        names: &["couple/cfd/force", "couple/cfd/force/implicit"],
-        handler: coupling::couple_cfd_force,
-    },
-    FixStyle {
-        names: &["print"],
-        handler: output::print,
-    },
+        properties::particledistribution_discrete,
+    ),
+    row(&["insert/pack"], insert::insert_pack),
+    row(
+        &["insert/rate/region", "insert/stream"],
+        insert::insert_rate,
+    ),
+    row(&["nve/sphere"], integration::nve_sphere),
+    row(&["check/timestep/gran"], integration::check_timestep_gran),
+    row(&["couple/cfd"], coupling::couple_cfd),
+    row(
+        &["couple/cfd/force", "couple/cfd/force/implicit"],
+        coupling::couple_cfd_force,
+    ),
+    row(&["print"], output::print),
 ];
+
+/// A row of [`FIXES`].
+const fn row(names: &'static [&'static str], handler: Handler) -> FixStyle {
+    FixStyle { names, handler }
+}
 
 /// `fix ID all STYLE …`: the handler of STYLE's row defines it.
 pub(super) fn fix(session: &mut Session<'_>, c: &Command) -> Result<(), Failure> {
