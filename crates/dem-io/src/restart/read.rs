@@ -260,8 +260,71 @@ impl<R: Read> Src<R> {
         })
     }
 
+    /// The header section: the version record, then every header record up to the flag −1,
+    /// checked as a granular LIGGGHTS 3.8 file has them.
     fn header(&mut self) -> Res<ReadHeader> {
-        // the first record must be the version: flag 0, a length, "Version …"
+        let version = self.version()?;
+        let r = self.records()?;
+        let tilts = self.check_records(&r)?;
+        let timestep = u64::try_from(r.bigs[5]).map_err(|_| {
+            self.err(
+                r.rec_at[5],
+                K::BadRecord(format!("negative step {}", r.bigs[5])),
+            )
+        })?;
+        let natoms = u64::try_from(r.bigs[23]).map_err(|_| {
+            self.err(
+                r.natoms_offset,
+                K::BadRecord(format!("negative number of atoms {}", r.bigs[23])),
+            )
+        })?;
+        let ntypes = usize::try_from(r.ints[24])
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| {
+                self.err(
+                    r.rec_at[24],
+                    K::BadRecord(format!("number of atom types {}", r.ints[24])),
+                )
+            })?;
+        let nprocs = usize::try_from(r.ints[7])
+            .ok()
+            .filter(|&n| n >= 1 && (n as u64) * 4 <= self.remaining())
+            .ok_or_else(|| {
+                self.err(
+                    r.rec_at[7],
+                    K::BadRecord(format!("number of processes {} (chunks)", r.ints[7])),
+                )
+            })?;
+        let boundary = self.boundary(&r.ints, &r.rec_at)?;
+        let d = |f: usize| r.doubles[f - FIRST_DOUBLE as usize];
+        Ok(ReadHeader {
+            header: Header {
+                version,
+                units: r.units,
+                timestep,
+                dimension: r.ints[6],
+                procgrid: [r.ints[8], r.ints[9], r.ints[10]],
+                newton_pair: r.ints[11],
+                newton_bond: r.ints[12],
+                boundary,
+                atom_style: r.atom_style,
+                ntypes,
+                lo: [d(37), d(39), d(41)],
+                hi: [d(38), d(40), d(42)],
+                special_lj: [d(43), d(44), d(45)],
+                special_coul: [d(46), d(47), d(48)],
+                tilt: (tilts == 3).then(|| [d(49), d(50), d(51)]),
+            },
+            natoms,
+            natoms_offset: r.natoms_offset,
+            nprocs,
+        })
+    }
+
+    /// The first record, which must be the version (flag 0, a length, "Version …") of
+    /// LIGGGHTS 3.8.
+    fn version(&mut self) -> Res<String> {
         let mut first = [0u8; 16];
         let n = (self.remaining().min(16)) as usize;
         self.fill(&mut first[..n], "the first record")?;
@@ -297,7 +360,12 @@ impl<R: Read> Src<R> {
         if !is_liggghts_38(&version) {
             return Err(self.err(8, K::UnsupportedVersion { found: version }));
         }
+        Ok(version)
+    }
 
+    /// The header records after the version, up to the flag −1 (each known flag at most
+    /// once; the atom style granular or sphere).
+    fn records(&mut self) -> Res<Records> {
         let mut seen = [false; RECORD.len()];
         seen[0] = true;
         // where each record starts, for messages about its value
@@ -352,6 +420,29 @@ impl<R: Read> Src<R> {
                 ints[f] = self.i32(name)?;
             }
         }
+        Ok(Records {
+            seen,
+            rec_at,
+            ints,
+            bigs,
+            doubles,
+            units,
+            atom_style,
+            natoms_offset,
+        })
+    }
+
+    /// Checks that every record LIGGGHTS 3.8.0 writes is there, the tilts all or none, the
+    /// integer sizes LIGGGHTS's and no bonds, angles, dihedrals or impropers; returns the
+    /// number of tilt records.
+    fn check_records(&self, r: &Records) -> Res<usize> {
+        let Records {
+            seen,
+            rec_at,
+            ints,
+            bigs,
+            ..
+        } = r;
         for f in 1..=LAST_REQUIRED as usize {
             if !seen[f] {
                 return Err(self.err(self.pos - 4, K::MissingRecord(RECORD[f])));
@@ -392,36 +483,11 @@ impl<R: Read> Src<R> {
                 ));
             }
         }
-        let timestep = u64::try_from(bigs[5]).map_err(|_| {
-            self.err(
-                rec_at[5],
-                K::BadRecord(format!("negative step {}", bigs[5])),
-            )
-        })?;
-        let natoms = u64::try_from(bigs[23]).map_err(|_| {
-            self.err(
-                natoms_offset,
-                K::BadRecord(format!("negative number of atoms {}", bigs[23])),
-            )
-        })?;
-        let ntypes = usize::try_from(ints[24])
-            .ok()
-            .filter(|&n| n >= 1)
-            .ok_or_else(|| {
-                self.err(
-                    rec_at[24],
-                    K::BadRecord(format!("number of atom types {}", ints[24])),
-                )
-            })?;
-        let nprocs = usize::try_from(ints[7])
-            .ok()
-            .filter(|&n| n >= 1 && (n as u64) * 4 <= self.remaining())
-            .ok_or_else(|| {
-                self.err(
-                    rec_at[7],
-                    K::BadRecord(format!("number of processes {} (chunks)", ints[7])),
-                )
-            })?;
+        Ok(tilts)
+    }
+
+    /// The boundary codes of the faces, consistent with the axes' periodicity records.
+    fn boundary(&self, ints: &[i32; 37], rec_at: &[u64; RECORD.len()]) -> Res<[[Boundary; 2]; 3]> {
         let mut boundary = [[Boundary::Periodic; 2]; 3];
         for k in 0..6 {
             let code = ints[16 + k];
@@ -444,29 +510,7 @@ impl<R: Read> Src<R> {
                 ));
             }
         }
-        let d = |f: usize| doubles[f - FIRST_DOUBLE as usize];
-        Ok(ReadHeader {
-            header: Header {
-                version,
-                units,
-                timestep,
-                dimension: ints[6],
-                procgrid: [ints[8], ints[9], ints[10]],
-                newton_pair: ints[11],
-                newton_bond: ints[12],
-                boundary,
-                atom_style,
-                ntypes,
-                lo: [d(37), d(39), d(41)],
-                hi: [d(38), d(40), d(42)],
-                special_lj: [d(43), d(44), d(45)],
-                special_coul: [d(46), d(47), d(48)],
-                tilt: (tilts == 3).then(|| [d(49), d(50), d(51)]),
-            },
-            natoms,
-            natoms_offset,
-            nprocs,
-        })
+        Ok(boundary)
     }
 
     fn groups(&mut self) -> Res<Vec<Option<String>>> {
@@ -753,6 +797,20 @@ impl<R: Read> Src<R> {
         }
         Ok(())
     }
+}
+
+/// The header records as read, by flag: whether each was seen, where it starts, its value
+/// (`int`s, bigints and doubles by flag; the two strings after the version).
+struct Records {
+    seen: [bool; RECORD.len()],
+    rec_at: [u64; RECORD.len()],
+    ints: [i32; 37],
+    bigs: [i64; 37],
+    doubles: [f64; 15],
+    units: String,
+    atom_style: String,
+    /// Where the number of atoms is (for messages about it).
+    natoms_offset: u64,
 }
 
 /// The header with what reading the rest needs.

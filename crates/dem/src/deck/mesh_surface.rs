@@ -56,12 +56,94 @@ fn word<'w>(w: &'w [String], k: usize, what: &str) -> Result<&'w str, DemError> 
         .ok_or_else(|| setup(format!("missing {what}")))
 }
 
+/// What names the fix in messages: its id and style, and whether it is `mesh/surface/stress`.
+struct Head<'w> {
+    /// The fix id.
+    id: &'w str,
+    /// `mesh/surface` or `mesh/surface/stress`.
+    style: &'w str,
+    /// Whether it is `mesh/surface/stress` (which has more keywords).
+    stress: bool,
+}
+
+/// What the keywords after `file FILE` set.
+struct Keywords {
+    /// `type T`.
+    material_type: Option<u32>,
+    /// `scale`, `move`, `rotate`, in the order given.
+    transforms: Vec<Transform>,
+    /// `precision`, `curvature`.
+    opts: MeshOptions,
+    /// Keywords accepted without effect.
+    warnings: Vec<String>,
+}
+
 /// Parses the fix's words (`w[0]` = `fix`) and reads its file relative to `workdir`.
 /// `ntypes` is the number of atom types.
 pub(crate) fn parse(w: &[String], workdir: &Path, ntypes: usize) -> Result<Parsed, DemError> {
     let id = word(w, 1, "fix id")?;
     let style = word(w, 3, "fix style")?;
     let stress = style == "mesh/surface/stress";
+    let head = Head { id, style, stress };
+    let path: PathBuf = workdir.join(file_name(w, style)?);
+    let Keywords {
+        material_type,
+        transforms,
+        opts,
+        mut warnings,
+    } = keywords(w, &head, ntypes)?;
+    let material_type =
+        material_type.ok_or_else(|| setup(format!("{style} {id}: `type T` is required")))?;
+    let stl = read_stl(&path)?;
+    let triangles: Vec<[V3; 3]> = stl
+        .triangles
+        .iter()
+        .map(|t| t.map(|p| transforms.iter().fold(p, |p, tr| tr.apply(p))))
+        .collect();
+    let (mesh, dropped) = TriMesh::new(id, &triangles, &stl.origin, opts);
+    if !dropped.origin.is_empty() {
+        let what = if stl.binary {
+            "triangles"
+        } else {
+            "facets at lines"
+        };
+        let list: Vec<String> = dropped
+            .origin
+            .iter()
+            .take(10)
+            .map(|o| o.to_string())
+            .collect();
+        warnings.push(format!(
+            "{style} {id}: {} degenerate triangle(s) of {} left out ({what} {}{})",
+            dropped.origin.len(),
+            path.display(),
+            list.join(", "),
+            if dropped.origin.len() > 10 {
+                ", …"
+            } else {
+                ""
+            }
+        ));
+    }
+    if mesh.is_empty() {
+        return Err(DemError::Stl {
+            file: path,
+            line: None,
+            message: "no triangle with a non-zero area".into(),
+        });
+    }
+    Ok(Parsed {
+        surface: Arc::new(MeshSurface {
+            mesh,
+            material_type,
+            stress,
+        }),
+        warnings,
+    })
+}
+
+/// The file name of `file FILE` (`w[4..6]`): an STL file.
+fn file_name<'w>(w: &'w [String], style: &str) -> Result<&'w str, DemError> {
     match word(w, 4, "`file`")? {
         "file" => {}
         "generate" | "fix" => {
@@ -78,7 +160,12 @@ pub(crate) fn parse(w: &[String], workdir: &Path, ntypes: usize) -> Result<Parse
             "{style}: VTK mesh files are not supported ({file}); use STL"
         )));
     }
-    let path: PathBuf = workdir.join(file);
+    Ok(file)
+}
+
+/// Reads the keywords after `file FILE` (from `w[6]`).
+fn keywords(w: &[String], head: &Head<'_>, ntypes: usize) -> Result<Keywords, DemError> {
+    let Head { id, style, stress } = *head;
     let mut material_type = None;
     let mut transforms = Vec::new();
     let mut opts = MeshOptions::default();
@@ -109,39 +196,10 @@ pub(crate) fn parse(w: &[String], workdir: &Path, ntypes: usize) -> Result<Parse
                 material_type = Some(t as u32);
                 k += 2;
             }
-            "scale" => {
-                let s = number(w, k + 1, "scale")?;
-                if s <= 0.0 {
-                    return Err(setup(format!("scale {s} must be > 0")));
-                }
-                transforms.push(Transform::Scale(s));
-                k += 2;
-            }
-            "move" => {
-                let d = V3::new(
-                    number(w, k + 1, "move dx")?,
-                    number(w, k + 2, "move dy")?,
-                    number(w, k + 3, "move dz")?,
-                );
-                transforms.push(Transform::Move(d));
-                k += 4;
-            }
-            "rotate" => {
-                if word(w, k + 1, "`axis`")? != "axis" || word(w, k + 5, "`angle`")? != "angle" {
-                    return Err(setup("expected `rotate axis ax ay az angle θ`".into()));
-                }
-                let axis = V3::new(
-                    number(w, k + 2, "axis x")?,
-                    number(w, k + 3, "axis y")?,
-                    number(w, k + 4, "axis z")?,
-                );
-                // LIGGGHTS's limit on the axis length
-                if axis.norm() < 1e-5 {
-                    return Err(setup("rotate: the axis has (almost) zero length".into()));
-                }
-                let degrees = number(w, k + 6, "rotate angle")?;
-                transforms.push(Transform::Rotate { axis, degrees });
-                k += 7;
+            "scale" | "move" | "rotate" => {
+                let (transform, n) = transform(w, k)?;
+                transforms.push(transform);
+                k += n;
             }
             "precision" => {
                 let p = number(w, k + 1, "precision")?;
@@ -203,52 +261,48 @@ pub(crate) fn parse(w: &[String], workdir: &Path, ntypes: usize) -> Result<Parse
             }
         }
     }
-    let material_type =
-        material_type.ok_or_else(|| setup(format!("{style} {id}: `type T` is required")))?;
-    let stl = read_stl(&path)?;
-    let triangles: Vec<[V3; 3]> = stl
-        .triangles
-        .iter()
-        .map(|t| t.map(|p| transforms.iter().fold(p, |p, tr| tr.apply(p))))
-        .collect();
-    let (mesh, dropped) = TriMesh::new(id, &triangles, &stl.origin, opts);
-    if !dropped.origin.is_empty() {
-        let what = if stl.binary {
-            "triangles"
-        } else {
-            "facets at lines"
-        };
-        let list: Vec<String> = dropped
-            .origin
-            .iter()
-            .take(10)
-            .map(|o| o.to_string())
-            .collect();
-        warnings.push(format!(
-            "{style} {id}: {} degenerate triangle(s) of {} left out ({what} {}{})",
-            dropped.origin.len(),
-            path.display(),
-            list.join(", "),
-            if dropped.origin.len() > 10 {
-                ", …"
-            } else {
-                ""
-            }
-        ));
-    }
-    if mesh.is_empty() {
-        return Err(DemError::Stl {
-            file: path,
-            line: None,
-            message: "no triangle with a non-zero area".into(),
-        });
-    }
-    Ok(Parsed {
-        surface: Arc::new(MeshSurface {
-            mesh,
-            material_type,
-            stress,
-        }),
+    Ok(Keywords {
+        material_type,
+        transforms,
+        opts,
         warnings,
     })
+}
+
+/// The transform of the keyword `w[k]` (`scale`, `move` or `rotate`) and the number of words
+/// it takes.
+fn transform(w: &[String], k: usize) -> Result<(Transform, usize), DemError> {
+    match w[k].as_str() {
+        "scale" => {
+            let s = number(w, k + 1, "scale")?;
+            if s <= 0.0 {
+                return Err(setup(format!("scale {s} must be > 0")));
+            }
+            Ok((Transform::Scale(s), 2))
+        }
+        "move" => {
+            let d = V3::new(
+                number(w, k + 1, "move dx")?,
+                number(w, k + 2, "move dy")?,
+                number(w, k + 3, "move dz")?,
+            );
+            Ok((Transform::Move(d), 4))
+        }
+        _ => {
+            if word(w, k + 1, "`axis`")? != "axis" || word(w, k + 5, "`angle`")? != "angle" {
+                return Err(setup("expected `rotate axis ax ay az angle θ`".into()));
+            }
+            let axis = V3::new(
+                number(w, k + 2, "axis x")?,
+                number(w, k + 3, "axis y")?,
+                number(w, k + 4, "axis z")?,
+            );
+            // LIGGGHTS's limit on the axis length
+            if axis.norm() < 1e-5 {
+                return Err(setup("rotate: the axis has (almost) zero length".into()));
+            }
+            let degrees = number(w, k + 6, "rotate angle")?;
+            Ok((Transform::Rotate { axis, degrees }, 7))
+        }
+    }
 }

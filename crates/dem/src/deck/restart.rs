@@ -147,29 +147,7 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
     let f = rs::read_restart(path).map_err(|e| e.to_string())?;
     let name = path.display();
     let h = &f.header;
-    let refuse = |what: String| Err(format!("{name}: {what}"));
-    if h.units != "si" {
-        return refuse(format!("units `{}`: only `units si` is supported", h.units));
-    }
-    if h.dimension != 3 {
-        return refuse(format!("dimension {}: only 3d is supported", h.dimension));
-    }
-    if h.tilt.is_some() {
-        return refuse("a triclinic box is not supported".into());
-    }
-    // clumps of spheres: read as loose spheres they would fall apart (LIGGGHTS too refuses to
-    // go on when a deck does not take the bodies up again)
-    let bodies = f
-        .global_fixes
-        .iter()
-        .map(|g| (&g.id, &g.style))
-        .chain(f.peratom_fixes.iter().map(|p| (&p.id, &p.style)))
-        .find(|(_, style)| style.starts_with("multisphere"));
-    if let Some((id, style)) = bodies {
-        return refuse(format!(
-            "fix {id} ({style}) holds multisphere bodies, which the native DEM does not support"
-        ));
-    }
+    refused(&f).map_err(|what| format!("{name}: {what}"))?;
     let mut warnings = Vec::new();
     let mut warn = |w: String| warnings.push(format!("read_restart {name}: {w}"));
 
@@ -215,88 +193,11 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
         .map(|a| (a.tag, unpack_image(a.image)))
         .collect();
 
-    // per-atom data: the pair contact history and the walls' histories are used
-    let mut contacts = None;
-    let mut walls = Vec::new();
-    let mut unused = Vec::new();
-    let mut half_step = None;
-    let mut coupling_recorded = true;
-    let mut coupling: [Option<Vec<Vec<f64>>>; 3] = Default::default();
-    for (k, fix) in f.peratom_fixes.iter().enumerate() {
-        let wall_id = fix.id.strip_prefix(WALL_HISTORY_PREFIX);
-        let coupling_block = COUPLING_BLOCKS.iter().position(|b| b.0 == fix.id);
-        if fix.id == HALF_STEP_ID && fix.style == HALF_STEP_STYLE {
-            let mut per = Vec::with_capacity(f.atoms.len());
-            for a in &f.atoms {
-                match &a.fix_data[k] {
-                    FixAtomData::Values(v)
-                        if v.len() == HALF_STEP_VALUES
-                            || v.len() == HALF_STEP_VALUES_NO_COUPLING =>
-                    {
-                        coupling_recorded &= v.len() == HALF_STEP_VALUES;
-                        per.push(std::array::from_fn(|j| v.get(j).copied().unwrap_or(0.0)))
-                    }
-                    _ => {
-                        return refuse(format!(
-                            "fix {}: {HALF_STEP_VALUES} (or {HALF_STEP_VALUES_NO_COUPLING}) \
-                             values per atom expected",
-                            fix.id
-                        ))
-                    }
-                }
-            }
-            half_step = Some(per);
-        } else if let (Some(b), PROPERTY_ATOM_STYLE) = (coupling_block, fix.style.as_str()) {
-            let (id, width) = COUPLING_BLOCKS[b];
-            let mut per = Vec::with_capacity(f.atoms.len());
-            for a in &f.atoms {
-                match &a.fix_data[k] {
-                    FixAtomData::Values(v) if v.len() == width => per.push(v.clone()),
-                    _ => {
-                        return refuse(format!(
-                            "fix {id} (property/atom): {width} values per atom expected"
-                        ))
-                    }
-                }
-            }
-            coupling[b] = Some(per);
-        } else if fix.style == CONTACT_HISTORY_STYLE {
-            let dnum = f
-                .global_fix(&fix.id, &fix.style)
-                .and_then(FixState::values)
-                .and_then(|v| v.first().copied())
-                .unwrap_or(0.0) as usize;
-            let mut list = Vec::new();
-            for a in &f.atoms {
-                if let FixAtomData::Contacts(cs) = &a.fix_data[k] {
-                    for c in cs {
-                        list.push((a.tag, c.partner, c.history.clone()));
-                    }
-                }
-            }
-            contacts = Some((dnum, list));
-        } else if let (Some(wall), PROPERTY_ATOM_STYLE) = (wall_id, fix.style.as_str()) {
-            let mut per = Vec::with_capacity(f.atoms.len());
-            let mut width = None;
-            for a in &f.atoms {
-                let FixAtomData::Values(v) = &a.fix_data[k] else {
-                    return refuse(format!("fix {}: unexpected contact data", fix.id));
-                };
-                if width.is_some_and(|w| w != v.len()) {
-                    return refuse(format!("fix {}: blocks of different lengths", fix.id));
-                }
-                width = Some(v.len());
-                per.push(v.clone());
-            }
-            walls.push((wall.to_string(), width.unwrap_or(0), per));
-        } else {
-            unused.push(format!("{} ({})", fix.id, fix.style));
-        }
-    }
-    if !unused.is_empty() {
+    let data = PerAtomData::read(&f).map_err(|what| format!("{name}: {what}"))?;
+    if !data.unused.is_empty() {
         warn(format!(
             "per-atom data of fixes {} is dropped (the native DEM has no such fix)",
-            unused.join(", ")
+            data.unused.join(", ")
         ));
     }
     let ignored: Vec<String> = f
@@ -339,14 +240,176 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
             pair_coeff,
             masses,
             images,
-            contacts,
-            walls,
-            half_step,
-            coupling_recorded,
-            coupling,
+            contacts: data.contacts,
+            walls: data.walls,
+            half_step: data.half_step,
+            coupling_recorded: data.coupling_recorded,
+            coupling: data.coupling,
         },
         warnings,
     ))
+}
+
+/// Why the native DEM refuses a restart file, if it does: units other than `si`, 2d or
+/// triclinic boxes, multisphere bodies.
+fn refused(f: &RestartFile) -> Res<()> {
+    let h = &f.header;
+    if h.units != "si" {
+        return Err(format!("units `{}`: only `units si` is supported", h.units));
+    }
+    if h.dimension != 3 {
+        return Err(format!("dimension {}: only 3d is supported", h.dimension));
+    }
+    if h.tilt.is_some() {
+        return Err("a triclinic box is not supported".into());
+    }
+    // clumps of spheres: read as loose spheres they would fall apart (LIGGGHTS too refuses to
+    // go on when a deck does not take the bodies up again)
+    let bodies = f
+        .global_fixes
+        .iter()
+        .map(|g| (&g.id, &g.style))
+        .chain(f.peratom_fixes.iter().map(|p| (&p.id, &p.style)))
+        .find(|(_, style)| style.starts_with("multisphere"));
+    if let Some((id, style)) = bodies {
+        return Err(format!(
+            "fix {id} ({style}) holds multisphere bodies, which the native DEM does not support"
+        ));
+    }
+    Ok(())
+}
+
+/// The per-atom data of a restart file by kind of block: the pair contact history and the
+/// walls' histories, the [`HALF_STEP_ID`] block and the [`COUPLING_BLOCKS`] are used, the
+/// other fixes' blocks named (`unused`).
+struct PerAtomData {
+    /// Pair contacts with the number of history values each.
+    contacts: Option<(usize, Vec<SavedContact>)>,
+    /// Wall histories by wall id: values per particle (file order).
+    walls: Vec<(String, usize, Vec<Vec<f64>>)>,
+    /// The [`HalfStep`] values per particle, if recorded.
+    half_step: Option<Vec<[f64; HALF_STEP_VALUES]>>,
+    /// Whether the half-step block records the coupling part of the forces.
+    coupling_recorded: bool,
+    /// The coupling blocks ([`COUPLING_BLOCKS`] order) per particle, those the file has.
+    coupling: [Option<Vec<Vec<f64>>>; 3],
+    /// `ID (STYLE)` of the fixes whose per-atom data is dropped.
+    unused: Vec<String>,
+}
+
+impl PerAtomData {
+    /// Sorts the file's per-atom blocks by kind (errors without the file name).
+    fn read(f: &RestartFile) -> Res<PerAtomData> {
+        let mut data = PerAtomData {
+            contacts: None,
+            walls: Vec::new(),
+            half_step: None,
+            coupling_recorded: true,
+            coupling: Default::default(),
+            unused: Vec::new(),
+        };
+        for (k, fix) in f.peratom_fixes.iter().enumerate() {
+            let wall_id = fix.id.strip_prefix(WALL_HISTORY_PREFIX);
+            let coupling_block = COUPLING_BLOCKS.iter().position(|b| b.0 == fix.id);
+            if fix.id == HALF_STEP_ID && fix.style == HALF_STEP_STYLE {
+                let (per, recorded) = half_step_block(f, k, fix)?;
+                data.coupling_recorded &= recorded;
+                data.half_step = Some(per);
+            } else if let (Some(b), PROPERTY_ATOM_STYLE) = (coupling_block, fix.style.as_str()) {
+                data.coupling[b] = Some(coupling_block_values(f, k, b)?);
+            } else if fix.style == CONTACT_HISTORY_STYLE {
+                data.contacts = Some(pair_contact_block(f, k, fix));
+            } else if let (Some(wall), PROPERTY_ATOM_STYLE) = (wall_id, fix.style.as_str()) {
+                let (width, per) = wall_block(f, k, fix)?;
+                data.walls.push((wall.to_string(), width, per));
+            } else {
+                data.unused.push(format!("{} ({})", fix.id, fix.style));
+            }
+        }
+        Ok(data)
+    }
+}
+
+/// The [`HALF_STEP_ID`] block (per-atom fix `k`): the values per particle, and whether every
+/// particle's record has the coupling part.
+fn half_step_block(
+    f: &RestartFile,
+    k: usize,
+    fix: &PerAtomFix,
+) -> Res<(Vec<[f64; HALF_STEP_VALUES]>, bool)> {
+    let mut coupling_recorded = true;
+    let mut per = Vec::with_capacity(f.atoms.len());
+    for a in &f.atoms {
+        match &a.fix_data[k] {
+            FixAtomData::Values(v)
+                if v.len() == HALF_STEP_VALUES || v.len() == HALF_STEP_VALUES_NO_COUPLING =>
+            {
+                coupling_recorded &= v.len() == HALF_STEP_VALUES;
+                per.push(std::array::from_fn(|j| v.get(j).copied().unwrap_or(0.0)))
+            }
+            _ => {
+                return Err(format!(
+                    "fix {}: {HALF_STEP_VALUES} (or {HALF_STEP_VALUES_NO_COUPLING}) \
+                     values per atom expected",
+                    fix.id
+                ))
+            }
+        }
+    }
+    Ok((per, coupling_recorded))
+}
+
+/// The coupling block `b` of [`COUPLING_BLOCKS`] (per-atom fix `k`): the values per particle.
+fn coupling_block_values(f: &RestartFile, k: usize, b: usize) -> Res<Vec<Vec<f64>>> {
+    let (id, width) = COUPLING_BLOCKS[b];
+    let mut per = Vec::with_capacity(f.atoms.len());
+    for a in &f.atoms {
+        match &a.fix_data[k] {
+            FixAtomData::Values(v) if v.len() == width => per.push(v.clone()),
+            _ => {
+                return Err(format!(
+                    "fix {id} (property/atom): {width} values per atom expected"
+                ))
+            }
+        }
+    }
+    Ok(per)
+}
+
+/// The pair contact history (per-atom fix `k`): the number of values per contact (from the
+/// fix's global state) and every particle's contacts.
+fn pair_contact_block(f: &RestartFile, k: usize, fix: &PerAtomFix) -> (usize, Vec<SavedContact>) {
+    let dnum = f
+        .global_fix(&fix.id, &fix.style)
+        .and_then(FixState::values)
+        .and_then(|v| v.first().copied())
+        .unwrap_or(0.0) as usize;
+    let mut list = Vec::new();
+    for a in &f.atoms {
+        if let FixAtomData::Contacts(cs) = &a.fix_data[k] {
+            for c in cs {
+                list.push((a.tag, c.partner, c.history.clone()));
+            }
+        }
+    }
+    (dnum, list)
+}
+
+/// A primitive wall's history (per-atom fix `k`): the values per particle and their number.
+fn wall_block(f: &RestartFile, k: usize, fix: &PerAtomFix) -> Res<(usize, Vec<Vec<f64>>)> {
+    let mut per = Vec::with_capacity(f.atoms.len());
+    let mut width = None;
+    for a in &f.atoms {
+        let FixAtomData::Values(v) = &a.fix_data[k] else {
+            return Err(format!("fix {}: unexpected contact data", fix.id));
+        };
+        if width.is_some_and(|w| w != v.len()) {
+            return Err(format!("fix {}: blocks of different lengths", fix.id));
+        }
+        width = Some(v.len());
+        per.push(v.clone());
+    }
+    Ok((width.unwrap_or(0), per))
 }
 
 /// The native contact model of a `pair_style gran` code, if the native DEM has it.
@@ -433,6 +496,43 @@ impl Loaded {
             .enumerate()
             .map(|(i, &id)| (id, i))
             .collect();
+        self.apply_masses_and_images(sim, &index);
+        warnings.extend(self.apply_pair_contacts(sim, &index, &name)?);
+        let used = self.apply_wall_histories(sim, &index, &name)?;
+        let saved_coupling = self.coupling.iter().any(Option::is_some);
+        if saved_coupling && !coupled {
+            warnings.push(format!(
+                "{name}: the saved coupling forces (dragforce, Ksl, uf) are dropped: the deck \
+                 defines no `fix … couple/cfd/force` before the first run"
+            ));
+        }
+        if coupled && saved_coupling {
+            self.apply_coupling(sim, &index, &name)?;
+        }
+        if let Some(hs) = &self.half_step {
+            self.apply_half_step(sim, &index, hs);
+        }
+
+        let orphans: Vec<&str> = self
+            .walls
+            .iter()
+            .zip(&used)
+            .filter(|(_, &u)| !u)
+            .map(|(w, _)| w.0.as_str())
+            .collect();
+        if !orphans.is_empty() {
+            warnings.push(format!(
+                "{name}: the saved contact history with walls {} is dropped (no `fix … \
+                 wall/gran` of that id before the first run)",
+                orphans.join(" ")
+            ));
+        }
+        Ok(warnings)
+    }
+
+    /// The file's masses (where the deck left radius and density as the file has them) and
+    /// periodic image counters, onto the particles by id (`index`: particle index by id).
+    fn apply_masses_and_images(&self, sim: &mut Simulation, index: &HashMap<u64, usize>) {
         let p = &mut sim.particles;
         for &(id, radius, density, mass) in &self.masses {
             if let Some(&i) = index.get(&id) {
@@ -446,53 +546,73 @@ impl Loaded {
                 p.image[i] = image;
             }
         }
+    }
 
+    /// The saved pair contact history onto the native pair list; returns the warning about
+    /// saved contacts naming absent particles, if any.
+    fn apply_pair_contacts(
+        &self,
+        sim: &mut Simulation,
+        index: &HashMap<u64, usize>,
+        name: &str,
+    ) -> Res<Option<String>> {
         let model = *sim.pair_model();
-        if let Some((dnum, list)) = self.contacts {
-            let want = history_len(&model);
-            if dnum != want {
-                return Err(format!(
-                    "{name}: the saved pair contact history has {dnum} values per contact, \
-                     the contact model of the deck keeps {want}: a different contact history \
-                     model cannot continue it"
-                ));
-            }
-            let mut missing = 0;
-            let mut pairs = Vec::with_capacity(list.len() / 2);
-            let mut have: HashSet<(usize, usize)> = HashSet::new();
-            // each contact is stored by both particles; take the record of the lower index
-            // (the native pair's view), and the other one only where it is alone
-            let resolved: Vec<(usize, usize, &Vec<f64>)> = list
-                .iter()
-                .filter_map(|(a, b, v)| match (index.get(a), index.get(b)) {
-                    (Some(&i), Some(&j)) => Some((i, j, v)),
-                    _ => {
-                        missing += 1;
-                        None
-                    }
-                })
-                .collect();
-            for &(i, j, v) in resolved.iter().filter(|c| c.0 < c.1) {
-                have.insert((i, j));
+        let Some((dnum, list)) = &self.contacts else {
+            return Ok(None);
+        };
+        let dnum = *dnum;
+        let want = history_len(&model);
+        if dnum != want {
+            return Err(format!(
+                "{name}: the saved pair contact history has {dnum} values per contact, \
+                 the contact model of the deck keeps {want}: a different contact history \
+                 model cannot continue it"
+            ));
+        }
+        let mut missing = 0;
+        let mut pairs = Vec::with_capacity(list.len() / 2);
+        let mut have: HashSet<(usize, usize)> = HashSet::new();
+        // each contact is stored by both particles; take the record of the lower index
+        // (the native pair's view), and the other one only where it is alone
+        let resolved: Vec<(usize, usize, &Vec<f64>)> = list
+            .iter()
+            .filter_map(|(a, b, v)| match (index.get(a), index.get(b)) {
+                (Some(&i), Some(&j)) => Some((i, j, v)),
+                _ => {
+                    missing += 1;
+                    None
+                }
+            })
+            .collect();
+        for &(i, j, v) in resolved.iter().filter(|c| c.0 < c.1) {
+            have.insert((i, j));
+            pairs.push((i, j, to_history(v)));
+        }
+        for &(i, j, v) in resolved.iter().filter(|c| c.0 > c.1) {
+            if !have.contains(&(j, i)) {
                 pairs.push((i, j, to_history(v)));
             }
-            for &(i, j, v) in resolved.iter().filter(|c| c.0 > c.1) {
-                if !have.contains(&(j, i)) {
-                    pairs.push((i, j, to_history(v)));
-                }
-            }
-            sim.set_pair_contacts(&pairs);
-            if missing > 0 {
-                warnings.push(format!(
-                    "{name}: {missing} saved contacts name particles that are not present; \
-                     dropped"
-                ));
-            }
-            // pairs apart now are skipped without a warning: LIGGGHTS 3.8 writes the stale
-            // history of pairs that separated since its last neighbour-list build, and takes
-            // up only the overlapping ones when it reads, so nothing it would use is lost
         }
+        sim.set_pair_contacts(&pairs);
+        // pairs apart now are skipped without a warning: LIGGGHTS 3.8 writes the stale
+        // history of pairs that separated since its last neighbour-list build, and takes
+        // up only the overlapping ones when it reads, so nothing it would use is lost
+        Ok((missing > 0).then(|| {
+            format!(
+                "{name}: {missing} saved contacts name particles that are not present; \
+                 dropped"
+            )
+        }))
+    }
 
+    /// Each saved wall history onto the deck's primitive wall of the same id; returns which of
+    /// the saved walls found theirs.
+    fn apply_wall_histories(
+        &self,
+        sim: &mut Simulation,
+        index: &HashMap<u64, usize>,
+        name: &str,
+    ) -> Res<Vec<bool>> {
         let walls: Vec<(usize, String, usize)> = sim
             .walls()
             .iter()
@@ -518,77 +638,69 @@ impl Loaded {
                 }
             }
         }
-        let saved_coupling = self.coupling.iter().any(Option::is_some);
-        if saved_coupling && !coupled {
-            warnings.push(format!(
-                "{name}: the saved coupling forces (dragforce, Ksl, uf) are dropped: the deck \
-                 defines no `fix … couple/cfd/force` before the first run"
-            ));
-        }
-        if coupled && saved_coupling {
-            // particles not from the file get no coupling force until the next exchange
-            let n = sim.particles.len();
-            let (mut f_ext, mut beta, mut u_f) =
-                (vec![V3::zeros(); n], vec![0.0; n], vec![V3::zeros(); n]);
-            let [drag, ksl, uf] = &self.coupling;
-            for (k, id) in self.ids.iter().enumerate() {
-                let Some(&i) = index.get(id) else { continue };
-                let v3 = |b: &Option<Vec<Vec<f64>>>| {
-                    b.as_ref()
-                        .map_or(V3::zeros(), |b| V3::new(b[k][0], b[k][1], b[k][2]))
-                };
-                f_ext[i] = v3(drag);
-                u_f[i] = v3(uf);
-                beta[i] = ksl.as_ref().map_or(0.0, |b| b[k][0]);
-            }
-            sim.set_coupling(&f_ext, &beta, &u_f)
-                .map_err(|e| format!("{name}: the saved coupling forces: {e}"))?;
-        }
-        if let Some(hs) = &self.half_step {
-            // particles not from the file (created after read_restart) keep their velocities
-            // and zero recorded forces, which differ from the evaluated ones: the set-up then
-            // uses the evaluated forces for all
-            let p = &sim.particles;
-            let zero = vec![V3::zeros(); p.len()];
-            let mut h = HalfStep {
-                v: p.v.clone(),
-                omega: p.omega.clone(),
-                force: zero.clone(),
-                torque: zero.clone(),
-                coupling: match self.coupling_recorded {
-                    true => zero,
-                    false => Vec::new(),
-                },
+        Ok(used)
+    }
+
+    /// The saved coupling forces (F_ext, β, u_f) onto the particles.
+    fn apply_coupling(
+        &self,
+        sim: &mut Simulation,
+        index: &HashMap<u64, usize>,
+        name: &str,
+    ) -> Res<()> {
+        // particles not from the file get no coupling force until the next exchange
+        let n = sim.particles.len();
+        let (mut f_ext, mut beta, mut u_f) =
+            (vec![V3::zeros(); n], vec![0.0; n], vec![V3::zeros(); n]);
+        let [drag, ksl, uf] = &self.coupling;
+        for (k, id) in self.ids.iter().enumerate() {
+            let Some(&i) = index.get(id) else { continue };
+            let v3 = |b: &Option<Vec<Vec<f64>>>| {
+                b.as_ref()
+                    .map_or(V3::zeros(), |b| V3::new(b[k][0], b[k][1], b[k][2]))
             };
-            for (id, r) in self.ids.iter().zip(hs) {
-                if let Some(&i) = index.get(id) {
-                    h.v[i] = V3::new(r[0], r[1], r[2]);
-                    h.omega[i] = V3::new(r[3], r[4], r[5]);
-                    h.force[i] = V3::new(r[6], r[7], r[8]);
-                    h.torque[i] = V3::new(r[9], r[10], r[11]);
-                    if let Some(c) = h.coupling.get_mut(i) {
-                        *c = V3::new(r[12], r[13], r[14]);
-                    }
+            f_ext[i] = v3(drag);
+            u_f[i] = v3(uf);
+            beta[i] = ksl.as_ref().map_or(0.0, |b| b[k][0]);
+        }
+        sim.set_coupling(&f_ext, &beta, &u_f)
+            .map_err(|e| format!("{name}: the saved coupling forces: {e}"))
+    }
+
+    /// The saved [`HalfStep`] values `hs` (file order) onto the particles.
+    fn apply_half_step(
+        &self,
+        sim: &mut Simulation,
+        index: &HashMap<u64, usize>,
+        hs: &[[f64; HALF_STEP_VALUES]],
+    ) {
+        // particles not from the file (created after read_restart) keep their velocities
+        // and zero recorded forces, which differ from the evaluated ones: the set-up then
+        // uses the evaluated forces for all
+        let p = &sim.particles;
+        let zero = vec![V3::zeros(); p.len()];
+        let mut h = HalfStep {
+            v: p.v.clone(),
+            omega: p.omega.clone(),
+            force: zero.clone(),
+            torque: zero.clone(),
+            coupling: match self.coupling_recorded {
+                true => zero,
+                false => Vec::new(),
+            },
+        };
+        for (id, r) in self.ids.iter().zip(hs) {
+            if let Some(&i) = index.get(id) {
+                h.v[i] = V3::new(r[0], r[1], r[2]);
+                h.omega[i] = V3::new(r[3], r[4], r[5]);
+                h.force[i] = V3::new(r[6], r[7], r[8]);
+                h.torque[i] = V3::new(r[9], r[10], r[11]);
+                if let Some(c) = h.coupling.get_mut(i) {
+                    *c = V3::new(r[12], r[13], r[14]);
                 }
             }
-            sim.set_half_step(h);
         }
-
-        let orphans: Vec<&str> = self
-            .walls
-            .iter()
-            .zip(&used)
-            .filter(|(_, &u)| !u)
-            .map(|(w, _)| w.0.as_str())
-            .collect();
-        if !orphans.is_empty() {
-            warnings.push(format!(
-                "{name}: the saved contact history with walls {} is dropped (no `fix … \
-                 wall/gran` of that id before the first run)",
-                orphans.join(" ")
-            ));
-        }
-        Ok(warnings)
+        sim.set_half_step(h);
     }
 }
 
@@ -667,122 +779,10 @@ pub fn restart_file(sim: &Simulation) -> RestartFile {
     let (lo, hi) = written_box(b, &p.x);
     let model = *sim.pair_model();
     let dnum = history_len(&model);
-
-    // per-atom fixes in LIGGGHTS's order: the walls' histories (created with the walls),
-    // then the pair contact history (created at the first run)
-    let walls = sim.walls();
-    let nw = walls.len();
-    let mut peratom_fixes = Vec::with_capacity(nw + 1);
-    let mut global_fixes = Vec::with_capacity(nw + 1);
-    for wall in walls {
-        let id = format!("{WALL_HISTORY_PREFIX}{}", wall.name);
-        let len = history_len(&wall.model);
-        global_fixes.push(FixState::from_values(
-            &id,
-            PROPERTY_ATOM_STYLE,
-            &[len as f64],
-        ));
-        peratom_fixes.push(PerAtomFix {
-            id,
-            style: PROPERTY_ATOM_STYLE.into(),
-            max_size: len + 1,
-        });
-    }
-    let mut contacts: Vec<Vec<Contact>> = vec![Vec::new(); n];
-    for (i, j, h) in sim.pair_contacts() {
-        contacts[i].push(Contact {
-            partner: p.id[j],
-            history: from_history(&h, dnum),
-        });
-        let back = History {
-            shear: -h.shear,
-            roll: -h.roll,
-        };
-        contacts[j].push(Contact {
-            partner: p.id[i],
-            history: from_history(&back, dnum),
-        });
-    }
-    let maxtouch = contacts.iter().map(Vec::len).max().unwrap_or(0);
-    global_fixes.push(FixState::from_values(
-        CONTACT_HISTORY_STYLE,
-        CONTACT_HISTORY_STYLE,
-        &[dnum as f64, maxtouch as f64],
-    ));
-    peratom_fixes.push(PerAtomFix {
-        id: CONTACT_HISTORY_STYLE.into(),
-        style: CONTACT_HISTORY_STYLE.into(),
-        max_size: 0,
-    });
-
+    let contacts = contacts_per_atom(sim, dnum);
     let half_step = sim.half_step();
-    if half_step.is_some() {
-        peratom_fixes.push(PerAtomFix {
-            id: HALF_STEP_ID.into(),
-            style: HALF_STEP_STYLE.into(),
-            max_size: HALF_STEP_VALUES + 1,
-        });
-    }
-    // the coupling forces of the next interval, as LIGGGHTS's coupling fixes save them
-    let coupling = sim.coupling();
-    if coupling.is_active() {
-        for (id, width) in COUPLING_BLOCKS {
-            global_fixes.push(FixState::from_values(
-                id,
-                PROPERTY_ATOM_STYLE,
-                &[width as f64],
-            ));
-            peratom_fixes.push(PerAtomFix {
-                id: id.into(),
-                style: PROPERTY_ATOM_STYLE.into(),
-                max_size: width + 1,
-            });
-        }
-    }
-    let wall_hist = sim.wall_history();
-    let atoms: Vec<AtomRecord> = (0..n)
-        .zip(contacts)
-        .map(|(i, cs)| {
-            let mut fix_data: Vec<FixAtomData> = walls
-                .iter()
-                .enumerate()
-                .map(|(w, wall)| {
-                    FixAtomData::Values(from_history(
-                        &wall_hist[i * nw + w],
-                        history_len(&wall.model),
-                    ))
-                })
-                .collect();
-            fix_data.push(FixAtomData::Contacts(cs));
-            if let Some(h) = &half_step {
-                let c = h.coupling.get(i).copied().unwrap_or_else(V3::zeros);
-                let values = [h.v[i], h.omega[i], h.force[i], h.torque[i], c]
-                    .iter()
-                    .flat_map(|x| [x[0], x[1], x[2]])
-                    .collect();
-                fix_data.push(FixAtomData::Values(values));
-            }
-            if coupling.is_active() {
-                let (f, u) = (coupling.f_ext[i], coupling.u_f[i]);
-                fix_data.push(FixAtomData::Values(vec![f[0], f[1], f[2]]));
-                fix_data.push(FixAtomData::Values(vec![coupling.beta[i]]));
-                fix_data.push(FixAtomData::Values(vec![u[0], u[1], u[2]]));
-            }
-            AtomRecord {
-                x: p.x[i].into(),
-                tag: p.id[i],
-                atom_type: p.atom_type[i],
-                mask: 1,
-                image: pack_image(p.image[i]),
-                v: p.v[i].into(),
-                radius: p.radius[i],
-                rmass: p.mass[i],
-                density: p.density[i],
-                omega: p.omega[i].into(),
-                fix_data,
-            }
-        })
-        .collect();
+    let (global_fixes, peratom_fixes) = fix_blocks(sim, dnum, &contacts, half_step.is_some());
+    let atoms = atom_records(sim, contacts, half_step.as_ref());
     let mut f = RestartFile {
         header: Header {
             version: VERSION.into(),
@@ -814,6 +814,149 @@ pub fn restart_file(sim: &Simulation) -> RestartFile {
     };
     f.update_max_sizes();
     f
+}
+
+/// Every particle's pair contacts as LIGGGHTS stores them: by both particles, each with the
+/// history as seen from it (`dnum` values).
+fn contacts_per_atom(sim: &Simulation, dnum: usize) -> Vec<Vec<Contact>> {
+    let p = &sim.particles;
+    let mut contacts: Vec<Vec<Contact>> = vec![Vec::new(); p.len()];
+    for (i, j, h) in sim.pair_contacts() {
+        contacts[i].push(Contact {
+            partner: p.id[j],
+            history: from_history(&h, dnum),
+        });
+        let back = History {
+            shear: -h.shear,
+            roll: -h.roll,
+        };
+        contacts[j].push(Contact {
+            partner: p.id[i],
+            history: from_history(&back, dnum),
+        });
+    }
+    contacts
+}
+
+/// The fixes' global states and per-atom blocks, in LIGGGHTS's order: the walls' histories
+/// (created with the walls), then the pair contact history (created at the first run), then
+/// the [`HALF_STEP_ID`] block (with `half_step`) and the coupling blocks.
+fn fix_blocks(
+    sim: &Simulation,
+    dnum: usize,
+    contacts: &[Vec<Contact>],
+    half_step: bool,
+) -> (Vec<FixState>, Vec<PerAtomFix>) {
+    let walls = sim.walls();
+    let nw = walls.len();
+    let mut peratom_fixes = Vec::with_capacity(nw + 1);
+    let mut global_fixes = Vec::with_capacity(nw + 1);
+    for wall in walls {
+        let id = format!("{WALL_HISTORY_PREFIX}{}", wall.name);
+        let len = history_len(&wall.model);
+        global_fixes.push(FixState::from_values(
+            &id,
+            PROPERTY_ATOM_STYLE,
+            &[len as f64],
+        ));
+        peratom_fixes.push(PerAtomFix {
+            id,
+            style: PROPERTY_ATOM_STYLE.into(),
+            max_size: len + 1,
+        });
+    }
+    let maxtouch = contacts.iter().map(Vec::len).max().unwrap_or(0);
+    global_fixes.push(FixState::from_values(
+        CONTACT_HISTORY_STYLE,
+        CONTACT_HISTORY_STYLE,
+        &[dnum as f64, maxtouch as f64],
+    ));
+    peratom_fixes.push(PerAtomFix {
+        id: CONTACT_HISTORY_STYLE.into(),
+        style: CONTACT_HISTORY_STYLE.into(),
+        max_size: 0,
+    });
+
+    if half_step {
+        peratom_fixes.push(PerAtomFix {
+            id: HALF_STEP_ID.into(),
+            style: HALF_STEP_STYLE.into(),
+            max_size: HALF_STEP_VALUES + 1,
+        });
+    }
+    // the coupling forces of the next interval, as LIGGGHTS's coupling fixes save them
+    if sim.coupling().is_active() {
+        for (id, width) in COUPLING_BLOCKS {
+            global_fixes.push(FixState::from_values(
+                id,
+                PROPERTY_ATOM_STYLE,
+                &[width as f64],
+            ));
+            peratom_fixes.push(PerAtomFix {
+                id: id.into(),
+                style: PROPERTY_ATOM_STYLE.into(),
+                max_size: width + 1,
+            });
+        }
+    }
+    (global_fixes, peratom_fixes)
+}
+
+/// Every particle's record, with its data for the per-atom blocks of [`fix_blocks`] (same
+/// order): wall histories, pair contacts (`contacts`), half step, coupling.
+fn atom_records(
+    sim: &Simulation,
+    contacts: Vec<Vec<Contact>>,
+    half_step: Option<&HalfStep>,
+) -> Vec<AtomRecord> {
+    let p = &sim.particles;
+    let walls = sim.walls();
+    let nw = walls.len();
+    let coupling = sim.coupling();
+    let wall_hist = sim.wall_history();
+    (0..p.len())
+        .zip(contacts)
+        .map(|(i, cs)| {
+            let mut fix_data: Vec<FixAtomData> = walls
+                .iter()
+                .enumerate()
+                .map(|(w, wall)| {
+                    FixAtomData::Values(from_history(
+                        &wall_hist[i * nw + w],
+                        history_len(&wall.model),
+                    ))
+                })
+                .collect();
+            fix_data.push(FixAtomData::Contacts(cs));
+            if let Some(h) = half_step {
+                let c = h.coupling.get(i).copied().unwrap_or_else(V3::zeros);
+                let values = [h.v[i], h.omega[i], h.force[i], h.torque[i], c]
+                    .iter()
+                    .flat_map(|x| [x[0], x[1], x[2]])
+                    .collect();
+                fix_data.push(FixAtomData::Values(values));
+            }
+            if coupling.is_active() {
+                let (f, u) = (coupling.f_ext[i], coupling.u_f[i]);
+                fix_data.push(FixAtomData::Values(vec![f[0], f[1], f[2]]));
+                fix_data.push(FixAtomData::Values(vec![coupling.beta[i]]));
+                fix_data.push(FixAtomData::Values(vec![u[0], u[1], u[2]]));
+            }
+            AtomRecord {
+                x: p.x[i].into(),
+                tag: p.id[i],
+                atom_type: p.atom_type[i],
+                mask: 1,
+                image: pack_image(p.image[i]),
+                v: p.v[i].into(),
+                radius: p.radius[i],
+                rmass: p.mass[i],
+                density: p.density[i],
+                omega: p.omega[i].into(),
+                fix_data,
+            }
+        })
+        .collect()
 }
 
 /// `write_restart NAME`: writes the state to NAME (`*` → the step; missing directories are
