@@ -770,11 +770,16 @@ fn turbulence(
 impl Settings {
     /// Reads the settings of `case`.
     pub fn read(case: &Case) -> Result<Settings> {
+        Settings::read_with_control(case, &case.control_dict()?)
+    }
+
+    /// Reads the settings of `case` whose `system/controlDict` the caller has parsed already
+    /// (`cd`: a run reads each case file once and hands it on).
+    pub fn read_with_control(case: &Case, cd: &Dict) -> Result<Settings> {
         let root = case.root();
         let path = |rel: &str| -> PathBuf { root.join(rel) };
-        let cd = case.control_dict()?;
         let (nu, rho) = transport(case)?;
-        let control = Control::read(case, &cd)?;
+        let control = Control::read(case, cd)?;
 
         let sch_file = path("system/fvSchemes");
         let sch = case.read_dict("system/fvSchemes")?;

@@ -247,6 +247,7 @@ fn open_native_fluid(plan: &RunPlan) -> Result<NativeFluid, RunError> {
     let config = &plan.layout.coupling;
     NativeFluid::open(
         &plan.layout.cfd,
+        plan.fluid.clone(),
         plan.fluid_model(),
         config.ddt_voidage,
         config.solve_flow,

@@ -37,7 +37,21 @@ pub struct NativeFluid {
 }
 
 impl NativeFluid {
-    /// Reads the OpenFOAM case `cfd` (mesh, settings, start fields), with the model, the
+    /// [`NativeFluid::open`] on a case whose settings nobody has read yet (a study's copy of
+    /// a case): reads them first.
+    pub fn open_case(
+        cfd: &Path,
+        model: fv::Model,
+        ddt_voidage: bool,
+        solve_flow: bool,
+        rho: f64,
+    ) -> Result<NativeFluid, SideError> {
+        let settings = fv::settings::Settings::read(&foam::Case::open(cfd)?)?;
+        NativeFluid::open(cfd, settings, model, ddt_voidage, solve_flow, rho)
+    }
+
+    /// Reads the OpenFOAM case `cfd` (mesh and start fields; its `settings` — controlDict,
+    /// fvSchemes, fvSolution — the caller has read), with the model, the
     /// ∂ε/∂t switch, whether the flow is solved (`solveFlow`; when false the clock moves
     /// and U, p stay as read) and the coupling's fluid density `rho` (kg/m³).
     ///
@@ -49,6 +63,7 @@ impl NativeFluid {
     /// pressure gradient force lifted the bed and the coupled oscillation grew until it blew up).
     pub fn open(
         cfd: &Path,
+        settings: fv::settings::Settings,
         model: fv::Model,
         ddt_voidage: bool,
         solve_flow: bool,
@@ -57,7 +72,7 @@ impl NativeFluid {
         if !(rho.is_finite() && rho > 0.0) {
             return Err(format!("fluid density {rho} kg/m³ is not a positive number").into());
         }
-        let mut fluid = Fluid::from_case(cfd)?;
+        let mut fluid = Fluid::from_case_with(foam::Case::open(cfd)?, settings)?;
         fluid.settings.rho = rho;
         fluid.model = model;
         fluid.ddt_voidage = ddt_voidage;

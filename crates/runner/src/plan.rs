@@ -38,7 +38,7 @@ pub struct RunOptions {
     pub no_overlap: bool,
 }
 
-/// `system/controlDict`, parsed once: the fluid's function objects (`probes`,
+/// `system/controlDict`, parsed once: the fluid's settings, its function objects (`probes`,
 /// `surfaceFieldValue`) and the warnings read it from here.
 #[derive(Clone, Debug)]
 pub struct ControlDict {
@@ -76,15 +76,15 @@ impl RunPlan {
         let settings = config.coupler_settings(&layout.cfd)?;
         let commands = LiggghtsCommands::read_case(&layout.cfd)?;
         warnings.extend(commands.warnings.iter().cloned());
-        let control_path = layout.cfd.join("system/controlDict");
+        let case = foam::Case::open(&layout.cfd)?;
         let control = ControlDict {
-            body: foam::parse_file(&control_path)?.body,
-            path: control_path,
+            body: case.control_dict()?,
+            path: layout.cfd.join("system/controlDict"),
         };
         if opts.fluid == FluidBackend::Native {
             warnings.extend(crate::native::control_dict_warnings(&control));
         }
-        let fluid = fv::settings::Settings::read(&foam::Case::open(&layout.cfd)?)
+        let fluid = fv::settings::Settings::read_with_control(&case, &control.body)
             .map_err(|e| RunError::Fluid(Box::new(e)))?;
         let run_deck = Deck::read(&layout.run_deck)?;
         let plan = RunPlan {

@@ -192,7 +192,7 @@ impl RunContext<'_> {
 
         let rho = self.settings.physics.rho;
         let mut fluid =
-            NativeFluid::open(&work, self.model, true, true, rho).map_err(fluid_err(&work))?;
+            NativeFluid::open_case(&work, self.model, true, true, rho).map_err(fluid_err(&work))?;
         for patch in [self.inlet, self.outlet] {
             if !fluid
                 .fluid()

@@ -205,6 +205,12 @@ impl Fluid {
     pub fn from_case(dir: impl AsRef<Path>) -> Result<Fluid> {
         let case = Case::open(dir.as_ref())?;
         let settings = Settings::read(&case)?;
+        Fluid::from_case_with(case, settings)
+    }
+
+    /// [`Fluid::from_case`] with the case's settings read already (a coupled run reads them
+    /// once, into its plan).
+    pub fn from_case_with(case: Case, settings: Settings) -> Result<Fluid> {
         let mesh = case.read_mesh()?;
         let g = FvGeometry::new(&mesh).map_err(|e| e.in_case(case.root()))?;
         let start = start_dir(&case, settings.start_time)?;
