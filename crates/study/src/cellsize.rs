@@ -31,7 +31,7 @@ use crate::run::{RunContext, RunResult};
 use crate::steady::SteadyCriterion;
 use crate::template::Template;
 use closures::model::ModelType;
-use couple::CouplingConfig;
+use couple::{CouplerSettings, CouplingConfig};
 use mesh::v3::{unit, V3};
 use runner::bed::Bed;
 use runner::layout::CaseLayout;
@@ -294,29 +294,16 @@ pub fn cellsize(
     events: &mut dyn FnMut(StudyEvent),
 ) -> Result<StudyReport, StudyError> {
     check_options(opts)?;
-    let layout = CaseLayout::open(case)?;
-    let template = Template::read(&layout.cfd.join("system/blockMeshDict.template"))?;
-    let config = CouplingConfig::read_case(&layout.cfd)?;
-    for w in &config.warnings {
-        events(StudyEvent::Message(format!("warning: {w}")));
-    }
-    let settings = config.coupler_settings(&layout.cfd)?;
-    let model = match config.model {
-        ModelType::A => fv::Model::A,
-        _ => fv::Model::B,
-    };
-    let gvec = settings.physics.gravity;
-    let axis = unit(-gvec).unwrap_or(V3::z());
-    if axis.dot(&V3::z()) < 1.0 - 1e-12 {
-        return Err(StudyError::Setup {
-            file: layout.cfd.join("constant/g"),
-            message: "the study needs gravity along −z (the template's column axis is z)".into(),
-        });
-    }
-    let fluid = FluidProps {
-        rho: settings.physics.rho,
-        mu: settings.physics.rho * settings.physics.nu,
-    };
+    let StudyCase {
+        layout,
+        template,
+        coupling_interval,
+        settings,
+        model,
+        gvec,
+        axis,
+        fluid,
+    } = StudyCase::read(case, events)?;
 
     let t_pack = Instant::now();
     let mut log = |m: String| events(StudyEvent::Message(m));
@@ -341,9 +328,113 @@ pub fn cellsize(
         summary.u_mf_ergun,
         summary.u_mf_gidaspow
     )));
+    let references = velocity_references(&opts.velocities, u_mf, &bed, &summary);
+
+    let out = opts
+        .output
+        .clone()
+        .unwrap_or_else(|| layout.post_processing().join("cellsize"));
+    let work = out.join("work");
+    let ctx = RunContext {
+        cfd: &layout.cfd,
+        template: &template,
+        bed: &bed,
+        settings,
+        model,
+        coupling_interval,
+        axis,
+        inlet: &opts.inlet,
+        outlet: &opts.outlet,
+        bed_range: (summary.floor, summary.floor + summary.height),
+        criterion: opts.criterion,
+        max_steps: opts.max_steps,
+        work: &work,
+    };
+    let t_runs = Instant::now();
+    let (rows, failures) = run_all(&ctx, opts, &references, &summary, events)?;
+    let run_seconds = t_runs.elapsed().as_secs_f64();
+    let gci = gci_series(&rows, &references, &opts.methods);
+    Ok(StudyReport {
+        case: case.to_owned(),
+        bed: summary,
+        references,
+        rows,
+        failures,
+        gci,
+        criterion: opts.criterion,
+        pack_seconds,
+        run_seconds,
+    })
+}
+
+/// What a study takes from its case before packing: the directories, the mesh template and
+/// the coupling settings with the fluid model, gravity and the fluid's properties.
+struct StudyCase {
+    layout: CaseLayout,
+    template: Template,
+    /// `couplingInterval`.
+    coupling_interval: u64,
+    settings: CouplerSettings,
+    model: fv::Model,
+    /// Gravity, m/s².
+    gvec: V3,
+    /// Unit vector up the column (against gravity): +z.
+    axis: V3,
+    fluid: FluidProps,
+}
+
+impl StudyCase {
+    /// Reads the case at `case` (its configuration's warnings go to `events`); an error unless
+    /// gravity is along −z.
+    fn read(case: &Path, events: &mut dyn FnMut(StudyEvent)) -> Result<StudyCase, StudyError> {
+        let layout = CaseLayout::open(case)?;
+        let template = Template::read(&layout.cfd.join("system/blockMeshDict.template"))?;
+        let config = CouplingConfig::read_case(&layout.cfd)?;
+        for w in &config.warnings {
+            events(StudyEvent::Message(format!("warning: {w}")));
+        }
+        let settings = config.coupler_settings(&layout.cfd)?;
+        let model = match config.model {
+            ModelType::A => fv::Model::A,
+            _ => fv::Model::B,
+        };
+        let gvec = settings.physics.gravity;
+        let axis = unit(-gvec).unwrap_or(V3::z());
+        if axis.dot(&V3::z()) < 1.0 - 1e-12 {
+            return Err(StudyError::Setup {
+                file: layout.cfd.join("constant/g"),
+                message: "the study needs gravity along −z (the template's column axis is z)"
+                    .into(),
+            });
+        }
+        let fluid = FluidProps {
+            rho: settings.physics.rho,
+            mu: settings.physics.rho * settings.physics.nu,
+        };
+        Ok(StudyCase {
+            layout,
+            template,
+            coupling_interval: config.coupling_interval,
+            settings,
+            model,
+            gvec,
+            axis,
+            fluid,
+        })
+    }
+}
+
+/// The references at each velocity fraction of `u_mf` (m/s): Gidaspow's and Ergun–Sauter's
+/// pressure drops on the measured bed.
+fn velocity_references(
+    fractions: &[f64],
+    u_mf: f64,
+    bed: &PackedBed,
+    summary: &BedSummary,
+) -> Vec<VelocityReference> {
+    let fluid = summary.fluid;
     let d_all = bed.diameters();
-    let references: Vec<VelocityReference> = opts
-        .velocities
+    fractions
         .iter()
         .map(|&f| {
             let u = f * u_mf;
@@ -366,36 +457,25 @@ pub fn cellsize(
                 ),
             }
         })
-        .collect();
+        .collect()
+}
 
-    let out = opts
-        .output
-        .clone()
-        .unwrap_or_else(|| layout.post_processing().join("cellsize"));
-    let work = out.join("work");
-    let ctx = RunContext {
-        cfd: &layout.cfd,
-        template: &template,
-        bed: &bed,
-        settings,
-        model,
-        coupling_interval: config.coupling_interval,
-        axis,
-        inlet: &opts.inlet,
-        outlet: &opts.outlet,
-        bed_range: (summary.floor, summary.floor + summary.height),
-        criterion: opts.criterion,
-        max_steps: opts.max_steps,
-        work: &work,
-    };
+/// Every run of the study, in the order velocity, method, grid: the rows of the runs that
+/// finished and the runs whose fluid solve failed (each reported to `events`).
+fn run_all(
+    ctx: &RunContext<'_>,
+    opts: &StudyOptions,
+    references: &[VelocityReference],
+    summary: &BedSummary,
+    events: &mut dyn FnMut(StudyEvent),
+) -> Result<(Vec<StudyRow>, Vec<RunFailure>), StudyError> {
     let total = references.len() * opts.methods.len() * opts.dx_over_d.len();
     let mut rows = Vec::with_capacity(total);
     let mut failures = Vec::new();
-    let t_runs = Instant::now();
-    for r in &references {
+    for r in references {
         for &method in &opts.methods {
             for &target in &opts.dx_over_d {
-                let n = grid_for(&template, target, summary.diameters.sauter);
+                let n = grid_for(ctx.template, target, summary.diameters.sauter);
                 let run = match ctx.run(n, method, r.velocity) {
                     Ok(run) => run,
                     Err(e @ (StudyError::Couple(_) | StudyError::Fluid { .. })) => {
@@ -416,19 +496,7 @@ pub fn cellsize(
                     }
                     Err(e) => return Err(e),
                 };
-                let volume: f64 = template.lengths().iter().product();
-                let h = gci::representative_size(volume, run.cells as f64, gci::Dim::Three);
-                let p = run.fluid_force / summary.area;
-                let row = StudyRow {
-                    target,
-                    cell_size: summary.diameters.ratios(h),
-                    fraction: r.fraction,
-                    force_per_area: p,
-                    error: p / r.gidaspow_dp - 1.0,
-                    error_pressure_drop: run.pressure_drop / r.gidaspow_dp - 1.0,
-                    error_ergun: p / r.ergun_dp - 1.0,
-                    run,
-                };
+                let row = study_row(run, target, r, summary, ctx.template);
                 if !row.run.steady {
                     events(StudyEvent::Message(format!(
                         "warning: {} Δx/d32 {target} at {:.3} U_mf: not steady after {} steps (change {:.2e})",
@@ -447,19 +515,31 @@ pub fn cellsize(
             }
         }
     }
-    let run_seconds = t_runs.elapsed().as_secs_f64();
-    let gci = gci_series(&rows, &references, &opts.methods);
-    Ok(StudyReport {
-        case: case.to_owned(),
-        bed: summary,
-        references,
-        rows,
-        failures,
-        gci,
-        criterion: opts.criterion,
-        pack_seconds,
-        run_seconds,
-    })
+    Ok((rows, failures))
+}
+
+/// The row of one run for the Δx/d₃₂ `target` at the velocity of `r`: its cell sizes and its
+/// errors against the references.
+fn study_row(
+    run: RunResult,
+    target: f64,
+    r: &VelocityReference,
+    summary: &BedSummary,
+    template: &Template,
+) -> StudyRow {
+    let volume: f64 = template.lengths().iter().product();
+    let h = gci::representative_size(volume, run.cells as f64, gci::Dim::Three);
+    let p = run.fluid_force / summary.area;
+    StudyRow {
+        target,
+        cell_size: summary.diameters.ratios(h),
+        fraction: r.fraction,
+        force_per_area: p,
+        error: p / r.gidaspow_dp - 1.0,
+        error_pressure_drop: run.pressure_drop / r.gidaspow_dp - 1.0,
+        error_ergun: p / r.ergun_dp - 1.0,
+        run,
+    }
 }
 
 /// GCI of F/A per method and velocity over the grids run (distinct h only).
