@@ -10,56 +10,14 @@
 //! with the cargo feature that would enable it.
 
 use crate::error::RunError;
+pub use crate::plan::{DemBackend, FluidBackend};
+
 use crate::native::{NativeDem, NativeFluid};
 use crate::plan::RunPlan;
 use crate::report::{Event, RunReport};
 use crate::run_loop::{couple_loop, coupling_steps, LoopContext};
 use liggghts_deck::Deck;
 use std::path::{Path, PathBuf};
-
-/// The fluid solver of a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum FluidBackend {
-    /// The native Rust VANS PISO solver (`fv`).
-    #[default]
-    Native,
-    /// grainPisoFoam (Debian's OpenFOAM v1912) spawned over MPI.
-    OpenFoam,
-}
-
-/// The DEM of a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DemBackend {
-    /// The native Rust DEM (`dem`).
-    #[default]
-    Native,
-    /// LIGGGHTS in this process (Debian's libliggghts).
-    Liggghts,
-    /// LIGGGHTS as a child process, coupled through files (slow by design: LIGGGHTS polls the
-    /// files every 10 s).
-    LiggghtsFile,
-}
-
-impl FluidBackend {
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            FluidBackend::Native => "native",
-            FluidBackend::OpenFoam => "openfoam",
-        }
-    }
-}
-
-impl DemBackend {
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            DemBackend::Native => "native",
-            DemBackend::Liggghts => "liggghts",
-            DemBackend::LiggghtsFile => "liggghts-file",
-        }
-    }
-}
 
 /// Ranks `mpirun` (Open MPI, MPICH/PMI) says this process is one of, without initialising MPI:
 /// 1 when launched alone.

@@ -23,7 +23,7 @@ use crate::reference::{
     ergun_pressure_gradient, ergun_velocity_for, settling_speed_history,
     settling_speed_history_with, terminal_speed_with,
 };
-use crate::sample::Sample;
+use crate::sample::{mean_of, Sample};
 use crate::validation::Check;
 use closures::input::{sphere_volume, DragInput};
 use couple::CouplerSettings;
@@ -110,24 +110,6 @@ pub fn plateau_ends(samples: &[Sample], min_len: usize) -> Vec<Sample> {
         }
     }
     out
-}
-
-/// The mean of the plateau quantities over `run` (time: the last one's).
-pub(crate) fn mean_of(run: &[Sample]) -> Sample {
-    let k = run.len() as f64;
-    // a quantity missing from one sample is missing from the mean
-    let avg =
-        |f: fn(&Sample) -> Option<f64>| run.iter().map(f).sum::<Option<f64>>().map(|sum| sum / k);
-    Sample {
-        time: run[run.len() - 1].time,
-        inlet_velocity: avg(|s| s.inlet_velocity),
-        pressure_drop: avg(|s| s.pressure_drop),
-        bed_height: avg(|s| s.bed_height),
-        bed_voidage: avg(|s| s.bed_voidage),
-        sauter_diameter: avg(|s| s.sauter_diameter),
-        weight_per_area: avg(|s| s.weight_per_area),
-        ..run[run.len() - 1]
-    }
 }
 
 /// Samples a plateau needs to count as one.

@@ -1,7 +1,34 @@
-//! Errors of a run ([`RunError`]): each names the file or the side it comes from.
+//! Errors of a run ([`RunError`]) and of reading a case ([`LayoutError`]): each names the
+//! file or the side it comes from.
 
-use crate::layout::LayoutError;
 use std::path::{Path, PathBuf};
+
+/// Errors finding or reading a case; every message names the file or directory.
+#[derive(Debug, thiserror::Error)]
+pub enum LayoutError {
+    /// A required directory or file is missing.
+    #[error("{path}: {what} not found (a CFDEM-layout case has CFD/ and DEM/ folders)")]
+    Missing {
+        /// The missing path.
+        path: PathBuf,
+        /// What it should have been.
+        what: &'static str,
+    },
+    /// A dictionary failed to parse.
+    #[error(transparent)]
+    Foam(#[from] foam::FoamError),
+    /// `couplingProperties` is invalid.
+    #[error(transparent)]
+    Coupling(#[from] couple::CoupleError),
+    /// A dictionary entry is missing or has the wrong type or value.
+    #[error("{path}: {msg}")]
+    Entry {
+        /// The dictionary file.
+        path: PathBuf,
+        /// What is wrong, naming the key.
+        msg: String,
+    },
+}
 
 /// Errors of a run; each names the file or the side it comes from.
 #[derive(Debug, thiserror::Error)]

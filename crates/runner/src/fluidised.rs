@@ -21,10 +21,10 @@
 //! window) and `pressure_drop.png` (Δp against time with the bed weight per area and the drag
 //! law's packed-bed Δp during the ramp).
 
-use crate::checks::mean_of;
 use crate::error::RunError;
 use crate::plot::{LinePlot, Series, Style};
 use crate::reference::{packed_bed_pressure_gradient_with, packed_bed_velocity_for};
+use crate::sample::mean_of;
 use crate::sample::Sample;
 use crate::validation::Check;
 use closures::input::DragInput;

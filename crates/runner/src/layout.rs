@@ -5,32 +5,7 @@
 use foam::Dict;
 use std::path::{Path, PathBuf};
 
-/// Errors finding or reading a case; every message names the file or directory.
-#[derive(Debug, thiserror::Error)]
-pub enum LayoutError {
-    /// A required directory or file is missing.
-    #[error("{path}: {what} not found (a CFDEM-layout case has CFD/ and DEM/ folders)")]
-    Missing {
-        /// The missing path.
-        path: PathBuf,
-        /// What it should have been.
-        what: &'static str,
-    },
-    /// A dictionary failed to parse.
-    #[error(transparent)]
-    Foam(#[from] foam::FoamError),
-    /// `couplingProperties` is invalid.
-    #[error(transparent)]
-    Coupling(#[from] couple::CoupleError),
-    /// A dictionary entry is missing or has the wrong type or value.
-    #[error("{path}: {msg}")]
-    Entry {
-        /// The dictionary file.
-        path: PathBuf,
-        /// What is wrong, naming the key.
-        msg: String,
-    },
-}
+pub use crate::error::LayoutError;
 
 /// The files of a CFDEM-layout case.
 #[derive(Clone, Debug, PartialEq)]

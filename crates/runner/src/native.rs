@@ -423,32 +423,3 @@ impl ParticleSide for NativeDem {
         Ok(())
     }
 }
-
-/// Warnings for what `system/controlDict` asks of OpenFOAM that the native fluid does not do:
-/// its `functions` (function objects such as CFDEM tutorials' `probes` and
-/// `surfaceFieldValue`) are not run — one line naming them.
-pub fn control_dict_warnings(control: &crate::plan::ControlDict) -> Vec<String> {
-    let path = &control.path;
-    let Some(f) = control.body.opt_dict("functions") else {
-        return Vec::new();
-    };
-    // `probes` and `surfaceFieldValue` are run ([`crate::probes`],
-    // [`crate::surface_values`], which warn of what they leave out); the others are named.
-    let others: Vec<&str> = f
-        .keys()
-        .filter(|k| {
-            let kind = f.opt_dict(k).and_then(|d| d.word("type").ok());
-            !matches!(kind, Some("probes" | "surfaceFieldValue"))
-        })
-        .collect();
-    match others.is_empty() {
-        true => Vec::new(),
-        false => vec![format!(
-            "{}: functions ({}) are not run by the native fluid (foamgrain writes \
-             postProcessing/integrals.csv and the time directories; `probes` and \
-             `surfaceFieldValue` are run)",
-            path.display(),
-            others.join(" ")
-        )],
-    }
-}

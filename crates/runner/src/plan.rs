@@ -8,13 +8,56 @@
 //! home: the coupling interval is [`couple::CouplerSettings::coupling_interval`], the fluid's
 //! clock `fv::settings::Settings`, the DEM step the deck's [`Deck::time_step`].
 
-use crate::backend::{DemBackend, FluidBackend};
 use crate::error::{setup_err, RunError};
 use crate::layout::CaseLayout;
 use couple::config::LiggghtsCommands;
 use couple::CouplerSettings;
 use liggghts_deck::Deck;
 use std::path::{Path, PathBuf};
+
+/// The fluid solver of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FluidBackend {
+    /// The native Rust VANS PISO solver (`fv`).
+    #[default]
+    Native,
+    /// grainPisoFoam (Debian's OpenFOAM v1912) spawned over MPI.
+    OpenFoam,
+}
+
+/// The DEM of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DemBackend {
+    /// The native Rust DEM (`dem`).
+    #[default]
+    Native,
+    /// LIGGGHTS in this process (Debian's libliggghts).
+    Liggghts,
+    /// LIGGGHTS as a child process, coupled through files (slow by design: LIGGGHTS polls the
+    /// files every 10 s).
+    LiggghtsFile,
+}
+
+impl FluidBackend {
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            FluidBackend::Native => "native",
+            FluidBackend::OpenFoam => "openfoam",
+        }
+    }
+}
+
+impl DemBackend {
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            DemBackend::Native => "native",
+            DemBackend::Liggghts => "liggghts",
+            DemBackend::LiggghtsFile => "liggghts-file",
+        }
+    }
+}
 
 /// Options of a run (the command line's).
 #[derive(Clone, Debug, Default)]
@@ -82,7 +125,7 @@ impl RunPlan {
             path: layout.cfd.join("system/controlDict"),
         };
         if opts.fluid == FluidBackend::Native {
-            warnings.extend(crate::native::control_dict_warnings(&control));
+            warnings.extend(control_dict_warnings(&control));
         }
         let fluid = fv::settings::Settings::read_with_control(&case, &control.body)
             .map_err(|e| RunError::Fluid(Box::new(e)))?;
@@ -179,4 +222,33 @@ pub(crate) fn start_file(deck: &Deck, dem_dir: &Path) -> Option<(PathBuf, bool)>
         _ => path.exists(),
     };
     Some((path, exists))
+}
+
+/// Warnings for what `system/controlDict` asks of OpenFOAM that the native fluid does not do:
+/// its `functions` (function objects such as CFDEM tutorials' `probes` and
+/// `surfaceFieldValue`) are not run — one line naming them.
+fn control_dict_warnings(control: &ControlDict) -> Vec<String> {
+    let path = &control.path;
+    let Some(f) = control.body.opt_dict("functions") else {
+        return Vec::new();
+    };
+    // `probes` and `surfaceFieldValue` are run ([`crate::probes`],
+    // [`crate::surface_values`], which warn of what they leave out); the others are named.
+    let others: Vec<&str> = f
+        .keys()
+        .filter(|k| {
+            let kind = f.opt_dict(k).and_then(|d| d.word("type").ok());
+            !matches!(kind, Some("probes" | "surfaceFieldValue"))
+        })
+        .collect();
+    match others.is_empty() {
+        true => Vec::new(),
+        false => vec![format!(
+            "{}: functions ({}) are not run by the native fluid (foamgrain writes \
+             postProcessing/integrals.csv and the time directories; `probes` and \
+             `surfaceFieldValue` are run)",
+            path.display(),
+            others.join(" ")
+        )],
+    }
 }

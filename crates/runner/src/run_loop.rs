@@ -9,13 +9,13 @@
 //! closes after that ([`crate::outputs::Open`]); the results are the sequential order's bit for
 //! bit.
 
-use crate::backend::FluidBackend;
 use crate::checks;
 use crate::error::{io_err, setup_err, RunError};
 use crate::fluid::RunFluid;
 use crate::layout::ValidationSpec;
 use crate::monitors::RunMonitors;
 use crate::outputs::{population_summary, pvd_entries_until, Column, Observer, Open, Outputs};
+use crate::plan::FluidBackend;
 use crate::plan::{RunOptions, RunPlan};
 use crate::report::{Event, RunReport};
 use crate::timed::Timed;

@@ -162,6 +162,24 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
     })
 }
 
+/// The mean of the plateau quantities over `run` (time: the last one's).
+pub(crate) fn mean_of(run: &[Sample]) -> Sample {
+    let k = run.len() as f64;
+    // a quantity missing from one sample is missing from the mean
+    let avg =
+        |f: fn(&Sample) -> Option<f64>| run.iter().map(f).sum::<Option<f64>>().map(|sum| sum / k);
+    Sample {
+        time: run[run.len() - 1].time,
+        inlet_velocity: avg(|s| s.inlet_velocity),
+        pressure_drop: avg(|s| s.pressure_drop),
+        bed_height: avg(|s| s.bed_height),
+        bed_voidage: avg(|s| s.bed_voidage),
+        sauter_diameter: avg(|s| s.sauter_diameter),
+        weight_per_area: avg(|s| s.weight_per_area),
+        ..run[run.len() - 1]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

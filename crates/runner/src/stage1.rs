@@ -4,9 +4,9 @@
 //! backends — and writes that file. On N ranks rank 0 packs alone; the others wait for it and
 //! learn whether it failed.
 
-use crate::backend::{DemBackend, Launch};
+use crate::backend::Launch;
 use crate::error::{setup_err, RunError};
-use crate::plan::{RunOptions, RunPlan};
+use crate::plan::{DemBackend, RunOptions, RunPlan};
 use crate::report::Event;
 use liggghts_deck::Deck;
 use std::time::Instant;
