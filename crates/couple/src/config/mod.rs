@@ -2,16 +2,18 @@
 //!
 //! CFDEMcoupling selects a model per family by name (`voidFractionModel divided;`) and reads
 //! its parameters from a `<name>Props` sub-dictionary; `forceModels` and `momCoupleModels` are
-//! lists of names. [`CouplingConfig::read`] maps those names onto foamgrain's. Every family's
-//! names, and whether each acts, is accepted as it is, warns or is refused, are one table per
-//! family in [`registry`]; this module reads the keys:
+//! lists of names. [`CouplingConfig::read`] maps those names onto foamgrain's. Every family is
+//! one table in [`registry`], a row per model: its name, aliases, whether it acts, is accepted
+//! as it is, warns or is refused, and for an acting model its constructor (in the family's
+//! file: `void_fraction`, `forces`, `monitors`, `momentum`, `smoothing`, `commands`), which
+//! reads the model's `<name>Props`; this module reads the keys:
 //!
 //! | CFDEM keyword | foamgrain |
 //! |---|---|
 //! | `modelType` `A`, `B`, `Bfull` | [`closures::model::ModelType`] |
 //! | `couplingInterval` (integer ≥ 1) | DEM steps per coupling step |
-//! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor (CFDEM's default 0.1 for its models, none for ours) |
-//! | `forceModels` (one drag law of [`closures::DRAG_LAW_NAMES`], [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
+//! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` (with the other spellings of [`voidage::Method::names`], [`registry::VOIDAGE`]) | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor (CFDEM's default 0.1 for its models, none for ours) |
+//! | `forceModels` (one drag law of [`registry::DRAG_LAWS`], closures' list, and [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
 //! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
 //! | `smoothingModel constDiffSmoothing` (`<name>Props`: `smoothingLength`, `lowerLimit`, `upperLimit`) | [`CouplingConfig::smoothing`], [`crate::smoothing`]; the other smoothing models are refused |
