@@ -23,10 +23,11 @@
 //! **Adding a model** is one row here and one constructor fn in the file of its family
 //! (`forces.rs` for `forceModels`, `monitors.rs`, `momentum.rs`, `smoothing.rs`,
 //! `void_fraction.rs`, `commands.rs`), plus the field of its typed setting. A constructor has the
-//! signature of [`Build`]: it gets the [`Reader`] (errors and warnings name the file and key),
-//! the [`Given`] name (as written, maybe an alias) with the dictionary holding it, and the
-//! [`Setup`] to set. The test `every_row_is_reached` walks every row of every family by each
-//! of its spellings, so a row whose constructor fails on defaults is caught.
+//! signature of [`Build`]: it gets the `Reader` (errors and warnings name the file and key),
+//! the `Given` name (as written, maybe an alias) with the dictionary holding it, and the
+//! `Setup` to set. The test `every_row_is_reached` walks every row of every family by each of
+//! its spellings (with the Props of its `REQUIRED_PROPS` for keys that have no default, where
+//! a new model's required keys go), so a row without a working constructor fails it.
 
 use super::{commands, forces, momentum, monitors, smoothing, void_fraction};
 use super::{Built, Given, Reader, Setup};
@@ -37,7 +38,7 @@ use Support::{Acts, Refuse, Same, Warn};
 /// The signature of a constructor: reads the model's Props and sets its typed setting.
 pub(super) type BuildFn = fn(&mut Reader<'_>, &Given<'_>, &mut Setup) -> Built;
 
-/// An acting model's constructor ([`BuildFn`]).
+/// An acting model's constructor (a `BuildFn`).
 #[derive(Clone, Copy)]
 pub struct Build(pub(super) BuildFn);
 
