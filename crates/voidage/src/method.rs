@@ -61,6 +61,21 @@ impl Method {
         }
     }
 
+    /// Every spelling that selects the method, the one alias list of voidage names ([`FromStr`]
+    /// and couple's `voidFractionModel` read it): the `voidFractionModel` name first (CFDEM's
+    /// where CFDEM has the model), then CFDEM's class names (`…VoidFraction`), the command
+    /// line's `corrected-cube` and `center`.
+    pub const fn names(self) -> &'static [&'static str] {
+        match self {
+            Method::Centre => &["centre", "center", "centreVoidFraction"],
+            Method::Divided => &["divided", "dividedVoidFraction"],
+            Method::Trilinear => &["trilinear", "trilinearVoidFraction"],
+            Method::Cube => &["cube"],
+            Method::CorrectedCube => &["correctedCube", "corrected-cube"],
+            Method::Exact => &["exact", "exactVoidFraction"],
+        }
+    }
+
     /// The CFDEMcoupling `voidFractionModel` of the same behaviour, where one exists.
     pub fn cfdem_name(self) -> Option<&'static str> {
         match self {
@@ -106,17 +121,11 @@ impl std::error::Error for UnknownMethod {}
 impl FromStr for Method {
     type Err = UnknownMethod;
 
-    /// Accepts the names of [`Method::name`], CFDEM's spellings (`centre`, `divided`,
-    /// `trilinear`, also with the `VoidFraction` suffix of its class names) and `center`.
+    /// Accepts every spelling of [`Method::names`].
     fn from_str(s: &str) -> Result<Method, UnknownMethod> {
-        Ok(match s {
-            "centre" | "center" | "centreVoidFraction" => Method::Centre,
-            "divided" | "dividedVoidFraction" => Method::Divided,
-            "trilinear" | "trilinearVoidFraction" => Method::Trilinear,
-            "cube" => Method::Cube,
-            "corrected-cube" => Method::CorrectedCube,
-            "exact" => Method::Exact,
-            _ => return Err(UnknownMethod(s.into())),
-        })
+        Method::ALL
+            .into_iter()
+            .find(|m| m.names().contains(&s))
+            .ok_or_else(|| UnknownMethod(s.into()))
     }
 }

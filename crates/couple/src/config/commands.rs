@@ -19,8 +19,8 @@
 //!
 //! A missing file means `runLiggghts` alone.
 
-use super::registry::{Support, LIGGGHTS_COMMANDS};
-use super::Reader;
+use super::registry::LIGGGHTS_COMMANDS;
+use super::{Built, Given, Reader, Setup};
 use crate::error::CoupleError;
 use foam::{Dict, Item, Value};
 use std::path::Path;
@@ -150,29 +150,21 @@ impl LiggghtsCommands {
     /// The commands of `top`, the body of the file `file`.
     pub fn from_dict(top: &Dict, file: &Path) -> Result<LiggghtsCommands, CoupleError> {
         let mut r = Reader::new(file);
-        let key = "liggghtsCommandModels";
-        let mut commands = Vec::new();
-        let mut executes = 0;
+        let key = LIGGGHTS_COMMANDS.key;
+        let mut setup = Setup::default();
         for name in r.word_list(top, key)? {
-            match LIGGGHTS_COMMANDS.support(&name) {
-                Some(Support::Acts) => {}
-                Some(_) | None => {
-                    r.select(&LIGGGHTS_COMMANDS, key, &name)?;
-                    continue;
-                }
-            }
-            match name.as_str() {
-                "writeLiggghts" => commands.push(write_liggghts(&r, top)?),
-                "execute" => {
-                    let props = format!("executeProps{executes}");
-                    executes += 1;
-                    commands.push(execute(&r, top, &props)?);
-                }
-                _ => unreachable!("every acting name of LIGGGHTS_COMMANDS is matched above"),
-            }
+            r.apply(
+                &LIGGGHTS_COMMANDS,
+                &Given {
+                    key,
+                    name: &name,
+                    top,
+                },
+                &mut setup,
+            )?;
         }
         Ok(LiggghtsCommands {
-            commands,
+            commands: setup.commands,
             warnings: r.warnings,
         })
     }
@@ -186,10 +178,11 @@ fn sub_dict<'d>(r: &Reader<'_>, top: &'d Dict, key: &str) -> Result<Option<&'d D
     }
 }
 
-fn write_liggghts(r: &Reader<'_>, top: &Dict) -> Result<ScheduledCommand, CoupleError> {
+/// `writeLiggghts`: `write_restart` at the write times, from `writeLiggghtsProps`.
+pub(super) fn write_liggghts(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
     let dict = "writeLiggghtsProps";
     let empty = Dict::new();
-    let props = sub_dict(r, top, dict)?.unwrap_or(&empty);
+    let props = sub_dict(r, g.top, dict)?.unwrap_or(&empty);
     r.check_props(
         props,
         dict,
@@ -234,18 +227,22 @@ fn write_liggghts(r: &Reader<'_>, top: &Dict) -> Result<ScheduledCommand, Couple
     if !overwrite {
         command.push('_');
     }
-    Ok(ScheduledCommand {
+    s.commands.push(ScheduledCommand {
         command,
         time_stamp: !overwrite,
         schedule: match last_only {
             true => Schedule::Last,
             false => Schedule::EveryWriteTime { every },
         },
-    })
+    });
+    Ok(())
 }
 
-fn execute(r: &Reader<'_>, top: &Dict, dict: &str) -> Result<ScheduledCommand, CoupleError> {
-    let Some(props) = sub_dict(r, top, dict)? else {
+/// `execute`: the k-th of the list reads `executeProps<k>` (k from 0), as CFDEM does.
+pub(super) fn execute(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let dict = &format!("executeProps{}", s.executes);
+    s.executes += 1;
+    let Some(props) = sub_dict(r, g.top, dict)? else {
         return Err(r.err(
             dict,
             "missing: the k-th `execute` of liggghtsCommandModels reads executeProps<k> (k from 0)",
@@ -310,11 +307,12 @@ fn execute(r: &Reader<'_>, top: &Dict, dict: &str) -> Result<ScheduledCommand, C
             interval: interval.floor() as u64,
         }
     };
-    Ok(ScheduledCommand {
+    s.commands.push(ScheduledCommand {
         command,
         time_stamp,
         schedule,
-    })
+    });
+    Ok(())
 }
 
 /// CFDEM's command assembly from words and tokens; returns the command and whether the time

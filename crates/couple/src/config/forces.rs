@@ -3,18 +3,18 @@
 //! `volWeightedAverage`, which observe the fields — see [`super::monitors`]).
 //!
 //! Which names exist and what each does is the table [`super::registry::FORCES`] (plus the drag
-//! laws of [`closures::DRAG_LAW_NAMES`]).
+//! laws of [`super::registry::DRAG_LAWS`], closures' list); this file holds the constructors
+//! of the forces (the observers' are in [`super::monitors`]).
 
-use super::monitors::{self, Monitors};
-use super::registry::{Support, FORCES};
-use super::{DragSettings, Forces, NoDrag, Reader};
+use super::registry::{DRAG_LAWS, FORCES};
+use super::{Built, DragSettings, Given, NoDrag, Reader, Setup};
 use crate::error::CoupleError;
 use crate::interpolate::Interpolation;
-use closures::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR, DRAG_LAW_NAMES};
+use closures::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR};
 use foam::Dict;
 
 /// Props keys of a drag law that act, by law.
-fn drag_keys(law: DragLaw) -> Vec<&'static str> {
+pub(super) fn drag_keys(law: DragLaw) -> Vec<&'static str> {
     let mut known = vec![
         "interpolation",
         "implForceDEM",
@@ -40,94 +40,87 @@ const DRAG_KEYS_WITHOUT_EFFECT: [(&str, &str); 2] = [
     ),
 ];
 
-/// Reads `forceModels` and their Props into the forces and the monitors they declare.
+/// Reads `forceModels`: a drag law of [`DRAG_LAWS`] through [`drag`], every other name
+/// through [`FORCES`].
 pub(super) fn read_forces(
     r: &mut Reader<'_>,
     top: &Dict,
-    monitors: &mut Monitors,
-) -> Result<Forces, CoupleError> {
-    let names = r.word_list(top, "forceModels")?;
-    let mut forces = Forces::default();
-    // noDrag removes the forces of the models listed before it (CFDEM's order); foamgrain
-    // applies it to all of them, so a force listed after it is refused rather than misread.
-    let mut after_no_drag: Option<&str> = None;
-    for name in &names {
-        let dict = format!("{name}Props");
-        let props = r.props(top, name)?;
-        if let Ok(law) = DragLaw::from_name(name) {
-            if forces.drag.is_some() {
-                return Err(r.err("forceModels", format!("a second drag law `{name}`")));
-            }
-            if let Some(nd) = after_no_drag {
-                return Err(force_after_no_drag(r, name, nd));
-            }
-            forces.drag = Some(read_drag(r, law, &props, &dict)?);
-            continue;
-        }
-        match FORCES.support(name) {
-            Some(Support::Refuse(instead)) => {
-                return Err(r.err(
-                    "forceModels",
-                    format!("`{name}` is not supported ({instead})"),
-                ))
-            }
-            None => {
-                let mut valid: Vec<&str> = DRAG_LAW_NAMES.iter().map(|(n, _)| *n).collect();
-                let others = FORCES.valid_names();
-                valid.push(&others);
-                return Err(r.err(
-                    "forceModels",
-                    format!("unknown force model `{name}`; valid: {}", valid.join(", ")),
-                ));
-            }
-            Some(_) => {}
-        }
-        match name.as_str() {
-            "gradPForce" | "viscForce" => {
-                if let Some(nd) = after_no_drag {
-                    return Err(force_after_no_drag(r, name, nd));
-                }
-                r.check_props(
-                    &props,
-                    &dict,
-                    &["interpolation", "verbose", "treatForceExplicit"],
-                )?;
-                let interp = r.interpolation(&props, &dict)?;
-                if name == "gradPForce" {
-                    forces.grad_p = Some(interp);
-                } else {
-                    forces.viscous = Some(interp);
-                }
-            }
-            "Archimedes" => {
-                if let Some(nd) = after_no_drag {
-                    return Err(force_after_no_drag(r, name, nd));
-                }
-                r.check_props(&props, &dict, &["verbose", "treatForceDEM"])?;
-                forces.archimedes = true;
-            }
-            "noDrag" => {
-                r.check_props(&props, &dict, &["noDEMForce", "keepCFDForce", "verbose"])?;
-                let flag = |key: &str| r.opt_switch(&props, key, &format!("{dict}/{key}"));
-                forces.no_drag = Some(NoDrag {
-                    no_dem_force: flag("noDEMForce")?.unwrap_or(false),
-                    keep_cfd_force: flag("keepCFDForce")?.unwrap_or(false),
-                });
-                after_no_drag = Some("noDrag");
-            }
-            "fieldStore" => monitors.field_store = Some(monitors::field_store(r, &props, &dict)?),
-            "particleCellVolume" => {
-                monitors.particle_cell_volume =
-                    Some(monitors::particle_cell_volume(r, &props, &dict)?)
-            }
-            "volWeightedAverage" => {
-                monitors.vol_weighted_average =
-                    Some(monitors::vol_weighted_average(r, &props, &dict)?)
-            }
-            _ => unreachable!("every acting name of FORCES is matched above"),
+    setup: &mut Setup,
+) -> Result<(), CoupleError> {
+    let key = FORCES.key;
+    for name in &r.word_list(top, key)? {
+        // every listed model's Props must be a dictionary, whatever the model's support
+        r.props(top, name)?;
+        let given = Given { key, name, top };
+        if let Some(&(_, law)) = DRAG_LAWS.iter().find(|(n, _)| n == name) {
+            drag(r, &given, law, setup)?;
+        } else if FORCES.support(name).is_none() {
+            let mut valid: Vec<&str> = DRAG_LAWS.iter().map(|(n, _)| *n).collect();
+            let others = FORCES.valid_names();
+            valid.push(&others);
+            return Err(r.err(
+                key,
+                format!("unknown force model `{name}`; valid: {}", valid.join(", ")),
+            ));
+        } else {
+            r.apply(&FORCES, &given, setup)?;
         }
     }
-    Ok(forces)
+    Ok(())
+}
+
+/// noDrag removes the forces of the models listed before it (CFDEM's order); foamgrain
+/// applies it to all of them, so a force listed after it is refused rather than misread.
+fn not_after_no_drag(r: &Reader<'_>, g: &Given<'_>, s: &Setup) -> Result<(), CoupleError> {
+    match s.forces.no_drag {
+        Some(_) => Err(force_after_no_drag(r, g.name, "noDrag")),
+        None => Ok(()),
+    }
+}
+
+/// The interpolation of a fluid force (`gradPForce`, `viscForce`) from its Props.
+fn fluid_force(r: &Reader<'_>, g: &Given<'_>, s: &Setup) -> Result<Interpolation, CoupleError> {
+    not_after_no_drag(r, g, s)?;
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &["interpolation", "verbose", "treatForceExplicit"],
+    )?;
+    r.interpolation(props, dict)
+}
+
+/// `gradPForce`: −V_p ∇p.
+pub(super) fn grad_p(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    s.forces.grad_p = Some(fluid_force(r, g, s)?);
+    Ok(())
+}
+
+/// `viscForce`: V_p ∇·τ.
+pub(super) fn viscous(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    s.forces.viscous = Some(fluid_force(r, g, s)?);
+    Ok(())
+}
+
+/// `Archimedes`: −ρ V_p g.
+pub(super) fn archimedes(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    not_after_no_drag(r, g, s)?;
+    let (props, dict) = &g.props(r)?;
+    r.check_props(props, dict, &["verbose", "treatForceDEM"])?;
+    s.forces.archimedes = true;
+    Ok(())
+}
+
+/// `noDrag`: `noDEMForce`, `keepCFDForce` ([`NoDrag`]).
+pub(super) fn no_drag(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(props, dict, &["noDEMForce", "keepCFDForce", "verbose"])?;
+    let flag = |key: &str| r.opt_switch(props, key, &format!("{dict}/{key}"));
+    s.forces.no_drag = Some(NoDrag {
+        no_dem_force: flag("noDEMForce")?.unwrap_or(false),
+        keep_cfd_force: flag("keepCFDForce")?.unwrap_or(false),
+    });
+    Ok(())
 }
 
 fn force_after_no_drag(r: &Reader<'_>, name: &str, no_drag: &str) -> CoupleError {
@@ -140,12 +133,20 @@ fn force_after_no_drag(r: &Reader<'_>, name: &str, no_drag: &str) -> CoupleError
     )
 }
 
-fn read_drag(
+/// The constructor of every drag law ([`DRAG_LAWS`]): `law`'s Props (the keys of
+/// [`drag_keys`] and [`DRAG_KEYS_WITHOUT_EFFECT`]) into [`DragSettings`].
+pub(super) fn drag(
     r: &mut Reader<'_>,
+    g: &Given<'_>,
     law: DragLaw,
-    props: &Dict,
-    dict: &str,
-) -> Result<DragSettings, CoupleError> {
+    s: &mut Setup,
+) -> Result<(), CoupleError> {
+    let name = g.name;
+    if s.forces.drag.is_some() {
+        return Err(r.err(g.key, format!("a second drag law `{name}`")));
+    }
+    not_after_no_drag(r, g, s)?;
+    let (props, dict) = &g.props(r)?;
     let mut known = drag_keys(law);
     known.extend(DRAG_KEYS_WITHOUT_EFFECT.iter().map(|(k, _)| *k));
     r.check_props(props, dict, &known)?;
@@ -184,11 +185,12 @@ fn read_drag(
         Ok(r.opt_switch(props, key, &format!("{dict}/{key}"))?
             .unwrap_or(false))
     };
-    Ok(DragSettings {
+    s.forces.drag = Some(DragSettings {
         closure,
         interpolation,
         implicit_dem: flag("implForceDEM")?,
         explicit_fluid: flag("treatForceExplicit")?,
         dem_only: flag("treatForceDEM")?,
-    })
+    });
+    Ok(())
 }

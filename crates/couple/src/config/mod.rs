@@ -2,16 +2,18 @@
 //!
 //! CFDEMcoupling selects a model per family by name (`voidFractionModel divided;`) and reads
 //! its parameters from a `<name>Props` sub-dictionary; `forceModels` and `momCoupleModels` are
-//! lists of names. [`CouplingConfig::read`] maps those names onto foamgrain's. Every family's
-//! names, and whether each acts, is accepted as it is, warns or is refused, are one table per
-//! family in [`registry`]; this module reads the keys:
+//! lists of names. [`CouplingConfig::read`] maps those names onto foamgrain's. Every family is
+//! one table in [`registry`], a row per model: its name, aliases, whether it acts, is accepted
+//! as it is, warns or is refused, and for an acting model its constructor (in the family's
+//! file: `void_fraction`, `forces`, `monitors`, `momentum`, `smoothing`, `commands`), which
+//! reads the model's `<name>Props`; this module reads the keys:
 //!
 //! | CFDEM keyword | foamgrain |
 //! |---|---|
 //! | `modelType` `A`, `B`, `Bfull` | [`closures::model::ModelType`] |
 //! | `couplingInterval` (integer ≥ 1) | DEM steps per coupling step |
-//! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor (CFDEM's default 0.1 for its models, none for ours) |
-//! | `forceModels` (one drag law of [`closures::DRAG_LAW_NAMES`], [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
+//! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` (with the other spellings of [`voidage::Method::names`], [`registry::VOIDAGE`]) | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor (CFDEM's default 0.1 for its models, none for ours) |
+//! | `forceModels` (one drag law of [`registry::DRAG_LAWS`], closures' list, and [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
 //! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
 //! | `smoothingModel constDiffSmoothing` (`<name>Props`: `smoothingLength`, `lowerLimit`, `upperLimit`) | [`CouplingConfig::smoothing`], [`crate::smoothing`]; the other smoothing models are refused |
@@ -36,9 +38,12 @@
 
 pub mod commands;
 mod forces;
+mod momentum;
 pub mod monitors;
 pub mod registry;
+mod smoothing;
 mod transport;
+mod void_fraction;
 
 pub use commands::LiggghtsCommands;
 pub use monitors::Monitors;
@@ -48,6 +53,7 @@ use crate::error::CoupleError;
 use crate::interpolate::Interpolation;
 use closures::model::ModelType;
 use closures::DragClosure;
+use commands::ScheduledCommand;
 use foam::{Dict, Item, Value};
 use mesh::v3::V3;
 use registry::Support;
@@ -150,26 +156,6 @@ pub struct CouplingConfig {
     pub warnings: Vec<String>,
 }
 
-/// CFDEM's `voidFractionModel` names and ours.
-const VOIDAGE_NAMES: [(&str, Method); 8] = [
-    ("centre", Method::Centre),
-    ("divided", Method::Divided),
-    ("trilinear", Method::Trilinear),
-    ("cube", Method::Cube),
-    ("correctedCube", Method::CorrectedCube),
-    ("corrected-cube", Method::CorrectedCube),
-    ("exact", Method::Exact),
-    ("exactVoidFraction", Method::Exact),
-];
-
-/// CFDEM's voidage models foamgrain does not implement, with the nearest of ours.
-const VOIDAGE_UNSUPPORTED: [(&str, &str); 4] = [
-    ("bigParticle", "cube or exact"),
-    ("GaussVoidFraction", "exact"),
-    ("IBVoidFraction", "exact"),
-    ("dividedSmooth", "divided or exact"),
-];
-
 /// Top-level keys that name nothing foamgrain needs: read, never acted on.
 const ACCEPTED_KEYS: [&str; 3] = ["syncMode", "checkPeriodicCells", "turbulenceModelType"];
 
@@ -188,6 +174,47 @@ const FIELD_NAMES: [(&str, &str); 12] = [
     ("divTauFieldName", "divTau"),
     ("phiFieldName", "phi"),
 ];
+
+/// The typed settings of the acting models, as their constructors ([`registry::Build`]) set
+/// them while a family's reader walks the names of a case's `couplingProperties` or
+/// `liggghtsCommands`.
+#[derive(Clone, Debug, PartialEq, Default)]
+struct Setup {
+    /// `voidFractionModel`.
+    voidage: Option<VoidageSettings>,
+    /// `forceModels`' forces.
+    forces: Forces,
+    /// The observers (`forceModels`' auxiliary models, `clockModel`, `IOModel`).
+    monitors: Monitors,
+    /// `momCoupleModels`.
+    momentum: MomentumCoupling,
+    /// `smoothingModel`.
+    smoothing: Option<crate::smoothing::SmoothingSettings>,
+    /// `liggghtsCommandModels`' commands, in the list's order.
+    commands: Vec<ScheduledCommand>,
+    /// `execute` models read so far (the k-th reads `executeProps<k>`).
+    executes: usize,
+}
+
+/// What a constructor returns: its setting is set in the [`Setup`], or the error.
+type Built = Result<(), CoupleError>;
+
+/// A selected model name, as a constructor gets it.
+struct Given<'a> {
+    /// The family's key (`forceModels`), for errors.
+    key: &'a str,
+    /// The name as written (the CFDEM name or an alias).
+    name: &'a str,
+    /// The dictionary holding the key (and the `<name>Props`).
+    top: &'a Dict,
+}
+
+impl Given<'_> {
+    /// The model's `<name>Props` ([`Reader::props`]) and that dictionary's name.
+    fn props(&self, r: &Reader<'_>) -> Result<(Dict, String), CoupleError> {
+        Ok((r.props(self.top, self.name)?, format!("{}Props", self.name)))
+    }
+}
 
 /// Reader state: the file name for errors and the collected warnings.
 struct Reader<'a> {
@@ -334,17 +361,21 @@ impl<'a> Reader<'a> {
         })
     }
 
-    /// Applies a family's table to `name` (given under `key`): `Ok(true)` when it acts,
-    /// `Ok(false)` when accepted without action (a warning is recorded for [`Support::Warn`]),
-    /// an error for a refused or unknown name.
-    fn select(
+    /// Applies a family's table to the name of `given`: calls the row's constructor when it
+    /// acts (`Ok(true)`), accepts it without action otherwise (`Ok(false)`; a warning is
+    /// recorded for [`Support::Warn`]), an error for a refused or unknown name.
+    fn apply(
         &mut self,
         family: &registry::Family,
-        key: &str,
-        name: &str,
+        given: &Given<'_>,
+        setup: &mut Setup,
     ) -> Result<bool, CoupleError> {
+        let (key, name) = (given.key, given.name);
         match family.support(name) {
-            Some(Support::Acts) => Ok(true),
+            Some(Support::Acts(build)) => {
+                (build.0)(self, given, setup)?;
+                Ok(true)
+            }
             Some(Support::Same) => Ok(false),
             Some(Support::Warn(why)) => {
                 self.warn(format!("{key} {name}: {why}"));
@@ -385,28 +416,20 @@ impl CouplingConfig {
         if interval < 1 {
             return Err(r.err("couplingInterval", format!("{interval} is not ≥ 1")));
         }
-        let voidage = read_voidage(&r, top)?;
-        let mut monitors = Monitors::default();
-        let forces = forces::read_forces(&mut r, top, &mut monitors)?;
-        let momentum = read_momentum(&mut r, top)?;
-        let mut data_exchange = "twoWayMPI".to_string();
-        let mut smoothing = None;
-        for family in &registry::SINGLE_NAME {
+        let mut setup = Setup::default();
+        let voidage = void_fraction::read(&mut r, top, &mut setup)?;
+        forces::read_forces(&mut r, top, &mut setup)?;
+        momentum::read(&mut r, top, &mut setup)?;
+        for family in registry::SINGLE_NAME.iter().chain([&registry::CLOCK]) {
             let key = family.key;
-            let Some(name) = r.opt_word(top, key, key)? else {
-                continue;
-            };
-            let acts = r.select(family, key, name)?;
-            match key {
-                "IOModel" => monitors.basic_io = acts,
-                "dataExchangeModel" => data_exchange = name.to_string(),
-                "smoothingModel" if acts => smoothing = Some(read_smoothing(&r, top, name)?),
-                _ => {}
+            if let Some(name) = r.opt_word(top, key, key)? {
+                r.apply(family, &Given { key, name, top }, &mut setup)?;
             }
         }
-        if let Some(name) = r.opt_word(top, "clockModel", "clockModel")? {
-            monitors.clock = r.select(&registry::CLOCK, "clockModel", name)?;
-        }
+        let data_exchange = r
+            .opt_word(top, "dataExchangeModel", "dataExchangeModel")?
+            .unwrap_or("twoWayMPI")
+            .to_string();
         let solve_flow = r.opt_switch(top, "solveFlow", "solveFlow")?.unwrap_or(true);
         // CFDEM-PFM switches ∂ε/∂t on by the key alone (`useDDTvoidfraction;`, its
         // voidfractionTest); a word after the key is read as CFDEM-PUBLIC reads it (PFM would
@@ -473,141 +496,17 @@ impl CouplingConfig {
             model,
             coupling_interval: interval as u64,
             voidage,
-            forces,
-            momentum,
-            monitors,
+            forces: setup.forces,
+            momentum: setup.momentum,
+            monitors: setup.monitors,
             solve_flow,
             ddt_voidage,
-            smoothing,
+            smoothing: setup.smoothing,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,
         })
     }
-}
-
-fn read_voidage(r: &Reader<'_>, top: &Dict) -> Result<VoidageSettings, CoupleError> {
-    let name = r.word(top, "voidFractionModel", "voidFractionModel")?;
-    let method = match VOIDAGE_NAMES.iter().find(|(n, _)| *n == name) {
-        Some(&(_, m)) => m,
-        None => {
-            let msg = match VOIDAGE_UNSUPPORTED.iter().find(|(n, _)| *n == name) {
-                Some((_, instead)) => format!("`{name}` is not supported; use {instead}"),
-                None => format!(
-                    "unknown model `{name}`; valid: {}",
-                    VOIDAGE_NAMES.map(|(n, _)| n).join(", ")
-                ),
-            };
-            return Err(r.err("voidFractionModel", msg));
-        }
-    };
-    let props = r.props(top, name)?;
-    let dict = format!("{name}Props");
-    r.check_props(
-        &props,
-        &dict,
-        &["alphaMin", "scaleUpVol", "weight", "porosity", "verbose"],
-    )?;
-    let alpha_min = match props.contains("alphaMin") {
-        true => {
-            let key = format!("{dict}/alphaMin");
-            let a = r.number(&props, "alphaMin", &key)?;
-            if !(0.0..1.0).contains(&a) {
-                return Err(r.err(&key, format!("{a} is not in [0, 1)")));
-            }
-            Some(a)
-        }
-        // CFDEM's own models default to alphaMin 0.1 (every voidFractionModel of
-        // CFDEMcoupling-PUBLIC reads it with that default); foamgrain's cube, correctedCube and
-        // exact have no floor unless one is given
-        false => matches!(name, "centre" | "divided" | "trilinear").then_some(0.1),
-    };
-    for key in ["scaleUpVol", "weight", "porosity"] {
-        if props.contains(key) {
-            let path = format!("{dict}/{key}");
-            let x = r.number(&props, key, &path)?;
-            if x != 1.0 {
-                return Err(r.err(
-                    &path,
-                    format!("{x} is not supported (only 1: particle volumes are not scaled)"),
-                ));
-            }
-        }
-    }
-    Ok(VoidageSettings { method, alpha_min })
-}
-
-/// `constDiffSmoothingProps` ([`crate::smoothing`]): `smoothingLength` (m, required: PFM's
-/// alternative, a `smoothingLengthField` read from the case, is not read), `lowerLimit` and
-/// `upperLimit` (required, as PFM reads them); `smoothingLengthReference` (PFM's length for the
-/// Us reference field, which foamgrain does not smooth) and `verbose` are accepted.
-fn read_smoothing(
-    r: &Reader<'_>,
-    top: &Dict,
-    name: &str,
-) -> Result<crate::smoothing::SmoothingSettings, CoupleError> {
-    let props = r.props(top, name)?;
-    let dict = format!("{name}Props");
-    r.check_props(
-        &props,
-        &dict,
-        &[
-            "lowerLimit",
-            "upperLimit",
-            "smoothingLength",
-            "smoothingLengthReference",
-            "smoothingLengthFieldName",
-            "smoothingLengthReferenceFieldName",
-            "verbose",
-        ],
-    )?;
-    let number = |key: &str| -> Result<f64, CoupleError> {
-        let path = format!("{dict}/{key}");
-        match props.contains(key) {
-            true => r.number(&props, key, &path),
-            false => Err(r.err(&path, "missing (constDiffSmoothing needs it)")),
-        }
-    };
-    let settings = crate::smoothing::SmoothingSettings {
-        length: number("smoothingLength")?,
-        lower: number("lowerLimit")?,
-        upper: number("upperLimit")?,
-    };
-    match settings.problem() {
-        Some((key, why)) => Err(r.err(&format!("{dict}/{key}"), why)),
-        None => Ok(settings),
-    }
-}
-
-fn read_momentum(r: &mut Reader<'_>, top: &Dict) -> Result<MomentumCoupling, CoupleError> {
-    let mut m = MomentumCoupling::default();
-    for name in r.word_list(top, "momCoupleModels")? {
-        let dict = format!("{name}Props");
-        let props = r.props(top, &name)?;
-        if !r.select(&registry::MOM_COUPLE, "momCoupleModels", &name)? {
-            continue;
-        }
-        match name.as_str() {
-            "implicitCouple" => {
-                r.check_props(&props, &dict, &["KslLimit", "verbose"])?;
-                if props.contains("KslLimit") {
-                    let key = format!("{dict}/KslLimit");
-                    let limit = r.number(&props, "KslLimit", &key)?;
-                    if limit.is_nan() || limit <= 0.0 {
-                        return Err(r.err(&key, format!("{limit} is not > 0")));
-                    }
-                    m.ksl_limit = Some(limit);
-                }
-                m.implicit = true;
-            }
-            "explicitCouple" => {
-                r.check_props(&props, &dict, &["verbose"])?;
-                m.explicit = true;
-            }
-            _ => unreachable!("every acting name of MOM_COUPLE is matched above"),
-        }
-    }
-    Ok(m)
 }
 
 impl CouplingConfig {

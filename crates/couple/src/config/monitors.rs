@@ -3,7 +3,7 @@
 //! exert no force), `clockModel standardClock` and `IOModel basicIO`. This module reads their
 //! settings; [`crate::monitor`] computes their values and the runner writes them.
 
-use super::Reader;
+use super::{Built, Given, Reader, Setup};
 use crate::error::CoupleError;
 use foam::Dict;
 
@@ -125,27 +125,24 @@ fn switch_or(r: &Reader<'_>, props: &Dict, dict: &str, key: &str) -> Result<bool
         .unwrap_or(false))
 }
 
-pub(super) fn field_store(
-    r: &Reader<'_>,
-    props: &Dict,
-    dict: &str,
-) -> Result<FieldStore, CoupleError> {
+/// `fieldStore` of `forceModels`.
+pub(super) fn field_store(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
     r.check_props(
         props,
         dict,
         &["scalarFieldNames", "vectorFieldNames", "verbose"],
     )?;
-    Ok(FieldStore {
+    s.monitors.field_store = Some(FieldStore {
         scalar_fields: field_names(r, props, dict, "scalarFieldNames", &SCALAR_FIELDS)?,
         vector_fields: field_names(r, props, dict, "vectorFieldNames", &VECTOR_FIELDS)?,
-    })
+    });
+    Ok(())
 }
 
-pub(super) fn particle_cell_volume(
-    r: &Reader<'_>,
-    props: &Dict,
-    dict: &str,
-) -> Result<ParticleCellVolume, CoupleError> {
+/// `particleCellVolume` of `forceModels`.
+pub(super) fn particle_cell_volume(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
     r.check_props(
         props,
         dict,
@@ -157,20 +154,19 @@ pub(super) fn particle_cell_volume(
             "writeToFile",
         ],
     )?;
-    Ok(ParticleCellVolume {
+    s.monitors.particle_cell_volume = Some(ParticleCellVolume {
         lower: number_or(r, props, dict, "lowerThreshold", -0.01)?,
         upper: number_or(r, props, dict, "upperThreshold", 1.01)?,
         start_time: number_or(r, props, dict, "startTime", 0.0)?,
         verbose: switch_or(r, props, dict, "verbose")?,
         write_to_file: switch_or(r, props, dict, "writeToFile")?,
-    })
+    });
+    Ok(())
 }
 
-pub(super) fn vol_weighted_average(
-    r: &Reader<'_>,
-    props: &Dict,
-    dict: &str,
-) -> Result<VolWeightedAverage, CoupleError> {
+/// `volWeightedAverage` of `forceModels`.
+pub(super) fn vol_weighted_average(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
     r.check_props(
         props,
         dict,
@@ -193,7 +189,7 @@ pub(super) fn vol_weighted_average(
             return Err(r.err(&path, format!("only `voidfraction` is held, not `{name}`")));
         }
     }
-    Ok(VolWeightedAverage {
+    s.monitors.vol_weighted_average = Some(VolWeightedAverage {
         scalar_fields: field_names(r, props, dict, "scalarFieldNames", &SCALAR_FIELDS)?,
         vector_fields: field_names(r, props, dict, "vectorFieldNames", &VECTOR_FIELDS)?,
         lower: r.number(props, "lowerThreshold", &format!("{dict}/lowerThreshold"))?,
@@ -202,5 +198,18 @@ pub(super) fn vol_weighted_average(
         start_time: number_or(r, props, dict, "startTime", 0.0)?,
         verbose: switch_or(r, props, dict, "verbose")?,
         write_to_file: switch_or(r, props, dict, "writeToFile")?,
-    })
+    });
+    Ok(())
+}
+
+/// `clockModel standardClock`: the timing table (no Props read).
+pub(super) fn standard_clock(_: &mut Reader, _: &Given, s: &mut Setup) -> Built {
+    s.monitors.clock = true;
+    Ok(())
+}
+
+/// `IOModel basicIO`: particle output at the write times (no Props read).
+pub(super) fn basic_io(_: &mut Reader, _: &Given, s: &mut Setup) -> Built {
+    s.monitors.basic_io = true;
+    Ok(())
 }

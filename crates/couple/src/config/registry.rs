@@ -1,9 +1,12 @@
-//! CFDEM's model families, one table each: every name CFDEM's `couplingProperties` accepts for
-//! a family, and what foamgrain does with it.
+//! CFDEM's model families, one table each: every name CFDEM's `couplingProperties` (and
+//! `liggghtsCommands`) accepts for a family, and what foamgrain does with it.
 //!
-//! A reader who knows a CFDEM keyword finds its handling here by grepping the name. A name is
-//! one of:
-//! * [`Support::Acts`]: it selects foamgrain code (the family's reader builds the setting);
+//! A reader who knows a CFDEM keyword finds its handling here by grepping the name. A row is
+//! `(name, model)`: the CFDEM name, its other spellings ([`Model::aliases`]) and its
+//! [`Support`], one of:
+//! * [`Support::Acts`]: it selects foamgrain code; the row holds its constructor ([`Build`]),
+//!   the fn that reads the model's `<name>Props` (the keys it reads are in that fn) and sets
+//!   the model's typed setting in the configuration being read;
 //! * [`Support::Same`]: foamgrain always behaves as the name asks (e.g. `locateModel engine`:
 //!   foamgrain's locator finds the same cells), accepted silently;
 //! * [`Support::Warn`]: accepted, but it changes nothing in foamgrain; one warning line says
@@ -11,13 +14,53 @@
 //! * [`Support::Refuse`]: a CFDEM model foamgrain does not implement; an error that says what
 //!   to use instead.
 //!
-//! A name in no table is an error listing the family's valid names.
+//! A name in no row is an error listing the family's valid names. A family's reader looks the
+//! name up, warns or refuses as the row says and calls the row's constructor; it has no
+//! `match` on names of its own. The names of two families come from the crate that defines
+//! the models: the voidage methods' spellings are [`voidage::Method::names`] ([`VOIDAGE`]),
+//! the drag laws are [`closures::DRAG_LAW_NAMES`] ([`DRAG_LAWS`]).
+//!
+//! **Adding a model** is one row here and one constructor fn in the file of its family
+//! (`forces.rs` for `forceModels`, `monitors.rs`, `momentum.rs`, `smoothing.rs`,
+//! `void_fraction.rs`, `commands.rs`), plus the field of its typed setting. A constructor has the
+//! signature of [`Build`]: it gets the `Reader` (errors and warnings name the file and key),
+//! the `Given` name (as written, maybe an alias) with the dictionary holding it, and the
+//! `Setup` to set. The test `every_row_is_reached` walks every row of every family by each of
+//! its spellings (with the Props of its `REQUIRED_PROPS` for keys that have no default, where
+//! a new model's required keys go), so a row without a working constructor fails it.
+
+use super::{commands, forces, momentum, monitors, smoothing, void_fraction};
+use super::{Built, Given, Reader, Setup};
+use closures::DragLaw;
+use voidage::Method;
+use Support::{Acts, Refuse, Same, Warn};
+
+/// The signature of a constructor: reads the model's Props and sets its typed setting.
+pub(super) type BuildFn = fn(&mut Reader<'_>, &Given<'_>, &mut Setup) -> Built;
+
+/// An acting model's constructor (a `BuildFn`).
+#[derive(Clone, Copy)]
+pub struct Build(pub(super) BuildFn);
+
+impl std::fmt::Debug for Build {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Build(fn)")
+    }
+}
+
+impl PartialEq for Build {
+    fn eq(&self, other: &Build) -> bool {
+        std::ptr::fn_addr_eq(self.0, other.0)
+    }
+}
+
+impl Eq for Build {}
 
 /// What foamgrain does with one model name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Support {
-    /// Implemented: the family's reader turns it into a setting.
-    Acts,
+    /// Implemented: the constructor turns it (and its Props) into a setting.
+    Acts(Build),
     /// foamgrain always does what the name asks; accepted silently.
     Same,
     /// Accepted without effect; the text (one sentence) is the warning.
@@ -26,80 +69,158 @@ pub enum Support {
     Refuse(&'static str),
 }
 
-/// One model family: the `couplingProperties` key and its names.
+/// One model of a family (the second half of a row; the first is its CFDEM name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Model {
+    /// Other spellings that select the same model.
+    pub aliases: &'static [&'static str],
+    /// What foamgrain does with it.
+    pub support: Support,
+}
+
+impl Model {
+    /// The same model, also selected by `aliases`.
+    const fn aka(self, aliases: &'static [&'static str]) -> Model {
+        Model { aliases, ..self }
+    }
+}
+
+/// An acting model built by `build`.
+const fn acts(build: BuildFn) -> Model {
+    Model {
+        aliases: &[],
+        support: Acts(Build(build)),
+    }
+}
+
+/// A model foamgrain always follows.
+const SAME: Model = Model {
+    aliases: &[],
+    support: Same,
+};
+
+/// A model accepted with the warning `why`.
+const fn warn(why: &'static str) -> Model {
+    Model {
+        aliases: &[],
+        support: Warn(why),
+    }
+}
+
+/// A model refused, `instead` saying what to use.
+const fn refuse(instead: &'static str) -> Model {
+    Model {
+        aliases: &[],
+        support: Refuse(instead),
+    }
+}
+
+/// The row of voidage method `m`: its names from [`Method::names`], the first the CFDEM name.
+const fn method(m: Method, build: BuildFn) -> (&'static str, Model) {
+    match m.names().split_first() {
+        Some((name, aliases)) => (*name, acts(build).aka(aliases)),
+        None => panic!("a voidage method without a name"),
+    }
+}
+
+/// One model family: the `couplingProperties` key and its rows.
 #[derive(Clone, Copy, Debug)]
 pub struct Family {
     /// The key (`locateModel`) or list (`forceModels`) that selects models of this family.
     pub key: &'static str,
-    /// Every name foamgrain knows, with its handling.
-    pub models: &'static [(&'static str, Support)],
+    /// Every model foamgrain knows, by CFDEM name, with its aliases and handling.
+    pub models: &'static [(&'static str, Model)],
 }
 
 impl Family {
-    /// The handling of `name`, or `None` when the family has no such name.
+    /// The handling of `name` (a model's name or one of its aliases), or `None` when the
+    /// family has no such name.
     pub fn support(&self, name: &str) -> Option<Support> {
         self.models
             .iter()
-            .find(|(n, _)| *n == name)
-            .map(|&(_, s)| s)
+            .find(|(n, m)| *n == name || m.aliases.contains(&name))
+            .map(|(_, m)| m.support)
     }
 
-    /// The names a user may write (everything not refused), for error messages.
+    /// The names a user may write (everything not refused, aliases after their name), for
+    /// error messages.
     pub fn valid_names(&self) -> String {
         self.models
             .iter()
-            .filter(|(_, s)| !matches!(s, Support::Refuse(_)))
-            .map(|(n, _)| *n)
+            .filter(|(_, m)| !matches!(m.support, Support::Refuse(_)))
+            .flat_map(|(n, m)| std::iter::once(n).chain(m.aliases))
+            .copied()
             .collect::<Vec<_>>()
             .join(", ")
     }
 }
 
-use Support::{Acts, Refuse, Same, Warn};
+/// `voidFractionModel`: how a particle's volume is shared among cells. The names and aliases
+/// are [`Method::names`] (the one list of voidage spellings, also the command line's).
+pub const VOIDAGE: Family = Family {
+    key: "voidFractionModel",
+    models: &[
+        method(Method::Centre, void_fraction::centre),
+        method(Method::Divided, void_fraction::divided),
+        method(Method::Trilinear, void_fraction::trilinear),
+        method(Method::Cube, void_fraction::cube),
+        method(Method::CorrectedCube, void_fraction::corrected_cube),
+        method(Method::Exact, void_fraction::exact),
+        ("bigParticle", refuse("use cube or exact")),
+        ("GaussVoidFraction", refuse("use exact")),
+        ("IBVoidFraction", refuse("use exact")),
+        ("dividedSmooth", refuse("use divided or exact")),
+    ],
+};
+
+/// The drag laws of `forceModels`: closures' list (a name or alias, and its law), every row
+/// acting, with the one constructor `forces::drag` (the `<law>Props` keys it reads are
+/// `forces::drag_keys`).
+pub const DRAG_LAWS: &[(&str, DragLaw)] = &closures::DRAG_LAW_NAMES;
 
 /// `locateModel`: which cell holds a particle.
 pub const LOCATE: Family = Family {
     key: "locateModel",
     models: &[
-        ("engine", Same),
-        ("engineIB", Same),
-        ("standard", Same),
-        ("turboEngine", Same),
-        ("turboEngineM2M", Same),
-        ("engineSearchMany2Many", Same),
+        ("engine", SAME),
+        ("engineIB", SAME),
+        ("standard", SAME),
+        ("turboEngine", SAME),
+        ("turboEngineM2M", SAME),
+        ("engineSearchMany2Many", SAME),
     ],
 };
 
 /// `meshMotionModel`.
 pub const MESH_MOTION: Family = Family {
     key: "meshMotionModel",
-    models: &[("noMeshMotion", Same)],
+    models: &[("noMeshMotion", SAME)],
 };
 
 /// `regionModel` (CFDEM-PFM).
 pub const REGION: Family = Family {
     key: "regionModel",
-    models: &[("allRegion", Same)],
+    models: &[("allRegion", SAME)],
 };
 
 /// `smoothingModel`.
 pub const SMOOTHING: Family = Family {
     key: "smoothingModel",
     models: &[
-        ("off", Same),
-        ("noSmoothing", Same),
-        ("constDiffSmoothing", Acts),
+        ("off", SAME),
+        ("noSmoothing", SAME),
+        ("constDiffSmoothing", acts(smoothing::const_diff)),
         (
             "localPSizeDiffSmoothing",
-            Refuse("not implemented; use `constDiffSmoothing` or `off`"),
+            refuse("not implemented; use `constDiffSmoothing` or `off`"),
         ),
         (
             "temporalSmoothing",
-            Refuse("not implemented; use `constDiffSmoothing` or `off`"),
+            refuse("not implemented; use `constDiffSmoothing` or `off`"),
         ),
         (
             "constDiffAndTemporalSmoothing",
-            Refuse("not implemented; use `constDiffSmoothing` or `off`"),
+            refuse("not implemented; use `constDiffSmoothing` or `off`"),
         ),
     ],
 };
@@ -108,10 +229,10 @@ pub const SMOOTHING: Family = Family {
 pub const AVERAGING: Family = Family {
     key: "averagingModel",
     models: &[
-        ("dense", Same),
+        ("dense", SAME),
         (
             "dilute",
-            Warn(
+            warn(
                 "foamgrain's Us is always the β-weighted average of the particle velocities \
                  (dense)",
             ),
@@ -124,12 +245,12 @@ pub const AVERAGING: Family = Family {
 pub const DATA_EXCHANGE: Family = Family {
     key: "dataExchangeModel",
     models: &[
-        ("twoWayMPI", Same),
-        ("twoWayM2M", Same),
-        ("twoWayOne2One", Same),
-        ("twoWayFiles", Same),
-        ("oneWayVTK", Same),
-        ("noDataExchange", Same),
+        ("twoWayMPI", SAME),
+        ("twoWayM2M", SAME),
+        ("twoWayOne2One", SAME),
+        ("twoWayFiles", SAME),
+        ("oneWayVTK", SAME),
+        ("noDataExchange", SAME),
     ],
 };
 
@@ -137,15 +258,15 @@ pub const DATA_EXCHANGE: Family = Family {
 pub const IO: Family = Family {
     key: "IOModel",
     models: &[
-        ("off", Same),
-        ("basicIO", Acts),
+        ("off", SAME),
+        ("basicIO", acts(monitors::basic_io)),
         (
             "trackIO",
-            Warn("foamgrain writes basicIO's files (positions, v, r), not trackIO's"),
+            warn("foamgrain writes basicIO's files (positions, v, r), not trackIO's"),
         ),
         (
             "sophIO",
-            Warn("foamgrain writes basicIO's files (positions, v, r), not sophIO's"),
+            warn("foamgrain writes basicIO's files (positions, v, r), not sophIO's"),
         ),
     ],
 };
@@ -154,10 +275,10 @@ pub const IO: Family = Family {
 pub const PROBE: Family = Family {
     key: "probeModel",
     models: &[
-        ("off", Same),
+        ("off", SAME),
         (
             "particleProbe",
-            Warn("particle probes are not written (postProcessing/particles/*.vtp has every particle's state at the write times)"),
+            warn("particle probes are not written (postProcessing/particles/*.vtp has every particle's state at the write times)"),
         ),
     ],
 };
@@ -165,18 +286,21 @@ pub const PROBE: Family = Family {
 /// `clockModel`: the timing table.
 pub const CLOCK: Family = Family {
     key: "clockModel",
-    models: &[("off", Same), ("standardClock", Acts)],
+    models: &[
+        ("off", SAME),
+        ("standardClock", acts(monitors::standard_clock)),
+    ],
 };
 
 /// `momCoupleModels`: how the particles' reaction reaches the fluid.
 pub const MOM_COUPLE: Family = Family {
     key: "momCoupleModels",
     models: &[
-        ("implicitCouple", Acts),
-        ("explicitCouple", Acts),
-        ("off", Same),
-        ("noCouple", Same),
-        ("explicitCoupleSource", Refuse("use explicitCouple")),
+        ("implicitCouple", acts(momentum::implicit)),
+        ("explicitCouple", acts(momentum::explicit)),
+        ("off", SAME),
+        ("noCouple", SAME),
+        ("explicitCoupleSource", refuse("use explicitCouple")),
     ],
 };
 
@@ -184,33 +308,33 @@ pub const MOM_COUPLE: Family = Family {
 pub const FORCES: Family = Family {
     key: "forceModels",
     models: &[
-        ("gradPForce", Acts),
-        ("viscForce", Acts),
-        ("Archimedes", Acts),
-        ("noDrag", Acts),
-        ("fieldStore", Acts),
-        ("particleCellVolume", Acts),
-        ("volWeightedAverage", Acts),
-        ("virtualMassForce", Refuse("not implemented")),
-        ("MeiLift", Refuse("not implemented")),
-        ("SaffmanLift", Refuse("not implemented")),
+        ("gradPForce", acts(forces::grad_p)),
+        ("viscForce", acts(forces::viscous)),
+        ("Archimedes", acts(forces::archimedes)),
+        ("noDrag", acts(forces::no_drag)),
+        ("fieldStore", acts(monitors::field_store)),
+        ("particleCellVolume", acts(monitors::particle_cell_volume)),
+        ("volWeightedAverage", acts(monitors::vol_weighted_average)),
+        ("virtualMassForce", refuse("not implemented")),
+        ("MeiLift", refuse("not implemented")),
+        ("SaffmanLift", refuse("not implemented")),
         (
             "ArchimedesIB",
-            Refuse("immersed-boundary models are not implemented"),
+            refuse("immersed-boundary models are not implemented"),
         ),
         (
             "ShirgaonkarIB",
-            Refuse("immersed-boundary models are not implemented"),
+            refuse("immersed-boundary models are not implemented"),
         ),
-        ("DEMbasedDrag", Refuse("use one of the drag laws")),
-        ("RongDrag", Refuse("use one of the drag laws")),
-        ("totalMomentumExchange", Refuse("not implemented")),
-        ("fieldTimeAverage", Refuse("not implemented")),
-        ("fieldVolWeighted", Refuse("not implemented")),
-        ("LaEuScalarTemp", Refuse("heat transfer is not implemented")),
+        ("DEMbasedDrag", refuse("use one of the drag laws")),
+        ("RongDrag", refuse("use one of the drag laws")),
+        ("totalMomentumExchange", refuse("not implemented")),
+        ("fieldTimeAverage", refuse("not implemented")),
+        ("fieldVolWeighted", refuse("not implemented")),
+        ("LaEuScalarTemp", refuse("heat transfer is not implemented")),
         (
             "scalarGeneralExchange",
-            Refuse("heat transfer is not implemented"),
+            refuse("heat transfer is not implemented"),
         ),
     ],
 };
@@ -219,16 +343,16 @@ pub const FORCES: Family = Family {
 pub const LIGGGHTS_COMMANDS: Family = Family {
     key: "liggghtsCommandModels",
     models: &[
-        ("runLiggghts", Same),
-        ("writeLiggghts", Acts),
-        ("execute", Acts),
+        ("runLiggghts", SAME),
+        ("writeLiggghts", acts(commands::write_liggghts)),
+        ("execute", acts(commands::execute)),
         (
             "readLiggghtsData",
-            Refuse("use `execute` with a read_data command"),
+            refuse("use `execute` with a read_data command"),
         ),
         (
             "setDEMGravity",
-            Refuse("set gravity in the deck (`fix … gravity`)"),
+            refuse("set gravity in the deck (`fix … gravity`)"),
         ),
     ],
 };
@@ -245,9 +369,141 @@ pub const SINGLE_NAME: [Family; 8] = [
     PROBE,
 ];
 
+/// The families read by a reader of their own; with [`SINGLE_NAME`], every family with a table
+/// here (the drag laws are [`DRAG_LAWS`]).
+pub const OTHERS: [Family; 5] = [VOIDAGE, CLOCK, MOM_COUPLE, FORCES, LIGGGHTS_COMMANDS];
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The Props the acting models need beyond their defaults, for [`every_row_is_reached`].
+    const REQUIRED_PROPS: &str = "\
+        constDiffSmoothingProps { smoothingLength 0.01; lowerLimit 0; upperLimit 1; }\n\
+        fieldStoreProps { scalarFieldNames ( ); vectorFieldNames ( U ); }\n\
+        volWeightedAverageProps { lowerThreshold 0; upperThreshold 1; \
+            scalarFieldNames ( ); vectorFieldNames ( ); }\n\
+        executeProps0 { command ( write_restart r ); runFirst on; }\n";
+
+    fn top() -> foam::Dict {
+        let file = std::path::Path::new("couplingProperties");
+        foam::parse_bytes(REQUIRED_PROPS.as_bytes(), file)
+            .unwrap()
+            .body
+    }
+
+    /// Applies `family` to `name` as its reader does: the result, the settings set and the
+    /// warnings.
+    fn apply(
+        family: &Family,
+        name: &str,
+        top: &foam::Dict,
+    ) -> (Result<bool, String>, Setup, Vec<String>) {
+        let mut r = Reader::new(std::path::Path::new("couplingProperties"));
+        let mut setup = Setup::default();
+        let given = Given {
+            key: family.key,
+            name,
+            top,
+        };
+        let result = r
+            .apply(family, &given, &mut setup)
+            .map_err(|e| e.to_string());
+        (result, setup, r.warnings)
+    }
+
+    #[test]
+    fn every_row_is_reached() {
+        let top = top();
+        for f in SINGLE_NAME.into_iter().chain(OTHERS) {
+            for (name, model) in f.models {
+                for spelling in std::iter::once(name).chain(model.aliases) {
+                    let (result, setup, warnings) = apply(&f, spelling, &top);
+                    let at = format!("{} {spelling}", f.key);
+                    match model.support {
+                        Acts(_) => {
+                            assert_eq!(result, Ok(true), "{at}");
+                            assert_ne!(setup, Setup::default(), "{at}: nothing set");
+                            assert!(warnings.is_empty(), "{at}: {warnings:?}");
+                        }
+                        Same => {
+                            assert_eq!(result, Ok(false), "{at}");
+                            assert_eq!(setup, Setup::default(), "{at}");
+                            assert!(warnings.is_empty(), "{at}: {warnings:?}");
+                        }
+                        Warn(why) => {
+                            assert_eq!(result, Ok(false), "{at}");
+                            assert_eq!(setup, Setup::default(), "{at}");
+                            assert_eq!(warnings.len(), 1, "{at}");
+                            assert!(warnings[0].contains(&at) && warnings[0].contains(why));
+                        }
+                        Refuse(instead) => {
+                            let e = result.unwrap_err();
+                            assert!(e.contains(f.key) && e.contains(spelling), "{at}: {e}");
+                            assert!(e.contains("not supported") && e.contains(instead), "{e}");
+                        }
+                    }
+                    if f.key == VOIDAGE.key && matches!(model.support, Acts(_)) {
+                        // the voidage spellings select the same method here as on the
+                        // command line
+                        let method = spelling.parse::<Method>().unwrap();
+                        assert_eq!(setup.voidage.map(|v| v.method), Some(method), "{at}");
+                    }
+                }
+            }
+            let (result, _, _) = apply(&f, "noSuchModel", &top);
+            let e = result.unwrap_err();
+            assert!(e.contains("unknown model `noSuchModel`"), "{}: {e}", f.key);
+            assert!(e.contains(&f.valid_names()), "{}: {e}", f.key);
+        }
+    }
+
+    #[test]
+    fn every_drag_law_is_reached() {
+        let top = top();
+        for &(name, law) in DRAG_LAWS {
+            let mut r = Reader::new(std::path::Path::new("couplingProperties"));
+            let mut setup = Setup::default();
+            let given = Given {
+                key: FORCES.key,
+                name,
+                top: &top,
+            };
+            forces::drag(&mut r, &given, law, &mut setup).unwrap();
+            assert_eq!(
+                setup.forces.drag.map(|d| d.closure.law),
+                Some(law),
+                "{name}"
+            );
+            // and through the forceModels reader
+            let text = format!("forceModels ( {name} );\n{REQUIRED_PROPS}");
+            let file = std::path::Path::new("couplingProperties");
+            let list = foam::parse_bytes(text.as_bytes(), file).unwrap().body;
+            let mut setup = Setup::default();
+            forces::read_forces(&mut r, &list, &mut setup).unwrap();
+            assert_eq!(
+                setup.forces.drag.map(|d| d.closure.law),
+                Some(law),
+                "{name}"
+            );
+        }
+    }
+
+    #[test]
+    fn spellings_are_unique_within_a_family() {
+        for f in SINGLE_NAME.into_iter().chain(OTHERS) {
+            let mut seen: Vec<&str> = DRAG_LAWS.iter().map(|(n, _)| *n).collect();
+            if f.key != FORCES.key {
+                seen.clear();
+            }
+            for (name, model) in f.models {
+                for spelling in std::iter::once(name).chain(model.aliases) {
+                    assert!(!seen.contains(spelling), "{}: `{spelling}` twice", f.key);
+                    seen.push(spelling);
+                }
+            }
+        }
+    }
 
     #[test]
     fn names_are_unique_within_a_family() {

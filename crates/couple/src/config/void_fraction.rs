@@ -1,0 +1,97 @@
+//! `voidFractionModel`: the voidage method ([`voidage::Method`]) and its Props. The names are
+//! the rows of [`super::registry::VOIDAGE`] (spellings from [`voidage::Method::names`]); one
+//! constructor per method, all reading the same keys ([`props`]).
+
+use super::registry::VOIDAGE;
+use super::{Built, Given, Reader, Setup, VoidageSettings};
+use crate::error::CoupleError;
+use foam::Dict;
+use voidage::Method;
+
+/// Reads `voidFractionModel` (required) through [`VOIDAGE`].
+pub(super) fn read(
+    r: &mut Reader<'_>,
+    top: &Dict,
+    setup: &mut Setup,
+) -> Result<VoidageSettings, CoupleError> {
+    let key = VOIDAGE.key;
+    let name = r.word(top, key, key)?;
+    r.apply(&VOIDAGE, &Given { key, name, top }, setup)?;
+    setup
+        .voidage
+        .ok_or_else(|| r.err(key, format!("`{name}` selects no voidage method")))
+}
+
+/// `centre`.
+pub(super) fn centre(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    props(r, g, s, Method::Centre)
+}
+
+/// `divided`.
+pub(super) fn divided(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    props(r, g, s, Method::Divided)
+}
+
+/// `trilinear`.
+pub(super) fn trilinear(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    props(r, g, s, Method::Trilinear)
+}
+
+/// `cube` (foamgrain's).
+pub(super) fn cube(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    props(r, g, s, Method::Cube)
+}
+
+/// `correctedCube` (foamgrain's).
+pub(super) fn corrected_cube(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    props(r, g, s, Method::CorrectedCube)
+}
+
+/// `exact` (foamgrain's).
+pub(super) fn exact(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    props(r, g, s, Method::Exact)
+}
+
+/// The Props every voidage method reads: `alphaMin` (the ε floor, in [0, 1)), and CFDEM's
+/// `scaleUpVol`, `weight`, `porosity` (only 1) and `verbose`.
+fn props(
+    r: &mut Reader<'_>,
+    g: &Given<'_>,
+    s: &mut Setup,
+    method: Method,
+) -> Result<(), CoupleError> {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &["alphaMin", "scaleUpVol", "weight", "porosity", "verbose"],
+    )?;
+    let alpha_min = match props.contains("alphaMin") {
+        true => {
+            let key = format!("{dict}/alphaMin");
+            let a = r.number(props, "alphaMin", &key)?;
+            if !(0.0..1.0).contains(&a) {
+                return Err(r.err(&key, format!("{a} is not in [0, 1)")));
+            }
+            Some(a)
+        }
+        // CFDEM's own models default to alphaMin 0.1 (every voidFractionModel of
+        // CFDEMcoupling-PUBLIC reads it with that default); foamgrain's cube, correctedCube and
+        // exact have no floor unless one is given
+        false => method.cfdem_name().is_some().then_some(0.1),
+    };
+    for key in ["scaleUpVol", "weight", "porosity"] {
+        if props.contains(key) {
+            let path = format!("{dict}/{key}");
+            let x = r.number(props, key, &path)?;
+            if x != 1.0 {
+                return Err(r.err(
+                    &path,
+                    format!("{x} is not supported (only 1: particle volumes are not scaled)"),
+                ));
+            }
+        }
+    }
+    s.voidage = Some(VoidageSettings { method, alpha_min });
+    Ok(())
+}
