@@ -99,8 +99,7 @@ pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
             opt(f.solver_received_per_step),
         ));
     }
-    let mut file = std::fs::File::create(path)?;
-    file.write_all(text.as_bytes())
+    atomic_write::write_atomically(path, |w| w.write_all(text.as_bytes()))
 }
 
 /// The figures as log lines.

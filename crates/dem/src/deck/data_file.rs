@@ -206,7 +206,7 @@ pub fn write_data(
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    std::fs::write(path, s)
+    atomic_write::write_atomically(path, |w| std::io::Write::write_all(w, s.as_bytes()))
 }
 
 #[cfg(test)]
