@@ -72,12 +72,13 @@ impl NativeFluid {
         if !(rho.is_finite() && rho > 0.0) {
             return Err(format!("fluid density {rho} kg/m³ is not a positive number").into());
         }
-        let mut fluid = Fluid::from_case_with(foam::Case::open(cfd)?, settings)?;
+        let case = foam::Case::open(cfd)?;
+        let mesh = case.read_mesh()?;
+        let mut fluid = Fluid::from_case_with(case, settings, &mesh)?;
         fluid.settings.rho = rho;
         fluid.model = model;
         fluid.ddt_voidage = ddt_voidage;
         fluid.harmonic_faces = true;
-        let mesh = foam::Case::open(cfd)?.read_mesh()?;
         let n = mesh.n_cells;
         let div_tau = fluid.div_tau();
         Ok(NativeFluid {

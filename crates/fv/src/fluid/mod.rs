@@ -205,20 +205,20 @@ impl Fluid {
     pub fn from_case(dir: impl AsRef<Path>) -> Result<Fluid> {
         let case = Case::open(dir.as_ref())?;
         let settings = Settings::read(&case)?;
-        Fluid::from_case_with(case, settings)
+        let mesh = case.read_mesh()?;
+        Fluid::from_case_with(case, settings, &mesh)
     }
 
-    /// [`Fluid::from_case`] with the case's settings read already (a coupled run reads them
-    /// once, into its plan).
-    pub fn from_case_with(case: Case, settings: Settings) -> Result<Fluid> {
-        let mesh = case.read_mesh()?;
-        let g = FvGeometry::new(&mesh).map_err(|e| e.in_case(case.root()))?;
+    /// [`Fluid::from_case`] with the case's settings and mesh read already (a coupled run
+    /// reads each once and hands them on).
+    pub fn from_case_with(case: Case, settings: Settings, mesh: &foam::PolyMesh) -> Result<Fluid> {
+        let g = FvGeometry::new(mesh).map_err(|e| e.in_case(case.root()))?;
         let start = start_dir(&case, settings.start_time)?;
-        let fields = crate::fields::read_fields(&start, &mesh, &g)?;
+        let fields = crate::fields::read_fields(&start, mesh, &g)?;
         let turbulence = match &settings.turbulence {
             TurbulenceSettings::KEpsilon(s) => Some(KEpsilon::read(
                 &start,
-                &mesh,
+                mesh,
                 &g,
                 (**s).clone(),
                 settings.nu,
@@ -240,7 +240,7 @@ impl Fluid {
             .collect::<Result<Vec<_>>>()?;
         let mut fl = Self::build(case, settings, g, fields, turbulence)?;
         fl.mean_forces = mean_forces;
-        fl.read_cn_state(&start, &mesh)?;
+        fl.read_cn_state(&start, mesh)?;
         Ok(fl)
     }
 
