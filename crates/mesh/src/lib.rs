@@ -28,7 +28,8 @@ pub mod geometry;
 pub mod locate;
 pub mod nearest;
 pub mod tets;
-pub mod v3;
+/// The 3-vector type, from the leaf crate `v3` (so `mesh::v3::V3` is `v3::V3`).
+pub use ::v3;
 
 pub use error::MeshError;
 pub use geometry::{face_centre_and_area, Aabb, MeshGeometry};
