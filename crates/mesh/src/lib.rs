@@ -15,6 +15,7 @@
 //!   most queries without the exact tet predicates, points near a located centre
 //!   ([`Locator::locate_near`]), and parallel batch queries;
 //! * [`nearest`]: nearest points on triangles and faces (point–face distances);
+//! * [`cyclic`]: translational `cyclic` patch pairs and their separations;
 //! * [`build`]: programmatic meshes (graded Cartesian grids, single cells, affine maps).
 //!
 //! Invariant: geometry exactly as OpenFOAM computes it; no I/O (reading meshes is the `foam`
@@ -22,6 +23,7 @@
 //! panic, for any mesh that passes [`foam::PolyMesh::check`].
 
 pub mod build;
+pub mod cyclic;
 mod error;
 mod exact;
 pub mod geometry;
