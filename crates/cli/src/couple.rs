@@ -93,11 +93,12 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
     if let Some(m) = a.method {
         settings.method = m;
     }
-    let fluid = FrozenFluid::read(case.root(), &a.time, settings.physics.nu)
+    let f = fv::frozen::FrozenFields::read(case.root(), &a.time, settings.physics.nu)
         .with_context(|| format!("frozen fluid of time {}", a.time))?;
+    let fluid = FrozenFluid::new(f.mesh, f.u, f.p, f.grad_p, f.div_tau, f.time);
     let mut coupler = Coupler::new(fluid.mesh(), settings)?;
     if let Some(s) = config.smoothing {
-        coupler.set_smoothing(couple::smoothing::ConstDiffSmoothing::new(fluid.mesh(), s)?);
+        coupler.set_smoothing(runner::smoothing::native(fluid.mesh(), s)?);
     }
     let pieces = foam::decomposed::pieces(&case, fluid.mesh().n_cells)?;
     loop {

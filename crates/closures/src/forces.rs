@@ -4,7 +4,7 @@
 //! Which of these a coupling applies, and where their reactions go, is decided by the model
 //! type ([`crate::model`]).
 
-use mesh::v3::V3;
+use v3::V3;
 
 /// Pressure-gradient force −V_p ρ ∇p, N, with `grad_p` the gradient of the kinematic
 /// pressure p/ρ (m/s²), `volume` V_p (m³), `rho` ρ (kg/m³) (Zhou et al. 2010, f_∇p; seed `002`

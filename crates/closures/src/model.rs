@@ -21,7 +21,7 @@
 
 use crate::error::ClosureError;
 use crate::forces::{buoyancy, pressure_gradient, viscous_stress};
-use mesh::v3::V3;
+use v3::V3;
 
 /// The model type (`modelType` in CFDEM's `couplingProperties`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -8,7 +8,7 @@ use closures::forces::{
     SPHERE_VIRTUAL_MASS_COEFFICIENT,
 };
 use closures::{particle_forces, sphere_volume, DragInput, DragLaw, FluidAtParticle, ModelType};
-use mesh::v3::V3;
+use v3::V3;
 
 /// |aₖ − bₖ| ≤ tol·max|b| for every component.
 fn close(a: V3, b: V3, tol: f64) -> bool {

@@ -5,7 +5,7 @@
 //! it rebuilds its neighbour list, so between two rebuilds a centre may lie up to half the
 //! neighbour skin beyond the face, outside the fluid mesh. Such a centre is located, and its
 //! volume deposited, at its image inside the mesh: the centre moved by whole separations of
-//! the cyclic pairs ([`fv::cyclic`]) until it lies within the periodic span, which is the
+//! the cyclic pairs ([`mesh::cyclic`]) until it lies within the periodic span, which is the
 //! mesh's extent along each separation's direction (m). The particle side's own positions are
 //! not changed.
 //!
@@ -39,10 +39,10 @@ pub struct PeriodicMesh {
 
 impl PeriodicMesh {
     /// The translational cyclic pairs of `mesh` (geometry `g`) as periodic directions; errors
-    /// are [`fv::cyclic::pairs`]'s (they name the boundary file and patch).
+    /// are [`mesh::cyclic::pairs`]'s (they name the boundary file and patch).
     pub fn new(mesh: &PolyMesh, g: &MeshGeometry) -> Result<PeriodicMesh, CoupleError> {
         let pairs =
-            fv::cyclic::pairs(mesh, g).map_err(|e| CoupleError::Parameter(e.to_string()))?;
+            mesh::cyclic::pairs(mesh, g).map_err(|e| CoupleError::Parameter(e.to_string()))?;
         let spans = pairs
             .iter()
             .filter(|p| p.separation.norm() > 0.0)

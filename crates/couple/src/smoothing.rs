@@ -8,10 +8,12 @@
 //! unsmoothed field, so Δt cancels), with zero gradient at the boundary (no flux through it:
 //! Σ V(1 − ε), the particle volume, is conserved to the solver's tolerance) and across cyclic
 //! pairs as across internal faces. δ_f is OpenFOAM's non-orthogonal delta coefficient
-//! 1/max(n̂·d, 0.05 |d|) ([`fv::FvGeometry::delta_coeff`]), the implicit part of `Gauss linear
-//! corrected`; the explicit non-orthogonal correction is left out (zero on the orthogonal
-//! meshes of the tutorials). ε is then bounded to [`lowerLimit`, `upperLimit`], as PFM does;
-//! the solid volume that bound adds or removes is returned, so the run reports it.
+//! 1/max(n̂·d, 0.05 |d|), the implicit part of `Gauss linear corrected`; the explicit
+//! non-orthogonal correction is left out (zero on the orthogonal meshes of the tutorials).
+//! That step is the fluid's discretisation, which the coupler does not own: it is a
+//! [`Diffusion`] (the native one is `fv::diffusion::DiffusionStep`, built by
+//! `runner::native::smoothing`). ε is then bounded to [`lowerLimit`, `upperLimit`], as PFM
+//! does; the solid volume that bound adds or removes is returned, so the run reports it.
 //!
 //! PFM also smooths the cell-averaged particle velocity Us as a "reference field" (cells with
 //! particles keep their value, empty cells take their neighbours'). That changes Us only where
@@ -20,10 +22,6 @@
 //! (With `interpolation true`, PFM interpolates the smoothed field to the particle.)
 
 use crate::CoupleError;
-use foam::PolyMesh;
-use fv::ldu::Ldu;
-use fv::linsolve::{pcg, Preconditioner, SolverControls};
-use fv::FvGeometry;
 
 /// How far above 1 a smoothed ε may come out of the solver by round-off alone (the solve's
 /// tolerance is 1e-14 of the normalised residual); such a value is set to 1, uncounted.
@@ -60,12 +58,19 @@ impl SmoothingSettings {
     }
 }
 
-/// The smoothing operator on one mesh: the matrix V + L²·(−∇²) assembled once.
+/// One implicit diffusion step of length L on the fluid's mesh (module docs), assembled once.
+pub trait Diffusion: std::fmt::Debug + Send + Sync {
+    /// The cell volumes V_c, m³ (one per cell).
+    fn volumes(&self) -> &[f64];
+    /// ε₀ → ε in place: the linear solver's iterations, or what failed.
+    fn diffuse(&self, eps: &mut [f64]) -> Result<usize, String>;
+}
+
+/// The smoothing operator on one mesh: the settings and their diffusion step.
 #[derive(Debug)]
 pub struct ConstDiffSmoothing {
     settings: SmoothingSettings,
-    g: FvGeometry,
-    a: Ldu,
+    diffusion: Box<dyn Diffusion>,
 }
 
 /// What one smoothing did to the particle volume.
@@ -80,26 +85,23 @@ pub struct SmoothingReport {
 }
 
 impl ConstDiffSmoothing {
-    /// The operator on `mesh` for `settings`.
-    pub fn new(mesh: &PolyMesh, settings: SmoothingSettings) -> Result<Self, CoupleError> {
+    /// The operator for `settings`, with the diffusion step `diffusion` builds for the
+    /// smoothing length (m) once the settings are checked.
+    pub fn new(
+        settings: SmoothingSettings,
+        diffusion: impl FnOnce(f64) -> Result<Box<dyn Diffusion>, String>,
+    ) -> Result<Self, CoupleError> {
         if let Some((key, why)) = settings.problem() {
             return Err(CoupleError::Parameter(format!(
                 "constDiffSmoothing: {key}: {why}"
             )));
         }
-        let g = FvGeometry::new(mesh)
+        let diffusion = diffusion(settings.length)
             .map_err(|e| CoupleError::Parameter(format!("constDiffSmoothing: {e}")))?;
-        let mut a = Ldu::zeros(&g);
-        a.diag.clone_from(&g.v);
-        let l2 = settings.length * settings.length;
-        for f in 0..g.n_internal {
-            let c = l2 * g.mag_sf[f] * g.delta_coeff[f];
-            a.upper[f] = -c;
-            a.lower[f] = -c;
-            a.diag[g.owner[f] as usize] += c;
-            a.diag[g.neighbour[f] as usize] += c;
-        }
-        Ok(ConstDiffSmoothing { settings, g, a })
+        Ok(ConstDiffSmoothing {
+            settings,
+            diffusion,
+        })
     }
 
     /// The settings.
@@ -109,37 +111,24 @@ impl ConstDiffSmoothing {
 
     /// Smooths `eps` (one value per cell) in place and bounds it (module docs).
     pub fn smooth(&self, eps: &mut [f64]) -> Result<SmoothingReport, CoupleError> {
-        let g = &self.g;
-        if eps.len() != g.n_cells {
+        let volumes = self.diffusion.volumes();
+        if eps.len() != volumes.len() {
             return Err(CoupleError::Parameter(format!(
                 "constDiffSmoothing: {} voidage values for {} cells",
                 eps.len(),
-                g.n_cells
+                volumes.len()
             )));
         }
-        let b: Vec<f64> = eps.iter().zip(&g.v).map(|(e, v)| e * v).collect();
-        let controls = SolverControls {
-            tolerance: 1e-14,
-            rel_tol: 0.0,
-            max_iter: 1000,
-            min_iter: 0,
-        };
-        let stats = pcg(
-            &self.a,
-            g,
-            &b,
-            eps,
-            Preconditioner::Dic,
-            &controls,
-            "smoothed ε",
-        )
-        .map_err(|e| CoupleError::Parameter(format!("constDiffSmoothing: {e}")))?;
+        let iterations = self
+            .diffusion
+            .diffuse(eps)
+            .map_err(|e| CoupleError::Parameter(format!("constDiffSmoothing: {e}")))?;
         let mut report = SmoothingReport {
-            iterations: stats.iterations,
+            iterations,
             ..SmoothingReport::default()
         };
         let SmoothingSettings { lower, upper, .. } = self.settings;
-        for (e, v) in eps.iter_mut().zip(&g.v) {
+        for (e, v) in eps.iter_mut().zip(volumes) {
             // diffusion keeps ε ≤ 1 (a maximum principle): above it is the solver's round-off
             if *e > 1.0 && *e <= 1.0 + ROUND_OFF {
                 *e = 1.0;
@@ -152,92 +141,5 @@ impl ConstDiffSmoothing {
             }
         }
         Ok(report)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A row of `n` cubes of side h along x (blockMesh-like numbering), walls all round.
-    fn row(n: usize, h: f64) -> PolyMesh {
-        mesh::build::uniform_box([0.0; 3], [n as f64 * h, h, h], [n, 1, 1])
-    }
-
-    #[test]
-    fn smoothing_conserves_particle_volume_and_matches_the_discrete_closed_form() {
-        let (n, h, l) = (80, 1e-3, 1.5e-3);
-        let s = ConstDiffSmoothing::new(
-            &row(n, h),
-            SmoothingSettings {
-                length: l,
-                lower: 0.0,
-                upper: 1e99,
-            },
-        )
-        .unwrap();
-        // a bed of ε 0.4 in the middle two cells
-        let mut eps = vec![1.0; n];
-        eps[39] = 0.4;
-        eps[40] = 0.4;
-        let solid = |e: &[f64]| e.iter().map(|x| (1.0 - x) * h * h * h).sum::<f64>();
-        let before = solid(&eps);
-        let r = s.smooth(&mut eps).unwrap();
-        assert_eq!(r.bounded_cells, 0);
-        assert!((solid(&eps) - before).abs() <= 1e-12 * before);
-        // the 1-D discrete equation (1 + 2k) x_i − k (x_{i−1} + x_{i+1}) = x0_i, k = (L/h)²,
-        // away from the bed and from the ends (whose reflection is r^(2·distance), < 1e-10
-        // here): the solid fraction decays by the root r < 1 of k r² − (1 + 2k) r + k = 0
-        let k = (l / h).powi(2);
-        let root = ((1.0 + 2.0 * k) - ((1.0 + 2.0 * k).powi(2) - 4.0 * k * k).sqrt()) / (2.0 * k);
-        for i in 44..50 {
-            let ratio = (1.0 - eps[i + 1]) / (1.0 - eps[i]);
-            assert!((ratio - root).abs() < 1e-9, "cell {i}: {ratio} vs {root}");
-        }
-        // symmetric about the bed
-        for i in 0..n / 2 {
-            assert!((eps[i] - eps[n - 1 - i]).abs() < 1e-12);
-        }
-    }
-
-    #[test]
-    fn the_bounds_report_the_volume_they_change() {
-        let h = 1e-3;
-        let s = ConstDiffSmoothing::new(
-            &row(10, h),
-            SmoothingSettings {
-                length: 1e-4,
-                lower: 0.5,
-                upper: 1e10,
-            },
-        )
-        .unwrap();
-        let mut eps = vec![1.0; 10];
-        eps[5] = 0.2;
-        let r = s.smooth(&mut eps).unwrap();
-        assert_eq!(r.bounded_cells, 1);
-        assert_eq!(eps[5], 0.5);
-        // what the bound removed plus what is left is the solid volume put in
-        let left: f64 = eps.iter().map(|x| (1.0 - x) * h * h * h).sum();
-        assert!((left + r.bounded_volume - 0.8 * h * h * h).abs() < 1e-15);
-        assert!(r.bounded_volume > 0.0);
-    }
-
-    #[test]
-    fn bad_settings_are_errors() {
-        let bad = |length, lower, upper| {
-            ConstDiffSmoothing::new(
-                &row(3, 1.0),
-                SmoothingSettings {
-                    length,
-                    lower,
-                    upper,
-                },
-            )
-            .unwrap_err()
-            .to_string()
-        };
-        assert!(bad(0.0, 0.0, 1.0).contains("smoothingLength"));
-        assert!(bad(1.0, 2.0, 1.0).contains("lowerLimit"));
     }
 }

@@ -60,7 +60,7 @@ impl FvError {
     }
 
     /// The error with a file named relative to a case (such as
-    /// [`crate::cyclic::BOUNDARY_FILE`]) named inside the case directory `root`.
+    /// [`mesh::cyclic::BOUNDARY_FILE`]) named inside the case directory `root`.
     pub fn in_case(self, root: &std::path::Path) -> Self {
         match self {
             FvError::Setting { file, key, msg } if file.is_relative() => FvError::Setting {
@@ -69,6 +69,15 @@ impl FvError {
                 msg,
             },
             other => other,
+        }
+    }
+
+    /// A mesh error: a patch's ([`mesh::MeshError::Patch`], from the cyclic pairs) as the
+    /// setting it names, any other as [`FvError::Mesh`].
+    pub fn from_mesh(e: mesh::MeshError) -> Self {
+        match e {
+            mesh::MeshError::Patch { file, key, msg } => FvError::Setting { file, key, msg },
+            other => FvError::Mesh(other),
         }
     }
 

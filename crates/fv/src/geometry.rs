@@ -150,7 +150,7 @@ impl FvGeometry {
     pub fn from_geometry(mesh: &PolyMesh, g: &MeshGeometry) -> Result<Self> {
         g.check_matches(mesh)?;
         let n_cells = mesh.n_cells;
-        let pairs = crate::cyclic::pairs(mesh, g)?;
+        let pairs = mesh::cyclic::pairs(mesh, g).map_err(FvError::from_mesh)?;
         let order = FaceOrder::new(mesh, &pairs);
         let (n_mesh_internal, n_internal) = (order.n_mesh_internal, order.n_internal);
         let mesh_face = &order.mesh_face;
@@ -332,7 +332,7 @@ struct FaceOrder {
 }
 
 impl FaceOrder {
-    fn new(mesh: &PolyMesh, pairs: &[crate::cyclic::CyclicPair]) -> FaceOrder {
+    fn new(mesh: &PolyMesh, pairs: &[mesh::cyclic::CyclicPair]) -> FaceOrder {
         let n_mesh_internal = mesh.n_internal_faces();
         let mut mesh_face: Vec<usize> = (0..n_mesh_internal).collect();
         let mut partner: Vec<usize> = Vec::new();
@@ -363,7 +363,7 @@ impl FaceOrder {
     }
 
     /// The mesh's patches with their solver faces ([`FvPatch`]).
-    fn patches(&self, mesh: &PolyMesh, pairs: &[crate::cyclic::CyclicPair]) -> Vec<FvPatch> {
+    fn patches(&self, mesh: &PolyMesh, pairs: &[mesh::cyclic::CyclicPair]) -> Vec<FvPatch> {
         mesh.boundary
             .iter()
             .enumerate()
@@ -440,13 +440,8 @@ impl Deltas {
                 c[n] - c[p]
             } else {
                 let k = f - n_mesh_internal;
-                let pg = crate::cyclic::CyclicPair::face_geometry(
-                    g,
-                    p,
-                    n,
-                    order.mesh_face[f],
-                    order.partner[k],
-                );
+                let pg =
+                    crate::cyclic::face_geometry(g, p, n, order.mesh_face[f], order.partner[k]);
                 weight[f] = pg.weight;
                 pg.delta
             };

@@ -14,8 +14,11 @@
 //! * [`linsolve`]: PCG, PBiCG, BiCGStab and smoothSolver with OpenFOAM's residual and
 //!   iteration counting (DIC/DILU preconditioning and smoothing), and `GAMG` through
 //!   [`amg`], an aggregation multigrid;
-//! * [`cyclic`]: translational `cyclic` patch pairs, solved as internal faces;
+//! * [`diffusion`]: one implicit diffusion step of a cell field (CFDEM's `constDiffSmoothing`);
+//! * [`cyclic`]: translational `cyclic` patch pairs ([`mesh::cyclic`]), solved as internal
+//!   faces;
 //! * [`bc`]: boundary conditions of U and p; [`fields`]: U, p and phi of a time directory;
+//!   [`frozen`]: U, p of a time directory with ∇p and ∇·τ, for a fluid that does not move;
 //! * [`settings`]: what `system/` and `constant/` ask for, refusing what is not supported;
 //! * [`turbulence`]: `turbulenceProperties` and the k–ε model with wall functions;
 //! * [`fv_options`]: `fvOptions` sources holding a mean velocity (`meanVelocityForce`,
@@ -44,9 +47,11 @@ pub mod convection;
 pub mod courant;
 pub mod cyclic;
 pub mod ddt;
+pub mod diffusion;
 pub mod error;
 pub mod fields;
 pub mod fluid;
+pub mod frozen;
 pub mod fv_options;
 pub mod fvc;
 pub mod geometry;

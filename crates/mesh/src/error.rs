@@ -45,4 +45,15 @@ pub enum MeshError {
         /// Faces in the mesh.
         mesh_faces: usize,
     },
+    /// A patch entry the [`crate::cyclic`] pairs cannot use (type, `neighbourPatch`,
+    /// `transform`, `separationVector`, non-matching faces).
+    #[error("{}: `{key}`: {msg}", file.display())]
+    Patch {
+        /// The file holding the patch ([`crate::cyclic::BOUNDARY_FILE`], relative to the case).
+        file: std::path::PathBuf,
+        /// `patch.keyword`.
+        key: String,
+        /// What is wrong.
+        msg: String,
+    },
 }

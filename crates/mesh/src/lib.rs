@@ -15,6 +15,7 @@
 //!   most queries without the exact tet predicates, points near a located centre
 //!   ([`Locator::locate_near`]), and parallel batch queries;
 //! * [`nearest`]: nearest points on triangles and faces (point–face distances);
+//! * [`cyclic`]: translational `cyclic` patch pairs and their separations;
 //! * [`build`]: programmatic meshes (graded Cartesian grids, single cells, affine maps).
 //!
 //! Invariant: geometry exactly as OpenFOAM computes it; no I/O (reading meshes is the `foam`
@@ -22,13 +23,15 @@
 //! panic, for any mesh that passes [`foam::PolyMesh::check`].
 
 pub mod build;
+pub mod cyclic;
 mod error;
 mod exact;
 pub mod geometry;
 pub mod locate;
 pub mod nearest;
 pub mod tets;
-pub mod v3;
+/// The 3-vector type, from the leaf crate `v3` (so `mesh::v3::V3` is `v3::V3`).
+pub use ::v3;
 
 pub use error::MeshError;
 pub use geometry::{face_centre_and_area, Aabb, MeshGeometry};

@@ -28,6 +28,7 @@ pub mod report;
 pub mod run;
 mod run_loop;
 pub mod sample;
+pub mod smoothing;
 mod stage1;
 pub mod surface_values;
 pub mod timed;

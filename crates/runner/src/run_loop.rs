@@ -199,7 +199,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             coupler.set_owners(owners);
         }
         if let Some(s) = plan.layout.coupling.smoothing {
-            coupler.set_smoothing(couple::smoothing::ConstDiffSmoothing::new(mesh, s)?);
+            coupler.set_smoothing(crate::smoothing::native(mesh, s)?);
         }
         let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
         // The voidage of the initial particles, so that the first coupling interval blends
