@@ -63,6 +63,7 @@ fn main() {
     let grad_p = vec![V3::new(0.0, 0.0, -8000.0); cells];
     let div_tau = vec![V3::zeros(); cells];
     let fluid = FluidState {
+        temperature: None,
         u: &u,
         p: &p,
         grad_p: &grad_p,
@@ -87,6 +88,7 @@ fn main() {
                 *x += V3::from_fn(|_, _| 1e-5 * (2.0 * walk.unit() - 1.0));
             }
             let particles = ParticleState {
+                temperature: None,
                 ids: &ids,
                 position: &moving,
                 velocity: &vel,

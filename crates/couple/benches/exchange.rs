@@ -108,6 +108,7 @@ fn physics() -> Physics {
 
 fn particles(d: &Data) -> ParticleState<'_> {
     ParticleState {
+        temperature: None,
         ids: &d.ids,
         position: &d.pos,
         velocity: &d.vel,
@@ -118,6 +119,7 @@ fn particles(d: &Data) -> ParticleState<'_> {
 
 fn fluid(d: &Data) -> FluidState<'_> {
     FluidState {
+        temperature: None,
         u: &d.u,
         p: &d.p,
         grad_p: &d.gp,

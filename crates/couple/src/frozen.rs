@@ -78,6 +78,7 @@ impl FluidSide for FrozenFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            temperature: None,
             u: &self.u,
             p: &self.p,
             grad_p: &self.grad_p,

@@ -92,6 +92,7 @@ impl ParticleSide for MemoryParticles {
 
     fn state(&self) -> ParticleState<'_> {
         ParticleState {
+            temperature: None,
             ids: &self.ids,
             position: &self.position,
             velocity: &self.velocity,
@@ -182,6 +183,7 @@ impl FluidSide for MemoryFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            temperature: None,
             u: &self.u,
             p: &self.p,
             grad_p: &self.grad_p,

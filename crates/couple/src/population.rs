@@ -272,6 +272,7 @@ mod tests {
 
         fn view(&self) -> ParticleState<'_> {
             ParticleState {
+                temperature: None,
                 ids: &self.ids,
                 position: &self.x,
                 velocity: &self.v,

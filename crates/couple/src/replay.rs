@@ -172,6 +172,7 @@ impl ParticleSide for DumpReplay {
 
     fn state(&self) -> ParticleState<'_> {
         ParticleState {
+            temperature: None,
             ids: &self.frame.ids,
             position: &self.frame.position,
             velocity: &self.frame.velocity,

@@ -28,6 +28,9 @@ pub struct ParticleState<'a> {
     pub radius: &'a [f64],
     /// Densities, kg/m³.
     pub density: &'a [f64],
+    /// Temperatures T_p, K, when the particle side carries heat (LIGGGHTS's `fix heat/gran`
+    /// property `Temp`); `None` otherwise.
+    pub temperature: Option<&'a [f64]>,
 }
 
 impl ParticleState<'_> {
@@ -53,6 +56,9 @@ pub struct FluidState<'a> {
     pub grad_p: &'a [V3],
     /// ∇·(τ/ρ), m/s².
     pub div_tau: &'a [V3],
+    /// Temperature T, K, when the fluid solves cfdemSolverPisoScalar's temperature equation
+    /// (the case has `0/T`); `None` otherwise.
+    pub temperature: Option<&'a [f64]>,
 }
 
 /// What the fluid receives for the next coupling interval.
@@ -66,6 +72,9 @@ pub struct ExchangeFields<'a> {
     pub exchange: &'a Exchange,
     /// Length of the coupling interval, s.
     pub interval: f64,
+    /// The particles' heat source per cell, CFDEM's `Tsource` (K/s: −Σ q_p share / (ρ c_p V)),
+    /// held over the interval, when the coupling carries heat; `None` otherwise.
+    pub heat_source: Option<&'a [f64]>,
 }
 
 /// A DEM side.
@@ -81,6 +90,13 @@ pub trait ParticleSide {
     /// Per-particle forces until the next exchange, in the order of [`ParticleSide::state`]:
     /// explicit `f_ext` (N), implicit `beta` (kg/s) and `u_f` (m/s).
     fn set_forces(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), SideError>;
+    /// The convective heat flux q_p (W, into the particle) per particle until the next
+    /// exchange, in the order of [`ParticleSide::state`] (LIGGGHTS's `fix couple/cfd/convection`
+    /// property `convectiveHeatFlux`). The default refuses: the side carries no heat.
+    fn set_heat_flux(&mut self, q: &[f64]) -> Result<(), SideError> {
+        let _ = q;
+        Err("this particle side carries no heat (no `fix heat/gran` and `fix couple/cfd/convection`)".into())
+    }
     /// Runs one LIGGGHTS command on the particle side (CFDEM's `liggghtsCommands`, e.g.
     /// `write_restart FILE`). The default refuses every command, naming it.
     fn command(&mut self, command: &str) -> Result<(), SideError> {

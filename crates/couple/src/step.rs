@@ -427,6 +427,7 @@ impl Coupler {
             r.div_tau[c] = V3::new(g[8], g[9], g[10]);
         }
         let fluid = FluidState {
+            temperature: None,
             u: &r.u,
             p: &r.p,
             grad_p: &r.grad_p,
@@ -656,6 +657,7 @@ impl Coupler {
         let dt = interval as f64 * particles.time_step();
         fluid
             .set_exchange(&ExchangeFields {
+                heat_source: None,
                 voidage_old: &old,
                 voidage_new: &step.voidage.epsilon,
                 exchange: &step.exchange,

@@ -50,6 +50,7 @@ impl Cloud {
     /// The cloud as a particle side shows it (ids 1…N, density 2500 kg/m³).
     fn state(&self) -> ParticleState<'_> {
         ParticleState {
+            temperature: None,
             ids: &self.ids,
             position: &self.pos,
             velocity: &self.vel,
@@ -247,6 +248,7 @@ fn fluid(vm: &VoidageMesh) -> Fluid {
 
 fn state(f: &Fluid) -> FluidState<'_> {
     FluidState {
+        temperature: None,
         u: &f.u,
         p: &f.p,
         grad_p: &f.grad_p,

@@ -65,6 +65,7 @@ fn a_centre_beyond_a_cyclic_face_is_coupled_at_its_image() {
         .collect();
     let (p, grad_p, div_tau) = (vec![0.0; n], vec![V3::zeros(); n], vec![V3::zeros(); n]);
     let fluid = FluidState {
+        temperature: None,
         u: &u,
         p: &p,
         grad_p: &grad_p,
@@ -75,6 +76,7 @@ fn a_centre_beyond_a_cyclic_face_is_coupled_at_its_image() {
             let (ids, pos) = ([1u64], [V3::new(x, 0.03, 0.04)]);
             let (vel, rad, den) = ([V3::zeros()], [0.0002], [2000.0]);
             let particles = ParticleState {
+                temperature: None,
                 ids: &ids,
                 position: &pos,
                 velocity: &vel,

@@ -666,6 +666,7 @@ impl FluidSide for OpenFoamFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            temperature: None,
             u: &self.state.u,
             p: &self.state.p,
             grad_p: &self.state.grad_p,

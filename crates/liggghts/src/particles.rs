@@ -24,6 +24,7 @@ impl Particles {
     /// The view the coupler reads.
     pub fn view(&self) -> ParticleState<'_> {
         ParticleState {
+            temperature: None,
             ids: &self.ids,
             position: &self.position,
             velocity: &self.velocity,

@@ -67,6 +67,7 @@ impl ParticleSide for Native {
     fn state(&self) -> ParticleState<'_> {
         let p = &self.0.particles;
         ParticleState {
+            temperature: None,
             ids: &p.id,
             position: &p.x,
             velocity: &p.v,

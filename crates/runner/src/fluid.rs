@@ -151,6 +151,7 @@ impl FluidSide for StandInFluid {
 
     fn state(&self) -> couple::FluidState<'_> {
         couple::FluidState {
+            temperature: None,
             u: &self.u,
             p: &self.p,
             grad_p: &self.u,

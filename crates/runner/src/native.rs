@@ -151,6 +151,7 @@ impl FluidSide for NativeFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            temperature: None,
             u: self.fluid.u(),
             p: self.fluid.p(),
             grad_p: self.fluid.grad_p(),
@@ -411,6 +412,7 @@ impl ParticleSide for NativeDem {
     fn state(&self) -> ParticleState<'_> {
         let p = &self.sim().particles;
         ParticleState {
+            temperature: None,
             ids: &p.id,
             position: &p.x,
             velocity: &p.v,

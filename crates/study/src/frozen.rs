@@ -72,6 +72,7 @@ impl ParticleSide for FrozenParticles {
 
     fn state(&self) -> ParticleState<'_> {
         ParticleState {
+            temperature: None,
             ids: &self.bed.ids,
             position: &self.bed.position,
             velocity: &self.velocity,
