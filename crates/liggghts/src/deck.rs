@@ -61,6 +61,9 @@ pub struct CouplingDeck {
     dump_files: Vec<DeckFile>,
     /// `processors Px Py Pz`.
     pub processors: Option<Processors>,
+    /// The line of `fix … couple/cfd/convection T0 …`, when the deck exchanges heat: LIGGGHTS
+    /// then pushes each particle's `Temp` and pulls its `convectiveHeatFlux` (W).
+    pub convection: Option<usize>,
 }
 
 impl CouplingDeck {
@@ -105,6 +108,7 @@ impl CouplingDeck {
             ));
         }
         let skipped_runs = trailing_runs(&deck, couple.line).map_err(|(l, m)| err(l, m))?;
+        let convection = convection_fix(&deck).map_err(|(l, m)| err(l, m))?;
         Ok(CouplingDeck {
             file: file.to_path_buf(),
             source: source.to_string(),
@@ -123,6 +127,7 @@ impl CouplingDeck {
                 .filter(|f| f.command == "dump" || f.command == "fix print")
                 .collect(),
             processors: deck.processors()?,
+            convection,
         })
     }
 
@@ -324,6 +329,33 @@ fn refuse_hidden_commands(deck: &Deck) -> Result<(), (usize, String)> {
 
 /// Exactly one `couple/cfd` and one force fix after it, with the options LIGGGHTS 3.8.0
 /// survives.
+/// The line of the deck's `fix … couple/cfd/convection T0 …` (LIGGGHTS 3.8 allows one, and
+/// it needs `fix heat/gran`, which holds the per-particle `Temp` and `heatFlux`; without it
+/// LIGGGHTS adds a `transportequation/scalar` of its own, which we refuse: the particles'
+/// heat conduction would then silently be off).
+fn convection_fix(deck: &liggghts_deck::Deck) -> Result<Option<usize>, (usize, String)> {
+    let mut lines = deck.fixes("couple/cfd/convection").map(|c| c.line);
+    let Some(line) = lines.next() else {
+        return Ok(None);
+    };
+    if let Some(second) = lines.next() {
+        return Err((
+            second,
+            format!("a second `fix … couple/cfd/convection` (the first is on line {line})"),
+        ));
+    }
+    if deck.fixes("heat/gran").next().is_none() {
+        return Err((
+            line,
+            "`couple/cfd/convection` without `fix ID all heat/gran initial_temperature T0`: the \
+             particles would have no temperature equation (CFDEM's packedBedTemp declares both, \
+             with `fix property/global thermalConductivity` and `thermalCapacity`)"
+                .into(),
+        ));
+    }
+    Ok(Some(line))
+}
+
 fn coupling_fixes(fixes: Vec<CfdFix>) -> Result<(CoupleFix, ForceFix), (usize, String)> {
     let mut couple: Option<CoupleFix> = None;
     let mut force: Option<ForceFix> = None;

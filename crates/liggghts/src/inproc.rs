@@ -59,6 +59,9 @@ pub struct LiggghtsDem {
     /// LIGGGHTS's local index of each state entry (state order = tag order).
     local: Vec<usize>,
     fields: ForceFields,
+    /// Whether the deck exchanges heat (`couple/cfd/convection`): `Temp` is read with the
+    /// particles and `convectiveHeatFlux` written by [`ParticleSide::set_heat_flux`].
+    heat: bool,
 }
 
 static EXIT_HOOK: Once = Once::new();
@@ -186,8 +189,12 @@ impl LiggghtsDem {
                 particles: Particles::default(),
                 local: Vec::new(),
                 fields: ForceFields::default(),
+                heat: d.convection.is_some(),
             }
         };
+        if side.heat {
+            side.particles.temperature = Some(Vec::new());
+        }
         side.refresh()?;
         Ok(side)
     }
@@ -241,7 +248,8 @@ impl LiggghtsDem {
         if ptr.is_null() {
             return Err(LiggghtsError::Coupling(format!(
                 "LIGGGHTS has no per-atom fix `{id}` (the coupling fix `couple/cfd/force` creates \
-                 `dragforce`, and with `/implicit` `Ksl` and `uf`)"
+                 `dragforce`, and with `/implicit` `Ksl` and `uf`; `heat/gran` creates `Temp` and \
+                 `heatFlux`, `couple/cfd/convection` `convectiveHeatFlux`)"
             )));
         }
         Ok(ptr)
@@ -303,6 +311,60 @@ impl LiggghtsDem {
                     *radius.add(i),
                     *density.add(i),
                 );
+            }
+        }
+        if let Some(t) = self.particles.temperature.as_mut() {
+            let temp = {
+                let n = cstr("Temp");
+                unsafe { ffi::lammps_extract_fix(self.lmp, n.as_ptr(), 1, 1, 0, 0) as *const f64 }
+            };
+            if temp.is_null() {
+                return Err(LiggghtsError::Coupling(
+                    "LIGGGHTS has no per-atom `Temp` although the deck declares \
+                     `couple/cfd/convection` (is `fix heat/gran` defined before the first run?)"
+                        .into(),
+                ));
+            }
+            // SAFETY: `Temp` is a per-atom scalar with a value for every local atom.
+            t.extend(self.local.iter().map(|&i| unsafe { *temp.add(i) }));
+        }
+        Ok(())
+    }
+
+    /// Writes the convective heat flux (W per particle, in the state's order) into LIGGGHTS's
+    /// per-atom `convectiveHeatFlux` of this rank's atoms; `fix couple/cfd/convection` adds it
+    /// to `heatFlux` every step until the next exchange.
+    fn push_heat_flux(&mut self, q: &[f64]) -> Result<(), LiggghtsError> {
+        if !self.heat {
+            return Err(LiggghtsError::Coupling(
+                "the coupling computes a particle heat flux, but the deck has no \
+                 `fix ID all couple/cfd/convection T0 …` (and `fix heat/gran`) to receive it"
+                    .into(),
+            ));
+        }
+        let n = self.local.len();
+        if q.len() != n {
+            return Err(LiggghtsError::Length {
+                what: "heat fluxes",
+                expected: n,
+                found: q.len(),
+            });
+        }
+        if let Some(i) = q.iter().position(|x| !x.is_finite()) {
+            return Err(LiggghtsError::Particle {
+                tag: self.particles.ids[i],
+                message: format!("heat flux {} W (a finite value needed)", q[i]),
+            });
+        }
+        let _in = InLiggghts::enter(&self.workdir)?;
+        if n == 0 {
+            return Ok(());
+        }
+        let flux = self.fix_array("convectiveHeatFlux", false)? as *mut f64;
+        // SAFETY: one double per local atom.
+        unsafe {
+            for (s, &i) in self.local.iter().enumerate() {
+                *flux.add(i) = q[s];
             }
         }
         Ok(())
@@ -395,8 +457,15 @@ impl ParticleSide for LiggghtsDem {
         Ok(())
     }
 
+    fn set_heat_flux(&mut self, q: &[f64]) -> Result<(), SideError> {
+        self.push_heat_flux(q)?;
+        Ok(())
+    }
+
     fn command(&mut self, cmd: &str) -> Result<(), SideError> {
         LiggghtsDem::command(self, cmd)?;
+        // a command may change the particles (CFDEM's `set … property/atom Temp`, `run`)
+        self.refresh()?;
         Ok(())
     }
 }

@@ -18,13 +18,15 @@ pub struct Particles {
     pub radius: Vec<f64>,
     /// Densities, kg/m³.
     pub density: Vec<f64>,
+    /// Temperatures, K (LIGGGHTS's per-atom `Temp`), when the side exchanges heat.
+    pub temperature: Option<Vec<f64>>,
 }
 
 impl Particles {
     /// The view the coupler reads.
     pub fn view(&self) -> ParticleState<'_> {
         ParticleState {
-            temperature: None,
+            temperature: self.temperature.as_deref(),
             ids: &self.ids,
             position: &self.position,
             velocity: &self.velocity,
@@ -50,6 +52,9 @@ impl Particles {
         self.velocity.clear();
         self.radius.clear();
         self.density.clear();
+        if let Some(t) = self.temperature.as_mut() {
+            t.clear();
+        }
     }
 
     /// Appends one particle.
