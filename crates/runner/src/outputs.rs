@@ -48,6 +48,8 @@ pub(crate) struct Observer {
     pub(crate) outlet: Option<String>,
     /// A conveyor case: its zones and the outlet whose outflow is sampled.
     pub(crate) conveyor: Option<crate::conveyor::ConveyorSpec>,
+    /// The outlet patch's cells and face areas (m²), for the outlet gas temperature.
+    pub(crate) outlet_cells: Vec<(usize, f64)>,
 }
 
 impl Observer {
@@ -86,6 +88,16 @@ impl Observer {
             axial += ps.velocity[i].dot(&ax);
         }
         let force: f64 = step.forces.particles.iter().map(|c| c.total.dot(&ax)).sum();
+        let particle_temperature = ps.temperature.map(|t| {
+            let mut sums = [0.0, 0.0];
+            for (i, ti) in t.iter().enumerate() {
+                let m = ps.density[i] * voidage::sphere_box::ball_volume(ps.radius[i]);
+                sums[0] += m * ti;
+                sums[1] += m;
+            }
+            ranks.all_sum(&mut sums);
+            sums[0] / sums[1]
+        });
         let mut sums = [ke, axial, force, ps.len() as f64];
         ranks.all_sum(&mut sums);
         let [ke, axial, force, count] = sums;
@@ -162,6 +174,11 @@ impl Observer {
             bed_particles: evacuated.map(|e| e.bed),
             bed_never_left: evacuated.map(|e| e.never_left),
             annulus_returned: evacuated.map(|e| e.returned),
+            heat_to_particles: None,
+            heat_from_fluid: None,
+            heat_clipped: None,
+            particle_temperature: particle_temperature.filter(|t| t.is_finite()),
+            outlet_temperature: None,
         }
     }
 
@@ -180,6 +197,11 @@ impl Observer {
             .as_ref()
             .and_then(|spec| fluid.inflow_velocity(&spec.outlet))
             .map(|u| -u);
+        sample.outlet_temperature = fluid.state().temperature.and_then(|t| {
+            let area: f64 = self.outlet_cells.iter().map(|&(_, a)| a).sum();
+            let sum: f64 = self.outlet_cells.iter().map(|&(c, a)| a * t[c]).sum();
+            (area > 0.0).then(|| sum / area)
+        });
     }
 }
 

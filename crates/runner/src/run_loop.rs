@@ -312,7 +312,19 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 (found.inlet, found.outlet)
             }
         };
+        let outlet_cells = outlet
+            .as_deref()
+            .and_then(|name| self.mesh.boundary.iter().find(|p| p.name == name))
+            .map(|patch| {
+                let areas = &self.coupler.voidage_mesh().geometry().face_areas;
+                patch
+                    .faces()
+                    .map(|f| (self.mesh.owner[f] as usize, areas[f].norm()))
+                    .collect()
+            })
+            .unwrap_or_default();
         Observer {
+            outlet_cells,
             column: Column::of(self.mesh, volume, axis),
             rho: physics.rho,
             g: physics.gravity.dot(&physics.gravity).sqrt(),

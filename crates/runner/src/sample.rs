@@ -74,9 +74,22 @@ pub struct Sample {
     pub bed_never_left: Option<usize>,
     /// Particles in the annulus that had left it before (fallen back from the plenum).
     pub annulus_returned: Option<usize>,
+    /// Heat the fluid gave the particles at the step's exchange, Σ_p q_p, W (cases with heat:
+    /// [`couple::heat`]).
+    pub heat_to_particles: Option<f64>,
+    /// Heat the fluid lost by its source field, −Σ_c Tsource_c ρ c_p V_c, W; equal to
+    /// `heat_to_particles` to round-off but for `heat_clipped`.
+    pub heat_from_fluid: Option<f64>,
+    /// Heat removed from the source field by `maxSource`, W.
+    pub heat_clipped: Option<f64>,
+    /// Mass-weighted mean particle temperature Σ m T / Σ m, K.
+    pub particle_temperature: Option<f64>,
+    /// Mean gas temperature on the outlet patch (area-weighted over the patch's cells: the
+    /// patch value of a zeroGradient outlet), K.
+    pub outlet_temperature: Option<f64>,
 }
 
-const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles,bed_particles,bed_never_left,annulus_returned";
+const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles,bed_particles,bed_never_left,annulus_returned,heat_to_particles,heat_from_fluid,heat_clipped,particle_temperature,outlet_temperature";
 
 /// The rows of an earlier run's CSV at `path` up to time `start` (s; to a relative 10⁻⁹),
 /// as text: what a run restarted at `start` keeps (none when there is no such file or its
@@ -119,7 +132,7 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
         for s in samples {
             writeln!(
                 w,
-                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{},{}",
+                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 s.time,
                 o(s.inlet_velocity),
                 o(s.pressure_drop),
@@ -155,7 +168,12 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
                 n(s.annulus_particles),
                 n(s.bed_particles),
                 n(s.bed_never_left),
-                n(s.annulus_returned)
+                n(s.annulus_returned),
+                o(s.heat_to_particles),
+                o(s.heat_from_fluid),
+                o(s.heat_clipped),
+                o(s.particle_temperature),
+                o(s.outlet_temperature)
             )?;
         }
         Ok(())

@@ -47,6 +47,9 @@ impl<P: ParticleSide> ParticleSide for Timed<P> {
     fn set_forces(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), SideError> {
         self.inner.set_forces(f_ext, beta, u_f)
     }
+    fn set_heat_flux(&mut self, q: &[f64]) -> Result<(), SideError> {
+        self.inner.set_heat_flux(q)
+    }
     fn command(&mut self, command: &str) -> Result<(), SideError> {
         self.inner.command(command)
     }
