@@ -12,6 +12,7 @@ pub mod fluid;
 pub mod fluidised;
 #[cfg(feature = "mpi")]
 pub mod foam_fluid;
+pub mod heat_plot;
 pub mod layout;
 mod monitors;
 pub mod native;

@@ -615,10 +615,16 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         samples: &[crate::sample::Sample],
         events: &mut dyn FnMut(Event),
     ) -> Result<Vec<crate::validation::Check>, RunError> {
+        let post: PathBuf = self.plan.layout.post_processing();
+        if let Some(file) = crate::heat_plot::temperatures(samples, &post)? {
+            events(Event::Message(format!(
+                "temperature histories: {}",
+                file.display()
+            )));
+        }
         let Some(spec) = &self.plan.layout.validation else {
             return Ok(Vec::new());
         };
-        let post: PathBuf = self.plan.layout.post_processing();
         let mut notes = Vec::new();
         let checks = checks::evaluate(
             spec,
