@@ -2,6 +2,8 @@
 //! `tests/link_ranks.rs` does): each rank sees only the particles its LIGGGHTS rank owns and
 //! sets the forces of those alone. Prints each rank's tags; exits with status 1 (and a message)
 //! when a velocity misses v = (g + F/m) t or the ranks' tags are not a partition of 1..=3.
+//! With a second argument `heat` it runs `tests/decks/heated.in` instead and checks that each
+//! rank heats its own particles by the flux it hands over, T = T0 + q t/(m c).
 
 use couple::ParticleSide;
 use mesh::v3::V3;
@@ -13,8 +15,13 @@ fn main() {
     let universe = mpi::initialize().expect("MPI initialised once");
     let world = universe.world();
     let (rank, size) = (world.rank() as usize, world.size() as usize);
+    let dir = std::env::args()
+        .nth(1)
+        .expect("usage: two_ranks WORKDIR [heat]");
+    if std::env::args().nth(2).as_deref() == Some("heat") {
+        return heat(world, Path::new(&dir));
+    }
     let deck = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/decks/falling.in");
-    let dir = std::env::args().nth(1).expect("usage: two_ranks WORKDIR");
     let mut lig = liggghts::LiggghtsDem::open(&world, &deck, Path::new(&dir), &[]).unwrap();
     // F = (0, 0, 1e-6·tag) N on this rank's particles
     let ids = lig.state().ids.to_vec();
@@ -55,6 +62,43 @@ fn main() {
     drop(universe);
     if !ok {
         eprintln!("rank {rank}: velocities do not match v = (g + F/m) t, or tags not partitioned");
+        std::process::exit(1);
+    }
+}
+
+/// The heat variant (module docs): q = 1e-3·tag W on each rank's own particles for 100 steps.
+fn heat(world: mpi::topology::SimpleCommunicator, dir: &Path) {
+    let rank = world.rank();
+    let deck = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/decks/heated.in");
+    let mut lig = liggghts::LiggghtsDem::open(&world, &deck, dir, &[]).unwrap();
+    let ids = lig.state().ids.to_vec();
+    let q: Vec<f64> = ids.iter().map(|&t| 1e-3 * t as f64).collect();
+    lig.set_heat_flux(&q).unwrap();
+    lig.advance(100).unwrap();
+    let (m, c) = (2000.0 * std::f64::consts::PI / 6.0 * 1e-9, 500.0);
+    let t = 100.0 * lig.time_step();
+    let temps = lig
+        .state()
+        .temperature
+        .expect("the deck has heat/gran")
+        .to_vec();
+    let mut ok = temps.len() == ids.len();
+    for (i, &id) in ids.iter().enumerate() {
+        let expected = 300.0 + 1e-3 * id as f64 * t / (m * c);
+        ok &= (temps[i] - expected).abs() <= 1e-12 * expected;
+    }
+    let n = [ids.len() as i32];
+    let mut total = [0i32];
+    world.all_reduce_into(
+        &n[..],
+        &mut total[..],
+        mpi::collective::SystemOperation::sum(),
+    );
+    ok &= total[0] == 3 && n[0] < 3;
+    println!("rank {rank}: heat ids {ids:?}, T {temps:?}, particles over ranks {total:?}");
+    drop(lig);
+    if !ok {
+        eprintln!("rank {rank}: temperatures do not match T0 + q t/(m c), or particles not split");
         std::process::exit(1);
     }
 }

@@ -48,3 +48,42 @@ fn each_rank_holds_and_forces_only_its_own_particles() {
         );
     }
 }
+
+#[test]
+fn each_rank_heats_only_its_own_particles() {
+    if !testkit::tool("liggghts") || !testkit::tool("mpirun") {
+        return;
+    }
+    let exe = std::env::current_exe().unwrap();
+    let example = exe
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("examples/two_ranks");
+    assert!(example.is_file(), "{} not built", example.display());
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new("mpirun")
+        .args(["-np", "2", "--oversubscribe"])
+        .arg(&example)
+        .arg(dir.path())
+        .arg("heat")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // both ranks report, each with its own (non-empty) share of the three particles
+    for rank in 0..2 {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("rank {rank}: heat ids [")))
+            .unwrap_or_else(|| panic!("no line of rank {rank}: {stdout}"));
+        assert!(!line.contains("ids []"), "{line}");
+    }
+}
