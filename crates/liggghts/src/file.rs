@@ -117,6 +117,16 @@ impl FileDem {
         options: FileOptions,
     ) -> Result<FileDem, LiggghtsError> {
         let d = CouplingDeck::read(deck, vars)?;
+        if let Some(line) = d.convection {
+            return Err(LiggghtsError::Deck {
+                file: deck.to_path_buf(),
+                line,
+                message: "`couple/cfd/convection`: heat is exchanged with LIGGGHTS in-process \
+                          only (`--dem liggghts` with the `liggghts` feature) or with the native \
+                          DEM, not through files"
+                    .into(),
+            });
+        }
         d.check_inputs(workdir)?;
         // the binary runs serially
         d.check_ranks(1)?;
