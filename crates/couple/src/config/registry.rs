@@ -29,7 +29,7 @@
 //! its spellings (with the Props of its `REQUIRED_PROPS` for keys that have no default, where
 //! a new model's required keys go), so a row without a working constructor fails it.
 
-use super::{commands, forces, momentum, monitors, smoothing, void_fraction};
+use super::{commands, forces, heat, momentum, monitors, smoothing, void_fraction};
 use super::{Built, Given, Reader, Setup};
 use closures::DragLaw;
 use voidage::Method;
@@ -331,11 +331,74 @@ pub const FORCES: Family = Family {
         ("totalMomentumExchange", refuse("not implemented")),
         ("fieldTimeAverage", refuse("not implemented")),
         ("fieldVolWeighted", refuse("not implemented")),
-        ("LaEuScalarTemp", refuse("heat transfer is not implemented")),
+        ("LaEuScalarTemp", acts(heat::la_eu_scalar_temp)),
         (
             "scalarGeneralExchange",
-            refuse("heat transfer is not implemented"),
+            refuse(
+                "it is cfdemSolverPisoSTM's scalar transport (species with T, a source in W/m³ \
+                 over scalarTransportProperties' cpVolumetric), which foamgrain does not have; \
+                 for temperature use LaEuScalarTemp with `lambda` and `Cp`",
+            ),
         ),
+    ],
+};
+
+/// `energyModels` (CFDEM-PFM): the heat exchanged with the particles ([`super::heat`]).
+pub const ENERGY: Family = Family {
+    key: "energyModels",
+    models: &[
+        ("heatTransferGunn", acts(heat::heat_transfer_gunn)),
+        ("off", SAME),
+        (
+            "heatTransferRanzMarshall",
+            refuse("not implemented; use heatTransferGunn"),
+        ),
+        (
+            "heatTransferInterGrain",
+            refuse("not implemented (conduction between particles is the DEM's)"),
+        ),
+        ("reactionHeat", refuse("chemistry is not implemented")),
+        ("wallHeatTransferYagi", refuse("not implemented")),
+    ],
+};
+
+/// `thermCondModel` (CFDEM-PFM): the fluid's effective conductivity in a bed.
+pub const THERM_COND: Family = Family {
+    key: "thermCondModel",
+    models: &[
+        ("noTherm", SAME),
+        (
+            "SyamlalThermCond",
+            warn(
+                "the fluid's conduction is its solver's own; no bed conductivity model is applied",
+            ),
+        ),
+        (
+            "ZehnerSchluenderThermCond",
+            warn(
+                "the fluid's conduction is its solver's own; no bed conductivity model is applied",
+            ),
+        ),
+    ],
+};
+
+/// `chemistryModels` (CFDEM-PFM).
+pub const CHEMISTRY: Family = Family {
+    key: "chemistryModels",
+    models: &[
+        ("off", SAME),
+        ("noChemistry", SAME),
+        ("species", refuse("chemistry is not implemented")),
+        (
+            "diffusionCoefficients",
+            refuse("chemistry is not implemented"),
+        ),
+        ("massTransferCoeff", refuse("chemistry is not implemented")),
+        (
+            "reactantPerParticle",
+            refuse("chemistry is not implemented"),
+        ),
+        ("initMultiLayers", refuse("chemistry is not implemented")),
     ],
 };
 
@@ -358,7 +421,7 @@ pub const LIGGGHTS_COMMANDS: Family = Family {
 };
 
 /// Top-level single-name families, checked the same way: the key, its table.
-pub const SINGLE_NAME: [Family; 8] = [
+pub const SINGLE_NAME: [Family; 9] = [
     LOCATE,
     MESH_MOTION,
     REGION,
@@ -367,11 +430,20 @@ pub const SINGLE_NAME: [Family; 8] = [
     DATA_EXCHANGE,
     IO,
     PROBE,
+    THERM_COND,
 ];
 
 /// The families read by a reader of their own; with [`SINGLE_NAME`], every family with a table
 /// here (the drag laws are [`DRAG_LAWS`]).
-pub const OTHERS: [Family; 5] = [VOIDAGE, CLOCK, MOM_COUPLE, FORCES, LIGGGHTS_COMMANDS];
+pub const OTHERS: [Family; 7] = [
+    VOIDAGE,
+    CLOCK,
+    MOM_COUPLE,
+    FORCES,
+    ENERGY,
+    CHEMISTRY,
+    LIGGGHTS_COMMANDS,
+];
 
 #[cfg(test)]
 mod tests {
@@ -383,7 +455,22 @@ mod tests {
         fieldStoreProps { scalarFieldNames ( ); vectorFieldNames ( U ); }\n\
         volWeightedAverageProps { lowerThreshold 0; upperThreshold 1; \
             scalarFieldNames ( ); vectorFieldNames ( ); }\n\
-        executeProps0 { command ( write_restart r ); runFirst on; }\n";
+        executeProps0 { command ( write_restart r ); runFirst on; }\n\
+        LaEuScalarTempProps { tempFieldName \"T\"; lambda 0.0256; Cp 1007; }\n\
+        heatTransferGunnProps { partTempName \"Temp\"; implicit false; }\n";
+
+    /// A `transportProperties` with PFM's `kf` and `Cp` next to the `couplingProperties` the
+    /// tests name (heatTransferGunn reads them there).
+    fn coupling_properties() -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("transportProperties"),
+            "nu 1.5e-5;\nkf kf [1 1 -3 -1 0 0 0] 0.0256;\nCp Cp [0 2 -2 -1 0 0 0] 1007;\n",
+        )
+        .unwrap();
+        let file = dir.path().join("couplingProperties");
+        (dir, file)
+    }
 
     fn top() -> foam::Dict {
         let file = std::path::Path::new("couplingProperties");
@@ -399,7 +486,8 @@ mod tests {
         name: &str,
         top: &foam::Dict,
     ) -> (Result<bool, String>, Setup, Vec<String>) {
-        let mut r = Reader::new(std::path::Path::new("couplingProperties"));
+        let (_dir, file) = coupling_properties();
+        let mut r = Reader::new(&file);
         let mut setup = Setup::default();
         let given = Given {
             key: family.key,
@@ -507,10 +595,7 @@ mod tests {
 
     #[test]
     fn names_are_unique_within_a_family() {
-        for f in SINGLE_NAME
-            .iter()
-            .chain([&CLOCK, &MOM_COUPLE, &FORCES, &LIGGGHTS_COMMANDS])
-        {
+        for f in SINGLE_NAME.iter().chain(&OTHERS[1..]) {
             for (i, (a, _)) in f.models.iter().enumerate() {
                 assert!(
                     f.models[i + 1..].iter().all(|(b, _)| a != b),

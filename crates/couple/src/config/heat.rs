@@ -1,0 +1,379 @@
+//! The heat transfer between fluid and particles ([`HeatSettings`]): CFDEM-PUBLIC's
+//! `LaEuScalarTemp` (a `forceModels` entry of `cfdemSolverPisoScalar` cases) and CFDEM-PFM's
+//! `heatTransferGunn` (an `energyModels` entry), and the PFM families that come with it
+//! (`thermCondModel`, `chemistryModels`). The names are the rows of
+//! [`super::registry::FORCES`], [`super::registry::ENERGY`], [`super::registry::THERM_COND`] and
+//! [`super::registry::CHEMISTRY`]; this file holds the constructors. What the settings compute
+//! is [`crate::heat`].
+//!
+//! | Props key | `LaEuScalarTemp` | `heatTransferGunn` |
+//! |---|---|---|
+//! | λ, c_p | `lambda`, `Cp` (required, > 0: CFDEM's fallback to the thermo fields exists only in compressible solvers) | `kf`, `Cp` of `constant/transportProperties` (next to `couplingProperties`) |
+//! | Nu | `NuCorrelation` `LiMason` (default), `Deen`, `Gunn` | Gunn (Pr^0.33), `NusseltScalingFactor` (all cells) |
+//! | Re | d \|u_f − v\| / ν | ε d \|u_f − v\| / ν, ε ≥ 0.01 |
+//! | `maxSource` | bound on \|Tsource\|, K/s | bound on \|Tsource\| ρ c_p, W/m³ |
+//! | `interpolation` | switch (default off) | switch (default off) |
+//! | refused | `compressible true` | `implicit true` (PFM's default: give `implicit false`), `initPartTemp true`, `expNusselt true`, `calcPartTempField true`, `scaleNuCellsName` other than `all`, coarse graining |
+//!
+//! Field names must be the standard ones ([`TEMPERATURE_FIELD`], [`PARTICLE_TEMPERATURE`],
+//! [`PARTICLE_HEAT_FLUX`], [`HEAT_SOURCE_FIELD`]; `velFieldName`, `voidfractionFieldName`,
+//! `densityFieldName` as for every model): foamgrain's sides exchange these.
+
+use super::{Built, Given, Reader, Setup};
+use crate::error::CoupleError;
+use crate::interpolate::Interpolation;
+use closures::heat::{check_properties, Nusselt, ReynoldsVelocity, GUNN_PFM_VOIDAGE_FLOOR};
+use foam::{Dict, Item};
+use std::path::Path;
+
+/// The fluid temperature field (`tempFieldName`).
+pub const TEMPERATURE_FIELD: &str = "T";
+/// The particles' temperature property (`partTempName`, LIGGGHTS's `fix heat/gran`).
+pub const PARTICLE_TEMPERATURE: &str = "Temp";
+/// The particles' convective heat flux property (`partHeatFluxName`, LIGGGHTS's `fix
+/// couple/cfd/convection`).
+pub const PARTICLE_HEAT_FLUX: &str = "convectiveHeatFlux";
+/// The fluid's heat source field (`EuFieldName`), K/s.
+pub const HEAT_SOURCE_FIELD: &str = "Tsource";
+
+/// Which CFDEM model computes the heat transfer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HeatModel {
+    /// CFDEM-PUBLIC's `LaEuScalarTemp`.
+    LaEuScalarTemp,
+    /// CFDEM-PFM's `heatTransferGunn` (explicit).
+    HeatTransferGunn,
+}
+
+/// `maxSource`: the bound on a cell's heat source, in the unit its model gives it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MaxSource {
+    /// On |Tsource|, K/s (`LaEuScalarTemp`).
+    KelvinPerSecond(f64),
+    /// On |Tsource| ρ c_p, W/m³ (`heatTransferGunn`'s `QPartFluid`).
+    WattPerCubicMetre(f64),
+}
+
+impl MaxSource {
+    /// The bound on |Tsource|, K/s, for the fluid's volumetric heat capacity `rho_cp`
+    /// (J/(m³·K)).
+    pub fn kelvin_per_second(self, rho_cp: f64) -> f64 {
+        match self {
+            MaxSource::KelvinPerSecond(x) => x,
+            MaxSource::WattPerCubicMetre(x) => x / rho_cp,
+        }
+    }
+}
+
+/// The heat transfer model and its parameters (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeatSettings {
+    /// The CFDEM model.
+    pub model: HeatModel,
+    /// The Nusselt law.
+    pub nusselt: Nusselt,
+    /// The velocity of the particle Reynolds number.
+    pub reynolds: ReynoldsVelocity,
+    /// ε below this is raised to it in Re and Nu (0: none).
+    pub voidage_floor: f64,
+    /// Factor on Nu (`NusseltScalingFactor`, 1 without).
+    pub nusselt_scale: f64,
+    /// The fluid's thermal conductivity λ, W/(m·K).
+    pub lambda: f64,
+    /// The fluid's specific heat capacity c_p, J/(kg·K).
+    pub cp: f64,
+    /// `maxSource`, if given.
+    pub max_source: Option<MaxSource>,
+    /// How U, T and ε are evaluated at a particle.
+    pub interpolation: Interpolation,
+}
+
+/// Reads a list family (`energyModels`, `chemistryModels`) through its table.
+pub(super) fn read_list(
+    r: &mut Reader<'_>,
+    top: &Dict,
+    family: &super::registry::Family,
+    setup: &mut Setup,
+) -> Result<(), CoupleError> {
+    let key = family.key;
+    if !top.contains(key) {
+        return Ok(());
+    }
+    for name in r.word_list(top, key)? {
+        r.props(top, &name)?;
+        let given = Given {
+            key,
+            name: &name,
+            top,
+        };
+        r.apply(family, &given, setup)?;
+    }
+    Ok(())
+}
+
+/// A heat model's setting into `s`, refusing a second one.
+fn set(r: &Reader<'_>, g: &Given<'_>, s: &mut Setup, heat: HeatSettings) -> Built {
+    if s.heat.is_some() {
+        return Err(r.err(g.key, format!("`{}`: a second heat transfer model", g.name)));
+    }
+    s.heat = Some(heat);
+    Ok(())
+}
+
+/// Checks that the field-name keys present in `props` name the standard fields.
+fn standard_names(
+    r: &Reader<'_>,
+    props: &Dict,
+    dict: &str,
+    names: &[(&str, &str)],
+) -> Result<(), CoupleError> {
+    for (key, standard) in names {
+        if let Some(given) = r.opt_word(props, key, &format!("{dict}/{key}"))? {
+            if given != *standard {
+                return Err(r.err(
+                    &format!("{dict}/{key}"),
+                    format!("foamgrain exchanges `{standard}`, not `{given}`"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `maxSource` (> 0) of `props`, if given.
+fn max_source(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<Option<f64>, CoupleError> {
+    if !props.contains("maxSource") {
+        return Ok(None);
+    }
+    let key = format!("{dict}/maxSource");
+    let x = r.number(props, "maxSource", &key)?;
+    match x > 0.0 {
+        true => Ok(Some(x)),
+        false => Err(r.err(&key, format!("{x} is not > 0"))),
+    }
+}
+
+/// A required positive number `key` of `props`.
+fn positive(
+    r: &Reader<'_>,
+    props: &Dict,
+    dict: &str,
+    key: &str,
+    what: &str,
+) -> Result<f64, CoupleError> {
+    let path = format!("{dict}/{key}");
+    if !props.contains(key) {
+        return Err(r.err(
+            &path,
+            format!(
+                "missing: the fluid's {what} (CFDEM falls back to the thermo fields of a \
+                 compressible solver, which foamgrain does not have)"
+            ),
+        ));
+    }
+    let x = r.number(props, key, &path)?;
+    match x > 0.0 {
+        true => Ok(x),
+        false => Err(r.err(&path, format!("{x} is not > 0"))),
+    }
+}
+
+/// `LaEuScalarTemp` (CFDEM-PUBLIC): `LaEuScalarTempProps` (module docs).
+pub(super) fn la_eu_scalar_temp(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "tempFieldName",
+            "partTempName",
+            "partHeatFluxName",
+            "EuFieldName",
+            "lambda",
+            "Cp",
+            "NuCorrelation",
+            "maxSource",
+            "interpolation",
+            "compressible",
+            "verbose",
+            "scalarViscosity",
+        ],
+    )?;
+    if r.opt_switch(props, "compressible", &format!("{dict}/compressible"))? == Some(true) {
+        return Err(r.err(
+            &format!("{dict}/compressible"),
+            "`true` needs a compressible solver (the source in W/m³ and c_p from the thermo); \
+             foamgrain's fluids are incompressible: remove it or set it false",
+        ));
+    }
+    // CFDEM requires tempFieldName (no default)
+    r.word(props, "tempFieldName", &format!("{dict}/tempFieldName"))?;
+    standard_names(r, props, dict, &la_eu_names())?;
+    let lambda = positive(r, props, dict, "lambda", "thermal conductivity λ, W/(m·K)")?;
+    let cp = positive(r, props, dict, "Cp", "specific heat capacity c_p, J/(kg·K)")?;
+    let nusselt = match r.opt_word(props, "NuCorrelation", &format!("{dict}/NuCorrelation"))? {
+        None => Nusselt::LiMason,
+        Some(name) => Nusselt::from_name(name)
+            .map_err(|e| r.err(&format!("{dict}/NuCorrelation"), e.to_string()))?,
+    };
+    let heat = HeatSettings {
+        model: HeatModel::LaEuScalarTemp,
+        nusselt,
+        reynolds: ReynoldsVelocity::Interstitial,
+        voidage_floor: 0.0,
+        nusselt_scale: 1.0,
+        lambda,
+        cp,
+        max_source: max_source(r, props, dict)?.map(MaxSource::KelvinPerSecond),
+        interpolation: r.interpolation(props, dict)?,
+    };
+    set(r, g, s, heat)
+}
+
+/// The field-name keys of `LaEuScalarTempProps` and their standard values.
+fn la_eu_names() -> [(&'static str, &'static str); 4] {
+    [
+        ("tempFieldName", TEMPERATURE_FIELD),
+        ("partTempName", PARTICLE_TEMPERATURE),
+        ("partHeatFluxName", PARTICLE_HEAT_FLUX),
+        ("EuFieldName", HEAT_SOURCE_FIELD),
+    ]
+}
+
+/// `heatTransferGunnProps` keys that must stay off (or at their default), with why.
+const GUNN_OFF: [(&str, &str); 3] = [
+    (
+        "initPartTemp",
+        "particle temperatures come from the DEM (`fix heat/gran initial_temperature`)",
+    ),
+    (
+        "expNusselt",
+        "a prescribed Nusselt field is not implemented",
+    ),
+    (
+        "calcPartTempField",
+        "the particle temperature field is not written",
+    ),
+];
+
+/// `heatTransferGunn` (CFDEM-PFM): `heatTransferGunnProps` (module docs), λ and c_p from
+/// `kf` and `Cp` of `constant/transportProperties` next to the `couplingProperties` read.
+pub(super) fn heat_transfer_gunn(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "partTempName",
+            "partHeatFluxName",
+            "tempFieldName",
+            "QPartFluidName",
+            "QPartFluidCoeffName",
+            "interpolation",
+            "verbose",
+            "implicit",
+            "calcTotalHeatFlux",
+            "initPartTemp",
+            "Tmin",
+            "Tmax",
+            "expNusselt",
+            "calcPartTempField",
+            "partRefTemp",
+            "NusseltScalingFactor",
+            "scaleNuCellsName",
+            "maxSource",
+            "scale",
+            "coarseGrainingFactors",
+        ],
+    )?;
+    r.word(props, "partTempName", &format!("{dict}/partTempName"))?;
+    standard_names(
+        r,
+        props,
+        dict,
+        &[
+            ("tempFieldName", TEMPERATURE_FIELD),
+            ("partTempName", PARTICLE_TEMPERATURE),
+            ("partHeatFluxName", PARTICLE_HEAT_FLUX),
+            ("QPartFluidName", "QPartFluid"),
+            ("QPartFluidCoeffName", "QPartFluidCoeff"),
+            ("scaleNuCellsName", "all"),
+        ],
+    )?;
+    let implicit = r.opt_switch(props, "implicit", &format!("{dict}/implicit"))?;
+    if implicit != Some(false) {
+        return Err(r.err(
+            &format!("{dict}/implicit"),
+            "heatTransferGunn is implicit unless `implicit false;` (PFM's default is true); \
+             foamgrain's fluid takes an explicit heat source only (q from T_f at the coupling \
+             time, held over the interval): set `implicit false;`",
+        ));
+    }
+    for (key, why) in GUNN_OFF {
+        if r.opt_switch(props, key, &format!("{dict}/{key}"))? == Some(true) {
+            return Err(r.err(
+                &format!("{dict}/{key}"),
+                format!("`true` is not supported: {why}"),
+            ));
+        }
+    }
+    for key in ["scale", "coarseGrainingFactors"] {
+        if props.contains(key) {
+            return Err(r.err(&format!("{dict}/{key}"), "coarse graining is not supported"));
+        }
+    }
+    let nusselt_scale = match props.contains("NusseltScalingFactor") {
+        true => {
+            let key = format!("{dict}/NusseltScalingFactor");
+            let x = r.number(props, "NusseltScalingFactor", &key)?;
+            if x <= 0.0 {
+                return Err(r.err(&key, format!("{x} is not > 0")));
+            }
+            x
+        }
+        false => 1.0,
+    };
+    let (lambda, cp) = transport_heat(r.file)?;
+    let heat = HeatSettings {
+        model: HeatModel::HeatTransferGunn,
+        nusselt: Nusselt::GunnPfm,
+        reynolds: ReynoldsVelocity::Superficial,
+        voidage_floor: GUNN_PFM_VOIDAGE_FLOOR,
+        nusselt_scale,
+        lambda,
+        cp,
+        max_source: max_source(r, props, dict)?.map(MaxSource::WattPerCubicMetre),
+        interpolation: r.interpolation(props, dict)?,
+    };
+    set(r, g, s, heat)
+}
+
+/// `kf` (W/(m·K)) and `Cp` (J/(kg·K)) of the `transportProperties` next to
+/// `coupling_properties` (CFDEM-PFM's energy models read them there).
+fn transport_heat(coupling_properties: &Path) -> Result<(f64, f64), CoupleError> {
+    let file = coupling_properties.with_file_name("transportProperties");
+    let d = foam::parse_file(&file)?.body;
+    let r = Reader::new(&file);
+    let value = |key: &str| -> Result<f64, CoupleError> {
+        if !d.contains(key) {
+            return Err(r.err(
+                key,
+                "missing: heatTransferGunn reads the fluid's `kf` and `Cp` here",
+            ));
+        }
+        let s = d.stream(key).map_err(|e| r.err(key, e.to_string()))?;
+        s.last()
+            .and_then(Item::as_f64)
+            .ok_or_else(|| r.err(key, "expected a number"))
+    };
+    let (kf, cp) = (value("kf")?, value("Cp")?);
+    check_properties("heatTransferGunn", kf, cp).map_err(|e| {
+        let key = if kf.is_finite() && kf > 0.0 {
+            "Cp"
+        } else {
+            "kf"
+        };
+        r.err(key, e.to_string())
+    })?;
+    Ok((kf, cp))
+}
