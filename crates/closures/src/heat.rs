@@ -27,8 +27,12 @@ pub enum Nusselt {
     ///
     /// The branches do not join: Nu jumps at Re = 200 and 1500 as in the paper and in CFDEM.
     LiMason,
+    /// Li & Mason (2000) as CFDEM-PUBLIC's `scalarGeneralExchange` computes it (`useLiMason
+    /// true`): the branches of [`Nusselt::LiMason`] with Pr^⅓ (the paper's exponent) instead of
+    /// Pr^0.33; that model feeds it the superficial Re.
+    LiMasonCubeRoot,
     /// Deen et al. (2014), Chem. Eng. Sci. 116:710 (fitted for Re ≤ 100), `LaEuScalarTemp`'s
-    /// `NuCorrelation Deen`:
+    /// `NuCorrelation Deen` (and `scalarGeneralExchange`'s default, with the superficial Re):
     /// Nu = (7 − 10ε + 5ε²)(1 + 0.17 Re^0.2 Pr^⅓) + (1.33 − 2.31ε + 1.16ε²) Re^0.7 Pr^⅓.
     Deen,
     /// Gunn (1978), Int. J. Heat Mass Transfer 21:467, `LaEuScalarTemp`'s `NuCorrelation
@@ -70,6 +74,7 @@ impl Nusselt {
     pub fn name(self) -> &'static str {
         match self {
             Nusselt::LiMason => "LiMason",
+            Nusselt::LiMasonCubeRoot => "LiMason (Pr^1/3, CFDEM scalarGeneralExchange)",
             Nusselt::Deen => "Deen",
             Nusselt::Gunn => "Gunn",
             Nusselt::GunnPfm => "Gunn (CFDEM-PFM heatTransferGunn)",
@@ -83,7 +88,8 @@ impl Nusselt {
 #[inline]
 pub fn nusselt(law: Nusselt, re: f64, pr: f64, eps: f64) -> f64 {
     match law {
-        Nusselt::LiMason => li_mason(re, pr, eps),
+        Nusselt::LiMason => li_mason(re, pr.powf(0.33), eps),
+        Nusselt::LiMasonCubeRoot => li_mason(re, pr.cbrt(), eps),
         Nusselt::Deen => gunn_form(re, pr.cbrt(), eps, [7.0, 10.0, 5.0, 0.17, 1.33, 2.31, 1.16]),
         Nusselt::Gunn => gunn_form(re, pr.cbrt(), eps, GUNN),
         Nusselt::GunnPfm => gunn_form(re, pr.powf(0.33), eps, GUNN),
@@ -102,14 +108,14 @@ fn gunn_form(re: f64, pr_x: f64, eps: f64, k: [f64; 7]) -> f64 {
         + (e - f * eps + g * eps * eps) * re.powf(0.7) * pr_x
 }
 
-/// Li & Mason (2000) in CFDEM-PUBLIC's form ([`Nusselt::LiMason`]).
+/// Li & Mason (2000) ([`Nusselt::LiMason`]) with `pr_x` = Pr^x, the caller's exponent.
 #[inline]
-fn li_mason(re: f64, pr: f64, eps: f64) -> f64 {
+fn li_mason(re: f64, pr_x: f64, eps: f64) -> f64 {
     let en = eps.powf(3.5);
     if re < 200.0 {
-        2.0 + 0.6 * en * re.sqrt() * pr.powf(0.33)
+        2.0 + 0.6 * en * re.sqrt() * pr_x
     } else if re < 1500.0 {
-        2.0 + (0.5 * re.sqrt() + 0.02 * re.powf(0.8)) * en * pr.powf(0.33)
+        2.0 + (0.5 * re.sqrt() + 0.02 * re.powf(0.8)) * en * pr_x
     } else {
         2.0 + 0.000045 * en * re.powf(1.8)
     }
@@ -200,11 +206,27 @@ mod tests {
     }
 
     #[test]
+    fn li_mason_with_the_cube_root_of_pr() {
+        // scalarGeneralExchange's form: Pr^(1/3); the last branch has no Pr
+        let cases = [
+            (10.0, 0.7, 0.4, 2.0681910273338318),
+            (500.0, 70.097, 0.45, 5.545190020671152),
+            (2000.0, 2.0, 0.5, 5.479056815498659),
+        ];
+        for (re, pr, eps, nu) in cases {
+            let got = nusselt(Nusselt::LiMasonCubeRoot, re, pr, eps);
+            assert_relative_eq!(got, nu, max_relative = 1e-13);
+        }
+    }
+
+    #[test]
     fn li_mason_tends_to_two_without_flow() {
         for eps in [0.3, 0.6, 1.0] {
-            assert_eq!(nusselt(Nusselt::LiMason, 0.0, 0.7, eps), 2.0);
-            let nu = nusselt(Nusselt::LiMason, 1e-12, 0.7, eps);
-            assert!(nu > 2.0 && nu - 2.0 < 1e-6, "{nu}");
+            for law in [Nusselt::LiMason, Nusselt::LiMasonCubeRoot] {
+                assert_eq!(nusselt(law, 0.0, 0.7, eps), 2.0);
+                let nu = nusselt(law, 1e-12, 0.7, eps);
+                assert!(nu > 2.0 && nu - 2.0 < 1e-6, "{nu}");
+            }
         }
     }
 

@@ -4,8 +4,9 @@
 //! Per particle p inside the mesh, with d = 2r, the fluid's U, T and ε at the particle (the
 //! centre cell's value or the share-weighted average, as the `interpolation` switch says,
 //! [`crate::interpolate`]) and the particle's v and T_p:
-//! * Re = d |U − v| / ν (× ε for PFM's superficial convention), Pr = c_p ν ρ / λ, Nu from the
-//!   law ([`closures::heat`]), h = λ Nu / d (W/(m²·K));
+//! * Re = d |U − v| / ν (× ε for the superficial convention of PFM's `heatTransferGunn` and
+//!   `scalarGeneralExchange`), Pr = c_p ν ρ / λ (or the model's given Pr), Nu from the law
+//!   ([`closures::heat`]), h = λ Nu / d (W/(m²·K));
 //! * q_p = h π d² (T_f − T_p), W, into the particle (what the DEM side gets,
 //!   [`crate::ParticleSide::set_heat_flux`]).
 //!
@@ -99,7 +100,9 @@ pub fn particle_heat(
 ) -> Result<ParticleHeat, CoupleError> {
     let t_particles = particle_temperatures(particles)?;
     let CellFields { eps, u, t } = cells;
-    let pr = prandtl(heat.cp, fluid.nu, fluid.rho, heat.lambda);
+    let pr = heat
+        .prandtl
+        .unwrap_or_else(|| prandtl(heat.cp, fluid.nu, fluid.rho, heat.lambda));
     let rule = heat.interpolation;
     let one = |i: usize| -> Option<f64> {
         let u_f = placement.value_at(u, i, rule)?;

@@ -39,6 +39,7 @@ fn heat(interpolation: Interpolation, max_source: Option<f64>) -> HeatSettings {
         nusselt_scale: 1.0,
         lambda: LAMBDA,
         cp: CP,
+        prandtl: None,
         max_source: max_source.map(MaxSource::KelvinPerSecond),
         interpolation,
     }
@@ -312,6 +313,72 @@ fn one_sphere_in_a_uniform_stream_gets_h_a_delta_t_of_li_and_mason() {
 }
 
 #[test]
+fn one_sphere_with_the_superficial_reynolds_number_of_pfm_and_stm() {
+    // as above, with Re = ε d |U − v| / ν = 99.99994764012244:
+    // * scalarGeneralExchange (Deen, Pr given 0.7): Nu = (7 − 10ε + 5ε²)(1 + 0.17 Re^0.2
+    //   Pr^⅓) + (1.33 − 2.31ε + 1.16ε²) Re^0.7 Pr^⅓ = 6.77287032335025, q = −0.16341196532393068 W;
+    // * heatTransferGunn (Pr^0.33, NusseltScalingFactor 1.5): Nu = 1.5 [(7 − 10ε + 5ε²)(1 +
+    //   0.7 Re^0.2 Pr^0.33) + (1.33 − 2.4ε + 1.2ε²) Re^0.7 Pr^0.33] = 10.940818523274325,
+    //   q = −0.2639738503447891 W (by hand, python).
+    let mesh = uniform_box(V3::repeat(0.0), V3::repeat(0.3), [3, 3, 3]);
+    let mut f = fluid(&mesh);
+    f.u = vec![V3::new(0.0, 0.0, 1.0); 27];
+    f.t = vec![300.0; 27];
+    let one = Bed {
+        pos: vec![V3::repeat(0.15)],
+        rad: vec![0.5e-3],
+        vel: vec![V3::zeros()],
+        ids: vec![1],
+        den: vec![2500.0],
+        temp: vec![600.0],
+    };
+    let stm = HeatSettings {
+        model: HeatModel::ScalarGeneralExchange,
+        nusselt: Nusselt::Deen,
+        reynolds: ReynoldsVelocity::Superficial,
+        prandtl: Some(0.7),
+        ..heat(Interpolation::Cell, None)
+    };
+    let pfm = HeatSettings {
+        model: HeatModel::HeatTransferGunn,
+        nusselt: Nusselt::GunnPfm,
+        reynolds: ReynoldsVelocity::Superficial,
+        voidage_floor: 0.01,
+        nusselt_scale: 1.5,
+        ..heat(Interpolation::Smooth, None)
+    };
+    for (h, q) in [(stm, -0.16341196532393068), (pfm, -0.2639738503447891)] {
+        let mut c = Coupler::new(&mesh, settings(Method::Exact, Some(h))).unwrap();
+        let got = c
+            .exchange(&one.state(), &state(&f))
+            .unwrap()
+            .heat
+            .unwrap()
+            .q[0];
+        assert!(
+            (got - q).abs() <= 1e-12 * q.abs(),
+            "{:?}: {got} vs {q}",
+            h.model
+        );
+    }
+}
+
+/// Owners of the fluid's cells that are never reached (heat refuses them first).
+struct NoOwners;
+
+impl couple::ranks::CellOwners for NoOwners {
+    fn deposit(&mut self, _: &[Label], _: &[f64]) -> Result<Vec<f64>, couple::SideError> {
+        unreachable!("heat is refused before the owners are asked")
+    }
+    fn exchange(&mut self, _: &[f64]) -> Result<(), couple::SideError> {
+        unreachable!("heat is refused before the owners are asked")
+    }
+    fn traffic(&self) -> (u64, u64) {
+        (0, 0)
+    }
+}
+
+#[test]
 fn a_side_without_temperature_is_named() {
     let mesh = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [4, 4, 4]);
     let f = fluid(&mesh);
@@ -329,6 +396,13 @@ fn a_side_without_temperature_is_named() {
     dry.temperature = None;
     let e = c.exchange(&b.state(), &dry).unwrap_err().to_string();
     assert!(e.contains("fluid side") && e.contains("0/T"), "{e}");
+    let mut owned = Coupler::new(&mesh, s).unwrap();
+    owned.set_owners(Box::new(NoOwners));
+    let e = owned
+        .exchange(&b.state(), &state(&f))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("grainPisoFoam on several coupler ranks") && e.contains("one coupler rank"));
     let mut bad = bed(200);
     bad.temp[17] = f64::NAN;
     let e = c

@@ -132,6 +132,7 @@ fn packed_bed_temp_reads_its_heat_settings() {
             nusselt_scale: 1.0,
             lambda: 0.0256,
             cp: 1007.0,
+            prandtl: None,
             max_source: None,
             interpolation: Interpolation::Cell,
         })
@@ -211,7 +212,7 @@ fn la_eu_scalar_temp_errors_name_the_key() {
     fails(
         "    LaEuScalarTemp\n",
         "    scalarGeneralExchange\n",
-        &["scalarGeneralExchange", "not supported", "LaEuScalarTemp"],
+        &["scalarGeneralExchangeProps/tempFieldName", "missing"],
     );
 }
 
@@ -262,6 +263,7 @@ fn heat_transfer_gunn_reads_pfm_props_and_transport() {
             nusselt_scale: 1.5,
             lambda: 0.0256,
             cp: 1007.0,
+            prandtl: None,
             max_source: Some(MaxSource::WattPerCubicMetre(1e5)),
             interpolation: Interpolation::Smooth,
         })
@@ -313,5 +315,115 @@ fn heat_transfer_gunn_errors_name_the_key() {
         &GUNN.replace("heatTransferGunn )", "heatTransferRanzMarshall )"),
         GUNN_TRANSPORT,
         &["energyModels", "heatTransferRanzMarshall", "not supported"],
+    );
+}
+
+/// CFDEM-PUBLIC's `tutorials/cfdemSolverPisoSTM/packedBedTemp` `scalarGeneralExchangeProps`,
+/// with its species lists emptied (foamgrain couples temperature only).
+const STM: &str = r#"
+modelType B;
+couplingInterval 500;
+voidFractionModel divided;
+forceModels ( KochHillDrag scalarGeneralExchange Archimedes );
+momCoupleModels ( implicitCouple );
+scalarGeneralExchangeProps
+{
+    tempFieldName           "T";
+    partTempName            "Temp";
+    partHeatFluxName        "convectiveHeatFlux";
+    lambda                  0.0256;
+    Prandtl                 70.097;
+    useLiMason              true;
+    partSpeciesNames ( );
+    partSpeciesFluxNames ( );
+    partSpeciesTransCoeffNames ( );
+    partSpeciesFluidNames ( );
+    DMolecular ( );
+}
+"#;
+
+/// The tutorial's `scalarTransportProperties` with the temperature only.
+const STM_SCALARS: &str = "scalarTransportModel generalManual;\ngeneralManualProps\n{\n    \
+                           ScT 0.7;\n    PrT 0.7;\n    cpVolumetric 1196;\n    \
+                           eulerianFields\n    (\n        T\n    );\n}\n";
+
+/// Reads `text` as `constant/couplingProperties` of a case with ρ 1.196 and `scalars` as
+/// `constant/scalarTransportProperties`.
+fn read_stm(text: &str, scalars: &str) -> Result<CouplingConfig, String> {
+    let dir = tempfile::tempdir().unwrap();
+    let constant = dir.path().join("constant");
+    std::fs::create_dir(&constant).unwrap();
+    std::fs::write(constant.join("couplingProperties"), text).unwrap();
+    std::fs::write(
+        constant.join("transportProperties"),
+        "nu 1.5e-3;\nrho 1.196;\n",
+    )
+    .unwrap();
+    std::fs::write(constant.join("scalarTransportProperties"), scalars).unwrap();
+    CouplingConfig::read(&constant.join("couplingProperties")).map_err(|e| e.to_string())
+}
+
+#[test]
+fn scalar_general_exchange_reads_its_temperature_part() {
+    let h = read_stm(STM, STM_SCALARS).unwrap().heat.unwrap();
+    assert_eq!(h.model, HeatModel::ScalarGeneralExchange);
+    assert_eq!(h.nusselt, Nusselt::LiMasonCubeRoot);
+    assert_eq!(h.reynolds, ReynoldsVelocity::Superficial);
+    assert_eq!((h.lambda, h.prandtl), (0.0256, Some(70.097)));
+    // ρ c_p is the given cpVolumetric
+    assert!((h.cp * 1.196 - 1196.0).abs() < 1e-12 * 1196.0, "{}", h.cp);
+    let deen = read_stm(
+        &STM.replace("useLiMason              true;", ""),
+        STM_SCALARS,
+    );
+    assert_eq!(deen.unwrap().heat.unwrap().nusselt, Nusselt::Deen);
+}
+
+#[test]
+fn scalar_general_exchange_refuses_species_and_implicit_coupling() {
+    let fail = |text: &str, scalars: &str, expect: &[&str]| {
+        let e = read_stm(text, scalars).unwrap_err();
+        for x in expect {
+            assert!(e.contains(x), "`{x}` not in: {e}");
+        }
+    };
+    let p = "scalarGeneralExchangeProps/";
+    // the tutorial's species C
+    fail(
+        &STM.replace("partSpeciesNames ( );", "partSpeciesNames ( speciesC );"),
+        STM_SCALARS,
+        &[
+            &format!("{p}partSpeciesNames"),
+            "species exchange is not implemented",
+        ],
+    );
+    fail(
+        STM,
+        &STM_SCALARS.replace("        T\n", "        C\n        T\n"),
+        &[
+            "scalarTransportProperties",
+            "eulerianFields",
+            "temperature `T` only",
+        ],
+    );
+    fail(
+        &STM.replace("lambda ", "partHeatTransCoeffName \"hc\"; lambda "),
+        STM_SCALARS,
+        &[&format!("{p}partHeatTransCoeffName"), "implicit strategy"],
+    );
+    fail(
+        &STM.replace("    Prandtl                 70.097;\n", ""),
+        STM_SCALARS,
+        &[&format!("{p}Prandtl"), "missing"],
+    );
+    fail(
+        STM,
+        &STM_SCALARS.replace("    cpVolumetric 1196;\n", ""),
+        &["generalManualProps/cpVolumetric", "missing"],
+    );
+    fail(
+        &STM.replace("lambda ", "useGeneralCorrelation true; lambda "),
+        STM_SCALARS,
+        &[&format!("{p}useGeneralCorrelation")],
     );
 }

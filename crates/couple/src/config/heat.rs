@@ -1,6 +1,8 @@
 //! The heat transfer between fluid and particles ([`HeatSettings`]): CFDEM-PUBLIC's
-//! `LaEuScalarTemp` (a `forceModels` entry of `cfdemSolverPisoScalar` cases) and CFDEM-PFM's
-//! `heatTransferGunn` (an `energyModels` entry), and the PFM families that come with it
+//! `LaEuScalarTemp` (a `forceModels` entry of `cfdemSolverPisoScalar` cases), the temperature
+//! part of its `scalarGeneralExchange` (`cfdemSolverPisoSTM`; the keys at its constructor) and
+//! CFDEM-PFM's `heatTransferGunn` (an `energyModels` entry), and the PFM families that come
+//! with it
 //! (`thermCondModel`, `chemistryModels`). The names are the rows of
 //! [`super::registry::FORCES`], [`super::registry::ENERGY`], [`super::registry::THERM_COND`] and
 //! [`super::registry::CHEMISTRY`]; this file holds the constructors. What the settings compute
@@ -43,6 +45,8 @@ pub enum HeatModel {
     LaEuScalarTemp,
     /// CFDEM-PFM's `heatTransferGunn` (explicit).
     HeatTransferGunn,
+    /// CFDEM-PUBLIC's `scalarGeneralExchange`, its temperature part (explicit flux).
+    ScalarGeneralExchange,
 }
 
 /// `maxSource`: the bound on a cell's heat source, in the unit its model gives it.
@@ -80,8 +84,12 @@ pub struct HeatSettings {
     pub nusselt_scale: f64,
     /// The fluid's thermal conductivity λ, W/(m·K).
     pub lambda: f64,
-    /// The fluid's specific heat capacity c_p, J/(kg·K).
+    /// The fluid's specific heat capacity c_p, J/(kg·K) (`scalarGeneralExchange`: its
+    /// volumetric `cpVolumetric` over ρ).
     pub cp: f64,
+    /// The Prandtl number when the model gives it (`scalarGeneralExchange`'s `Prandtl`);
+    /// `None`: c_p ν ρ / λ.
+    pub prandtl: Option<f64>,
     /// `maxSource`, if given.
     pub max_source: Option<MaxSource>,
     /// How U, T and ε are evaluated at a particle.
@@ -224,6 +232,7 @@ pub(super) fn la_eu_scalar_temp(r: &mut Reader, g: &Given, s: &mut Setup) -> Bui
         nusselt_scale: 1.0,
         lambda,
         cp,
+        prandtl: None,
         max_source: max_source(r, props, dict)?.map(MaxSource::KelvinPerSecond),
         interpolation: r.interpolation(props, dict)?,
     };
@@ -342,6 +351,7 @@ pub(super) fn heat_transfer_gunn(r: &mut Reader, g: &Given, s: &mut Setup) -> Bu
         nusselt_scale,
         lambda,
         cp,
+        prandtl: None,
         max_source: max_source(r, props, dict)?.map(MaxSource::WattPerCubicMetre),
         interpolation: r.interpolation(props, dict)?,
     };
@@ -376,4 +386,157 @@ fn transport_heat(coupling_properties: &Path) -> Result<(f64, f64), CoupleError>
         r.err(key, e.to_string())
     })?;
     Ok((kf, cp))
+}
+
+/// `scalarGeneralExchangeProps` keys foamgrain reads (its temperature part).
+const GENERAL_EXCHANGE_KEYS: [&str; 21] = [
+    "tempFieldName",
+    "partTempName",
+    "partHeatFluxName",
+    "partHeatTransCoeffName",
+    "partHeatFluidName",
+    "lambda",
+    "Prandtl",
+    "useLiMason",
+    "useGeneralCorrelation",
+    "generalCorrelationParameters",
+    "partSpeciesNames",
+    "partSpeciesFluxNames",
+    "partSpeciesTransCoeffNames",
+    "partSpeciesFluidNames",
+    "DMolecular",
+    "maxSource",
+    "interpolation",
+    "verbose",
+    "verboseToDisk",
+    "scalarViscosity",
+    "useCorrectedVoidage",
+];
+
+/// The species lists of `scalarGeneralExchangeProps`: CFDEM requires them; foamgrain exchanges
+/// temperature only, so they must be empty.
+const SPECIES_LISTS: [&str; 5] = [
+    "partSpeciesNames",
+    "partSpeciesFluxNames",
+    "partSpeciesTransCoeffNames",
+    "partSpeciesFluidNames",
+    "DMolecular",
+];
+
+/// `scalarGeneralExchange` (CFDEM-PUBLIC, cfdemSolverPisoSTM), its temperature part: the
+/// explicit heat flux (`partHeatFluxName`) with λ and Pr given (`lambda`, `Prandtl`), Nu of
+/// Deen et al. or, with `useLiMason true`, Li & Mason with Pr^⅓, Re on the superficial slip;
+/// the fluid's volumetric heat capacity is `generalManualProps/cpVolumetric` of
+/// `constant/scalarTransportProperties` and ρ the case's (so c_p = cpVolumetric/ρ);
+/// `maxSource` bounds the source in W/m³. Species (non-empty species lists, Eulerian fields
+/// other than T), the implicit strategy (`partHeatTransCoeffName`/`partHeatFluidName`), the
+/// general correlation and the corrected voidage are refused.
+pub(super) fn scalar_general_exchange(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    let at = |key: &str| format!("{dict}/{key}");
+    r.check_props(props, dict, &GENERAL_EXCHANGE_KEYS)?;
+    for key in ["tempFieldName", "partTempName", "partHeatFluxName"] {
+        // CFDEM requires the first two; without a flux name its explicit strategy is off
+        r.word(props, key, &at(key))?;
+    }
+    standard_names(r, props, dict, &la_eu_names()[..3])?;
+    for key in ["partHeatTransCoeffName", "partHeatFluidName"] {
+        if r.opt_word(props, key, &at(key))?
+            .is_some_and(|w| w != "none")
+        {
+            return Err(r.err(
+                &at(key),
+                "the implicit strategy (transfer coefficient and fluid value to the DEM) is not \
+                 supported; foamgrain hands the explicit flux `partHeatFluxName` over",
+            ));
+        }
+    }
+    for key in SPECIES_LISTS {
+        if !r.word_list_at(props, key, &at(key))?.is_empty() {
+            return Err(r.err(
+                &at(key),
+                "species exchange is not implemented; foamgrain's scalarGeneralExchange couples \
+                 temperature only (give empty lists `( )`)",
+            ));
+        }
+    }
+    for key in ["useGeneralCorrelation", "useCorrectedVoidage"] {
+        if r.opt_switch(props, key, &at(key))? == Some(true) {
+            return Err(r.err(&at(key), "`true` is not supported"));
+        }
+    }
+    let lambda = positive(r, props, dict, "lambda", "thermal conductivity λ, W/(m·K)")?;
+    let pr = positive(r, props, dict, "Prandtl", "Prandtl number")?;
+    let nusselt = match r.opt_switch(props, "useLiMason", &at("useLiMason"))? {
+        Some(true) => Nusselt::LiMasonCubeRoot,
+        _ => Nusselt::Deen,
+    };
+    let rho_cp = scalar_transport_heat(r.file)?;
+    let case = r
+        .file
+        .parent()
+        .and_then(Path::parent)
+        .unwrap_or(Path::new("."));
+    let (rho, _) = super::read_transport(case)?;
+    let heat = HeatSettings {
+        model: HeatModel::ScalarGeneralExchange,
+        nusselt,
+        reynolds: ReynoldsVelocity::Superficial,
+        voidage_floor: 0.0,
+        nusselt_scale: 1.0,
+        lambda,
+        cp: rho_cp / rho,
+        prandtl: Some(pr),
+        max_source: max_source(r, props, dict)?.map(MaxSource::WattPerCubicMetre),
+        interpolation: r.interpolation(props, dict)?,
+    };
+    set(r, g, s, heat)
+}
+
+/// `generalManualProps/cpVolumetric` (J/(m³·K), > 0) of the `scalarTransportProperties` next
+/// to `coupling_properties`, whose `eulerianFields` must be `( T )`.
+fn scalar_transport_heat(coupling_properties: &Path) -> Result<f64, CoupleError> {
+    let file = coupling_properties.with_file_name("scalarTransportProperties");
+    let top = foam::parse_file(&file)?.body;
+    let r = Reader::new(&file);
+    let model = r.word(&top, "scalarTransportModel", "scalarTransportModel")?;
+    if model != "generalManual" {
+        return Err(r.err(
+            "scalarTransportModel",
+            format!("`{model}` is not supported; foamgrain reads generalManual's temperature"),
+        ));
+    }
+    let d = match top.get("generalManualProps") {
+        Some(foam::Value::Dict(d)) => d,
+        _ => return Err(r.err("generalManualProps", "missing or not a dictionary")),
+    };
+    let fields = r.word_list_at(d, "eulerianFields", "generalManualProps/eulerianFields")?;
+    if fields != [TEMPERATURE_FIELD] {
+        return Err(r.err(
+            "generalManualProps/eulerianFields",
+            format!(
+                "({}): foamgrain transports the temperature `T` only (species are not \
+                 implemented)",
+                fields.join(" ")
+            ),
+        ));
+    }
+    if d.contains("cpVolumetricFieldName") {
+        return Err(r.err(
+            "generalManualProps/cpVolumetricFieldName",
+            "a heat capacity field is not supported; give the constant `cpVolumetric`",
+        ));
+    }
+    let key = "generalManualProps/cpVolumetric";
+    if !d.contains("cpVolumetric") {
+        return Err(r.err(
+            key,
+            "missing: the fluid's volumetric heat capacity ρ c_p, J/(m³·K)",
+        ));
+    }
+    let x = r.number(d, "cpVolumetric", key)?;
+    match x > 0.0 {
+        true => Ok(x),
+        false => Err(r.err(key, format!("{x} is not > 0"))),
+    }
 }

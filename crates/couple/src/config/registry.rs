@@ -332,14 +332,7 @@ pub const FORCES: Family = Family {
         ("fieldTimeAverage", refuse("not implemented")),
         ("fieldVolWeighted", refuse("not implemented")),
         ("LaEuScalarTemp", acts(heat::la_eu_scalar_temp)),
-        (
-            "scalarGeneralExchange",
-            refuse(
-                "it is cfdemSolverPisoSTM's scalar transport (species with T, a source in W/m³ \
-                 over scalarTransportProperties' cpVolumetric), which foamgrain does not have; \
-                 for temperature use LaEuScalarTemp with `lambda` and `Cp`",
-            ),
-        ),
+        ("scalarGeneralExchange", acts(heat::scalar_general_exchange)),
     ],
 };
 
@@ -457,18 +450,31 @@ mod tests {
             scalarFieldNames ( ); vectorFieldNames ( ); }\n\
         executeProps0 { command ( write_restart r ); runFirst on; }\n\
         LaEuScalarTempProps { tempFieldName \"T\"; lambda 0.0256; Cp 1007; }\n\
-        heatTransferGunnProps { partTempName \"Temp\"; implicit false; }\n";
+        heatTransferGunnProps { partTempName \"Temp\"; implicit false; }\n\
+        scalarGeneralExchangeProps { tempFieldName \"T\"; partTempName \"Temp\"; \
+            partHeatFluxName \"convectiveHeatFlux\"; lambda 0.0256; Prandtl 0.7; \
+            partSpeciesNames ( ); partSpeciesFluxNames ( ); partSpeciesTransCoeffNames ( ); \
+            partSpeciesFluidNames ( ); DMolecular ( ); }\n";
 
-    /// A `transportProperties` with PFM's `kf` and `Cp` next to the `couplingProperties` the
-    /// tests name (heatTransferGunn reads them there).
+    /// A case's `constant/` with a `transportProperties` holding ρ, ν and PFM's `kf` and `Cp`
+    /// and a `scalarTransportProperties` (the heat models read them next to the
+    /// `couplingProperties` the tests name).
     fn coupling_properties() -> (tempfile::TempDir, std::path::PathBuf) {
         let dir = tempfile::tempdir().unwrap();
+        let constant = dir.path().join("constant");
+        std::fs::create_dir(&constant).unwrap();
         std::fs::write(
-            dir.path().join("transportProperties"),
-            "nu 1.5e-5;\nkf kf [1 1 -3 -1 0 0 0] 0.0256;\nCp Cp [0 2 -2 -1 0 0 0] 1007;\n",
+            constant.join("transportProperties"),
+            "nu 1.5e-5;\nrho 1.2;\nkf kf [1 1 -3 -1 0 0 0] 0.0256;\nCp Cp [0 2 -2 -1 0 0 0] 1007;\n",
         )
         .unwrap();
-        let file = dir.path().join("couplingProperties");
+        std::fs::write(
+            constant.join("scalarTransportProperties"),
+            "scalarTransportModel generalManual;\n\
+             generalManualProps { cpVolumetric 1196; eulerianFields ( T ); }\n",
+        )
+        .unwrap();
+        let file = constant.join("couplingProperties");
         (dir, file)
     }
 
