@@ -153,7 +153,7 @@ impl Coupler {
             ));
         }
         if let Some(h) = &settings.heat {
-            closures::heat::check_properties("heat transfer", h.lambda, h.cp)?;
+            h.check()?;
         }
         let vm = VoidageMesh::new(mesh)?;
         let periodic = PeriodicMesh::new(mesh, vm.geometry())?;

@@ -396,6 +396,12 @@ fn a_side_without_temperature_is_named() {
     dry.temperature = None;
     let e = c.exchange(&b.state(), &dry).unwrap_err().to_string();
     assert!(e.contains("fluid side") && e.contains("0/T"), "{e}");
+    let bad_cp = HeatSettings {
+        cp: 0.0,
+        ..heat(Interpolation::Cell, None)
+    };
+    let e = Coupler::new(&mesh, settings(Method::Exact, Some(bad_cp))).err();
+    assert!(e.unwrap().to_string().contains("`Cp`"));
     let mut owned = Coupler::new(&mesh, s).unwrap();
     owned.set_owners(Box::new(NoOwners));
     let e = owned

@@ -17,6 +17,12 @@
 //! | `interpolation` | switch (default off) | switch (default off) |
 //! | refused | `compressible true` | `implicit true` (PFM's default: give `implicit false`), `initPartTemp true`, `expNusselt true`, `calcPartTempField true`, `scaleNuCellsName` other than `all`, coarse graining |
 //!
+//! `scalarGeneralExchange` (temperature only): `lambda` and `Prandtl` given, ρ c_p =
+//! `generalManualProps/cpVolumetric` of `constant/scalarTransportProperties`, Nu of Deen et al.
+//! or (`useLiMason true`) Li & Mason with Pr^⅓, Re = ε d |u_f − v| / ν, `maxSource` in W/m³;
+//! species, the implicit strategy, `useGeneralCorrelation` and `useCorrectedVoidage` are
+//! refused.
+//!
 //! Field names must be the standard ones ([`TEMPERATURE_FIELD`], [`PARTICLE_TEMPERATURE`],
 //! [`PARTICLE_HEAT_FLUX`], [`HEAT_SOURCE_FIELD`]; `velFieldName`, `voidfractionFieldName`,
 //! `densityFieldName` as for every model): foamgrain's sides exchange these.
@@ -94,6 +100,38 @@ pub struct HeatSettings {
     pub max_source: Option<MaxSource>,
     /// How U, T and ε are evaluated at a particle.
     pub interpolation: Interpolation,
+}
+
+impl HeatSettings {
+    /// `Ok` if the parameters are in range (λ, c_p, a given Pr, the Nu factor and a
+    /// `maxSource` finite and > 0, the ε floor in [0, 1)), else an error naming the first bad
+    /// one. The configuration reader gives only such settings; [`crate::Coupler::new`] checks
+    /// those built otherwise.
+    pub fn check(&self) -> Result<(), CoupleError> {
+        check_properties("heat transfer", self.lambda, self.cp)?;
+        let max = self.max_source.map(|m| match m {
+            MaxSource::KelvinPerSecond(x) | MaxSource::WattPerCubicMetre(x) => x,
+        });
+        let positive = [
+            ("Prandtl", self.prandtl),
+            ("NusseltScalingFactor", Some(self.nusselt_scale)),
+            ("maxSource", max),
+        ];
+        for (what, x) in positive {
+            if let Some(x) = x.filter(|x| !(x.is_finite() && *x > 0.0)) {
+                return Err(CoupleError::Parameter(format!(
+                    "heat transfer: {what} {x} is not a positive number"
+                )));
+            }
+        }
+        if !(0.0..1.0).contains(&self.voidage_floor) {
+            return Err(CoupleError::Parameter(format!(
+                "heat transfer: voidage floor {} is not in [0, 1)",
+                self.voidage_floor
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// Reads a list family (`energyModels`, `chemistryModels`) through its table.

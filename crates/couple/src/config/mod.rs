@@ -20,7 +20,7 @@
 //! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
 //! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
 //! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's); the key alone (`useDDTvoidfraction;`) is `b`, as CFDEM-PFM reads it | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
-//! | `forceModels` `LaEuScalarTemp` (CFDEM-PUBLIC), `energyModels` `heatTransferGunn` (CFDEM-PFM), with PFM's `thermCondModel` and `chemistryModels (off)` ([`registry::ENERGY`], [`registry::THERM_COND`], [`registry::CHEMISTRY`]) | [`CouplingConfig::heat`] ([`heat`] has the keys) |
+//! | `forceModels` `LaEuScalarTemp` and `scalarGeneralExchange` (its temperature part; CFDEM-PUBLIC), `energyModels` `heatTransferGunn` (CFDEM-PFM), with PFM's `thermCondModel` and `chemistryModels (off)` ([`registry::ENERGY`], [`registry::THERM_COND`], [`registry::CHEMISTRY`]) | [`CouplingConfig::heat`] ([`heat`] has the keys) |
 //! | `debug`, `syncMode`, `checkPeriodicCells`, `turbulenceModelType` | accepted; `debug on` warns (no debug output) |
 //!
 //! In a force model's Props, `interpolation true` selects the smooth interpolation
