@@ -220,6 +220,7 @@ fn coupling_step(bencher: divan::Bencher, name: &str) {
         alpha_min: None,
         coupling_interval: 1,
         physics: physics(),
+        heat: None,
     };
     let mut coupler = Coupler::new(&d.mesh, settings).unwrap();
     let first = coupler.exchange(&particles(d), &fluid(d)).unwrap();

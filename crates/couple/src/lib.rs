@@ -11,6 +11,8 @@
 //!   between the DEM (F_ext, β, u_f) and the fluid; [`forces::couplings_and_exchange`] runs
 //!   the force loop and the exchange as one pipeline;
 //! * [`exchange`](mod@exchange): Ksl, Us, f per cell with the voidage kernel's shares (ADR 0004);
+//! * [`heat`]: the convective heat per particle (Nusselt laws of closures) and the fluid's
+//!   `Tsource` with the same shares, and the heat account;
 //! * [`blend`]: linear time blending of ε and Us over a coupling interval;
 //! * [`sides`]: the two traits and the data they exchange; [`memory`]: in-memory test doubles;
 //! * [`replay`]: a particle side replaying LIGGGHTS dumps (one-way coupling);
@@ -43,6 +45,7 @@ pub mod error;
 pub mod exchange;
 pub mod forces;
 pub mod frozen;
+pub mod heat;
 pub mod interpolate;
 pub mod memory;
 pub mod monitor;

@@ -7,6 +7,10 @@
 //!   scheme approaches as O(dt).
 //! * [`MemoryFluid`]: fixed cell fields (U, p, ∇p, ∇·τ) that records every exchange it is
 //!   given and the time it was advanced by.
+//!
+//! Both carry a temperature when it is set (`temperature: Some(…)`): the particles keep the
+//! last heat flux they were given ([`MemoryParticles::heat_flux`]; they do not heat up), the
+//! fluid records the heat source with each exchange; without it they have no heat, as before.
 
 use crate::error::SideError;
 use crate::exchange::Exchange;
@@ -33,6 +37,10 @@ pub struct MemoryParticles {
     pub dt: f64,
     /// Simulated time, s.
     pub time: f64,
+    /// Temperatures, K, if the particles carry heat (`None`: they refuse a heat flux).
+    pub temperature: Option<Vec<f64>>,
+    /// The last heat flux per particle given, W.
+    pub heat_flux: Vec<f64>,
     f_ext: Vec<V3>,
     beta: Vec<f64>,
     u_f: Vec<V3>,
@@ -51,6 +59,8 @@ impl MemoryParticles {
             gravity: V3::zeros(),
             dt,
             time: 0.0,
+            temperature: None,
+            heat_flux: Vec::new(),
             f_ext: vec![V3::zeros(); n],
             beta: vec![0.0; n],
             u_f: vec![V3::zeros(); n],
@@ -92,7 +102,7 @@ impl ParticleSide for MemoryParticles {
 
     fn state(&self) -> ParticleState<'_> {
         ParticleState {
-            temperature: None,
+            temperature: self.temperature.as_deref(),
             ids: &self.ids,
             position: &self.position,
             velocity: &self.velocity,
@@ -111,6 +121,22 @@ impl ParticleSide for MemoryParticles {
         self.u_f = u_f.to_vec();
         Ok(())
     }
+
+    fn set_heat_flux(&mut self, q: &[f64]) -> Result<(), SideError> {
+        if self.temperature.is_none() {
+            return Err("these memory particles carry no temperature".into());
+        }
+        if q.len() != self.ids.len() {
+            return Err(format!(
+                "heat flux for {} particles, expected {}",
+                q.len(),
+                self.ids.len()
+            )
+            .into());
+        }
+        self.heat_flux = q.to_vec();
+        Ok(())
+    }
 }
 
 /// One exchange as the fluid received it.
@@ -124,6 +150,8 @@ pub struct Received {
     pub exchange: Exchange,
     /// The interval, s.
     pub interval: f64,
+    /// Tsource per cell, K/s, with heat.
+    pub heat_source: Option<Vec<f64>>,
 }
 
 /// Fixed fluid fields recording what they receive (module docs).
@@ -143,6 +171,8 @@ pub struct MemoryFluid {
     pub received: Vec<Received>,
     /// Simulated time, s.
     pub time: f64,
+    /// T per cell, K, if the fluid carries heat.
+    pub temperature: Option<Vec<f64>>,
 }
 
 impl MemoryFluid {
@@ -157,6 +187,7 @@ impl MemoryFluid {
             div_tau: vec![V3::zeros(); n],
             received: Vec::new(),
             time: 0.0,
+            temperature: None,
         }
     }
 }
@@ -172,6 +203,7 @@ impl FluidSide for MemoryFluid {
             voidage_new: fields.voidage_new.to_vec(),
             exchange: fields.exchange.clone(),
             interval: fields.interval,
+            heat_source: fields.heat_source.map(<[f64]>::to_vec),
         });
         Ok(())
     }
@@ -183,7 +215,7 @@ impl FluidSide for MemoryFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
-            temperature: None,
+            temperature: self.temperature.as_deref(),
             u: &self.u,
             p: &self.p,
             grad_p: &self.grad_p,

@@ -28,6 +28,10 @@
 use crate::error::CoupleError;
 use crate::exchange::Exchange;
 use crate::forces::{couplings_and_exchange, ForceSet, ParticleCoupling, Physics};
+use crate::heat::{
+    cell_heat, fluid_temperature, heat_source, particle_heat, particle_temperatures, CellFields,
+    HeatAccount, HeatFluid, HeatStep, ParticleHeat,
+};
 use crate::interpolate::Placement;
 use crate::periodic::PeriodicMesh;
 use crate::population::{Population, PopulationChange};
@@ -51,6 +55,8 @@ pub struct CouplerSettings {
     pub coupling_interval: u64,
     /// Fluid properties and force models.
     pub physics: Physics,
+    /// The heat transfer, `None` without heat ([`crate::heat`]).
+    pub heat: Option<crate::config::HeatSettings>,
 }
 
 /// Everything one exchange produced.
@@ -69,6 +75,8 @@ pub struct CouplingStep {
     /// The particles that entered and left since the last exchange, over all ranks
     /// ([`crate::population`]).
     pub population: PopulationChange,
+    /// The heat exchanged ([`crate::heat`]), `None` without heat transfer.
+    pub heat: Option<HeatStep>,
 }
 
 /// The coupler: the voidage mesh, the settings and the voidage of the last step.
@@ -100,7 +108,8 @@ pub struct Coupler {
     smoothing: Option<crate::smoothing::ConstDiffSmoothing>,
 }
 
-/// A rank's copy of ε, U, p, ∇p and ∇·τ at the cells it touches (dense, `n_cells` long).
+/// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
+/// `n_cells` long).
 #[derive(Default)]
 struct Remote {
     eps: Vec<f64>,
@@ -108,11 +117,14 @@ struct Remote {
     p: Vec<f64>,
     grad_p: Vec<V3>,
     div_tau: Vec<V3>,
+    t: Vec<f64>,
 }
 
-/// Values per cell rank 0 sends each rank: ε, U (3), p, ∇p (3), ∇·τ (3).
+/// Values per cell rank 0 sends each rank: ε, U (3), p, ∇p (3), ∇·τ (3); with heat T after
+/// them.
 const FLUID_WIDTH: usize = 11;
-/// Values per cell each rank sends rank 0 after the forces: Ksl, Ksl·Us (3), f (3).
+/// Values per cell each rank sends rank 0 after the forces: Ksl, Ksl·Us (3), f (3); with heat
+/// Σ w q (W) after them.
 const EXCHANGE_WIDTH: usize = 7;
 
 /// Per-particle buffers kept from one step to the next ([`Coupler::recycle`]): for 10⁶
@@ -139,6 +151,9 @@ impl Coupler {
             return Err(CoupleError::Parameter(
                 "couplingInterval must be at least 1".into(),
             ));
+        }
+        if let Some(h) = &settings.heat {
+            h.check()?;
         }
         let vm = VoidageMesh::new(mesh)?;
         let periodic = PeriodicMesh::new(mesh, vm.geometry())?;
@@ -238,6 +253,16 @@ impl Coupler {
         fluid: &FluidState<'_>,
     ) -> Result<CouplingStep, CoupleError> {
         check_particles(particles)?;
+        if self.settings.heat.is_some() {
+            if self.owners.is_some() {
+                return Err(CoupleError::Parameter(
+                    "heat with grainPisoFoam on several coupler ranks is not supported yet; run \
+                     one coupler rank"
+                        .into(),
+                ));
+            }
+            particle_temperatures(particles)?;
+        }
         let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
@@ -263,6 +288,10 @@ impl Coupler {
                 ("fluid div(tau)", fluid.div_tau.len()),
             ],
         )?;
+        let t_fluid = match self.settings.heat {
+            Some(_) => Some(fluid_temperature(fluid.temperature, n_cells)?),
+            None => None,
+        };
         let (shares, mut deposit) = self.place(particles)?;
         let parallel = self.ranks.size() > 1;
         let touched = if parallel {
@@ -277,16 +306,31 @@ impl Coupler {
             self.broadcast_voidage_stats(&mut voidage);
             let (eps, fluid) = (&voidage.epsilon, *fluid);
             self.ranks.scatter_from_root(
-                FLUID_WIDTH,
-                &|c, out| fluid_record(eps, &fluid, c as usize, out),
+                self.fluid_width(),
+                &|c, out| {
+                    fluid_record(eps, &fluid, c as usize, out);
+                    out.extend(t_fluid.map(|t| t[c as usize]));
+                },
                 &mut Vec::new(),
             );
         }
         let (placement, forces, mut exchange) =
             self.forces(shares, fluid, &voidage.epsilon, particles);
+        let mut heat = match t_fluid {
+            Some(t) => {
+                let cells = CellFields {
+                    eps: &voidage.epsilon,
+                    u: fluid.u,
+                    t,
+                };
+                Some(self.heat_particles(&placement, cells, particles)?)
+            }
+            None => None,
+        };
         if parallel {
-            self.sum_exchange(&touched, &mut exchange);
+            self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
         }
+        let heat = heat.map(|(p, w)| self.heat_finish(p, &w));
         if let Some(s) = &self.smoothing {
             // after the forces: the drag uses each particle's unsmoothed ε (module docs of
             // `smoothing`); the fluid gets the smoothed field
@@ -302,7 +346,81 @@ impl Coupler {
             forces,
             exchange,
             population,
+            heat,
         })
+    }
+
+    /// Values per cell rank 0 sends each rank: [`FLUID_WIDTH`], and T with heat.
+    fn fluid_width(&self) -> usize {
+        FLUID_WIDTH + usize::from(self.settings.heat.is_some())
+    }
+
+    /// This rank's particles' heat flows and their heat per cell (W, `n_cells` long, this
+    /// rank's shares). On several ranks an error on any rank is an error on every rank (they
+    /// would wait for it in the next collective step otherwise).
+    fn heat_particles(
+        &self,
+        placement: &Placement,
+        cells: CellFields<'_>,
+        particles: &ParticleState<'_>,
+    ) -> Result<(ParticleHeat, Vec<f64>), CoupleError> {
+        let heat = self.settings.heat.as_ref().expect("heat is on");
+        let fluid = HeatFluid {
+            rho: self.settings.physics.rho,
+            nu: self.settings.physics.nu,
+        };
+        let result = particle_heat(heat, fluid, placement, cells, particles);
+        if self.ranks.size() > 1 {
+            let mut failed = [f64::from(u8::from(result.is_err()))];
+            self.ranks.all_sum(&mut failed);
+            if failed[0] > 0.0 && result.is_ok() {
+                return Err(CoupleError::Parameter(
+                    "the heat transfer failed on another coupler rank (its error names the \
+                     particle)"
+                        .into(),
+                ));
+            }
+        }
+        let p = result?;
+        let w = cell_heat(placement, &p.q, self.vm.n_cells());
+        Ok((p, w))
+    }
+
+    /// The heat step from this rank's particles `p` and the heat per cell summed over ranks
+    /// `cell_w` (read on rank 0): Tsource on rank 0, the account summed over ranks on all.
+    fn heat_finish(&self, mut p: ParticleHeat, cell_w: &[f64]) -> HeatStep {
+        let heat = self.settings.heat.as_ref().expect("heat is on");
+        let root = self.ranks.rank() == 0;
+        let (tsource, fluid) = match root {
+            true => heat_source(
+                heat,
+                self.settings.physics.rho,
+                cell_w,
+                self.vm.cell_volumes(),
+            ),
+            false => (Vec::new(), HeatAccount::default()),
+        };
+        let mut sums = [p.to_particles, p.outside as f64];
+        self.ranks.all_sum(&mut sums);
+        let mut fluid_sums = [fluid.from_fluid, fluid.clipped, fluid.clipped_cells as f64];
+        self.ranks.broadcast(&mut fluid_sums);
+        let q = std::mem::take(&mut p.q);
+        let all = ParticleHeat {
+            q: Vec::new(),
+            to_particles: sums[0],
+            outside: sums[1] as usize,
+        };
+        let fluid = HeatAccount {
+            from_fluid: fluid_sums[0],
+            clipped: fluid_sums[1],
+            clipped_cells: fluid_sums[2] as usize,
+            ..HeatAccount::default()
+        };
+        HeatStep {
+            q,
+            tsource,
+            account: HeatAccount::close(&all, fluid),
+        }
     }
 
     /// Step 3: the particles' placement (centre cells from `self.hints`), forces and this
@@ -383,11 +501,26 @@ impl Coupler {
             negative_cells: 0,
         };
         self.broadcast_voidage_stats(&mut voidage);
-        let mut got = Vec::with_capacity(touched.len() * FLUID_WIDTH);
-        self.ranks
-            .scatter_from_root(FLUID_WIDTH, &|_, _| {}, &mut got);
+        let width = self.fluid_width();
+        let mut got = Vec::with_capacity(touched.len() * width);
+        self.ranks.scatter_from_root(width, &|_, _| {}, &mut got);
         let (placement, forces, mut exchange) = self.forces_at(&touched, &got, shares, particles);
-        self.sum_exchange(&touched, &mut exchange);
+        let mut heat = match self.settings.heat {
+            Some(_) => {
+                let remote = std::mem::take(&mut self.remote);
+                let cells = CellFields {
+                    eps: &remote.eps,
+                    u: &remote.u,
+                    t: &remote.t,
+                };
+                let h = self.heat_particles(&placement, cells, particles);
+                self.remote = remote;
+                Some(h?)
+            }
+            None => None,
+        };
+        self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
+        let heat = heat.map(|(p, w)| self.heat_finish(p, &w));
         Ok(CouplingStep {
             placement,
             deposit,
@@ -395,11 +528,12 @@ impl Coupler {
             forces,
             exchange,
             population,
+            heat,
         })
     }
 
     /// The forces of this rank's particles, with ε and the fluid of the `touched` cells given
-    /// as [`FLUID_WIDTH`] values per cell in `got` (written into the rank's dense copy
+    /// as [`Coupler::fluid_width`] values per cell in `got` (written into the rank's dense copy
     /// `self.remote`).
     fn forces_at(
         &mut self,
@@ -418,13 +552,20 @@ impl Coupler {
             r.grad_p = vec![V3::zeros(); n_cells];
             r.div_tau = vec![V3::zeros(); n_cells];
         }
-        for (&c, g) in touched.iter().zip(got.chunks_exact(FLUID_WIDTH)) {
+        let width = self.fluid_width();
+        if width > FLUID_WIDTH && r.t.len() != n_cells {
+            r.t = vec![0.0; n_cells];
+        }
+        for (&c, g) in touched.iter().zip(got.chunks_exact(width)) {
             let c = c as usize;
             r.eps[c] = g[0];
             r.u[c] = V3::new(g[1], g[2], g[3]);
             r.p[c] = g[4];
             r.grad_p[c] = V3::new(g[5], g[6], g[7]);
             r.div_tau[c] = V3::new(g[8], g[9], g[10]);
+            if width > FLUID_WIDTH {
+                r.t[c] = g[FLUID_WIDTH];
+            }
         }
         let fluid = FluidState {
             temperature: None,
@@ -515,6 +656,7 @@ impl Coupler {
             forces,
             exchange,
             population,
+            heat: None,
         })
     }
 
@@ -567,28 +709,31 @@ impl Coupler {
         v.negative_cells = stats[3] as usize;
     }
 
-    /// Step 3 of [`crate::ranks`]: the touched cells' Ksl, Ksl·Us and f summed on rank 0
-    /// (which gets the global exchange fields), the outside accounting on every rank.
-    fn sum_exchange(&mut self, touched: &[Label], exchange: &mut Exchange) {
-        let mut values = Vec::with_capacity(touched.len() * EXCHANGE_WIDTH);
+    /// Step 3 of [`crate::ranks`]: the touched cells' Ksl, Ksl·Us and f (and with heat the
+    /// heat per cell `heat_w`, W) summed on rank 0 (which gets the global exchange fields and
+    /// heat per cell), the outside accounting on every rank.
+    fn sum_exchange(
+        &mut self,
+        touched: &[Label],
+        exchange: &mut Exchange,
+        mut heat_w: Option<&mut Vec<f64>>,
+    ) {
+        let width = EXCHANGE_WIDTH + usize::from(heat_w.is_some());
+        let mut values = Vec::with_capacity(touched.len() * width);
         for &c in touched {
             let c = c as usize;
             let (k, u, f) = (exchange.ksl[c], exchange.us[c], exchange.f[c]);
             values.extend_from_slice(&[k, k * u[0], k * u[1], k * u[2], f[0], f[1], f[2]]);
+            values.extend(heat_w.as_ref().map(|w| w[c]));
         }
         let root = self.ranks.rank() == 0;
-        let mut sums = vec![
-            0.0;
-            if root {
-                exchange.ksl.len() * EXCHANGE_WIDTH
-            } else {
-                0
-            }
-        ];
-        self.ranks
-            .sum_to_root(touched, &values, EXCHANGE_WIDTH, &mut sums);
+        let mut sums = vec![0.0; if root { exchange.ksl.len() * width } else { 0 }];
+        self.ranks.sum_to_root(touched, &values, width, &mut sums);
         if root {
-            for (c, s) in sums.chunks_exact(EXCHANGE_WIDTH).enumerate() {
+            for (c, s) in sums.chunks_exact(width).enumerate() {
+                if let Some(w) = heat_w.as_mut() {
+                    w[c] = s[EXCHANGE_WIDTH];
+                }
                 exchange.ksl[c] = s[0];
                 exchange.us[c] = if s[0] > 0.0 {
                     V3::new(s[1] / s[0], s[2] / s[0], s[3] / s[0])
@@ -657,7 +802,7 @@ impl Coupler {
         let dt = interval as f64 * particles.time_step();
         fluid
             .set_exchange(&ExchangeFields {
-                heat_source: None,
+                heat_source: step.heat.as_ref().map(|h| h.tsource.as_slice()),
                 voidage_old: &old,
                 voidage_new: &step.voidage.epsilon,
                 exchange: &step.exchange,
@@ -682,6 +827,9 @@ impl Coupler {
         particles
             .set_forces(&s.f_ext, &s.beta, &s.u_f)
             .map_err(particle_err)?;
+        if let Some(h) = &step.heat {
+            particles.set_heat_flux(&h.q).map_err(particle_err)?;
+        }
         self.steps += 1;
         Ok((step, dt))
     }

@@ -84,6 +84,7 @@ fn replay_of_a_liggghts_dump_conserves_momentum() {
                 alpha_min: None,
                 coupling_interval: 3000,
                 physics: physics(DragLaw::SchillerNaumann, ModelType::A, true, explicit_fluid),
+                heat: None,
             };
             let mut coupler = Coupler::new(fluid.mesh(), settings).unwrap();
             let vols = coupler.voidage_mesh().cell_volumes().to_vec();
@@ -192,6 +193,7 @@ fn a_settling_sphere_reaches_terminal_velocity() {
         alpha_min: None,
         coupling_interval: 10,
         physics: physics(DragLaw::SchillerNaumann, ModelType::A, true, false),
+        heat: None,
     };
     let mut coupler = Coupler::new(fluid.mesh(), settings).unwrap();
     coupler

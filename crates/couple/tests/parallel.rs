@@ -368,6 +368,7 @@ fn coupler_exchange_does_not_depend_on_the_thread_count() {
         alpha_min: Some(0.4),
         coupling_interval: 1,
         physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
+        heat: None,
     };
     let run = |t| {
         in_pool(t, || {
@@ -392,6 +393,7 @@ fn recycled_steps_equal_fresh_steps() {
         alpha_min: None,
         coupling_interval: 3,
         physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
+        heat: None,
     };
     let mut fresh = Coupler::new(&grid, settings).unwrap();
     let mut recycling = Coupler::new(&grid, settings).unwrap();
@@ -440,6 +442,7 @@ fn the_first_bad_particle_is_named() {
         alpha_min: None,
         coupling_interval: 1,
         physics: physics([Interpolation::Cell; 3], ModelType::A, DragLaw::KochHill),
+        heat: None,
     };
     let error = |c: &Cloud, t| {
         in_pool(t, || {
@@ -636,6 +639,7 @@ mod owned {
             alpha_min: Some(0.9),
             coupling_interval: 1,
             physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
+            heat: None,
         };
         let reference = Coupler::new(&grid, settings)
             .unwrap()

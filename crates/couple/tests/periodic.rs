@@ -50,6 +50,7 @@ fn settings(method: Method) -> CouplerSettings {
             },
             implicit_couple: true,
         },
+        heat: None,
     }
 }
 

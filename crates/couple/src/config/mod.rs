@@ -20,6 +20,7 @@
 //! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
 //! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
 //! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's); the key alone (`useDDTvoidfraction;`) is `b`, as CFDEM-PFM reads it | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
+//! | `forceModels` `LaEuScalarTemp` and `scalarGeneralExchange` (its temperature part; CFDEM-PUBLIC), `energyModels` `heatTransferGunn` (CFDEM-PFM), with PFM's `thermCondModel` and `chemistryModels (off)` ([`registry::ENERGY`], [`registry::THERM_COND`], [`registry::CHEMISTRY`]) | [`CouplingConfig::heat`] ([`heat`] has the keys) |
 //! | `debug`, `syncMode`, `checkPeriodicCells`, `turbulenceModelType` | accepted; `debug on` warns (no debug output) |
 //!
 //! In a force model's Props, `interpolation true` selects the smooth interpolation
@@ -38,6 +39,7 @@
 
 pub mod commands;
 mod forces;
+pub mod heat;
 mod momentum;
 pub mod monitors;
 pub mod registry;
@@ -46,6 +48,7 @@ mod transport;
 mod void_fraction;
 
 pub use commands::LiggghtsCommands;
+pub use heat::{HeatModel, HeatSettings, MaxSource};
 pub use monitors::Monitors;
 pub use transport::{read_gravity, read_transport};
 
@@ -147,6 +150,8 @@ pub struct CouplingConfig {
     /// `useDDTvoidfraction`: `b` puts ∂ε/∂t into the continuity equation, `off` leaves it out.
     /// Without the key it is left out, as CFDEM's default (`off`) does.
     pub ddt_voidage: bool,
+    /// The heat transfer (`LaEuScalarTemp` or `heatTransferGunn`), `None` without one.
+    pub heat: Option<HeatSettings>,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
     /// `<dataExchangeModel>Props/liggghtsPath`: the coupled LIGGGHTS deck, relative to the
@@ -194,6 +199,8 @@ struct Setup {
     commands: Vec<ScheduledCommand>,
     /// `execute` models read so far (the k-th reads `executeProps<k>`).
     executes: usize,
+    /// The heat transfer model.
+    heat: Option<HeatSettings>,
 }
 
 /// What a constructor returns: its setting is set in the [`Setup`], or the error.
@@ -420,6 +427,9 @@ impl CouplingConfig {
         let voidage = void_fraction::read(&mut r, top, &mut setup)?;
         forces::read_forces(&mut r, top, &mut setup)?;
         momentum::read(&mut r, top, &mut setup)?;
+        for family in [&registry::ENERGY, &registry::CHEMISTRY] {
+            heat::read_list(&mut r, top, family, &mut setup)?;
+        }
         for family in registry::SINGLE_NAME.iter().chain([&registry::CLOCK]) {
             let key = family.key;
             if let Some(name) = r.opt_word(top, key, key)? {
@@ -479,6 +489,8 @@ impl CouplingConfig {
                 "voidFractionModel",
                 "forceModels",
                 "momCoupleModels",
+                "energyModels",
+                "chemistryModels",
                 "clockModel",
                 "solveFlow",
                 "useDDTvoidfraction",
@@ -502,6 +514,7 @@ impl CouplingConfig {
             solve_flow,
             ddt_voidage,
             smoothing: setup.smoothing,
+            heat: setup.heat,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,
@@ -538,6 +551,7 @@ impl CouplingConfig {
                 forces: self.forces,
                 implicit_couple: self.momentum.implicit,
             },
+            heat: self.heat,
         })
     }
 }

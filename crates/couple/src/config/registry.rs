@@ -29,7 +29,7 @@
 //! its spellings (with the Props of its `REQUIRED_PROPS` for keys that have no default, where
 //! a new model's required keys go), so a row without a working constructor fails it.
 
-use super::{commands, forces, momentum, monitors, smoothing, void_fraction};
+use super::{commands, forces, heat, momentum, monitors, smoothing, void_fraction};
 use super::{Built, Given, Reader, Setup};
 use closures::DragLaw;
 use voidage::Method;
@@ -331,11 +331,67 @@ pub const FORCES: Family = Family {
         ("totalMomentumExchange", refuse("not implemented")),
         ("fieldTimeAverage", refuse("not implemented")),
         ("fieldVolWeighted", refuse("not implemented")),
-        ("LaEuScalarTemp", refuse("heat transfer is not implemented")),
+        ("LaEuScalarTemp", acts(heat::la_eu_scalar_temp)),
+        ("scalarGeneralExchange", acts(heat::scalar_general_exchange)),
+    ],
+};
+
+/// `energyModels` (CFDEM-PFM): the heat exchanged with the particles ([`super::heat`]).
+pub const ENERGY: Family = Family {
+    key: "energyModels",
+    models: &[
+        ("heatTransferGunn", acts(heat::heat_transfer_gunn)),
+        ("off", SAME),
         (
-            "scalarGeneralExchange",
-            refuse("heat transfer is not implemented"),
+            "heatTransferRanzMarshall",
+            refuse("not implemented; use heatTransferGunn"),
         ),
+        (
+            "heatTransferInterGrain",
+            refuse("not implemented (conduction between particles is the DEM's)"),
+        ),
+        ("reactionHeat", refuse("chemistry is not implemented")),
+        ("wallHeatTransferYagi", refuse("not implemented")),
+    ],
+};
+
+/// `thermCondModel` (CFDEM-PFM): the fluid's effective conductivity in a bed.
+pub const THERM_COND: Family = Family {
+    key: "thermCondModel",
+    models: &[
+        ("noTherm", SAME),
+        (
+            "SyamlalThermCond",
+            warn(
+                "the fluid's conduction is its solver's own; no bed conductivity model is applied",
+            ),
+        ),
+        (
+            "ZehnerSchluenderThermCond",
+            warn(
+                "the fluid's conduction is its solver's own; no bed conductivity model is applied",
+            ),
+        ),
+    ],
+};
+
+/// `chemistryModels` (CFDEM-PFM).
+pub const CHEMISTRY: Family = Family {
+    key: "chemistryModels",
+    models: &[
+        ("off", SAME),
+        ("noChemistry", SAME),
+        ("species", refuse("chemistry is not implemented")),
+        (
+            "diffusionCoefficients",
+            refuse("chemistry is not implemented"),
+        ),
+        ("massTransferCoeff", refuse("chemistry is not implemented")),
+        (
+            "reactantPerParticle",
+            refuse("chemistry is not implemented"),
+        ),
+        ("initMultiLayers", refuse("chemistry is not implemented")),
     ],
 };
 
@@ -358,7 +414,7 @@ pub const LIGGGHTS_COMMANDS: Family = Family {
 };
 
 /// Top-level single-name families, checked the same way: the key, its table.
-pub const SINGLE_NAME: [Family; 8] = [
+pub const SINGLE_NAME: [Family; 9] = [
     LOCATE,
     MESH_MOTION,
     REGION,
@@ -367,11 +423,20 @@ pub const SINGLE_NAME: [Family; 8] = [
     DATA_EXCHANGE,
     IO,
     PROBE,
+    THERM_COND,
 ];
 
 /// The families read by a reader of their own; with [`SINGLE_NAME`], every family with a table
 /// here (the drag laws are [`DRAG_LAWS`]).
-pub const OTHERS: [Family; 5] = [VOIDAGE, CLOCK, MOM_COUPLE, FORCES, LIGGGHTS_COMMANDS];
+pub const OTHERS: [Family; 7] = [
+    VOIDAGE,
+    CLOCK,
+    MOM_COUPLE,
+    FORCES,
+    ENERGY,
+    CHEMISTRY,
+    LIGGGHTS_COMMANDS,
+];
 
 #[cfg(test)]
 mod tests {
@@ -383,7 +448,35 @@ mod tests {
         fieldStoreProps { scalarFieldNames ( ); vectorFieldNames ( U ); }\n\
         volWeightedAverageProps { lowerThreshold 0; upperThreshold 1; \
             scalarFieldNames ( ); vectorFieldNames ( ); }\n\
-        executeProps0 { command ( write_restart r ); runFirst on; }\n";
+        executeProps0 { command ( write_restart r ); runFirst on; }\n\
+        LaEuScalarTempProps { tempFieldName \"T\"; lambda 0.0256; Cp 1007; }\n\
+        heatTransferGunnProps { partTempName \"Temp\"; implicit false; }\n\
+        scalarGeneralExchangeProps { tempFieldName \"T\"; partTempName \"Temp\"; \
+            partHeatFluxName \"convectiveHeatFlux\"; lambda 0.0256; Prandtl 0.7; \
+            partSpeciesNames ( ); partSpeciesFluxNames ( ); partSpeciesTransCoeffNames ( ); \
+            partSpeciesFluidNames ( ); DMolecular ( ); }\n";
+
+    /// A case's `constant/` with a `transportProperties` holding ρ, ν and PFM's `kf` and `Cp`
+    /// and a `scalarTransportProperties` (the heat models read them next to the
+    /// `couplingProperties` the tests name).
+    fn coupling_properties() -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let constant = dir.path().join("constant");
+        std::fs::create_dir(&constant).unwrap();
+        std::fs::write(
+            constant.join("transportProperties"),
+            "nu 1.5e-5;\nrho 1.2;\nkf kf [1 1 -3 -1 0 0 0] 0.0256;\nCp Cp [0 2 -2 -1 0 0 0] 1007;\n",
+        )
+        .unwrap();
+        std::fs::write(
+            constant.join("scalarTransportProperties"),
+            "scalarTransportModel generalManual;\n\
+             generalManualProps { cpVolumetric 1196; eulerianFields ( T ); }\n",
+        )
+        .unwrap();
+        let file = constant.join("couplingProperties");
+        (dir, file)
+    }
 
     fn top() -> foam::Dict {
         let file = std::path::Path::new("couplingProperties");
@@ -399,7 +492,8 @@ mod tests {
         name: &str,
         top: &foam::Dict,
     ) -> (Result<bool, String>, Setup, Vec<String>) {
-        let mut r = Reader::new(std::path::Path::new("couplingProperties"));
+        let (_dir, file) = coupling_properties();
+        let mut r = Reader::new(&file);
         let mut setup = Setup::default();
         let given = Given {
             key: family.key,
@@ -507,10 +601,7 @@ mod tests {
 
     #[test]
     fn names_are_unique_within_a_family() {
-        for f in SINGLE_NAME
-            .iter()
-            .chain([&CLOCK, &MOM_COUPLE, &FORCES, &LIGGGHTS_COMMANDS])
-        {
+        for f in SINGLE_NAME.iter().chain(&OTHERS[1..]) {
             for (i, (a, _)) in f.models.iter().enumerate() {
                 assert!(
                     f.models[i + 1..].iter().all(|(b, _)| a != b),
