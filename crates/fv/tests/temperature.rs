@@ -249,7 +249,14 @@ fn step_diffusion_error(n: usize, steps: usize) -> f64 {
         p.patch_type = "wall";
     }
     let cells: Vec<String> = (0..n)
-        .map(|i| if (i as f64 + 0.5) / (n as f64) < 0.5 { "1" } else { "0" }.to_string())
+        .map(|i| {
+            if (i as f64 + 0.5) / (n as f64) < 0.5 {
+                "1"
+            } else {
+                "0"
+            }
+            .to_string()
+        })
         .collect();
     let heat = HeatSpec {
         div_t: "Gauss limitedLinear 1",
@@ -379,7 +386,10 @@ fn uniform_source_with_voidage_changing_in_time_keeps_t_uniform() {
         discrete += s * dt / eps_at(k);
         let t = fluid.temperature().unwrap();
         for &tc in t {
-            assert!((tc - discrete).abs() < 1e-12 * t0, "step {k}: {tc} vs {discrete}");
+            assert!(
+                (tc - discrete).abs() < 1e-12 * t0,
+                "step {k}: {tc} vs {discrete}"
+            );
         }
     }
     let exact = t0 + s * t_end / 0.4 * (0.9f64 / 0.5).ln();
@@ -458,7 +468,10 @@ fn uniform_t_stays_uniform_through_a_varying_voidage() {
         fluid.advance(dt).unwrap();
         speed = speed.max(fluid.u().iter().map(|u| u[1].abs()).fold(0.0, f64::max));
     }
-    assert!(speed > 1e-3, "the voidage should stir the flow: max |v| {speed}");
+    assert!(
+        speed > 1e-3,
+        "the voidage should stir the flow: max |v| {speed}"
+    );
     let dev = fluid
         .temperature()
         .unwrap()
@@ -467,4 +480,188 @@ fn uniform_t_stays_uniform_through_a_varying_voidage() {
         .fold(0.0, f64::max);
     eprintln!("max |v| {speed:.3e} m/s; max |T − T0| {dev:.3e} K");
     assert!(dev < 1e-12 * t0, "{dev}");
+}
+
+/// (e) The switch: without `enable_temperature` a case with a `T` file solves and writes no
+/// temperature and refuses a heat source; with it, U, p and φ are bit for bit those of the run
+/// without heat (T does not feed back on the flow), and T, Tsource are written.
+#[test]
+fn heat_is_solved_only_when_asked_and_leaves_the_flow_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    drop(closed_box(dir.path()));
+    // stir the box: a moving lid
+    let u = dir.path().join("0/U");
+    let text = std::fs::read_to_string(&u).unwrap();
+    let lid = text.replacen(
+        "yMax { type noSlip; }",
+        "yMax { type fixedValue; value uniform (1 0 0); }",
+        1,
+    );
+    assert_ne!(text, lid);
+    std::fs::write(&u, lid).unwrap();
+    let mut plain = fv::Fluid::from_case(dir.path()).unwrap();
+    let mut heated = heat_fluid(dir.path()).unwrap();
+    assert!(plain.temperature().is_none());
+    let n = plain.geometry().n_cells;
+    assert!(plain.set_heat_source(&vec![1.0; n]).is_err());
+    assert!(heated.set_heat_source(&vec![1.0; n + 1]).is_err());
+    heated.set_heat_source(&vec![1.0; n]).unwrap();
+    for _ in 0..5 {
+        let a = plain.advance(0.1).unwrap();
+        let b = heated.advance(0.1).unwrap();
+        assert!(a.temperature.is_none() && b.temperature.is_some());
+    }
+    assert_eq!(plain.u(), heated.u());
+    assert_eq!(plain.p(), heated.p());
+    assert_eq!(plain.phi(), heated.phi());
+    plain.write("0.5").unwrap();
+    assert!(!dir.path().join("0.5/T").exists());
+    heated.write("0.5").unwrap();
+    for f in ["T", "Tsource"] {
+        assert!(dir.path().join("0.5").join(f).is_file(), "{f} not written");
+    }
+    assert!(!dir.path().join("0.5/alphat").exists());
+}
+
+/// A restart from a written time reads T and the held Tsource back and continues the
+/// uninterrupted run bit for bit.
+#[test]
+fn a_restart_continues_the_temperature_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut whole = closed_box(dir.path());
+    let n = whole.geometry().n_cells;
+    let src: Vec<f64> = (0..n).map(|c| 1.0 + 0.1 * c as f64).collect();
+    whole.set_heat_source(&src).unwrap();
+    for _ in 0..5 {
+        whole.advance(0.1).unwrap();
+    }
+    whole.write("0.5").unwrap();
+    for _ in 0..5 {
+        whole.advance(0.1).unwrap();
+    }
+    let cd = dir.path().join("system/controlDict");
+    let text = std::fs::read_to_string(&cd).unwrap();
+    std::fs::write(&cd, text.replacen("startTime 0;", "startTime 0.5;", 1)).unwrap();
+    let mut restarted = heat_fluid(dir.path()).unwrap();
+    assert_eq!(restarted.heat_source().unwrap(), &src[..]);
+    for _ in 0..5 {
+        restarted.advance(0.1).unwrap();
+    }
+    assert_eq!(restarted.temperature(), whole.temperature());
+}
+
+/// Writes `text` over `rel` in `dir`.
+fn put(dir: &Path, rel: &str, text: &str) {
+    std::fs::write(dir.join(rel), text).unwrap();
+}
+
+fn replace(dir: &Path, rel: &str, from: &str, to: &str) {
+    let s = std::fs::read_to_string(dir.join(rel)).unwrap();
+    assert!(s.contains(from), "{rel} has no `{from}`");
+    put(dir, rel, &s.replacen(from, to, 1));
+}
+
+/// The error of opening the heat case in `dir` after `edit`.
+fn refusal(edit: impl FnOnce(&Path)) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    drop(closed_box(dir.path()));
+    edit(dir.path());
+    match heat_fluid(dir.path()) {
+        Ok(_) => panic!("accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// Refusals name the file and the key or patch; packedBedTemp's forms are accepted
+/// (`alphatJayatillekeWallFunction` on a zeroGradient T patch, `Prt` without dimensions).
+#[test]
+fn bad_heat_input_is_refused_naming_file_and_key() {
+    let e = refusal(|d| std::fs::remove_file(d.join("0/T")).unwrap());
+    assert!(e.contains("0/T") && e.contains("missing"), "{e}");
+    let e = refusal(|d| replace(d, "constant/transportProperties", "Prt 0.85;", ""));
+    assert!(
+        e.contains("transportProperties") && e.contains("Prt"),
+        "{e}"
+    );
+    let e = refusal(|d| {
+        replace(
+            d,
+            "constant/transportProperties",
+            "Pr [0 0 0 0 0 0 0] 0.7",
+            "Pr -1",
+        )
+    });
+    assert!(e.contains("transportProperties") && e.contains("Pr"), "{e}");
+    let e = refusal(|d| replace(d, "system/fvSolution", "\"(T|C)\"", "\"(C|D)\""));
+    assert!(e.contains("fvSolution") && e.contains("solvers.T"), "{e}");
+    let e = refusal(|d| {
+        replace(
+            d,
+            "system/fvSchemes",
+            "div(phi,T) Gauss limitedLinear 1",
+            "div(phi,T) Gauss linearUpwind grad(T)",
+        )
+    });
+    assert!(e.contains("fvSchemes") && e.contains("div(phi,T)"), "{e}");
+    let e = refusal(|d| {
+        let s = std::fs::read_to_string(d.join("system/fvSolution")).unwrap();
+        put(
+            d,
+            "system/fvSolution",
+            &format!("{s}relaxationFactors {{ equations {{ \".*\" 1; }} }}\n"),
+        );
+    });
+    assert!(
+        e.contains("fvSolution") && e.contains("relaxationFactors"),
+        "{e}"
+    );
+    let e = refusal(|d| {
+        replace(
+            d,
+            "0/T",
+            "xMin { type zeroGradient; }",
+            "xMin { type codedFixedValue; }",
+        )
+    });
+    assert!(
+        e.contains("0/T") && e.contains("boundaryField.xMin.type"),
+        "{e}"
+    );
+    let alphat = |xmin_t: &str, xmin_alphat: &str| {
+        let (xmin_t, xmin_alphat) = (xmin_t.to_string(), xmin_alphat.to_string());
+        move |d: &Path| {
+            replace(
+                d,
+                "0/T",
+                "xMin { type zeroGradient; }",
+                &format!("xMin {{ {xmin_t} }}"),
+            );
+            put(
+                d,
+                "0/alphat",
+                &format!(
+                    "FoamFile {{ version 2.0; format ascii; class volScalarField; object alphat; }}\n\
+                     dimensions [0 2 -1 0 0 0 0];\ninternalField uniform 0;\nboundaryField\n{{\n\
+                     xMin {{ {xmin_alphat} }}\n\"(xMax|yMin|yMax)\" {{ type alphatJayatillekeWallFunction; Prt 0.85; value uniform 0; }}\n\
+                     zMin {{ type empty; }}\nzMax {{ type empty; }}\n}}\n"
+                ),
+            );
+        }
+    };
+    let e = refusal(alphat(
+        "type fixedValue; value uniform 300;",
+        "type alphatJayatillekeWallFunction; Prt 0.85; value uniform 0;",
+    ));
+    assert!(
+        e.contains("0/alphat") && e.contains("boundaryField.xMin.type"),
+        "{e}"
+    );
+    // accepted: the wall function where T is zeroGradient, alphat written back
+    let dir = tempfile::tempdir().unwrap();
+    drop(closed_box(dir.path()));
+    alphat("type zeroGradient;", "type calculated; value uniform 0;")(dir.path());
+    let mut fluid = heat_fluid(dir.path()).unwrap();
+    fluid.advance(0.1).unwrap();
+    fluid.write("0.1").unwrap();
+    assert!(dir.path().join("0.1/alphat").is_file());
 }
