@@ -23,6 +23,8 @@
 //! * [`turbulence`]: `turbulenceProperties` and the k–ε model with wall functions;
 //! * [`fv_options`]: `fvOptions` sources holding a mean velocity (`meanVelocityForce`,
 //!   CFDEM's `meanSupVelocityForce`);
+//! * [`temperature`]: the temperature equation of CFDEM's `cfdemSolverPisoScalar` (when the
+//!   caller asks for heat, [`settings::Settings::enable_temperature`]);
 //! * [`courant`]: the Courant number of a step from the face fluxes (OpenFOAM's `CourantNo.H`);
 //! * [`fluid`]: the PISO step ([`Fluid`]).
 //!
@@ -58,6 +60,7 @@ pub mod geometry;
 pub mod ldu;
 pub mod linsolve;
 pub mod settings;
+pub mod temperature;
 pub mod testfields;
 pub mod turbulence;
 

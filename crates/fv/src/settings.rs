@@ -127,6 +127,10 @@ pub struct Settings {
     pub turbulence: crate::turbulence::TurbulenceSettings,
     /// The active `fvOptions` sources (mean-velocity forces, [`crate::fv_options`]).
     pub fv_options: Vec<crate::fv_options::MeanForceSettings>,
+    /// The temperature equation's settings when the caller asked for heat
+    /// ([`Settings::enable_temperature`]); `None` (what [`Settings::read`] gives): the fluid
+    /// solves no temperature and reads no temperature file.
+    pub temperature: Option<crate::temperature::TemperatureSettings>,
 }
 
 pub(crate) fn err(file: &Path, key: &str, msg: impl Into<String>) -> FvError {
@@ -138,7 +142,7 @@ fn f64_of(d: &Dict, file: &Path, key: &str) -> Result<f64> {
 }
 
 /// Reads a number that may carry an old-style dimension set (`nu [0 2 -1 0 0 0 0] 0.01;`).
-fn dimensioned(d: &Dict, file: &Path, key: &str) -> Result<Option<f64>> {
+pub(crate) fn dimensioned(d: &Dict, file: &Path, key: &str) -> Result<Option<f64>> {
     let Ok(s) = d.stream(key) else {
         return Ok(None);
     };
@@ -190,7 +194,7 @@ pub(crate) fn scheme_words(
 
 /// The names the momentum Laplacian has in fvSchemes: icoFoam's, pisoFoam's (laminar
 /// `nuEff`) and CFDEM's cfdemSolverPiso's.
-const MOMENTUM_LAPLACIANS: &[&str] = &[
+pub(crate) const MOMENTUM_LAPLACIANS: &[&str] = &[
     "laplacian(nu,U)",
     "laplacian(nuEff,U)",
     "laplacian(viscousTerm,U)",
@@ -817,6 +821,17 @@ impl Settings {
             full_stress,
             turbulence,
             fv_options,
+            temperature: None,
         })
+    }
+
+    /// Asks for the temperature equation (a coupling with a heat model): reads what it needs
+    /// of `case` — `Pr`, `Prt` of `constant/transportProperties`, the T equation's schemes
+    /// and the `T` solver ([`crate::temperature::TemperatureSettings::read`]) — so that
+    /// [`crate::Fluid::from_case_with`] then reads `T` (and `alphat`, `Tsource` when present)
+    /// of the start time and solves the equation each step.
+    pub fn enable_temperature(&mut self, case: &Case) -> Result<()> {
+        self.temperature = Some(crate::temperature::TemperatureSettings::read(case)?);
+        Ok(())
     }
 }

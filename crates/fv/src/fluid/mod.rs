@@ -42,6 +42,7 @@ use crate::fvc::{self, Field};
 use crate::geometry::{FvGeometry, V3};
 use crate::linsolve::SolveStats;
 use crate::settings::{Settings, SnGrad, TimeScheme};
+use crate::temperature::{HeatFlow, Temperature};
 use crate::turbulence::{k_epsilon, KEpsilon, TurbulenceSettings};
 use foam::{Case, FieldValues, VolField};
 use rayon::prelude::*;
@@ -110,6 +111,8 @@ pub struct StepReport {
     pub continuity: f64,
     /// The turbulence model's solves after the correctors (ε, then k; empty when laminar).
     pub turbulence: Vec<SolveStats>,
+    /// The temperature solve before the momentum predictor (`None` without heat).
+    pub temperature: Option<SolveStats>,
 }
 
 /// The native fluid solver on one case.
@@ -184,6 +187,8 @@ pub struct Fluid {
     /// `CrankNicolson ψ`: the old level of the last step and that step (s), written with the
     /// derivatives as OpenFOAM's `U_0`, `phi_0`, `voidfraction_0` ([`crate::cn_files`]).
     cn_prev: Option<(OldLevel, f64)>,
+    /// The temperature equation when [`Settings::temperature`] asks for it.
+    heat: Option<Temperature>,
 }
 
 /// The fields of one earlier time level (`backward`'s old-old level, [`crate::ddt`]).
@@ -240,6 +245,9 @@ impl Fluid {
             .collect::<Result<Vec<_>>>()?;
         let mut fl = Self::build(case, settings, g, fields, turbulence)?;
         fl.mean_forces = mean_forces;
+        if let Some(ts) = fl.settings.temperature {
+            fl.heat = Some(Temperature::read(&start, mesh, &fl.g, ts, &fl.phi)?);
+        }
         fl.read_cn_state(&start, mesh)?;
         Ok(fl)
     }
@@ -300,6 +308,7 @@ impl Fluid {
             old_old: None,
             cn,
             cn_prev: None,
+            heat: None,
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
@@ -355,6 +364,9 @@ impl Fluid {
     /// run's first step, or a restart without `ddt0` files) instead of using them as the
     /// previous step's. grainPisoFoam and CFDEM's solvers, which skip the equations, keep
     /// them and continue the recursion with the derivative from before the hold.
+    ///
+    /// With heat the temperature is held too (cfdemSolverPisoScalar solves its T equation
+    /// also when the flow is not solved: not done here).
     pub fn hold(&mut self, dt: f64) {
         self.time += dt;
         if let Some(s) = &mut self.cn {
@@ -585,7 +597,8 @@ impl Fluid {
 
     /// Advances by `dt` seconds (one PISO step), in the stages of pisoFoam's and CFDEM's
     /// cfdemSolverPiso's time loop: the old time levels and the time scheme's history
-    /// ([`Self::old_time_levels`]), the momentum matrix ([`Self::momentum_matrix`]) and
+    /// ([`Self::old_time_levels`]), with heat the temperature equation
+    /// ([`Self::solve_temperature`], where cfdemSolverPisoScalar solves it), the momentum matrix ([`Self::momentum_matrix`]) and
     /// predictor ([`Self::momentum_predictor`]), the coefficients the correctors share
     /// ([`Self::corrector_coeffs`]: γ_f, ddtCorr, the porous faces' time terms, ∂ε/∂t),
     /// `nCorrectors` PISO correctors ([`Self::piso_corrector`]: pressure equation, flux and
@@ -599,6 +612,8 @@ impl Fluid {
             });
         }
         let lv = self.old_time_levels(dt);
+        // cfdemSolverPisoScalar's T equation, before the momentum predictor
+        let temperature = self.solve_temperature(&lv)?;
         let mut eqn = self.momentum_matrix(&lv);
         let mut report = StepReport {
             time: lv.t_new,
@@ -606,6 +621,7 @@ impl Fluid {
             pressure: Vec::new(),
             continuity: 0.0,
             turbulence: Vec::new(),
+            temperature,
         };
         self.momentum_predictor(&lv, &mut eqn, &mut report)?;
         let mut cs = self.corrector_coeffs(&lv, &eqn);
@@ -665,6 +681,63 @@ impl Fluid {
         })
     }
 
+    /// The temperature step (cfdemSolverPisoScalar's T equation, [`crate::temperature`]) at
+    /// the start of a step, after its old time levels `lv`: ε and ε° of the step, the face
+    /// flux ε_f φ°/ε°_f, ν_t of the previous step. `None` without heat.
+    fn solve_temperature(&mut self, lv: &Levels) -> Result<Option<SolveStats>> {
+        let Some(heat) = &mut self.heat else {
+            return Ok(None);
+        };
+        let nut = self
+            .turbulence
+            .as_ref()
+            .map(|t| (t.nut(), t.nut_boundary()));
+        let flow = HeatFlow {
+            phi_old: &lv.phi_old,
+            ef: &lv.ef,
+            ef_old: &lv.ef_old,
+            eps: &self.eps,
+            eps_old: &self.eps_old,
+            dt: lv.dt,
+            nu: self.settings.nu,
+            nut,
+            lap_dc: &self.lap_dc,
+            corrected: self.settings.sn_grad == SnGrad::Corrected,
+        };
+        heat.solve(&self.g, &flow).map(Some)
+    }
+
+    /// The fluid's temperature per cell (K), when the case has heat
+    /// ([`Settings::enable_temperature`]).
+    pub fn temperature(&self) -> Option<&[f64]> {
+        self.heat.as_ref().map(Temperature::cells)
+    }
+
+    /// The temperature per boundary face (K), when the case has heat.
+    pub fn temperature_boundary(&self) -> Option<&[f64]> {
+        self.heat.as_ref().map(Temperature::boundary)
+    }
+
+    /// The held temperature source Tsource per cell (K/s), when the case has heat.
+    pub fn heat_source(&self) -> Option<&[f64]> {
+        self.heat.as_ref().map(Temperature::source)
+    }
+
+    /// Sets the temperature equation's explicit source Tsource (K/s per cell, finite), held
+    /// over the following steps until set again. An error without heat or with the wrong
+    /// length.
+    pub fn set_heat_source(&mut self, s: &[f64]) -> Result<()> {
+        match &mut self.heat {
+            Some(h) => h.set_source(&self.g, s),
+            None => Err(FvError::Value {
+                what: "Tsource".into(),
+                msg: "the fluid solves no temperature (Settings::enable_temperature was not \
+                      called)"
+                    .into(),
+            }),
+        }
+    }
+
     /// The patches as `constant/polyMesh/boundary` names them (name, type, faces).
     fn patches(&self) -> Vec<foam::Patch> {
         self.g
@@ -689,7 +762,9 @@ impl Fluid {
     /// Writes `U` and `p` (and `phi` as a surfaceScalarField) into the time directory `name`
     /// of the case, keeping the start files' boundaryField entries; with
     /// [`Self::harmonic_faces`] also the pressure gradient of the last step,
-    /// [`crate::fields::GRAD_P_FILE`], which a run started from that time reads.
+    /// [`crate::fields::GRAD_P_FILE`], which a run started from that time reads; with heat
+    /// `T`, `Tsource` and `alphat` (when the start time had it), which a run started from that
+    /// time reads back.
     pub fn write(&self, name: &str) -> Result<()> {
         let dir = self.case.time_path(name);
         std::fs::create_dir_all(&dir).map_err(|e| FvError::Value {
@@ -720,6 +795,9 @@ impl Fluid {
             s.write(&dir, fmt)?;
         }
         self.write_cn_state(&dir, fmt)?;
+        if let Some(h) = &self.heat {
+            h.write(&self.g, &dir, fmt)?;
+        }
         if self.harmonic_faces {
             let grad = VolField::new(
                 crate::fields::GRAD_P_FILE,

@@ -29,13 +29,13 @@ use super::near_wall;
 use super::properties::KEpsilonSettings;
 use super::scalar_bc::{self, ScalarBc, TurbulenceField};
 use super::scalar_eqn::{ScalarEqn, Transport};
+use super::scalar_field::ScalarField;
 use super::wall_functions;
 use crate::ddt::CrankNicolsonDdt0;
 use crate::error::{FvError, Result};
 use crate::fvc::{self, Field};
 use crate::geometry::{FvGeometry, V3};
 use crate::linsolve::SolveStats;
-use foam::{FieldValues, Item, Value, VolField};
 use std::path::Path;
 
 /// The model coefficients (dimensionless but the bounds: `k_min` m²/s², `epsilon_min` m²/s³).
@@ -92,132 +92,6 @@ pub struct Flow<'a> {
     pub corrected: bool,
 }
 
-/// One cell scalar with its boundary values, conditions and the file it came from.
-#[derive(Clone, Debug)]
-struct ScalarField {
-    cells: Vec<f64>,
-    boundary: Vec<f64>,
-    bcs: Vec<ScalarBc>,
-    file: VolField,
-}
-
-impl ScalarField {
-    fn read(
-        dir: &Path,
-        name: &str,
-        mesh: &foam::PolyMesh,
-        g: &FvGeometry,
-        which: TurbulenceField,
-    ) -> Result<Self> {
-        let path = dir.join(name);
-        let file = VolField::read(&path)?;
-        let cells = match file.internal(g.n_cells) {
-            Ok(FieldValues::Scalar(v)) => v,
-            Ok(FieldValues::Vector(_)) => {
-                return Err(FvError::setting(
-                    &path,
-                    "class",
-                    format!("{name} must be a volScalarField"),
-                ))
-            }
-            Err(m) => return Err(FvError::setting(&path, "internalField", m)),
-        };
-        if let Some(c) = cells.iter().position(|v| !v.is_finite()) {
-            return Err(FvError::setting(
-                &path,
-                "internalField",
-                format!("cell {c}: not finite"),
-            ));
-        }
-        let bcs = scalar_bc::read(&path, &file, mesh, g, which)?;
-        // Start values: prescribed ones, the file's `value` of inletOutlet/calculated/wall
-        // functions where it has one, else the owner's value (OpenFOAM's start-up).
-        let mut boundary: Vec<f64> = g.owner[g.n_internal..]
-            .iter()
-            .map(|&o| cells[o as usize])
-            .collect();
-        let bf = file.boundary();
-        for (p, bc) in g.patches.iter().zip(&bcs) {
-            let keeps_file_value = matches!(
-                bc,
-                ScalarBc::InletOutlet(_) | ScalarBc::Calculated | ScalarBc::NutkWallFunction(_)
-            );
-            if !keeps_file_value {
-                continue;
-            }
-            let value = bf
-                .dict(&p.name)
-                .ok()
-                .and_then(|d| d.stream("value").ok())
-                .and_then(|s| patch_values(s, p.faces.len()));
-            if let Some(v) = value {
-                boundary[p.boundary_range(g.n_internal)].copy_from_slice(&v);
-            }
-        }
-        let mut f = ScalarField {
-            cells,
-            boundary,
-            bcs,
-            file,
-        };
-        let zero_phi = vec![0.0; g.n_faces()];
-        // Fixed values and zero gradients now (inletOutlet keeps its file value until the
-        // first solve, as OpenFOAM's starts with valueFraction 0).
-        let mut b = f.boundary.clone();
-        scalar_bc::evaluate(g, &f.bcs, &f.cells, &zero_phi, &mut b);
-        for (p, bc) in g.patches.iter().zip(&f.bcs) {
-            if !matches!(bc, ScalarBc::InletOutlet(_)) {
-                for i in p.boundary_range(g.n_internal) {
-                    f.boundary[i] = b[i];
-                }
-            }
-        }
-        Ok(f)
-    }
-
-    fn evaluate(&mut self, g: &FvGeometry, phi: &[f64]) {
-        scalar_bc::evaluate(g, &self.bcs, &self.cells, phi, &mut self.boundary);
-    }
-
-    fn write(&self, g: &FvGeometry, path: &Path, format: foam::Format) -> Result<()> {
-        let mut f = self.file.clone();
-        f.set_internal(FieldValues::Scalar(self.cells.clone()))
-            .map_err(|m| FvError::Value {
-                what: path.display().to_string(),
-                msg: m,
-            })?;
-        if let Some(Value::Dict(bf)) = f.body.get_mut("boundaryField") {
-            for p in g.patches.iter().filter(|p| !p.is_empty() && !p.is_cyclic()) {
-                if let Some(Value::Dict(e)) = bf.get_mut(&p.name) {
-                    let v = self.boundary[p.boundary_range(g.n_internal)].to_vec();
-                    e.set(
-                        "value",
-                        Value::Stream(vec![
-                            Item::Word("nonuniform".into()),
-                            Item::Word("List<scalar>".into()),
-                            Item::Scalars(v),
-                        ]),
-                    );
-                }
-            }
-        }
-        f.write(path, format)?;
-        Ok(())
-    }
-}
-
-/// `uniform X` or `nonuniform List<scalar> N(…)` with `n` values.
-fn patch_values(items: &[Item], n: usize) -> Option<Vec<f64>> {
-    match items.first().and_then(Item::as_word) {
-        Some("uniform") => items.get(1).and_then(Item::as_f64).map(|v| vec![v; n]),
-        Some("nonuniform") => items
-            .get(2)
-            .and_then(Item::as_f64_list)
-            .filter(|v| v.len() == n),
-        _ => None,
-    }
-}
-
 /// The k–ε model's state on a mesh.
 #[derive(Clone, Debug)]
 pub struct KEpsilon {
@@ -254,9 +128,15 @@ impl KEpsilon {
         settings: KEpsilonSettings,
         nu: f64,
     ) -> Result<KEpsilon> {
-        let k = ScalarField::read(dir, "k", mesh, g, TurbulenceField::K)?;
-        let epsilon = ScalarField::read(dir, "epsilon", mesh, g, TurbulenceField::Epsilon)?;
-        let nut = ScalarField::read(dir, "nut", mesh, g, TurbulenceField::Nut)?;
+        let k = ScalarField::read(dir, "k", g, |path, file| {
+            scalar_bc::read(path, file, mesh, g, TurbulenceField::K)
+        })?;
+        let epsilon = ScalarField::read(dir, "epsilon", g, |path, file| {
+            scalar_bc::read(path, file, mesh, g, TurbulenceField::Epsilon)
+        })?;
+        let nut = ScalarField::read(dir, "nut", g, |path, file| {
+            scalar_bc::read(path, file, mesh, g, TurbulenceField::Nut)
+        })?;
         for (pi, (p, bc)) in g.patches.iter().zip(&epsilon.bcs).enumerate() {
             if matches!(bc, ScalarBc::EpsilonWallFunction { .. })
                 && !matches!(nut.bcs[pi], ScalarBc::NutkWallFunction(_))
@@ -609,6 +489,7 @@ impl Step<'_> {
             corrected: self.flow.corrected,
             dt: self.flow.dt,
             crank_nicolson,
+            ddt_weight: None,
         }
     }
 }

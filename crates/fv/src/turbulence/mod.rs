@@ -9,6 +9,7 @@
 //! * [`scalar_bc`]: boundary conditions of k, ε and νt;
 //! * [`scalar_eqn`]: the transport equation of a cell scalar (ddt, convection, Laplacian,
 //!   `setValues`);
+//! * `scalar_field`: one cell scalar with its conditions, read and written (k, ε, νt, T);
 //! * [`bound`]: OpenFOAM's `bound` of k and ε.
 
 pub mod bound;
@@ -17,6 +18,7 @@ pub mod near_wall;
 pub mod properties;
 pub mod scalar_bc;
 pub mod scalar_eqn;
+pub(crate) mod scalar_field;
 pub mod wall_functions;
 
 pub use k_epsilon::{KEpsilon, KEpsilonCoeffs};

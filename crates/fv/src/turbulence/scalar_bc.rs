@@ -47,6 +47,10 @@ pub enum ScalarBc {
     FixedValue(Vec<f64>),
     /// Zero normal gradient (also `kqRWallFunction`, `symmetryPlane`, `symmetry`).
     ZeroGradient,
+    /// A prescribed normal gradient (the temperature's `fixedGradient`, [`crate::temperature`]),
+    /// held per face as the face value's increment over the owner's, gradient/δ (δ the
+    /// boundary face's delta coefficient, 1/(n̂·d), OpenFOAM v1912's patch `deltaCoeffs`).
+    FixedGradient(Vec<f64>),
     /// `inletValue` per face where φ < 0, zero gradient elsewhere.
     InletOutlet(Vec<f64>),
     /// νt: the value of νt = Cμ k_b²/ε_b from the boundary values of k and ε.
@@ -69,7 +73,7 @@ impl ScalarBc {
     /// (1: the face takes the cell's value; 0: the face value is fixed).
     pub fn value_coeff(&self, phi: f64) -> f64 {
         match self {
-            ScalarBc::ZeroGradient | ScalarBc::Empty => 1.0,
+            ScalarBc::ZeroGradient | ScalarBc::FixedGradient(_) | ScalarBc::Empty => 1.0,
             ScalarBc::InletOutlet(_) if phi >= 0.0 => 1.0,
             _ => 0.0,
         }
@@ -78,11 +82,12 @@ impl ScalarBc {
 
 impl ScalarBc {
     /// The fixed part vb of the face value φ_b = vi φ_P + vb on face `i` of the patch with flux
-    /// `phi`, where [`Self::value_coeff`] is 0; `current` is the face's present value (what a
+    /// `phi` (the increment of a fixed gradient, else the value where [`Self::value_coeff`] is
+    /// 0); `current` is the face's present value (what a
     /// wall function or `calculated` face holds).
     pub fn fixed_part(&self, i: usize, phi: f64, current: f64) -> f64 {
         match self {
-            ScalarBc::FixedValue(v) => v[i],
+            ScalarBc::FixedValue(v) | ScalarBc::FixedGradient(v) => v[i],
             ScalarBc::InletOutlet(v) if phi < 0.0 => v[i],
             ScalarBc::InletOutlet(_) | ScalarBc::ZeroGradient | ScalarBc::Empty => 0.0,
             _ => current,
@@ -208,6 +213,7 @@ pub fn evaluate(g: &FvGeometry, bcs: &[ScalarBc], x: &[f64], phi: &[f64], out: &
             match bc {
                 ScalarBc::FixedValue(v) => out[b] = v[i],
                 ScalarBc::ZeroGradient => out[b] = xp,
+                ScalarBc::FixedGradient(v) => out[b] = xp + v[i],
                 ScalarBc::InletOutlet(v) => out[b] = if phi[f] < 0.0 { v[i] } else { xp },
                 ScalarBc::Calculated
                 | ScalarBc::EpsilonWallFunction { .. }

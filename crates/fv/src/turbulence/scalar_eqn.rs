@@ -62,6 +62,10 @@ pub struct Transport<'a> {
     /// `CrankNicolson ψ`: the step's rate c/Δt (1/s) and the equation's stored derivative
     /// ([`CrankNicolsonDdt0`], begun for this step); `None`: Euler.
     pub crank_nicolson: Option<(f64, &'a CrankNicolsonDdt0<f64>)>,
+    /// `fvm::ddt(w, x)` instead of `fvm::ddt(x)` (Euler only): the weight per cell at the new
+    /// and the old time, (w, w°) — OpenFOAM v1912's `EulerDdtScheme::fvmDdt(rho, vf)`: diagonal
+    /// w V/Δt, source w° x° V/Δt. `None`: w ≡ 1 (k and ε).
+    pub ddt_weight: Option<(&'a [f64], &'a [f64])>,
 }
 
 impl ScalarEqn {
@@ -108,11 +112,21 @@ impl ScalarEqn {
                 source[nb] -= corr;
             }
         }
+        debug_assert!(
+            flow.crank_nicolson.is_none() || flow.ddt_weight.is_none(),
+            "a weighted ddt is Euler only"
+        );
         if let Some((r, cn)) = flow.crank_nicolson {
             // OpenFOAM's CrankNicolson fvmDdt: diag c/Δt V, source (c/Δt x⁰ + ψ d₀) V
             for c in 0..n {
                 m.diag[c] += r * g.v[c];
                 source[c] += cn.old_part(c, r, x_old[c]) * g.v[c];
+            }
+        } else if let Some((w, w_old)) = flow.ddt_weight {
+            let rdt = 1.0 / flow.dt;
+            for c in 0..n {
+                m.diag[c] += rdt * w[c] * g.v[c];
+                source[c] += rdt * w_old[c] * x_old[c] * g.v[c];
             }
         } else {
             let rdt = 1.0 / flow.dt;

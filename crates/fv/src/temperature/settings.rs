@@ -1,0 +1,181 @@
+//! What the temperature equation reads of a case's dictionaries when the caller asks for heat
+//! ([`crate::settings::Settings::enable_temperature`]): the laminar and turbulent Prandtl
+//! numbers of `constant/transportProperties` and the schemes and solver of cfdemSolverPisoScalar's
+//! T equation (CFDEMcoupling-PUBLIC `applications/solvers/cfdemSolverPisoScalar`):
+//!
+//! * `Pr`, `Prt` (dimensionless, > 0): `Pr [0 0 0 0 0 0 0] 0.7;` or `Pr 0.7;`;
+//! * fvSchemes `div(phi,T)` (else `default`): `Gauss linear`, `Gauss upwind`,
+//!   `Gauss limitedLinear ψ`, each may be `bounded` ([`crate::convection`]);
+//!   `laplacian((alphaEff*voidfraction),T)` — the name OpenFOAM gives the solver's term (the
+//!   tutorials' `laplacian((DT*voidfraction),T)` is not looked up by the solver, so it is not
+//!   read here either) — else `default`, which must be the momentum Laplacian's scheme (the
+//!   delta coefficients and the non-orthogonal correction are the fluid's);
+//!   `ddt(voidfraction,T)` and `ddt(voidfraction)` `Euler` (others refused);
+//!   `grad(T)` `Gauss linear`;
+//! * fvSolution `solvers.T` (an exact key, else a pattern key such as `"(T|C)"`); no
+//!   `relaxationFactors` equation factor may apply to T (`T`, a pattern, or `default`):
+//!   cfdemSolverPisoScalar calls `TEqn.relax()`, which does nothing without a factor (the
+//!   packedBedTemp tutorial) but with one — even 1 — raises every diagonal below the sum of its
+//!   row's off-diagonal magnitudes and moves the difference times the old T into the source
+//!   (OpenFOAM v1912 `fvMatrix::relax`), which the native solver does not do.
+
+use crate::convection::Convection;
+use crate::error::Result;
+use crate::settings::{
+    convection_of, dimensioned, err, linear_solver, scheme_group, scheme_words, MOMENTUM_LAPLACIANS,
+};
+use crate::turbulence::scalar_eqn::ScalarScheme;
+use foam::{Case, Dict, Item};
+use std::path::Path;
+
+/// The settings of the temperature equation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TemperatureSettings {
+    /// Laminar Prandtl number Pr = ν/α (dimensionless): the molecular diffusivity is ν/Pr.
+    pub pr: f64,
+    /// Turbulent Prandtl number Prt (dimensionless): α_t = ν_t/Prt.
+    pub prt: f64,
+    /// `div(phi,T)`, the `T` solver (`crank_nicolson` is always `None`: Euler).
+    pub scheme: ScalarScheme,
+}
+
+/// The term OpenFOAM names the T equation's Laplacian by (`fvm::laplacian(alphaEff*voidfraction, T)`).
+pub const LAPLACIAN_KEY: &str = "laplacian((alphaEff*voidfraction),T)";
+
+impl TemperatureSettings {
+    /// Reads the temperature settings of `case` (see the module documentation); every
+    /// refusal names the file and key.
+    pub fn read(case: &Case) -> Result<TemperatureSettings> {
+        let root = case.root();
+        let tp_file = root.join("constant/transportProperties");
+        let tp = case.read_dict("constant/transportProperties")?;
+        let pr = prandtl(&tp, &tp_file, "Pr")?;
+        let prt = prandtl(&tp, &tp_file, "Prt")?;
+
+        let sch_file = root.join("system/fvSchemes");
+        let sch = case.read_dict("system/fvSchemes")?;
+        let (convection, bounded) = convection_of(&sch, &sch_file, "div(phi,T)")?;
+        if !matches!(
+            convection,
+            Convection::Linear | Convection::Upwind | Convection::LimitedLinear(_)
+        ) {
+            let (w, key) = scheme_words(&sch, &sch_file, "divSchemes", "div(phi,T)")?;
+            return Err(err(
+                &sch_file,
+                &key,
+                format!(
+                    "`{}` is not supported for T (Gauss linear, Gauss upwind, Gauss \
+                     limitedLinear ψ, each may be `bounded`)",
+                    w.join(" ")
+                ),
+            ));
+        }
+        laplacian(&sch, &sch_file)?;
+        for entry in ["ddt(voidfraction,T)", "ddt(voidfraction)"] {
+            let (w, key) = scheme_words(&sch, &sch_file, "ddtSchemes", entry)?;
+            if w != ["Euler"] {
+                return Err(err(
+                    &sch_file,
+                    &key,
+                    format!(
+                        "`{}` is not supported for the temperature equation (Euler)",
+                        w.join(" ")
+                    ),
+                ));
+            }
+        }
+        let (grad, key) = scheme_words(&sch, &sch_file, "gradSchemes", "grad(T)")?;
+        if grad != ["Gauss", "linear"] {
+            return Err(err(
+                &sch_file,
+                &key,
+                format!("`{}` is not supported (Gauss linear)", grad.join(" ")),
+            ));
+        }
+
+        let sol_file = root.join("system/fvSolution");
+        let sol = case.read_dict("system/fvSolution")?;
+        relaxation(&sol, &sol_file)?;
+        let solver = linear_solver(&sol, &sol_file, "T")?;
+        Ok(TemperatureSettings {
+            pr,
+            prt,
+            scheme: ScalarScheme {
+                convection,
+                bounded,
+                solver,
+                crank_nicolson: None,
+            },
+        })
+    }
+}
+
+/// `Pr` or `Prt` of transportProperties: a positive number, with or without a dimension set.
+fn prandtl(tp: &Dict, file: &Path, key: &str) -> Result<f64> {
+    match dimensioned(tp, file, key)? {
+        Some(v) if v > 0.0 => Ok(v),
+        Some(v) => Err(err(file, key, format!("{v} is not a positive number"))),
+        None => Err(err(
+            file,
+            key,
+            "missing: the temperature equation needs the laminar and turbulent Prandtl \
+             numbers `Pr` and `Prt`",
+        )),
+    }
+}
+
+/// The T Laplacian's scheme must be the momentum Laplacian's (the fluid's delta coefficients
+/// and non-orthogonal correction).
+fn laplacian(sch: &Dict, sch_file: &Path) -> Result<()> {
+    let mom = scheme_group(sch, sch_file, "laplacianSchemes", MOMENTUM_LAPLACIANS)?
+        .into_iter()
+        .next()
+        .map(|(w, _)| w)
+        .unwrap_or_default();
+    let (lap, key) = scheme_words(sch, sch_file, "laplacianSchemes", LAPLACIAN_KEY)?;
+    if lap != mom {
+        return Err(err(
+            sch_file,
+            &key,
+            format!(
+                "`{}`: the T Laplacian must use the momentum Laplacian's scheme `{}`",
+                lap.join(" "),
+                mom.join(" ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// No `relaxationFactors` equation factor may apply to T (see the module documentation).
+fn relaxation(sol: &Dict, sol_file: &Path) -> Result<()> {
+    let Some(rf) = sol.opt_dict("relaxationFactors") else {
+        return Ok(());
+    };
+    let (eq, prefix) = match rf.opt_dict("equations") {
+        Some(eq) => (eq, "relaxationFactors.equations"),
+        None if rf.opt_dict("fields").is_none() => (rf, "relaxationFactors"),
+        None => return Ok(()),
+    };
+    let (value, key) = match eq.lookup_path("T") {
+        Some(v) => (v, "T"),
+        None => match eq.get("default") {
+            Some(v) => (v, "default"),
+            None => return Ok(()),
+        },
+    };
+    let factor = match value {
+        foam::Value::Stream(s) => s.iter().rev().find_map(Item::as_f64),
+        foam::Value::Dict(_) => None,
+    };
+    Err(err(
+        sol_file,
+        &format!("{prefix}.{key}"),
+        format!(
+            "a relaxation factor ({}) applies to the temperature equation: not supported \
+             (OpenFOAM's relax changes a matrix that is not diagonally dominant even with \
+             factor 1); remove it for T",
+            factor.map_or("not a number".to_string(), |f| f.to_string())
+        ),
+    ))
+}
