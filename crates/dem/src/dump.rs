@@ -18,6 +18,7 @@ use dem_io::{BoxBounds, DumpFormat, Snapshot};
 use crate::atom_value::{self, AtomValue};
 use crate::coupling::Coupling;
 use crate::error::DemError;
+use crate::heat::Heat;
 use crate::particles::Particles;
 
 /// The file kind of a dump.
@@ -59,6 +60,18 @@ impl DumpOutput {
         path: PathBuf,
         columns: Vec<String>,
     ) -> Result<DumpOutput, String> {
+        DumpOutput::new_in(name, every, path, columns, &[])
+    }
+
+    /// [`DumpOutput::new`] with the columns named as [`AtomValue::parse_in`] reads them
+    /// (`f_ID[0]` of the fixes in `temperature_fixes` is the temperature).
+    pub fn new_in(
+        name: &str,
+        every: u64,
+        path: PathBuf,
+        columns: Vec<String>,
+        temperature_fixes: &[String],
+    ) -> Result<DumpOutput, String> {
         if every == 0 {
             return Err("dump period must be ≥ 1".into());
         }
@@ -68,7 +81,7 @@ impl DumpOutput {
         let values = columns
             .iter()
             .map(|c| {
-                AtomValue::parse(c).ok_or_else(|| {
+                AtomValue::parse_in(c, temperature_fixes).ok_or_else(|| {
                     format!(
                         "unsupported dump column `{c}` (supported: {})",
                         atom_value::NAMES
@@ -95,8 +108,9 @@ impl DumpOutput {
         every: u64,
         path: PathBuf,
         columns: Vec<String>,
+        temperature_fixes: &[String],
     ) -> Result<DumpOutput, String> {
-        let d = DumpOutput::new(name, every, path, columns)?;
+        let d = DumpOutput::new_in(name, every, path, columns, temperature_fixes)?;
         for k in 0..3 {
             if !d.values.contains(&AtomValue::Position(k)) {
                 return Err("dump custom/vtk needs the columns x y z".into());
@@ -128,6 +142,7 @@ impl DumpOutput {
         step: u64,
         p: &Particles,
         coupling: &Coupling,
+        heat: Option<&Heat>,
         bounds: BoxBounds,
     ) -> Result<(), DemError> {
         if !self.is_due(step) {
@@ -147,14 +162,13 @@ impl DumpOutput {
             if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty()) {
                 std::fs::create_dir_all(dir).map_err(io_err)?;
             }
-            self.write_vtk(&file, p, coupling)?;
+            self.write_vtk(&file, p, coupling, heat)?;
             self.last_step = Some(step);
             return Ok(());
         }
         let snap = snapshot(
             step,
-            p,
-            coupling,
+            (p, coupling, heat),
             bounds,
             &self.columns,
             &self.values,
@@ -180,13 +194,20 @@ impl DumpOutput {
 
 impl DumpOutput {
     /// One `custom/vtk` snapshot.
-    fn write_vtk(&self, file: &Path, p: &Particles, coupling: &Coupling) -> Result<(), DemError> {
+    fn write_vtk(
+        &self,
+        file: &Path,
+        p: &Particles,
+        coupling: &Coupling,
+        heat: Option<&Heat>,
+    ) -> Result<(), DemError> {
         let mut order: Vec<usize> = (0..p.len()).collect();
         if self.sort_by_id {
             order.sort_by_key(|&i| p.id[i]);
         }
-        let col =
-            |v: AtomValue| -> Vec<f64> { order.iter().map(|&i| v.get(p, coupling, i)).collect() };
+        let col = |v: AtomValue| -> Vec<f64> {
+            order.iter().map(|&i| v.get(p, coupling, heat, i)).collect()
+        };
         let points: Vec<[f64; 3]> = order.iter().map(|&i| p.x[i].into()).collect();
         let mut scalars: Vec<(String, Vec<f64>)> = Vec::new();
         let mut ints: Vec<(String, Vec<i64>)> = Vec::new();
@@ -256,8 +277,7 @@ impl DumpOutput {
 /// A snapshot of the particles with the given columns and the values they name.
 fn snapshot(
     step: u64,
-    p: &Particles,
-    coupling: &Coupling,
+    (p, coupling, heat): (&Particles, &Coupling, Option<&Heat>),
     bounds: BoxBounds,
     columns: &[String],
     values: &[AtomValue],
@@ -269,7 +289,7 @@ fn snapshot(
     }
     let data: Vec<Vec<f64>> = values
         .iter()
-        .map(|v| order.iter().map(|&i| v.get(p, coupling, i)).collect())
+        .map(|v| order.iter().map(|&i| v.get(p, coupling, heat, i)).collect())
         .collect();
     Snapshot::new(step, bounds, columns.to_vec(), data)
         .expect("columns named twice carry the same values; all columns have one length")

@@ -14,7 +14,8 @@
 //!   (`insert/rate/region`, `insert/stream`'s counting), [`insert_stream`] (its extruded face
 //!   and the carrying to it), [`outflow`] (lost and deleted particles), [`neighbor`] (linked cells, spatial
 //!   order, pair list), [`pair_loop`] (pair forces and their per-particle sums).
-//! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v).
+//! - [`sim`]: [`Simulation`] — state, step, forces; [`coupling`]: F_ext + β(u_f − v);
+//!   [`heat`]: particle temperatures (`heat/gran` conduction, `couple/cfd/convection`).
 //! - [`atom_value`]: per-atom quantities by LIGGGHTS name (dump columns, `compute reduce`).
 //! - [`deck`]: the LIGGGHTS input subset (restart files: [`deck::restart`]); [`dump`]:
 //!   `dump custom` output via `dem-io`;
@@ -42,6 +43,7 @@ pub mod deck;
 pub mod dump;
 pub mod error;
 pub mod from_dump;
+pub mod heat;
 pub mod insert;
 pub mod insert_rate;
 pub mod insert_stream;

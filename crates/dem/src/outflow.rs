@@ -47,6 +47,8 @@ pub struct Removed {
     pub volume: f64,
     /// Their momentum Σ m v when removed (kg·m/s).
     pub momentum: V3,
+    /// Their thermal energy Σ m c T when removed (J; [`crate::heat`]), 0 without heat.
+    pub heat: f64,
 }
 
 impl Removed {

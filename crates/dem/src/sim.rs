@@ -21,6 +21,7 @@ use crate::contact::{ContactModel, History, HistoryUse};
 use crate::coupling::Coupling;
 use crate::dump::DumpOutput;
 use crate::error::DemError;
+use crate::heat::Heat;
 use crate::insert::InsertPack;
 use crate::insert_rate::RateInsertion;
 use crate::material::Materials;
@@ -32,6 +33,7 @@ use crate::particles::{NewParticle, Particles, INERTIA_FACTOR};
 use crate::periodic::Periodic;
 use crate::walls::{wall_contact, SphereState, Wall};
 
+mod heat;
 mod open;
 
 /// The simulation box of `create_box` with its `boundary` settings.
@@ -200,6 +202,8 @@ pub struct Simulation {
     outflow: Outflow,
     lost_policy: LostPolicy,
     warnings: Vec<String>,
+    /// Particle temperatures (`heat/gran`, `couple/cfd/convection`; [`crate::heat`]).
+    heat: Option<Heat>,
 }
 
 impl Simulation {
@@ -251,6 +255,7 @@ impl Simulation {
             outflow: Outflow::default(),
             lost_policy: LostPolicy::default(),
             warnings: Vec::new(),
+            heat: None,
         })
     }
 
@@ -430,6 +435,9 @@ impl Simulation {
         self.wall_maybe.clear();
         self.prepare_mesh_walls();
         self.coupling.grow(added);
+        if let Some(h) = &mut self.heat {
+            h.grow(added);
+        }
         self.pairs.invalidate();
         self.forces_valid = false;
         Ok(())
@@ -679,6 +687,9 @@ impl Simulation {
                 .collect();
         }
         self.coupling.permute(perm);
+        if let Some(h) = &mut self.heat {
+            h.permute(perm);
+        }
         // the coupling the current forces were evaluated with is kept until the next force
         // evaluation; particles inserted since have no entry in it (nor current forces), and a
         // renumbering with them is always followed by that evaluation
@@ -828,7 +839,8 @@ impl Simulation {
         self.restore_order();
         let bounds = self.sim_box.dump_bounds(&self.particles.x);
         for d in &mut self.dumps {
-            d.maybe_write(self.step, &self.particles, &self.coupling, bounds)?;
+            let heat = self.heat.as_ref();
+            d.maybe_write(self.step, &self.particles, &self.coupling, heat, bounds)?;
         }
         Ok(())
     }
@@ -876,6 +888,9 @@ impl Simulation {
         }
         // forces, then the second half kick in the same pass
         self.compute_forces(HistoryUse::Advance, Some(half));
+        if let Some(h) = &mut self.heat {
+            h.step(&self.pairs, &self.particles, dt);
+        }
         self.carry_held();
         self.write_dumps()
     }

@@ -9,6 +9,8 @@
 //! Fast tier: the native runs against the committed LIGGGHTS files. Full tier: LIGGGHTS reruns
 //! the decks and must reproduce them exactly (a serial LIGGGHTS run is deterministic).
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -53,18 +55,7 @@ fn assert_same(native: &[Snapshot], reference: &[Snapshot]) {
         "x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz",
     ];
     for c in cols {
-        let values = |s: &[Snapshot]| -> Vec<Vec<f64>> {
-            s.iter().map(|x| x.column(c).unwrap().to_vec()).collect()
-        };
-        let (a, b) = (values(native), values(reference));
-        let scale = b.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-        let worst = a
-            .iter()
-            .flatten()
-            .zip(b.iter().flatten())
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        eprintln!("{c}: largest difference {worst:.3e} of scale {scale:.3e}");
-        assert!(worst <= TOL * scale, "{c}: {worst} > {TOL} × {scale}");
+        common::assert_column_close(native, reference, c, TOL);
     }
     for (a, b) in native.iter().zip(reference) {
         assert_eq!(a.timestep, b.timestep);

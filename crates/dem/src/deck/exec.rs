@@ -99,6 +99,8 @@ struct Pending {
     cgs: bool,
     /// What `read_restart` read beyond box and particles, applied when the simulation is built.
     restart: Option<restart::Loaded>,
+    /// The heat fixes defined before the simulation was built (applied in order when it is).
+    heat: Vec<fixes::heat::HeatFix>,
     /// Ids of `dump … stl` outputs (they write `fix mesh/surface` meshes; accepted with a
     /// warning, writing nothing), so that `undump` finds them.
     stl_dumps: Vec<String>,
@@ -177,6 +179,9 @@ pub struct Session<'a> {
     build_warnings: Vec<String>,
     /// The thermo columns of [`Session::advance`], set at its first call.
     continuation: Option<(RunColumns, std::time::Instant)>,
+    /// Temperatures and heat flows (by particle id) of the last `read_restart`, taken up by the
+    /// first heat fix (LIGGGHTS's `Temp` and `heatFlux` restart blocks).
+    restart_heat: Option<HashMap<u64, (f64, Option<f64>)>>,
 }
 
 impl Simulation {
@@ -221,6 +226,7 @@ impl<'a> Session<'a> {
             line: 0,
             build_warnings: Vec::new(),
             continuation: None,
+            restart_heat: None,
         }
     }
 
@@ -581,9 +587,20 @@ impl Session<'_> {
             sim.add_mesh_wall(wall)?;
         }
         sim.add_particles(&p.particles)?;
-        if let Some(r) = p.restart.take() {
+        if let Some(mut r) = p.restart.take() {
+            if let Some(h) = r.heat.take() {
+                self.restart_heat = Some(h);
+            }
             let coupled = self.registry.has_force_fix();
             self.build_warnings.extend(r.apply(&mut sim, coupled)?);
+        }
+        for h in std::mem::take(&mut p.heat) {
+            fixes::heat::apply(&mut sim, &p.props, &p.prop_style, &h)?;
+        }
+        if sim.heat().is_some() {
+            if let Some(saved) = self.restart_heat.take() {
+                sim.set_heat_by_id(&saved)?;
+            }
         }
         for ins in p.inserts.drain(..) {
             sim.add_insertion(ins);

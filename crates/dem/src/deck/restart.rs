@@ -20,7 +20,13 @@
 //!   LIGGGHTS's `couple/cfd/force[/implicit]` saves; the native DEM's F_ext, β, u_f) when the
 //!   deck defines a `couple/cfd/force…` fix before the first run, as LIGGGHTS hands them to
 //!   the fix that registers them again. A coupled run (CFDEM's `writeLiggghts`) writes the
-//!   state after an exchange, so these are the next interval's forces.
+//!   state after an exchange, so these are the next interval's forces;
+//! - the temperatures and heat flows (`fix property/atom` blocks `Temp`, `heatFlux`, which
+//!   LIGGGHTS's `heat/gran` saves), taken up by the deck's first heat fix (`heat/gran` or
+//!   `couple/cfd/convection`), even one defined after a `run`, as LIGGGHTS hands the saved
+//!   values to the `Temp` property the fix creates; a file the native DEM writes has them
+//!   whenever it has a heat state (the convective flows are not saved: LIGGGHTS's are not,
+//!   and the coupler sets them at each exchange).
 //!
 //! What the native DEM has no place for is reported as a warning, never dropped silently:
 //! groups other than `all`, per-type masses, the global state of other fixes
@@ -101,6 +107,14 @@ const HALF_STEP_VALUES_NO_COUPLING: usize = 12;
 /// F_ext, β (kg/s) and u_f (m/s).
 const COUPLING_BLOCKS: [(&str, usize); 3] = [("dragforce", 3), ("Ksl", 1), ("uf", 3)];
 
+/// The per-atom blocks of the heat state, as LIGGGHTS's `heat/gran` registers them (`fix
+/// property/atom`, one value per atom, saved in restart files): the temperature (K) and the heat
+/// flow of the last step (W).
+const HEAT_BLOCKS: [&str; 2] = ["Temp", "heatFlux"];
+
+/// Temperature (K) and, if saved, heat flow (W) by particle id.
+pub type SavedHeat = HashMap<u64, (f64, Option<f64>)>;
+
 /// A saved pair contact: holder id, partner id, history values as seen from the holder.
 type SavedContact = (u64, u64, Vec<f64>);
 
@@ -139,6 +153,8 @@ pub struct Loaded {
     /// The coupling blocks ([`COUPLING_BLOCKS`] order) per particle (same order), those the
     /// file has.
     coupling: [Option<Vec<Vec<f64>>>; 3],
+    /// The saved temperatures and heat flows ([`HEAT_BLOCKS`]), taken up by the first heat fix.
+    pub heat: Option<SavedHeat>,
 }
 
 /// Reads `path` for `read_restart`; returns the state and the warnings about what the native
@@ -245,6 +261,7 @@ pub fn read(path: &Path) -> Res<(Loaded, Vec<String>)> {
             half_step: data.half_step,
             coupling_recorded: data.coupling_recorded,
             coupling: data.coupling,
+            heat: saved_heat(&f, &data.heat),
         },
         warnings,
     ))
@@ -293,6 +310,8 @@ struct PerAtomData {
     coupling_recorded: bool,
     /// The coupling blocks ([`COUPLING_BLOCKS`] order) per particle, those the file has.
     coupling: [Option<Vec<Vec<f64>>>; 3],
+    /// The [`HEAT_BLOCKS`] values per particle (file order), those the file has.
+    heat: [Option<Vec<f64>>; 2],
     /// `ID (STYLE)` of the fixes whose per-atom data is dropped.
     unused: Vec<String>,
 }
@@ -306,17 +325,21 @@ impl PerAtomData {
             half_step: None,
             coupling_recorded: true,
             coupling: Default::default(),
+            heat: Default::default(),
             unused: Vec::new(),
         };
         for (k, fix) in f.peratom_fixes.iter().enumerate() {
             let wall_id = fix.id.strip_prefix(WALL_HISTORY_PREFIX);
             let coupling_block = COUPLING_BLOCKS.iter().position(|b| b.0 == fix.id);
+            let heat_block = HEAT_BLOCKS.iter().position(|&b| b == fix.id);
             if fix.id == HALF_STEP_ID && fix.style == HALF_STEP_STYLE {
                 let (per, recorded) = half_step_block(f, k, fix)?;
                 data.coupling_recorded &= recorded;
                 data.half_step = Some(per);
             } else if let (Some(b), PROPERTY_ATOM_STYLE) = (coupling_block, fix.style.as_str()) {
                 data.coupling[b] = Some(coupling_block_values(f, k, b)?);
+            } else if let (Some(b), PROPERTY_ATOM_STYLE) = (heat_block, fix.style.as_str()) {
+                data.heat[b] = Some(scalar_block(f, k, HEAT_BLOCKS[b])?);
             } else if fix.style == CONTACT_HISTORY_STYLE {
                 data.contacts = Some(pair_contact_block(f, k, fix));
             } else if let (Some(wall), PROPERTY_ATOM_STYLE) = (wall_id, fix.style.as_str()) {
@@ -357,6 +380,31 @@ fn half_step_block(
         }
     }
     Ok((per, coupling_recorded))
+}
+
+/// A one-value-per-atom `property/atom` block (per-atom fix `k`, id `id`).
+fn scalar_block(f: &RestartFile, k: usize, id: &str) -> Res<Vec<f64>> {
+    f.atoms
+        .iter()
+        .map(|a| match &a.fix_data[k] {
+            FixAtomData::Values(v) if v.len() == 1 => Ok(v[0]),
+            _ => Err(format!(
+                "fix {id} (property/atom): 1 value per atom expected"
+            )),
+        })
+        .collect()
+}
+
+/// The saved temperatures (and heat flows) by particle id, if the file has temperatures.
+fn saved_heat(f: &RestartFile, heat: &[Option<Vec<f64>>; 2]) -> Option<SavedHeat> {
+    let temp = heat[0].as_ref()?;
+    Some(
+        f.atoms
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (a.tag, (temp[i], heat[1].as_ref().map(|q| q[i]))))
+            .collect(),
+    )
 }
 
 /// The coupling block `b` of [`COUPLING_BLOCKS`] (per-atom fix `k`): the values per particle.
@@ -899,6 +947,17 @@ fn fix_blocks(
             });
         }
     }
+    // the temperatures and heat flows, as LIGGGHTS's heat fixes save them
+    if sim.heat().is_some() {
+        for id in HEAT_BLOCKS {
+            global_fixes.push(FixState::from_values(id, PROPERTY_ATOM_STYLE, &[1.0]));
+            peratom_fixes.push(PerAtomFix {
+                id: id.into(),
+                style: PROPERTY_ATOM_STYLE.into(),
+                max_size: 2,
+            });
+        }
+    }
     (global_fixes, peratom_fixes)
 }
 
@@ -941,6 +1000,10 @@ fn atom_records(
                 fix_data.push(FixAtomData::Values(vec![f[0], f[1], f[2]]));
                 fix_data.push(FixAtomData::Values(vec![coupling.beta[i]]));
                 fix_data.push(FixAtomData::Values(vec![u[0], u[1], u[2]]));
+            }
+            if let Some(h) = sim.heat() {
+                fix_data.push(FixAtomData::Values(vec![h.temp[i]]));
+                fix_data.push(FixAtomData::Values(vec![h.flux[i]]));
             }
             AtomRecord {
                 x: p.x[i].into(),

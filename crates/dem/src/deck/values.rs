@@ -15,6 +15,9 @@
 //!   mesh/surface/stress`, the force of the particles on the surface at the last force
 //!   evaluation (N, [`Simulation::mesh_surface_force`]; its torque `[4..6]` and reference point
 //!   `[7..9]` are not computed);
+//! - `f_ID` of `fix ID all heat/gran` (and of its equation `ste_heattransfer`): Σ m c T over the
+//!   particles (J, [`Simulation::heat_energy`]; not divided by `thermo_modify norm yes`: LIGGGHTS's
+//!   fix is not extensive);
 //! - `v_name` (equal-style or numeric variables) and `name[tag]` (an atom's value, e.g. `vx[1]`).
 //!
 //! `thermo_modify norm yes` divides the extensive ones (`ke`, `erotate/sphere`, `reduce sum`,
@@ -86,7 +89,16 @@ pub struct Registry {
     /// `insert/rate/region` and `insert/stream` fixes: their vector is (particles, mass)
     /// inserted so far.
     insert_fixes: Vec<String>,
+    /// `heat/gran` fixes: their scalar is Σ m c T, their per-atom vector the temperature.
+    heat_fixes: Vec<String>,
+    /// Whether a fix made the heat state (`heat/gran` or `couple/cfd/convection`).
+    heat: bool,
+    /// Whether the deck has `couple/cfd` (which `couple/cfd/convection` needs).
+    cfd: bool,
 }
+
+/// The id LIGGGHTS gives the transport equation a heat fix creates.
+pub const HEAT_EQUATION_ID: &str = "ste_heattransfer";
 
 /// Whether a name can be evaluated.
 #[derive(Debug, Clone, PartialEq)]
@@ -143,6 +155,52 @@ impl Registry {
         self.insert_fixes.push(id.to_owned());
     }
 
+    /// Records `fix ID all heat/gran` (`f_ID`: Σ m c T; `f_ID[0]` in dumps: the temperature).
+    pub fn add_heat_fix(&mut self, id: &str) {
+        self.heat_fixes.push(id.to_owned());
+        self.heat = true;
+    }
+
+    /// Whether a `heat/gran` fix exists.
+    pub fn has_heat_fix(&self) -> bool {
+        !self.heat_fixes.is_empty()
+    }
+
+    /// Records `fix ID all couple/cfd/convection` (it makes the heat state too).
+    pub fn add_convection_fix(&mut self) {
+        self.heat = true;
+    }
+
+    /// Records `fix ID all couple/cfd`.
+    pub fn add_cfd_fix(&mut self) {
+        self.cfd = true;
+    }
+
+    /// Whether the deck has `couple/cfd`.
+    pub fn has_cfd_fix(&self) -> bool {
+        self.cfd
+    }
+
+    /// Whether a heat fix exists (`f_Temp`, `f_heatFlux` then exist).
+    pub fn has_heat(&self) -> bool {
+        self.heat
+    }
+
+    /// The ids whose per-atom vector is the temperature: the `heat/gran` fixes and, once a
+    /// heat fix exists, [`HEAT_EQUATION_ID`].
+    pub fn temperature_fixes(&self) -> Vec<String> {
+        let mut ids = self.heat_fixes.clone();
+        if self.heat {
+            ids.push(HEAT_EQUATION_ID.to_owned());
+        }
+        ids
+    }
+
+    /// Whether `id` names a fix whose scalar is Σ m c T.
+    fn is_heat_scalar(&self, id: &str) -> bool {
+        self.heat_fixes.iter().any(|f| f == id) || (self.heat && id == HEAT_EQUATION_ID)
+    }
+
     /// Whether the deck has a coupling force fix (which makes `f_dragforce` exist).
     pub fn has_force_fix(&self) -> bool {
         !self.force_fixes.is_empty()
@@ -191,9 +249,13 @@ impl Registry {
                 check_index(r, Some(2), index)?;
                 Ok(Support::Yes)
             }
+            Ref::Fix(id, index) if self.is_heat_scalar(id) => {
+                check_index(r, None, index)?;
+                Ok(Support::Yes)
+            }
             Ref::Fix(..) => Ok(Support::Blank(format!(
                 "{r}: the native DEM gives fix values only for couple/cfd/force, \
-                 mesh/surface/stress, insert/rate/region and insert/stream fixes"
+                 mesh/surface/stress, insert/rate/region, insert/stream and heat/gran fixes"
             ))),
             Ref::Atom(name, _) => match AtomValue::parse(name) {
                 Some(_) => Ok(Support::Yes),
@@ -324,8 +386,8 @@ impl Values<'_> {
                     }
                     Compute::Reduce { op, inputs } => {
                         let v = inputs[i];
-                        let c = sim.coupling();
-                        let vals = (0..p.len()).map(|a| v.get(p, c, a));
+                        let (c, h) = (sim.coupling(), sim.heat());
+                        let vals = (0..p.len()).map(|a| v.get(p, c, h, a));
                         Ok(match op {
                             ReduceOp::Sum => vals.sum::<f64>() * self.per_atom(),
                             ReduceOp::Min => vals.fold(f64::INFINITY, f64::min),
@@ -354,6 +416,10 @@ impl Values<'_> {
                     _ => stats.mass,
                 })
             }
+            Ref::Fix(id, index) if self.registry.is_heat_scalar(id) => {
+                check_index(r, None, index)?;
+                Ok(sim.heat_energy().unwrap_or(0.0))
+            }
             Ref::Fix(id, index) => {
                 if !self.registry.force_fixes.iter().any(|f| f == id) {
                     return Err(format!(
@@ -375,7 +441,7 @@ impl Values<'_> {
                     p.id.iter()
                         .position(|&t| t == tag)
                         .ok_or_else(|| format!("{r}: there is no atom with tag {tag}"))?;
-                Ok(v.get(p, sim.coupling(), a))
+                Ok(v.get(p, sim.coupling(), sim.heat(), a))
             }
         }
     }

@@ -72,6 +72,7 @@ impl Simulation {
         self.outflow.deleted.mass += removed.mass;
         self.outflow.deleted.volume += removed.volume;
         self.outflow.deleted.momentum += removed.momentum;
+        self.outflow.deleted.heat += removed.heat;
         self.invalidate_forces();
         removed.count
     }
@@ -200,6 +201,12 @@ impl Simulation {
         let p = &self.particles;
         for (i, _) in keep.iter().enumerate().filter(|(_, &k)| !k) {
             tally.add(p.mass[i], p.radius[i], p.v[i]);
+            if let Some(h) = &self.heat {
+                tally.heat += h.energy_of(p, i);
+            }
+        }
+        if let Some(h) = &mut self.heat {
+            h.retain(keep);
         }
         let nw = self.walls.len();
         let mut it = (0..p.len()).flat_map(|i| std::iter::repeat_n(keep[i], nw));

@@ -83,3 +83,34 @@ pub fn last_snapshot(path: impl AsRef<std::path::Path>) -> dem_io::Snapshot {
     )
     .unwrap()
 }
+
+/// Runs `f` on a rayon pool of `threads` threads.
+pub fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// Asserts that column `c` of every snapshot of `native` is within `tol` × the column's largest
+/// magnitude in `reference` of the reference's value (the largest difference is printed).
+pub fn assert_column_close(
+    native: &[dem_io::Snapshot],
+    reference: &[dem_io::Snapshot],
+    c: &str,
+    tol: f64,
+) {
+    let values = |s: &[dem_io::Snapshot]| -> Vec<Vec<f64>> {
+        s.iter().map(|x| x.column(c).unwrap().to_vec()).collect()
+    };
+    let (a, b) = (values(native), values(reference));
+    let scale = b.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = a
+        .iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    eprintln!("{c}: largest difference {worst:.3e} of scale {scale:.3e}");
+    assert!(worst <= tol * scale, "{c}: {worst} > {tol} × {scale}");
+}

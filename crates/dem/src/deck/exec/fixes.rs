@@ -3,7 +3,7 @@
 //! module per family — [`properties`] (materials, particle templates and distributions),
 //! [`walls`] (primitive and mesh walls, mesh surfaces), [`insert`] (insertion),
 //! [`integration`] (time integration, gravity, time-step checks), [`coupling`] (CFD coupling)
-//! and [`output`] (`print`). Adding a fix style is one row here and one handler. `unfix` is
+//! , [`heat`] (`heat/gran`, `couple/cfd/convection`) and [`output`] (`print`). Adding a fix style is one row here and one handler. `unfix` is
 //! here too.
 
 use liggghts_deck::Command;
@@ -13,6 +13,7 @@ use super::args::word;
 use super::{Failure, Session};
 
 mod coupling;
+pub(super) mod heat;
 mod insert;
 mod integration;
 mod output;
@@ -73,6 +74,8 @@ static FIXES: &[FixStyle] = &[
         coupling::couple_cfd_force,
     ),
     row(&["print"], output::print),
+    row(&["heat/gran", "heat/gran/conduction"], heat::heat_gran),
+    row(&["couple/cfd/convection"], heat::couple_cfd_convection),
 ];
 
 /// A row of [`FIXES`].

@@ -5,6 +5,7 @@ use liggghts_deck::Command;
 use mesh::v3::V3;
 
 use crate::particles::NewParticle;
+use crate::region::Region;
 
 use super::super::args::{int, num, word, yes_no};
 use super::super::{Failure, Session};
@@ -58,10 +59,19 @@ pub(super) fn create_atoms(session: &mut Session<'_>, c: &Command) -> Result<(),
     Ok(())
 }
 
+/// `set group all diameter D density ρ`, `set group all|region R property/atom NAME V`.
 pub(super) fn set(session: &mut Session<'_>, c: &Command) -> Result<(), Failure> {
     let w = &c.words;
-    if word(w, 1, "set style")? != "group" || word(w, 2, "group")? != "all" {
-        return Err("only `set group all …` is supported".into());
+    let region = match (word(w, 1, "set style")?, word(w, 2, "group or region id")?) {
+        ("group", "all") => None,
+        ("region", id) => Some(session.region_ref(id)?),
+        _ => return Err("only `set group all …` and `set region R …` are supported".into()),
+    };
+    if w.get(3).map(String::as_str) == Some("property/atom") {
+        return set_property(session, region, w);
+    }
+    if region.is_some() {
+        return Err("`set region R` supports `property/atom NAME VALUE` only".into());
     }
     let mut radius = None;
     let mut density = None;
@@ -102,6 +112,27 @@ pub(super) fn set(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
             }
         }
     }
+    Ok(())
+}
+
+/// `set … property/atom NAME VALUE` (LIGGGHTS's `set` of a `fix property/atom`): the
+/// particles of the group or region (centre in it, boundary included) get VALUE.
+fn set_property(
+    session: &mut Session<'_>,
+    region: Option<Region>,
+    w: &[String],
+) -> Result<(), Failure> {
+    let name = word(w, 4, "property/atom name")?.to_string();
+    let value = num(w, 5, &name)?;
+    if let Some(extra) = w.get(6) {
+        return Err(format!(
+            "set property/atom {name}: one value expected (a scalar property), `{extra}` follows"
+        )
+        .into());
+    }
+    let s = session.sim_mut()?;
+    let select = |x: V3| region.as_ref().is_none_or(|r| r.contains(x));
+    s.set_per_atom_where(&name, select, value)?;
     Ok(())
 }
 

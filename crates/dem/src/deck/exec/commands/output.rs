@@ -3,6 +3,7 @@
 
 use liggghts_deck::Command;
 
+use crate::atom_value::AtomValue;
 use crate::deck::data_file;
 use crate::deck::restart;
 use crate::deck::values::Values;
@@ -106,9 +107,20 @@ pub(super) fn dump(session: &mut Session<'_>, c: &Command) -> Result<(), Failure
     }
     let every = int(w, 4, "dump interval")?;
     let file = session.path(word(w, 5, "file name")?);
+    let temperature = session.registry.temperature_fixes();
+    let heat_column = w[6..]
+        .iter()
+        .find(|c| AtomValue::parse_in(c, &temperature).is_some_and(AtomValue::needs_heat));
+    if let (Some(c), false) = (heat_column, session.registry.has_heat()) {
+        return Err(format!(
+            "dump column `{c}` needs a heat fix defined before the dump (`fix ID all heat/gran \
+             initial_temperature T0` or `couple/cfd/convection`)"
+        )
+        .into());
+    }
     let d = match style {
-        "custom" => DumpOutput::new(id, every, file, w[6..].to_vec())?,
-        _ => DumpOutput::new_vtk(id, every, file, w[6..].to_vec())?,
+        "custom" => DumpOutput::new_in(id, every, file, w[6..].to_vec(), &temperature)?,
+        _ => DumpOutput::new_vtk(id, every, file, w[6..].to_vec(), &temperature)?,
     };
     match &mut session.sim {
         Some(s) => s.add_dump(d),

@@ -4,8 +4,9 @@ use super::super::args::int;
 use super::super::{Failure, Session};
 use super::Fix;
 
-pub(super) fn couple_cfd(_: &mut Session<'_>, fix: Fix<'_>) -> Result<(), Failure> {
+pub(super) fn couple_cfd(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), Failure> {
     let w = fix.words;
+    session.registry.add_cfd_fix();
     let mut k = 4;
     while k < w.len() {
         match w[k].as_str() {

@@ -9,8 +9,13 @@ use super::Fix;
 
 pub(super) fn property_global(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), Failure> {
     let w = fix.words;
-    session.before_run("material properties")?;
     let name = word(w, 4, "property name")?.to_string();
+    // the thermal properties are read by the heat fixes, at any time (LIGGGHTS reads them at
+    // every run's set-up); the others make the materials
+    let thermal = matches!(name.as_str(), "thermalConductivity" | "thermalCapacity");
+    if !thermal {
+        session.before_run("material properties")?;
+    }
     let pstyle = word(w, 5, "property style")?.to_string();
     let vals: Vec<f64> = match pstyle.as_str() {
         "peratomtype" | "scalar" | "vector" => {
@@ -33,6 +38,9 @@ pub(super) fn property_global(session: &mut Session<'_>, fix: Fix<'_>) -> Result
     };
     session.pending.prop_style.insert(name.clone(), pstyle);
     session.pending.props.insert(name, vals);
+    if let (true, Some(s)) = (thermal, &mut session.sim) {
+        super::heat::refresh(s, &session.pending.props, &session.pending.prop_style)?;
+    }
     Ok(())
 }
 

@@ -1,0 +1,251 @@
+//! Particle heat (`fix heat/gran`, `couple/cfd/convection`) against Debian's LIGGGHTS 3.8.0
+//! and closed forms.
+//!
+//! `liggghts-inputs/heat_conduction.in`: six touching spheres of two materials in a line
+//! between two walls, three of them set to other temperatures; LIGGGHTS's dumps of every 100th
+//! of 2000 steps (17 significant digits, contact areas `overlap` and `projection`) and its log
+//! are in `tests/fixtures/dem/` (README there). Fast tier: the native runs against the
+//! committed files; full tier: LIGGGHTS reruns the deck and must reproduce them exactly (a
+//! serial LIGGGHTS run is deterministic).
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use dem_io::{read_snapshot, ReadOptions, Selection, Snapshot};
+
+/// Snapshots in a dump (steps 0, 100, …, 2000).
+const SNAPSHOTS: usize = 21;
+
+/// Relative agreement with LIGGGHTS of temperatures and heat flows (of the column's largest
+/// magnitude): the same arithmetic, but each particle's two contacts are summed in another
+/// order (LIGGGHTS's neighbour list, the native spatial order), which may differ in the last
+/// bits of the forces and heat flows (measured over 2000 steps: T within 6e-14 K of 600 K,
+/// heat flows within 3e-15 W of 0.8 W, positions identical).
+const TOL: f64 = 1e-12;
+
+fn snapshots(path: &Path) -> Vec<Snapshot> {
+    (0..SNAPSHOTS)
+        .map(|k| read_snapshot(path, &ReadOptions::default(), Selection::Index(k)).unwrap())
+        .collect()
+}
+
+fn setup(dir: &Path) {
+    std::fs::create_dir_all(dir.join("post")).unwrap();
+    for f in ["heat_conduction.in", "heat_line.data"] {
+        std::fs::copy(testkit::liggghts_input(f), dir.join(f)).unwrap();
+    }
+}
+
+/// Runs the deck natively in `dir` with `vars`; returns the simulation and its dump.
+fn native(dir: &Path, vars: &[(String, String)]) -> (dem::Simulation, Vec<Snapshot>) {
+    setup(dir);
+    let deck = liggghts_deck::Deck::read_with_vars(dir.join("heat_conduction.in"), vars).unwrap();
+    let sim = dem::Simulation::from_deck(&deck, dir).unwrap();
+    assert_eq!(sim.particles.len(), 6);
+    (sim, snapshots(&dir.join("post/heat_conduction.txt")))
+}
+
+/// Every listed column of every snapshot within [`TOL`] of the column's largest magnitude.
+fn assert_same(native: &[Snapshot], reference: &[Snapshot]) {
+    assert_eq!(native.len(), reference.len());
+    for c in ["x", "vx", "f_Temp[0]", "f_heatFlux[0]", "f_ht[0]"] {
+        common::assert_column_close(native, reference, c, TOL);
+    }
+    for (a, b) in native.iter().zip(reference) {
+        assert_eq!(a.timestep, b.timestep);
+        assert_eq!(a.column("id").unwrap(), b.column("id").unwrap());
+    }
+    // the test covers what it claims: heat flowed (the hot end cooled by > 100 K)
+    let t = |s: &Snapshot| s.column("f_Temp[0]").unwrap().to_vec();
+    let (first, last) = (t(&reference[0]), t(reference.last().unwrap()));
+    assert_eq!(first[0], 600.0);
+    assert!(first[0] - last[0] > 100.0, "{first:?} → {last:?}");
+}
+
+fn vars(area: &str) -> Vec<(String, String)> {
+    vec![("area".to_string(), area.to_string())]
+}
+
+#[test]
+fn conduction_matches_liggghts() {
+    for (area, file) in [
+        ("overlap", "dem/heat_conduction_liggghts.txt"),
+        ("projection", "dem/heat_conduction_projection_liggghts.txt"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let (_, ours) = native(dir.path(), &vars(area));
+        eprintln!("contact_area {area}:");
+        assert_same(&ours, &snapshots(&testkit::fixture(file)));
+    }
+}
+
+/// Conduction moves heat between particles and conserves Σ m c T to round-off; LIGGGHTS's log
+/// prints the same total (8 digits).
+#[test]
+fn conduction_conserves_thermal_energy() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut sim, _) = native(dir.path(), &vars("overlap"));
+    let e0 = sim.heat_energy().unwrap();
+    let log =
+        std::fs::read_to_string(testkit::fixture("dem/heat_conduction_liggghts.log")).unwrap();
+    let printed = log
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .nth(3)
+        .unwrap();
+    assert_eq!(liggghts_deck::format::format_g(e0, 8), printed, "{e0}");
+    let spread = |s: &dem::Simulation| {
+        let t = s.temperature().unwrap();
+        t.iter().copied().fold(f64::MIN, f64::max) - t.iter().copied().fold(f64::MAX, f64::min)
+    };
+    let before = spread(&sim);
+    sim.run(3000).unwrap();
+    let e1 = sim.heat_energy().unwrap();
+    assert!(
+        spread(&sim) < 0.01 * before,
+        "no equalisation: {}",
+        spread(&sim)
+    );
+    assert!((e1 - e0).abs() <= 1e-13 * e0, "Σ m c T {e0} → {e1}");
+}
+
+/// The same run on 1 and 2 threads gives the same temperatures bit for bit.
+#[test]
+fn heat_is_the_same_on_every_thread_count() {
+    let run = |threads: usize| {
+        common::on_threads(threads, || {
+            let dir = tempfile::tempdir().unwrap();
+            let (sim, _) = native(dir.path(), &vars("overlap"));
+            sim.temperature().unwrap().to_vec()
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
+
+/// A deck with `couple/cfd/convection` only (no conduction): with a constant convective heat
+/// flow q per particle, T = T₀ + q t/(m c) exactly as explicit Euler sums a constant (to the
+/// round-off of n additions).
+#[test]
+fn constant_convection_heats_linearly() {
+    let dir = tempfile::tempdir().unwrap();
+    let deck_text = "\
+atom_style granular
+atom_modify map array
+boundary f f f
+newton off
+units si
+region box block -1 1 -1 1 -1 1 units box
+create_box 1 box
+create_atoms 1 single 0 0 0 units box
+create_atoms 1 single 0.5 0 0 units box
+set group all diameter 0.1 density 2000
+fix m1 all property/global youngsModulus peratomtype 5.e6
+fix m2 all property/global poissonsRatio peratomtype 0.45
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+fix tca all property/global thermalCapacity peratomtype 800.
+pair_style gran model hertz tangential history
+pair_coeff * *
+timestep 0.001
+fix integr all nve/sphere
+fix cfd all couple/cfd couple_every 10 mpi
+fix conv all couple/cfd/convection T0 293.15
+dump d all custom 100 post/conv.txt id f_Temp[0] f_heatFlux[0] f_convectiveHeatFlux[0]
+run 0
+";
+    std::fs::create_dir_all(dir.path().join("post")).unwrap();
+    let path = dir.path().join("in.conv");
+    std::fs::write(&path, deck_text).unwrap();
+    let deck = liggghts_deck::Deck::read(&path).unwrap();
+    let mut sim = dem::Simulation::from_deck(&deck, dir.path()).unwrap();
+    assert_eq!(sim.temperature().unwrap(), &[293.15, 293.15]);
+    let q = [2.5, -1.25];
+    sim.set_convective_heat_flux(&q).unwrap();
+    let n = 1000;
+    sim.run(n).unwrap();
+    let m = 4.0 / 3.0 * std::f64::consts::PI * 0.05f64.powi(3) * 2000.0;
+    let t = n as f64 * sim.dt();
+    for (i, &qi) in q.iter().enumerate() {
+        let want = 293.15 + qi * t / (m * 800.0);
+        let got = sim.temperature().unwrap()[i];
+        assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+        assert_eq!(sim.heat().unwrap().flux[i], qi);
+    }
+    // the dump carries the values
+    let s = read_snapshot(
+        dir.path().join("post/conv.txt"),
+        &ReadOptions::default(),
+        Selection::Last,
+    )
+    .unwrap();
+    assert_eq!(s.column("f_convectiveHeatFlux[0]").unwrap(), &q);
+    // Σ m c T grew by Σ q t
+    let e = sim.heat_energy().unwrap();
+    let e0 = 2.0 * m * 800.0 * 293.15;
+    assert!((e - e0 - (q[0] + q[1]) * t).abs() < 1e-9 * e0);
+}
+
+/// Without a convection fix the coupler's call is refused, naming what the deck needs.
+#[test]
+fn convective_flux_needs_the_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut sim, _) = native(dir.path(), &vars("overlap"));
+    let e = sim
+        .set_convective_heat_flux(&[0.0; 6])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("couple/cfd/convection"), "{e}");
+}
+
+/// Unsupported `heat/gran` options are refused naming the line.
+#[test]
+fn unknown_heat_gran_keyword_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    setup(dir.path());
+    let text = std::fs::read_to_string(dir.path().join("heat_conduction.in"))
+        .unwrap()
+        .replace("contact_area ${area}", "radiation yes");
+    std::fs::write(dir.path().join("bad.in"), text).unwrap();
+    let deck = liggghts_deck::Deck::read(dir.path().join("bad.in")).unwrap();
+    let e = dem::Simulation::from_deck(&deck, dir.path())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("bad.in:") && e.contains("radiation"), "{e}");
+}
+
+/// Full tier: LIGGGHTS reruns the deck and reproduces the committed dumps byte for byte.
+#[test]
+fn liggghts_reproduces_the_heat_fixtures() {
+    if !testkit::full_tier() || !testkit::tool("liggghts") {
+        eprintln!("skipped: full tier with liggghts only");
+        return;
+    }
+    for (area, file) in [
+        ("overlap", "dem/heat_conduction_liggghts.txt"),
+        ("projection", "dem/heat_conduction_projection_liggghts.txt"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        setup(dir.path());
+        let mut c = Command::new("liggghts");
+        c.args(["-in", "heat_conduction.in", "-var", "area", area])
+            .args(["-log", "log.liggghts", "-screen", "none"])
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+        testkit::run_ok(c, dir.path());
+        let fresh = std::fs::read(dir.path().join("post/heat_conduction.txt")).unwrap();
+        assert_eq!(
+            fresh,
+            std::fs::read(testkit::fixture(file)).unwrap(),
+            "{area}"
+        );
+        let (_, ours) = native(&dir.path().join("native"), &vars(area));
+        assert_same(
+            &ours,
+            &snapshots(&dir.path().join("post/heat_conduction.txt")),
+        );
+    }
+}
