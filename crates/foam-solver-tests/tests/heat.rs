@@ -12,9 +12,21 @@ use foam_solver_tests::{grain_piso_foam, TestCase};
 /// h²/ν), heat off, with U, p and φ written at t = 2 s.
 fn developed_flow(solver: &std::path::Path) -> TestCase {
     let flow = TestCase::new("heat-channel");
-    flow.edit("constant/couplingProperties", "heat            on;", "heat            off;");
-    flow.edit("system/controlDict", "endTime         3;", "endTime         2;");
-    flow.edit("system/controlDict", "writeInterval   100;", "writeInterval   200;");
+    flow.edit(
+        "constant/couplingProperties",
+        "heat            on;",
+        "heat            off;",
+    );
+    flow.edit(
+        "system/controlDict",
+        "endTime         3;",
+        "endTime         2;",
+    );
+    flow.edit(
+        "system/controlDict",
+        "writeInterval   100;",
+        "writeInterval   200;",
+    );
     let log = flow.run(solver);
     assert!(!log.contains("Solving for T"), "heat off solves no T");
     flow
@@ -25,9 +37,21 @@ fn developed_flow(solver: &std::path::Path) -> TestCase {
 fn restart_with_t(flow: &TestCase) -> TestCase {
     let case = flow.duplicate();
     std::fs::copy(case.dir.join("0/T"), case.dir.join("2/T")).unwrap();
-    case.edit("system/controlDict", "startTime       0;", "startTime       2;");
-    case.edit("system/controlDict", "endTime         2;", "endTime         3;");
-    case.edit("system/controlDict", "writeInterval   200;", "writeInterval   100;");
+    case.edit(
+        "system/controlDict",
+        "startTime       0;",
+        "startTime       2;",
+    );
+    case.edit(
+        "system/controlDict",
+        "endTime         2;",
+        "endTime         3;",
+    );
+    case.edit(
+        "system/controlDict",
+        "writeInterval   200;",
+        "writeInterval   100;",
+    );
     case
 }
 
@@ -45,7 +69,11 @@ fn temperature_equals_scalar_transport_foam_on_the_same_flux() {
     let flow = developed_flow(&solver);
 
     let grain = restart_with_t(&flow);
-    grain.edit("constant/couplingProperties", "heat            off;", "heat            on;");
+    grain.edit(
+        "constant/couplingProperties",
+        "heat            off;",
+        "heat            on;",
+    );
     std::fs::write(
         grain.dir.join("constant/couplingProperties"),
         std::fs::read_to_string(grain.dir.join("constant/couplingProperties")).unwrap()
@@ -89,15 +117,30 @@ fn heat_leaves_the_flow_unchanged_and_heat_off_needs_no_t() {
         return;
     };
     let with_heat = TestCase::new("heat-channel");
-    with_heat.edit("system/controlDict", "endTime         3;", "endTime         0.5;");
-    with_heat.edit("system/controlDict", "writeInterval   100;", "writeInterval   50;");
+    with_heat.edit(
+        "system/controlDict",
+        "endTime         3;",
+        "endTime         0.5;",
+    );
+    with_heat.edit(
+        "system/controlDict",
+        "writeInterval   100;",
+        "writeInterval   50;",
+    );
     let without = with_heat.duplicate();
-    without.edit("constant/couplingProperties", "heat            on;", "heat            off;");
+    without.edit(
+        "constant/couplingProperties",
+        "heat            on;",
+        "heat            off;",
+    );
     std::fs::remove_file(without.dir.join("0/T")).unwrap();
     let log = with_heat.run(&solver);
     assert!(log.contains("Solving for T"), "{log}");
     let log = without.run(&solver);
-    assert!(!log.contains("Solving for T") && !log.contains("Tsource"), "{log}");
+    assert!(
+        !log.contains("Solving for T") && !log.contains("Tsource"),
+        "{log}"
+    );
     for name in ["U", "p", "phi"] {
         let a = std::fs::read_to_string(with_heat.dir.join("0.5").join(name)).unwrap();
         let b = std::fs::read_to_string(without.dir.join("0.5").join(name)).unwrap();
