@@ -33,6 +33,19 @@ pub fn shell_quote(text: &str) -> String {
 /// `mpi` coupling source), then execs the solver — the same process, so the pid and the MPI
 /// identity stay — with stdout and stderr in the rank's log.
 pub fn launch_script(solver: &Path, case: &Path, ranks: usize, wm_project_dir: &str) -> String {
+    launch_script_with(solver, case, ranks, wm_project_dir, false)
+}
+
+/// As [`launch_script`]; with `heat` it also exports `FOAMGRAIN_HEAT=1`, which makes the
+/// solver read `0/T` and solve the temperature equation (the protocol's heat blocks,
+/// [`crate::protocol`]). Without `heat` the line is [`launch_script`]'s.
+pub fn launch_script_with(
+    solver: &Path,
+    case: &Path,
+    ranks: usize,
+    wm_project_dir: &str,
+    heat: bool,
+) -> String {
     let q = |p: &Path| shell_quote(&p.to_string_lossy());
     let rank = "${OMPI_COMM_WORLD_RANK:-0}";
     let log = if ranks == 1 {
@@ -43,7 +56,12 @@ pub fn launch_script(solver: &Path, case: &Path, ranks: usize, wm_project_dir: &
     let parallel = if ranks > 1 { " -parallel" } else { "" };
     format!(
         "echo $$ > {pid}.{rank}; export WM_PROJECT_DIR={wm}; export FOAMGRAIN_LINK=1; \
-         exec {solver}{parallel} -case {case} > {log} 2>&1",
+         {heat}exec {solver}{parallel} -case {case} > {log} 2>&1",
+        heat = if heat {
+            "export FOAMGRAIN_HEAT=1; "
+        } else {
+            ""
+        },
         pid = q(&case.join(".foam-link.pid")),
         wm = shell_quote(wm_project_dir),
         solver = q(solver),

@@ -1,9 +1,9 @@
 //! [`OpenFoamFluid`]: grainPisoFoam spawned over MPI as a [`couple::FluidSide`].
 
-use crate::case_setup::{self, control_delta_t, launch_script, pid_path, Decomposition};
+use crate::case_setup::{self, control_delta_t, launch_script_with, pid_path, Decomposition};
 use crate::protocol::{
-    self, check_fields, pack_fields, tag, Command, FieldsIn, GlobalState, Hello,
-    HELD_WORDS_PER_CELL, PATCH_WORDS, STATE_WORDS_PER_CELL,
+    self, check_fields, check_heat_source, pack_fields, pack_heat_source, tag, Command, FieldsIn,
+    GlobalState, Hello, HELD_WORDS_PER_CELL, PATCH_WORDS, STATE_WORDS_PER_CELL,
 };
 use crate::ranks::RankMap;
 use crate::sparse::SolverCells;
@@ -30,6 +30,17 @@ pub struct PatchFlow {
     pub area: f64,
     /// Total flux Σ φ = Σ (ε U)_f · S, m³/s (negative into the domain).
     pub flux: f64,
+}
+
+/// How [`OpenFoamFluid::spawn_with`] starts the solver.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SpawnOptions {
+    /// Solve cfdemSolverPisoScalar's temperature equation (issue 27): the solver reads `0/T`
+    /// (required), `0/Tsource` and `0/alphat` (optional) and `Pr` (and `Prt` with a turbulence
+    /// model) from `constant/transportProperties`, needs a `T` solver in `system/fvSolution`,
+    /// takes Tsource (K/s) with each exchange ([`ExchangeFields::heat_source`]) and returns T
+    /// ([`FluidState::temperature`]). Off: the case runs exactly as without this option.
+    pub heat: bool,
 }
 
 /// What the exchange with the solver cost so far (coupler side, all ranks together).
@@ -75,6 +86,8 @@ pub struct OpenFoamFluid {
     /// An advance that has been started and whose reply has not been received yet
     /// ([`OpenFoamFluid::start_interval`]).
     pending: Option<Pending>,
+    /// The solver solves the temperature equation ([`SpawnOptions::heat`]).
+    heat: bool,
 }
 
 /// What [`OpenFoamFluid::finish_interval`] needs of the advance it completes.
@@ -110,6 +123,17 @@ impl OpenFoamFluid {
         np: usize,
         solver: &Path,
     ) -> Result<OpenFoamFluid, LinkError> {
+        OpenFoamFluid::spawn_with(world, case, np, solver, SpawnOptions::default())
+    }
+
+    /// As [`OpenFoamFluid::spawn`], with `options` (heat: [`SpawnOptions::heat`]).
+    pub fn spawn_with(
+        world: &SimpleCommunicator,
+        case: &Path,
+        np: usize,
+        solver: &Path,
+        options: SpawnOptions,
+    ) -> Result<OpenFoamFluid, LinkError> {
         if world.size() != 1 {
             return Err(LinkError::Parameter(format!(
                 "the coupler's communicator has {} processes; foam-link drives grainPisoFoam \
@@ -117,7 +141,7 @@ impl OpenFoamFluid {
                 world.size()
             )));
         }
-        let fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver)?;
+        let fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options.heat)?;
         Ok(fluid)
     }
 
@@ -134,9 +158,28 @@ impl OpenFoamFluid {
         np: usize,
         solver: &Path,
     ) -> Result<(Option<OpenFoamFluid>, SolverCells), LinkError> {
+        OpenFoamFluid::spawn_ranked_with(world, case, np, solver, SpawnOptions::default())
+    }
+
+    /// As [`OpenFoamFluid::spawn_ranked`], with `options`. The sparse exchange carries no heat
+    /// yet: `options.heat` is refused (on every rank, before anything is spawned).
+    pub fn spawn_ranked_with(
+        world: &SimpleCommunicator,
+        case: &Path,
+        np: usize,
+        solver: &Path,
+        options: SpawnOptions,
+    ) -> Result<(Option<OpenFoamFluid>, SolverCells), LinkError> {
+        if options.heat {
+            return Err(LinkError::Parameter(
+                "heat transfer with grainPisoFoam is not implemented for several coupler ranks \
+                 (the sparse exchange carries no Tsource/T); run the coupler on one rank"
+                    .into(),
+            ));
+        }
         let root = world.process_at_rank(0);
         if world.rank() == 0 {
-            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver)?;
+            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, false)?;
             fluid.sparse = true;
             let mut words = share_words(&fluid.map, &fluid.tp().pids());
             let mut len = [words.len() as u64];
@@ -177,6 +220,7 @@ impl OpenFoamFluid {
         case: &Path,
         np: usize,
         solver: &Path,
+        heat: bool,
     ) -> Result<OpenFoamFluid, LinkError> {
         if np == 0 {
             return Err(LinkError::Parameter(
@@ -208,7 +252,7 @@ impl OpenFoamFluid {
             }
         }
 
-        let script = launch_script(solver, &case, np, &case_setup::wm_project_dir());
+        let script = launch_script_with(solver, &case, np, &case_setup::wm_project_dir(), heat);
         let mut command = std::process::Command::new("/bin/sh");
         command.arg("-c").arg(script);
         let inter = world
@@ -226,6 +270,7 @@ impl OpenFoamFluid {
             whole: false,
             held: None,
             pending: None,
+            heat,
             case,
             map: RankMap::serial(0),
             patch_names: Vec::new(),
@@ -267,6 +312,16 @@ impl OpenFoamFluid {
                 let m = format!("says it is rank {}", hello.rank);
                 return Err(self.protocol_error(rank, m));
             }
+            if hello.heat != self.heat {
+                let m = if self.heat {
+                    "answered without heat although FOAMGRAIN_HEAT=1 was set (a grainPisoFoam \
+                     without the temperature equation: rebuild it with \
+                     openfoam-cases/solver/build.sh)"
+                } else {
+                    "answered with heat although the coupler did not ask for it"
+                };
+                return Err(self.protocol_error(rank, m.into()));
+            }
             self.tp().set_pid(rank, hello.pid)?;
             let local: Vec<i32> = self.tp().receive(rank, tag::CELLS, "the cell map")?;
             if local.len() != hello.n_cells {
@@ -303,7 +358,11 @@ impl OpenFoamFluid {
         self.map = RankMap::new(self.mesh.n_cells, cells)
             .map_err(|(rank, m)| self.protocol_error(rank, m))?;
         self.patch_names = mesh_patches;
-        self.state = GlobalState::new(self.mesh.n_cells, self.patch_names.len());
+        self.state = if self.heat {
+            GlobalState::with_heat(self.mesh.n_cells, self.patch_names.len())
+        } else {
+            GlobalState::new(self.mesh.n_cells, self.patch_names.len())
+        };
         for (rank, msg) in start_states.iter().enumerate() {
             match self.state.scatter(self.map.cells_of(rank), msg) {
                 Ok(t) => self.state.time = t,
@@ -341,6 +400,17 @@ impl OpenFoamFluid {
     /// The solver's process ids (from the handshakes).
     pub fn pids(&self) -> Vec<u32> {
         self.tp().pids().into_iter().flatten().collect()
+    }
+
+    /// True when the solver solves the temperature equation ([`SpawnOptions::heat`]).
+    pub fn heat(&self) -> bool {
+        self.heat
+    }
+
+    /// T per global cell (K) after the last advance (the start field before the first);
+    /// `None` without heat.
+    pub fn temperature(&self) -> Option<&[f64]> {
+        self.state.temperature.as_deref()
     }
 
     /// The solver's simulated time, s.
@@ -432,16 +502,51 @@ impl OpenFoamFluid {
 
     /// Takes the exchange fields of the next interval (global cell order).
     /// In a sparse run ([`OpenFoamFluid::spawn_ranked`]) the fields are ignored: the coupler
-    /// ranks have given the solver theirs ([`SolverCells`]).
+    /// ranks have given the solver theirs ([`SolverCells`]). With heat on this is an error:
+    /// use [`OpenFoamFluid::set_fields_with_heat`].
     pub fn set_fields(&mut self, fields: &FieldsIn<'_>) -> Result<(), LinkError> {
+        self.set_fields_with_heat(fields, None)
+    }
+
+    /// As [`OpenFoamFluid::set_fields`], with the heat source Tsource (K/s per global cell,
+    /// held over the interval): required when the fluid was spawned with
+    /// [`SpawnOptions::heat`], refused otherwise.
+    pub fn set_fields_with_heat(
+        &mut self,
+        fields: &FieldsIn<'_>,
+        heat_source: Option<&[f64]>,
+    ) -> Result<(), LinkError> {
+        match (self.heat, heat_source) {
+            (true, None) => {
+                return Err(LinkError::Parameter(
+                    "the fluid solves heat (SpawnOptions::heat): the exchange needs Tsource \
+                     (ExchangeFields::heat_source)"
+                        .into(),
+                ))
+            }
+            (false, Some(_)) => {
+                return Err(LinkError::Parameter(
+                    "a heat source (Tsource) for a fluid spawned without heat \
+                     (SpawnOptions::heat is off)"
+                        .into(),
+                ))
+            }
+            _ => {}
+        }
         if self.sparse {
             self.has_fields = true;
             return Ok(());
         }
         check_fields(&self.map, fields)?;
+        if let Some(ts) = heat_source {
+            check_heat_source(&self.map, ts)?;
+        }
         let t = Instant::now();
         for rank in 0..self.ranks() {
             pack_fields(self.map.cells_of(rank), fields, &mut self.packed[rank]);
+            if let Some(ts) = heat_source {
+                pack_heat_source(self.map.cells_of(rank), ts, &mut self.packed[rank]);
+            }
         }
         self.stats.pack_seconds += t.elapsed().as_secs_f64();
         self.has_fields = true;
@@ -649,13 +754,16 @@ impl FluidSide for OpenFoamFluid {
     }
 
     fn set_exchange(&mut self, fields: &ExchangeFields<'_>) -> Result<(), SideError> {
-        self.set_fields(&FieldsIn {
-            eps_old: fields.voidage_old,
-            eps_new: fields.voidage_new,
-            ksl: &fields.exchange.ksl,
-            us: &fields.exchange.us,
-            f: &fields.exchange.f,
-        })?;
+        self.set_fields_with_heat(
+            &FieldsIn {
+                eps_old: fields.voidage_old,
+                eps_new: fields.voidage_new,
+                ksl: &fields.exchange.ksl,
+                us: &fields.exchange.us,
+                f: &fields.exchange.f,
+            },
+            fields.heat_source,
+        )?;
         Ok(())
     }
 
@@ -666,7 +774,7 @@ impl FluidSide for OpenFoamFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
-            temperature: None,
+            temperature: self.temperature(),
             u: &self.state.u,
             p: &self.state.p,
             grad_p: &self.state.grad_p,

@@ -81,7 +81,7 @@ mod transport;
 
 pub use error::LinkError;
 #[cfg(feature = "mpi")]
-pub use fluid::{ExchangeStats, HeldFields, OpenFoamFluid, PatchFlow};
+pub use fluid::{ExchangeStats, HeldFields, OpenFoamFluid, PatchFlow, SpawnOptions};
 pub use ranks::RankMap;
 #[cfg(feature = "mpi")]
 pub use sparse::SolverCells;

@@ -33,6 +33,21 @@
 //! | 21 [`tag::DONE`] | rank → coupler | f64\[1\]: time (after write or stop) |
 //! | 30 [`tag::ERROR`] | rank → coupler | the text of an OpenFOAM FatalError |
 //!
+//! **Heat** (issue 27; the coupler asks for it with `FOAMGRAIN_HEAT=1` on the launch line,
+//! [`crate::SpawnOptions::heat`]): the solver solves cfdemSolverPisoScalar's temperature
+//! equation and three messages grow by whole blocks; without heat every message is exactly as
+//! above.
+//!
+//! | tag | with heat |
+//! |---|---|
+//! | 1 [`tag::HELLO`] | i32\[6\]: the five words, then flags ([`HELLO_FLAG_HEAT`]) |
+//! | 11 [`tag::FIELDS`] | f64\[10n\]: the nine blocks above, then Tsource (n), K/s |
+//! | 20 [`tag::STATE`] | f64\[1+11n+3m\]: time, U, p, ∇p, ∇·τ, then T (n, K), then the patch sums |
+//!
+//! The sparse exchange carries no heat: the solver refuses [`Command::Exchange`] and
+//! [`Command::AdvanceHeld`] with heat on, and [`crate::OpenFoamFluid::spawn_ranked_with`]
+//! refuses heat.
+//!
 //! Units are ADR 0004's: ε dimensionless, Ksl kg/(m³ s), Us m/s, f N/m³; U m/s, p m²/s²
 //! (kinematic), ∇p and ∇·τ m/s², φ m³/s.
 
@@ -78,6 +93,10 @@ pub mod tag {
 
 /// Doubles per cell sent with an advance (ε_old, ε_new, Ksl, Us, f).
 pub const FIELD_WORDS_PER_CELL: usize = 9;
+/// Doubles per cell that heat adds to [`tag::FIELDS`] (Tsource) and to [`tag::STATE`] (T).
+pub const HEAT_WORDS_PER_CELL: usize = 1;
+/// Bit of the handshake's sixth word: the solver solves the temperature equation.
+pub const HELLO_FLAG_HEAT: i32 = 1;
 /// Doubles per cell in the reply (U, p, ∇p, ∇·τ).
 pub const STATE_WORDS_PER_CELL: usize = 10;
 /// Doubles per patch in the reply (Σ p|S|, Σ |S|, Σ φ).
@@ -165,14 +184,29 @@ pub struct Hello {
     pub n_patches: usize,
     /// The rank in the solver's own MPI_COMM_WORLD.
     pub rank: usize,
+    /// The solver solves the temperature equation (a sixth word with [`HELLO_FLAG_HEAT`]).
+    pub heat: bool,
 }
 
 impl Hello {
-    /// Decodes the five integers; `Err` says what is wrong.
+    /// Decodes the five integers (six with heat: the flags); `Err` says what is wrong.
     pub fn parse(words: &[i32]) -> Result<Hello, String> {
-        let &[version, n_cells, pid, n_patches, rank] = words else {
-            return Err(format!("handshake of {} integers, expected 5", words.len()));
+        let wrong = || {
+            format!(
+                "handshake of {} integers, expected 5 (6 with heat)",
+                words.len()
+            )
         };
+        let (head, flags) = match words {
+            [head @ .., flags] if words.len() == 6 => (head, *flags),
+            _ => (words, 0),
+        };
+        let &[version, n_cells, pid, n_patches, rank] = head else {
+            return Err(wrong());
+        };
+        if flags & !HELLO_FLAG_HEAT != 0 {
+            return Err(format!("unknown handshake flags {flags}"));
+        }
         if version != PROTOCOL_VERSION {
             return Err(format!(
                 "protocol version {version}, this coupler speaks {PROTOCOL_VERSION} \
@@ -188,6 +222,7 @@ impl Hello {
             pid: u32::try_from(pid).map_err(|_| format!("bad pid {pid} in the handshake"))?,
             n_patches: count(n_patches, "patch count")?,
             rank: count(rank, "rank")?,
+            heat: flags & HELLO_FLAG_HEAT != 0,
         })
     }
 }
@@ -236,6 +271,12 @@ pub fn pack_fields(cells: &[u32], fields: &FieldsIn<'_>, out: &mut Vec<f64>) {
     }
 }
 
+/// Appends the heat source Tsource (K/s per global cell) of `cells` to a packed
+/// [`tag::FIELDS`] message (after [`pack_fields`]), as the protocol's heat block.
+pub fn pack_heat_source(cells: &[u32], heat_source: &[f64], out: &mut Vec<f64>) {
+    out.extend(cells.iter().map(|&c| heat_source[c as usize]));
+}
+
 /// The fluid on the whole mesh, assembled from the ranks' replies.
 #[derive(Clone, Debug, Default)]
 pub struct GlobalState {
@@ -251,6 +292,9 @@ pub struct GlobalState {
     pub div_tau: Vec<V3>,
     /// Per patch: Σ p|S| (m⁴/s²), Σ |S| (m²), Σ φ (m³/s), summed over the ranks.
     pub patch_sums: Vec<[f64; 3]>,
+    /// T per global cell, K, when heat is on ([`GlobalState::with_heat`]); the replies then
+    /// carry the heat block.
+    pub temperature: Option<Vec<f64>>,
 }
 
 impl GlobalState {
@@ -263,6 +307,15 @@ impl GlobalState {
             grad_p: vec![V3::zeros(); n_cells],
             div_tau: vec![V3::zeros(); n_cells],
             patch_sums: vec![[0.0; 3]; n_patches],
+            temperature: None,
+        }
+    }
+
+    /// As [`GlobalState::new`], for replies with the heat block (T per cell).
+    pub fn with_heat(n_cells: usize, n_patches: usize) -> GlobalState {
+        GlobalState {
+            temperature: Some(vec![0.0; n_cells]),
+            ..GlobalState::new(n_cells, n_patches)
         }
     }
 
@@ -300,7 +353,12 @@ impl GlobalState {
     pub fn scatter(&mut self, cells: &[u32], msg: &[f64]) -> Result<f64, String> {
         let n = cells.len();
         let m = self.patch_sums.len();
-        let expected = 1 + STATE_WORDS_PER_CELL * n + PATCH_WORDS * m;
+        let heat = if self.temperature.is_some() {
+            HEAT_WORDS_PER_CELL
+        } else {
+            0
+        };
+        let expected = 1 + (STATE_WORDS_PER_CELL + heat) * n + PATCH_WORDS * m;
         if msg.len() != expected {
             return Err(format!(
                 "state reply of {} values, expected {expected} ({n} cells, {m} patches)",
@@ -310,7 +368,8 @@ impl GlobalState {
         let (u, rest) = msg[1..].split_at(3 * n);
         let (p, rest) = rest.split_at(n);
         let (grad_p, rest) = rest.split_at(3 * n);
-        let (div_tau, sums) = rest.split_at(3 * n);
+        let (div_tau, rest) = rest.split_at(3 * n);
+        let (temperature, sums) = rest.split_at(heat * n);
         let v = |s: &[f64], i: usize| -> V3 { V3::new(s[3 * i], s[3 * i + 1], s[3 * i + 2]) };
         for (i, &c) in cells.iter().enumerate() {
             let c = c as usize;
@@ -318,6 +377,11 @@ impl GlobalState {
             self.p[c] = p[i];
             self.grad_p[c] = v(grad_p, i);
             self.div_tau[c] = v(div_tau, i);
+        }
+        if let Some(t) = self.temperature.as_mut() {
+            for (&c, &value) in cells.iter().zip(temperature) {
+                t[c as usize] = value;
+            }
         }
         for (acc, s) in self
             .patch_sums
@@ -335,10 +399,43 @@ impl GlobalState {
 /// Bytes of one advance for a mesh of `n_cells` cells on `ranks` ranks with `n_patches`
 /// patches: (coupler → solver, solver → coupler), the message payloads only.
 pub fn advance_bytes(n_cells: usize, ranks: usize, n_patches: usize) -> (usize, usize) {
+    advance_bytes_with(n_cells, ranks, n_patches, false)
+}
+
+/// As [`advance_bytes`], with the heat blocks when `heat`.
+pub fn advance_bytes_with(
+    n_cells: usize,
+    ranks: usize,
+    n_patches: usize,
+    heat: bool,
+) -> (usize, usize) {
     let f = std::mem::size_of::<f64>();
-    let sent = f * (4 * ranks + FIELD_WORDS_PER_CELL * n_cells);
-    let received = f * (ranks * (1 + PATCH_WORDS * n_patches) + STATE_WORDS_PER_CELL * n_cells);
+    let h = if heat { HEAT_WORDS_PER_CELL } else { 0 };
+    let sent = f * (4 * ranks + (FIELD_WORDS_PER_CELL + h) * n_cells);
+    let received =
+        f * (ranks * (1 + PATCH_WORDS * n_patches) + (STATE_WORDS_PER_CELL + h) * n_cells);
     (sent, received)
+}
+
+/// Checks the heat source before it goes to the solver: one finite value (K/s) per cell of the
+/// mesh; the error names the global cell.
+pub fn check_heat_source(map: &RankMap, heat_source: &[f64]) -> Result<(), crate::LinkError> {
+    if heat_source.len() != map.n_cells() {
+        return Err(couple::CoupleError::Length {
+            what: "Tsource",
+            expected: map.n_cells(),
+            found: heat_source.len(),
+        }
+        .into());
+    }
+    if let Some(c) = heat_source.iter().position(|x| !x.is_finite()) {
+        return Err(crate::LinkError::Value {
+            what: "Tsource",
+            cell: c,
+            message: format!("{} K/s is not finite", heat_source[c]),
+        });
+    }
+    Ok(())
 }
 
 /// Checks exchange fields before they go to the solver (which would stop on a NaN with a
@@ -467,7 +564,8 @@ mod tests {
                 n_cells: 4480,
                 pid: 1234,
                 n_patches: 3,
-                rank: 1
+                rank: 1,
+                heat: false
             })
         );
         assert!(Hello::parse(&[1, 1, 1, 1, 0])

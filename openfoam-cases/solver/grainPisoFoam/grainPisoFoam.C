@@ -30,6 +30,9 @@
   wall functions), νeff = ν + νt in the stress above (ν → νeff), k–ε solved after the
   correctors on the flux φ as CFDEM's cfdemSolverPiso does; without the file, ν alone.
 
+  Temperature (heat on only; heatTransport.H): cfdemSolverPisoScalar's voidage-weighted
+  equation, solved before the momentum equation on this step's ε and the flux ε_f φ_U.
+
   Fields: U, p as pisoFoam; voidfraction, Ksl, Us, f read from the start time (couplingFields.H)
   and updated each step by the selected couplingSource (couplingSource.H), which also drives
   the time loop (the mpi source: as the coupler commands, mpiCouplingSource.H).
@@ -45,6 +48,7 @@
 #include "porousFaces.H"
 #include "porousTimeFlux.H"
 #include "meanForceSources.H"
+#include "heatTransport.H"
 
 int main(int argc, char *argv[])
 {
@@ -76,8 +80,19 @@ int main(int argc, char *argv[])
 
     Info<< "\nStarting time loop\n" << endl;
 
+    // The temperature equation (heatTransport.H), only when heat is on: created inside the
+    // try so that a missing 0/T reaches the coupler as a FatalError.
+    autoPtr<heatTransport> heat;
+
     try
     {
+        if (source->heat(vans.heat()))
+        {
+            Info<< "Reading T, Tsource, alphat (heat on)\n" << endl;
+            heat.reset(new heatTransport(mesh, vans.nu(), turbulence.get()));
+            source->attachHeat(heat->T, heat->Tsource);
+        }
+
         source->start(U, p, phi);
 
         while (source->advance(runTime))
@@ -101,6 +116,28 @@ int main(int argc, char *argv[])
             }
 
             #include "interstitialCourantNo.H"
+
+            // Temperature before the PISO, on this step's ε and the flux ε_f φ_U the step
+            // starts from, as cfdemSolverPisoScalar (the reason: heatTransport.H).
+            if (heat.valid())
+            {
+                const surfaceScalarField phiT
+                (
+                    IOobject
+                    (
+                        "phi", runTime.timeName(), mesh,
+                        IOobject::NO_READ, IOobject::NO_WRITE, false
+                    ),
+                    voidfractionf*phiU
+                );
+                const tmp<volScalarField> ddtEps
+                (
+                    tddtVoidfraction.valid()
+                  ? tmp<volScalarField>(tddtVoidfraction())
+                  : fvc::ddt(voidfraction)
+                );
+                heat->solve(phiT, voidfraction, ddtEps(), turbulence.get());
+            }
 
             if (vans.solveFlow())
             {
