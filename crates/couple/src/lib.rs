@@ -59,10 +59,11 @@ pub mod smoothing;
 pub mod step;
 pub mod timestep;
 
-pub use config::CouplingConfig;
+pub use config::{CouplingConfig, HeatSettings};
 pub use error::{CoupleError, SideError};
 pub use exchange::{exchange, Exchange, Outside};
 pub use forces::{ParticleCoupling, Physics};
+pub use heat::{HeatAccount, HeatStep};
 pub use interpolate::{Interpolation, Placement};
 pub use population::PopulationChange;
 pub use ranks::{Ranks, Serial};
