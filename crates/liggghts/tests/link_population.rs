@@ -94,6 +94,7 @@ fn couple_run(side: &mut impl ParticleSide) -> (Vec<usize>, couple::PopulationCh
         alpha_min: None,
         coupling_interval: INTERVAL,
         physics: physics(),
+        heat: None,
     };
     let mut coupler = Coupler::new(&mesh, settings).unwrap();
     let first = coupler

@@ -406,8 +406,12 @@ mod mpi_pair {
                 .unwrap_or(1),
             n => n,
         };
-        let fluid = foam_link::OpenFoamFluid::spawn(world, &layout.cfd, ranks, &solver)
-            .map_err(|e| backend_err("grainPisoFoam", e))?;
+        let options = foam_link::SpawnOptions {
+            heat: layout.coupling.heat.is_some(),
+        };
+        let fluid =
+            foam_link::OpenFoamFluid::spawn_with(world, &layout.cfd, ranks, &solver, options)
+                .map_err(|e| backend_err("grainPisoFoam", e))?;
         Ok(crate::foam_fluid::FoamFluid::new(fluid))
     }
 
@@ -430,9 +434,16 @@ mod mpi_pair {
                 .unwrap_or(1),
             n => n,
         };
-        let (fluid, cells) =
-            foam_link::OpenFoamFluid::spawn_ranked(world, &layout.cfd, ranks, &solver)
-                .map_err(|e| backend_err("grainPisoFoam", e))?;
+        let (fluid, cells) = foam_link::OpenFoamFluid::spawn_ranked_with(
+            world,
+            &layout.cfd,
+            ranks,
+            &solver,
+            foam_link::SpawnOptions {
+                heat: layout.coupling.heat.is_some(),
+            },
+        )
+        .map_err(|e| backend_err("grainPisoFoam", e))?;
         Ok((fluid.map(crate::foam_fluid::FoamFluid::new), cells))
     }
 }

@@ -77,6 +77,16 @@ impl<'a> StepFields<'a> {
             "U" => Field::Vector(self.fluid.u),
             "Us" => Field::Vector(&self.step.exchange.us),
             "f" => Field::Vector(&self.step.exchange.f),
+            // probed only in runs with heat (`probes::HEAT_FIELDS`); NaN would be an
+            // unmeasured value, never printed as 0
+            "T" => Field::Scalar(match self.fluid.temperature {
+                Some(t) => Borrowed(t),
+                None => Owned(vec![f64::NAN; self.eps.len()]),
+            }),
+            "Tsource" => Field::Scalar(match &self.step.heat {
+                Some(h) if h.tsource.len() == self.eps.len() => Borrowed(&h.tsource),
+                _ => Owned(vec![f64::NAN; self.eps.len()]),
+            }),
             // the config refuses other names (monitors::SCALAR_FIELDS, VECTOR_FIELDS)
             other => unreachable!("field `{other}` passed couplingProperties' check"),
         }
@@ -92,6 +102,8 @@ fn dimensions(name: &str) -> [i32; 7] {
         "rho" => [1, -3, 0, 0, 0, 0, 0],
         "U" | "Us" => [0, 1, -1, 0, 0, 0, 0],
         "f" => [1, -2, -2, 0, 0, 0, 0],
+        "T" => [0, 0, 0, 1, 0, 0, 0],
+        "Tsource" => [0, 0, -1, 1, 0, 0, 0],
         _ => [0; 7],
     }
 }

@@ -120,6 +120,9 @@ impl FluidSide for NativeFluid {
         self.fluid
             .set_exchange(&fields.exchange.ksl, &fields.exchange.us)?;
         self.fluid.set_force(&fields.exchange.f)?;
+        if let Some(s) = fields.heat_source {
+            self.fluid.set_heat_source(s)?;
+        }
         Ok(())
     }
 
@@ -151,7 +154,7 @@ impl FluidSide for NativeFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
-            temperature: None,
+            temperature: self.fluid.temperature(),
             u: self.fluid.u(),
             p: self.fluid.p(),
             grad_p: self.fluid.grad_p(),
@@ -412,7 +415,7 @@ impl ParticleSide for NativeDem {
     fn state(&self) -> ParticleState<'_> {
         let p = &self.sim().particles;
         ParticleState {
-            temperature: None,
+            temperature: self.sim().temperature(),
             ids: &p.id,
             position: &p.x,
             velocity: &p.v,
@@ -423,6 +426,11 @@ impl ParticleSide for NativeDem {
 
     fn set_forces(&mut self, f_ext: &[V3], beta: &[f64], u_f: &[V3]) -> Result<(), SideError> {
         self.session.simulation()?.set_coupling(f_ext, beta, u_f)?;
+        Ok(())
+    }
+
+    fn set_heat_flux(&mut self, q: &[f64]) -> Result<(), SideError> {
+        self.session.simulation()?.set_convective_heat_flux(q)?;
         Ok(())
     }
 }

@@ -174,9 +174,9 @@ impl Observer {
             bed_particles: evacuated.map(|e| e.bed),
             bed_never_left: evacuated.map(|e| e.never_left),
             annulus_returned: evacuated.map(|e| e.returned),
-            heat_to_particles: None,
-            heat_from_fluid: None,
-            heat_clipped: None,
+            heat_to_particles: step.heat.as_ref().map(|h| h.account.to_particles),
+            heat_from_fluid: step.heat.as_ref().map(|h| h.account.from_fluid),
+            heat_clipped: step.heat.as_ref().map(|h| h.account.clipped),
             particle_temperature: particle_temperature.filter(|t| t.is_finite()),
             outlet_temperature: None,
         }

@@ -127,9 +127,27 @@ impl RunPlan {
         if opts.fluid == FluidBackend::Native {
             warnings.extend(control_dict_warnings(&control));
         }
-        let fluid = fv::settings::Settings::read_with_control(&case, &control.body)
+        let mut fluid = fv::settings::Settings::read_with_control(&case, &control.body)
             .map_err(|e| RunError::Fluid(Box::new(e)))?;
+        if settings.heat.is_some() {
+            // cfdemSolverPisoScalar's temperature equation: 0/T, Pr, Prt, the T solver
+            fluid
+                .enable_temperature(&case)
+                .map_err(|e| RunError::Fluid(Box::new(e)))?;
+        }
         let run_deck = Deck::read(&layout.run_deck)?;
+        if let (None, Some(c)) = (
+            settings.heat,
+            run_deck.fixes("couple/cfd/convection").next(),
+        ) {
+            warnings.push(format!(
+                "{}:{}: `couple/cfd/convection`, but {} names no heat-transfer model \
+                 (LaEuScalarTemp, heatTransferGunn): the particles receive no convective heat",
+                layout.run_deck.display(),
+                c.line,
+                layout.coupling.file.display()
+            ));
+        }
         let plan = RunPlan {
             layout,
             settings,

@@ -25,6 +25,9 @@ use std::fmt::Write as _;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// The fields of a run with heat a probe may also sample (scalars).
+const HEAT_FIELDS: [&str; 2] = ["T", "Tsource"];
+
 /// The fields a probe may sample, and whether each is a vector.
 const FIELDS: [(&str, bool); 7] = [
     ("p", false),
@@ -73,13 +76,14 @@ pub struct Probes {
 
 impl Probes {
     /// Reads the `probes` entries of the case's `system/controlDict` (`cfd`: the case, where
-    /// `postProcessing/` goes) and locates their points in
+    /// `postProcessing/` goes; `heat`: the run solves T, so `T` and `Tsource` may be probed) and locates their points in
     /// `mesh` (`locate` gives the cell holding a point). Returns the probes and the warnings
     /// (fields or points left out). A malformed entry is an error naming the file and the key.
     pub fn read(
         cfd: &Path,
         control: &ControlDict,
         start_name: &str,
+        heat: bool,
         locate: &dyn Fn(V3) -> Option<usize>,
     ) -> Result<(Probes, Vec<String>), RunError> {
         let path = &control.path;
@@ -121,7 +125,7 @@ impl Probes {
             let mut fields = Vec::new();
             let mut left_out = Vec::new();
             for f in word_list(d, "fields").map_err(|m| err(format!("{}: {m}", at("fields"))))? {
-                if FIELDS.iter().any(|(n, _)| *n == f) {
+                if FIELDS.iter().any(|(n, _)| *n == f) || (heat && HEAT_FIELDS.contains(&&*f)) {
                     fields.push(f);
                 } else {
                     left_out.push(f);
@@ -133,7 +137,13 @@ impl Probes {
                     path.display(),
                     at("fields"),
                     left_out.join(" "),
-                    FIELDS.map(|(n, _)| n).join(" ")
+                    FIELDS
+                        .map(|(n, _)| n)
+                        .iter()
+                        .chain(if heat { &HEAT_FIELDS[..] } else { &[] })
+                        .copied()
+                        .collect::<Vec<_>>()
+                        .join(" ")
                 ));
             }
             let control =

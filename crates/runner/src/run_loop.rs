@@ -418,9 +418,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         let cfd = &self.plan.layout.cfd;
         let control = &self.plan.control;
         let locator = self.coupler.voidage_mesh().locator();
-        let (probes, warnings) = crate::probes::Probes::read(cfd, control, start_name, &|x| {
-            locator.locate(x).map(|c| c as usize)
-        })?;
+        let heat = self.plan.settings.heat.is_some();
+        let (probes, warnings) =
+            crate::probes::Probes::read(cfd, control, start_name, heat, &|x| {
+                locator.locate(x).map(|c| c as usize)
+            })?;
         for w in warnings {
             events(Event::Message(format!("warning: {w}")));
         }

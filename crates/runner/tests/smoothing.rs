@@ -59,6 +59,7 @@ fn smoothing_spreads_the_voidage_the_fluid_gets_and_keeps_the_drag() {
             alpha_min: None,
             coupling_interval: 1,
             physics: physics(),
+            heat: None,
         };
         let mut coupler = Coupler::new(fluid.mesh(), settings).unwrap();
         if smooth {
