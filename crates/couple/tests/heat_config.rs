@@ -6,21 +6,17 @@ use closures::heat::{Nusselt, ReynoldsVelocity};
 use couple::config::{HeatModel, HeatSettings, MaxSource};
 use couple::{CouplingConfig, Interpolation};
 
-/// CFDEMcoupling-PUBLIC `tutorials/cfdemSolverPisoScalar/packedBedTemp/CFD/constant/
-/// couplingProperties`, the dictionary as the tutorial has it (comments shortened).
+/// The keys and values of CFDEMcoupling-PUBLIC's `tutorials/cfdemSolverPisoScalar/
+/// packedBedTemp/CFD/constant/couplingProperties` (its comments left out).
 const PACKED_BED_TEMP: &str = r#"
 FoamFile
 {
     version         2.0;
     format          ascii;
-    root            "";
-    case            "";
-    instance        "";
-    local           "";
     class           dictionary;
     object          couplingProperties;
 }
-modelType B; // A or B
+modelType B;
 couplingInterval 500;
 voidFractionModel divided;
 locateModel engine;
@@ -28,8 +24,8 @@ meshMotionModel noMeshMotion;
 IOModel basicIO;
 probeModel off;
 dataExchangeModel twoWayMPI;
-averagingModel dense;//dilute;//
-clockModel off;//standardClock;//
+averagingModel dense;
+clockModel off;
 smoothingModel off;
 forceModels
 (
@@ -41,7 +37,7 @@ momCoupleModels
 (
     implicitCouple
 );
-turbulenceModelType turbulenceProperties;//OFversion30x
+turbulenceModelType turbulenceProperties;
 LaEuScalarTempProps
 {
     tempFieldName "T";
@@ -52,21 +48,18 @@ LaEuScalarTempProps
 }
 implicitCoupleProps
 {
-    //KslLimit 0;  // source switched off!!!
 }
 KochHillDragProps
 {
 }
 DiFeliceDragProps
 {
-    //verbose true;
 }
 ArchimedesProps
 {
 }
 gradPForceProps
 {
-    //interpolation true;
 }
 viscForceProps
 {
