@@ -99,7 +99,7 @@ fn run(dir: &Path, dt: f64, steps: usize) -> (Vec<(f64, f64)>, f64) {
         .unwrap()
         .replace("timestep 0.001", &format!("timestep {dt}"));
     write(&dir.join("DEM/in.run.dt"), &deck_text);
-    let deck = liggghts_deck::Deck::read(&dir.join("DEM/in.run.dt")).unwrap();
+    let deck = liggghts_deck::Deck::read(dir.join("DEM/in.run.dt")).unwrap();
     let mut dem = runner::native::run_native_deck(&deck, &dir.join("DEM"), &mut |w| {
         panic!("deck warning: {w}")
     })
