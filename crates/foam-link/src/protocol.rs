@@ -583,6 +583,52 @@ mod tests {
     }
 
     #[test]
+    fn heat_adds_a_handshake_flag_a_tsource_block_and_a_t_block() {
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
+        assert!(hello.heat);
+        assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
+        assert!(Hello::parse(&[2, 10, 7, 1, 0, 4])
+            .unwrap_err()
+            .contains("flags"));
+        assert!(Hello::parse(&[2, 10, 7, 1, 0, 1, 1])
+            .unwrap_err()
+            .contains("6 with heat"));
+
+        // Tsource follows the nine blocks, in the rank's local order (global cells 1, 0).
+        let one = [1.0, 1.0];
+        let v = [V3::zeros(); 2];
+        let fields = FieldsIn {
+            eps_old: &one,
+            eps_new: &one,
+            ksl: &one,
+            us: &v,
+            f: &v,
+        };
+        let mut out = Vec::new();
+        pack_fields(&[1, 0], &fields, &mut out);
+        pack_heat_source(&[1, 0], &[-3.0, 4.0], &mut out);
+        assert_eq!(out.len(), (FIELD_WORDS_PER_CELL + HEAT_WORDS_PER_CELL) * 2);
+        assert_eq!(out[18..], [4.0, -3.0]);
+
+        // The reply: time, U, p, ∇p, ∇·τ, T, then the patch sums.
+        let mut s = GlobalState::with_heat(2, 1);
+        let mut msg = vec![0.5];
+        msg.extend([0.0; 20]);
+        msg.extend([310.0, 320.0]);
+        msg.extend([1.0, 2.0, 3.0]);
+        assert_eq!(s.scatter(&[1, 0], &msg), Ok(0.5));
+        assert_eq!(s.temperature.as_deref(), Some(&[320.0, 310.0][..]));
+        assert_eq!(s.patch_sums, [[1.0, 2.0, 3.0]]);
+        // A reply without the T block is refused when heat is on.
+        let err = s.scatter(&[1, 0], &msg[..21 + 3 - 2]).unwrap_err();
+        assert!(err.contains("expected 26"), "{err}");
+        assert_eq!(
+            advance_bytes_with(4480, 2, 3, true),
+            (8 * (8 + 10 * 4480), 8 * (2 * 10 + 11 * 4480))
+        );
+    }
+
+    #[test]
     fn commands_encode_as_documented() {
         let c = Command::Advance {
             steps: 5,
