@@ -175,7 +175,7 @@ fn two_ranks_equal_one_rank(world: &mpi::topology::SimpleCommunicator, solver: &
     let ts = pick(-5.0, 0.0);
     let zeros_v = vec![V3::zeros(); eps.len()];
     let ones = vec![1.0; eps.len()];
-    let run = |np: usize| -> (Vec<f64>, Vec<V3>) {
+    let run = |np: usize| -> (Vec<f64>, Vec<V3>, [foam_link::PatchFlow; 2]) {
         let copy = case.duplicate();
         let mut fluid = OpenFoamFluid::spawn_with(world, &copy.dir, np, solver, HEAT).unwrap();
         for i in 0..3 {
@@ -191,11 +191,31 @@ fn two_ranks_equal_one_rank(world: &mpi::topology::SimpleCommunicator, solver: &
         }
         let t = fluid.temperature().unwrap().to_vec();
         let u = couple::FluidSide::state(&fluid).u.to_vec();
+        let patches = [
+            fluid.patch("inlet").unwrap(),
+            fluid.patch("outlet").unwrap(),
+        ];
         fluid.finish().unwrap();
-        (t, u)
+        (t, u, patches)
     };
-    let (t1, u1) = run(1);
-    let (t2, u2) = run(2);
+    let (t1, u1, [inlet, outlet]) = run(1);
+    let (t2, u2, [_, outlet2]) = run(2);
+    // The inlet's T is fixed at 1 K: its mixing-cup T is 1 (flux −U A = −1e-7 m³/s); the
+    // outlet's lies between the coldest and the hottest boundary value, and is the same on
+    // 2 ranks.
+    let mean_t = |p: &foam_link::PatchFlow| p.t_flux.expect("heat on") / p.flux;
+    eprintln!(
+        "inlet {inlet:?}; outlet mixing-cup T {} K (2 ranks {} K)",
+        mean_t(&outlet),
+        mean_t(&outlet2)
+    );
+    assert!((inlet.flux + 1e-7).abs() < 1e-15, "{inlet:?}");
+    assert!((mean_t(&inlet) - 1.0).abs() < 1e-12, "{inlet:?}");
+    assert!(
+        mean_t(&outlet) > -1.3 && mean_t(&outlet) < 1.0,
+        "{outlet:?}"
+    );
+    assert!((mean_t(&outlet2) - mean_t(&outlet)).abs() < 1e-8);
     let dt = rel_diff(&t2, &t1);
     let du = rel_diff_v(&u2, &u1);
     let cooled = block
