@@ -393,8 +393,8 @@ impl GlobalState {
             }
         }
         for (j, s) in sums.chunks_exact(per_patch).enumerate() {
-            for k in 0..PATCH_WORDS {
-                self.patch_sums[j][k] += s[k];
+            for (acc, x) in self.patch_sums[j].iter_mut().zip(s) {
+                *acc += x;
             }
             if let Some(acc) = self.patch_t_flux.as_mut() {
                 acc[j] += s[PATCH_WORDS];
