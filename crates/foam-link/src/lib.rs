@@ -44,7 +44,9 @@
 //!   makes the solver solve cfdemSolverPisoScalar's temperature equation (the case needs
 //!   `0/T`, `Pr`, `div(phi,T)` and a `T` solver); every exchange then needs
 //!   `ExchangeFields::heat_source` (Tsource, K/s; [`OpenFoamFluid::set_fields_with_heat`])
-//!   and the state carries `FluidState::temperature` (T, K). Without heat nothing changes.
+//!   and the state carries `FluidState::temperature` (T, K) and each [`PatchFlow`] its
+//!   `t_flux` (Σ φ T_b, K m³/s; `t_flux / flux` is the patch's mixing-cup temperature).
+//!   Without heat nothing changes.
 //!   Not over the sparse exchange ([`OpenFoamFluid::spawn_ranked_with`] refuses heat).
 //! * **Logs**: each rank writes `CASE/log.grainPisoFoam` (serial) or
 //!   `CASE/log.grainPisoFoam.<rank>`.
