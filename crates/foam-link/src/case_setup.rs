@@ -240,6 +240,8 @@ mod tests {
              exec '/opt/bin/grainPisoFoam' -parallel -case '/tmp/it'\\''s a case' \
              > '/tmp/it'\\''s a case/log.grainPisoFoam'.${OMPI_COMM_WORLD_RANK:-0} 2>&1"
         );
+        let heat = launch_script_with(Path::new("/s"), Path::new("/c"), 1, "/w", true);
+        assert!(heat.contains("export FOAMGRAIN_LINK=1; export FOAMGRAIN_HEAT=1; exec '/s'"));
         let serial = launch_script(Path::new("/s"), Path::new("/c"), 1, "/w");
         assert!(serial.ends_with("exec '/s' -case '/c' > '/c/log.grainPisoFoam' 2>&1"));
         assert_eq!(

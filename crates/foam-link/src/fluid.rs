@@ -30,6 +30,9 @@ pub struct PatchFlow {
     pub area: f64,
     /// Total flux Σ φ = Σ (ε U)_f · S, m³/s (negative into the domain).
     pub flux: f64,
+    /// With heat on: Σ φ T_b over the patch's faces, K m³/s (the same φ; `t_flux / flux` is
+    /// the flux-weighted, mixing-cup temperature of the patch); `None` without heat.
+    pub t_flux: Option<f64>,
 }
 
 /// How [`OpenFoamFluid::spawn_with`] starts the solver.
@@ -427,14 +430,17 @@ impl OpenFoamFluid {
     /// Per boundary patch (in the boundary file's order): mean p and total flux after the last
     /// advance (zeros before the first).
     pub fn patches(&self) -> Vec<PatchFlow> {
+        let t_flux = self.state.patch_t_flux.as_deref();
         self.patch_names
             .iter()
             .zip(&self.state.patch_sums)
-            .map(|(name, s)| PatchFlow {
+            .enumerate()
+            .map(|(j, (name, s))| PatchFlow {
                 name: name.clone(),
                 mean_p: if s[1] > 0.0 { s[0] / s[1] } else { 0.0 },
                 area: s[1],
                 flux: s[2],
+                t_flux: t_flux.map(|t| t[j]),
             })
             .collect()
     }

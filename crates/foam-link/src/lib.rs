@@ -40,6 +40,14 @@
 //! * **Time stepping**: an interval Δt_c is `round(Δt_c/deltaT)` (≥ 1) steps of Δt_c/N; at
 //!   step k, ε = ε_old + (k/N)(ε_new − ε_old); Ksl, Us, f are held; on the first interval ε's
 //!   old time is ε_old — all as the native fluid (`runner::native::NativeFluid`) does.
+//! * **Heat** (issue 27): [`OpenFoamFluid::spawn_with`] with [`SpawnOptions`]`{ heat: true }`
+//!   makes the solver solve cfdemSolverPisoScalar's temperature equation (the case needs
+//!   `0/T`, `Pr`, `div(phi,T)` and a `T` solver); every exchange then needs
+//!   `ExchangeFields::heat_source` (Tsource, K/s; [`OpenFoamFluid::set_fields_with_heat`])
+//!   and the state carries `FluidState::temperature` (T, K) and each [`PatchFlow`] its
+//!   `t_flux` (Σ φ T_b, K m³/s; `t_flux / flux` is the patch's mixing-cup temperature).
+//!   Without heat nothing changes.
+//!   Not over the sparse exchange ([`OpenFoamFluid::spawn_ranked_with`] refuses heat).
 //! * **Logs**: each rank writes `CASE/log.grainPisoFoam` (serial) or
 //!   `CASE/log.grainPisoFoam.<rank>`.
 //!

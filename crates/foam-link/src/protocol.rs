@@ -42,7 +42,7 @@
 //! |---|---|
 //! | 1 [`tag::HELLO`] | i32\[6\]: the five words, then flags ([`HELLO_FLAG_HEAT`]) |
 //! | 11 [`tag::FIELDS`] | f64\[10n\]: the nine blocks above, then Tsource (n), K/s |
-//! | 20 [`tag::STATE`] | f64\[1+11n+3m\]: time, U, p, ∇p, ∇·τ, then T (n, K), then the patch sums |
+//! | 20 [`tag::STATE`] | f64\[1+11n+4m\]: time, U, p, ∇p, ∇·τ, then T (n, K), then per patch Σp\|S\|, Σ\|S\|, Σφ and Σ φT_b (K m³/s, the same φ) |
 //!
 //! The sparse exchange carries no heat: the solver refuses [`Command::Exchange`] and
 //! [`Command::AdvanceHeld`] with heat on, and [`crate::OpenFoamFluid::spawn_ranked_with`]
@@ -295,6 +295,9 @@ pub struct GlobalState {
     /// T per global cell, K, when heat is on ([`GlobalState::with_heat`]); the replies then
     /// carry the heat block.
     pub temperature: Option<Vec<f64>>,
+    /// Per patch with heat on: Σ φ T_b (K m³/s) with the φ of `patch_sums`, summed over the
+    /// ranks.
+    pub patch_t_flux: Option<Vec<f64>>,
 }
 
 impl GlobalState {
@@ -308,6 +311,7 @@ impl GlobalState {
             div_tau: vec![V3::zeros(); n_cells],
             patch_sums: vec![[0.0; 3]; n_patches],
             temperature: None,
+            patch_t_flux: None,
         }
     }
 
@@ -315,6 +319,7 @@ impl GlobalState {
     pub fn with_heat(n_cells: usize, n_patches: usize) -> GlobalState {
         GlobalState {
             temperature: Some(vec![0.0; n_cells]),
+            patch_t_flux: Some(vec![0.0; n_patches]),
             ..GlobalState::new(n_cells, n_patches)
         }
     }
@@ -323,6 +328,9 @@ impl GlobalState {
     /// overwritten cell by cell).
     pub fn clear_sums(&mut self) {
         self.patch_sums.fill([0.0; 3]);
+        if let Some(t) = self.patch_t_flux.as_mut() {
+            t.fill(0.0);
+        }
     }
 
     /// Adds one rank's [`tag::PATCH_STATE`] reply (time, then the patch sums) to the patch
@@ -358,7 +366,8 @@ impl GlobalState {
         } else {
             0
         };
-        let expected = 1 + (STATE_WORDS_PER_CELL + heat) * n + PATCH_WORDS * m;
+        let per_patch = PATCH_WORDS + heat;
+        let expected = 1 + (STATE_WORDS_PER_CELL + heat) * n + per_patch * m;
         if msg.len() != expected {
             return Err(format!(
                 "state reply of {} values, expected {expected} ({n} cells, {m} patches)",
@@ -383,13 +392,12 @@ impl GlobalState {
                 t[c as usize] = value;
             }
         }
-        for (acc, s) in self
-            .patch_sums
-            .iter_mut()
-            .zip(sums.chunks_exact(PATCH_WORDS))
-        {
-            for k in 0..PATCH_WORDS {
-                acc[k] += s[k];
+        for (j, s) in sums.chunks_exact(per_patch).enumerate() {
+            for (acc, x) in self.patch_sums[j].iter_mut().zip(s) {
+                *acc += x;
+            }
+            if let Some(acc) = self.patch_t_flux.as_mut() {
+                acc[j] += s[PATCH_WORDS];
             }
         }
         Ok(msg[0])
@@ -413,7 +421,7 @@ pub fn advance_bytes_with(
     let h = if heat { HEAT_WORDS_PER_CELL } else { 0 };
     let sent = f * (4 * ranks + (FIELD_WORDS_PER_CELL + h) * n_cells);
     let received =
-        f * (ranks * (1 + PATCH_WORDS * n_patches) + (STATE_WORDS_PER_CELL + h) * n_cells);
+        f * (ranks * (1 + (PATCH_WORDS + h) * n_patches) + (STATE_WORDS_PER_CELL + h) * n_cells);
     (sent, received)
 }
 
@@ -580,6 +588,53 @@ mod tests {
             ["inlet", "outlet", "walls"]
         );
         assert!(parse_patch_names(b"inlet").is_err());
+    }
+
+    #[test]
+    fn heat_adds_a_handshake_flag_a_tsource_block_and_a_t_block() {
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
+        assert!(hello.heat);
+        assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
+        assert!(Hello::parse(&[2, 10, 7, 1, 0, 4])
+            .unwrap_err()
+            .contains("flags"));
+        assert!(Hello::parse(&[2, 10, 7, 1, 0, 1, 1])
+            .unwrap_err()
+            .contains("6 with heat"));
+
+        // Tsource follows the nine blocks, in the rank's local order (global cells 1, 0).
+        let one = [1.0, 1.0];
+        let v = [V3::zeros(); 2];
+        let fields = FieldsIn {
+            eps_old: &one,
+            eps_new: &one,
+            ksl: &one,
+            us: &v,
+            f: &v,
+        };
+        let mut out = Vec::new();
+        pack_fields(&[1, 0], &fields, &mut out);
+        pack_heat_source(&[1, 0], &[-3.0, 4.0], &mut out);
+        assert_eq!(out.len(), (FIELD_WORDS_PER_CELL + HEAT_WORDS_PER_CELL) * 2);
+        assert_eq!(out[18..], [4.0, -3.0]);
+
+        // The reply: time, U, p, ∇p, ∇·τ, T, then the patch sums.
+        let mut s = GlobalState::with_heat(2, 1);
+        let mut msg = vec![0.5];
+        msg.extend([0.0; 20]);
+        msg.extend([310.0, 320.0]);
+        msg.extend([1.0, 2.0, 3.0, 930.0]);
+        assert_eq!(s.scatter(&[1, 0], &msg), Ok(0.5));
+        assert_eq!(s.temperature.as_deref(), Some(&[320.0, 310.0][..]));
+        assert_eq!(s.patch_sums, [[1.0, 2.0, 3.0]]);
+        assert_eq!(s.patch_t_flux.as_deref(), Some(&[930.0][..]));
+        // A reply without the T block is refused when heat is on.
+        let err = s.scatter(&[1, 0], &msg[..21 + 4 - 2]).unwrap_err();
+        assert!(err.contains("expected 27"), "{err}");
+        assert_eq!(
+            advance_bytes_with(4480, 2, 3, true),
+            (8 * (8 + 10 * 4480), 8 * (2 * 13 + 11 * 4480))
+        );
     }
 
     #[test]

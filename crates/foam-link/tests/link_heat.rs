@@ -105,11 +105,55 @@ fn closed_box_heats_as_s_over_eps(
     let stats = fluid.stats();
     assert_eq!(stats.bytes_sent, 2 * sent as u64);
     assert_eq!(stats.bytes_received, 2 * received as u64);
+
     fluid.write().unwrap();
     fluid.finish().unwrap();
     let written = case.scalars("0.05", "T");
     assert!(written.iter().all(|x| (x - expected).abs() < 1e-10));
     assert!(case.dir.join("0.05/Tsource").is_file() && case.dir.join("0.05/alphat").is_file());
+    falling_voidage_keeps_the_rate_s_over_eps(world, solver);
+}
+
+/// ε falls from 0.5 to 0.25 over an interval (blended per step), the flow held at rest
+/// (`solveFlow off`, U = 0, φ = 0; the lid-driven box itself does not survive a uniform fall
+/// of ε with continuity lacking ∂ε/∂t, heat or not): the −T ∂ε/∂t term keeps the uniform T's
+/// rate at S/ε, and Euler on ε dT/dt = S takes ε at the old time, so step k adds S Δt/ε_(k−1),
+/// ε_(k−1) = 0.5, 0.45, 0.4, 0.35, 0.3 (without that term T would also change by −T Δε/ε,
+/// about +30 K per step here). First an interval at ε = 0.5: 300 K + S·0.025 s/0.5.
+fn falling_voidage_keeps_the_rate_s_over_eps(
+    world: &mpi::topology::SimpleCommunicator,
+    solver: &std::path::Path,
+) {
+    let case = heated_cavity();
+    append(&case, "constant/couplingProperties", "solveFlow off;\n");
+    case.edit("0/U", "uniform (1 0 0)", "uniform (0 0 0)");
+    let mut fluid = OpenFoamFluid::spawn_with(world, &case.dir, 1, solver, HEAT).unwrap();
+    let n = fluid.rank_map().n_cells();
+    let (half, quarter) = (vec![0.5; n], vec![0.25; n]);
+    let zeros = vec![0.0; n];
+    let zeros_v = vec![V3::zeros(); n];
+    let s = vec![2.0; n];
+    for eps_new in [&half, &quarter] {
+        let fields = FieldsIn {
+            eps_old: &half,
+            eps_new,
+            ksl: &zeros,
+            us: &zeros_v,
+            f: &zeros_v,
+        };
+        fluid.set_fields_with_heat(&fields, Some(&s)).unwrap();
+        fluid.advance_interval(0.025).unwrap();
+    }
+    let gain: f64 = (0..5).map(|k| 2.0 * 0.005 / (0.5 - 0.05 * k as f64)).sum();
+    let expected = 300.0 + 2.0 * 0.025 / 0.5 + gain;
+    let t = fluid.temperature().unwrap();
+    let worst = t.iter().map(|x| (x - expected).abs()).fold(0.0, f64::max);
+    eprintln!(
+        "closed box, falling ε: T {:.12} K, expected {expected:.12} K, max error {worst:.2e} K",
+        t[0]
+    );
+    assert!(worst < 1e-10, "falling ε: max error {worst:e} K");
+    fluid.finish().unwrap();
 }
 
 /// The heat channel, a porous block 40 mm < x < 60 mm (ε 0.6, Ksl 500 kg/(m³ s)) cooled by
@@ -131,7 +175,7 @@ fn two_ranks_equal_one_rank(world: &mpi::topology::SimpleCommunicator, solver: &
     let ts = pick(-5.0, 0.0);
     let zeros_v = vec![V3::zeros(); eps.len()];
     let ones = vec![1.0; eps.len()];
-    let run = |np: usize| -> (Vec<f64>, Vec<V3>) {
+    let run = |np: usize| -> (Vec<f64>, Vec<V3>, [foam_link::PatchFlow; 2]) {
         let copy = case.duplicate();
         let mut fluid = OpenFoamFluid::spawn_with(world, &copy.dir, np, solver, HEAT).unwrap();
         for i in 0..3 {
@@ -147,11 +191,31 @@ fn two_ranks_equal_one_rank(world: &mpi::topology::SimpleCommunicator, solver: &
         }
         let t = fluid.temperature().unwrap().to_vec();
         let u = couple::FluidSide::state(&fluid).u.to_vec();
+        let patches = [
+            fluid.patch("inlet").unwrap(),
+            fluid.patch("outlet").unwrap(),
+        ];
         fluid.finish().unwrap();
-        (t, u)
+        (t, u, patches)
     };
-    let (t1, u1) = run(1);
-    let (t2, u2) = run(2);
+    let (t1, u1, [inlet, outlet]) = run(1);
+    let (t2, u2, [_, outlet2]) = run(2);
+    // The inlet's T is fixed at 1 K: its mixing-cup T is 1 (flux −U A = −1e-7 m³/s); the
+    // outlet's lies between the coldest and the hottest boundary value, and is the same on
+    // 2 ranks.
+    let mean_t = |p: &foam_link::PatchFlow| p.t_flux.expect("heat on") / p.flux;
+    eprintln!(
+        "inlet {inlet:?}; outlet mixing-cup T {} K (2 ranks {} K)",
+        mean_t(&outlet),
+        mean_t(&outlet2)
+    );
+    assert!((inlet.flux + 1e-7).abs() < 1e-15, "{inlet:?}");
+    assert!((mean_t(&inlet) - 1.0).abs() < 1e-12, "{inlet:?}");
+    assert!(
+        mean_t(&outlet) > -1.3 && mean_t(&outlet) < 1.0,
+        "{outlet:?}"
+    );
+    assert!((mean_t(&outlet2) - mean_t(&outlet)).abs() < 1e-8);
     let dt = rel_diff(&t2, &t1);
     let du = rel_diff_v(&u2, &u1);
     let cooled = block

@@ -118,7 +118,9 @@ int main(int argc, char *argv[])
             #include "interstitialCourantNo.H"
 
             // Temperature before the PISO, on this step's ε and the flux ε_f φ_U the step
-            // starts from, as cfdemSolverPisoScalar (the reason: heatTransport.H).
+            // starts from, as cfdemSolverPisoScalar (the reason: heatTransport.H). The flux
+            // is named phi (unregistered), so its scheme is div(phi,T), as in CFDEM's cases
+            // and scalarTransportFoam's.
             if (heat.valid())
             {
                 const surfaceScalarField phiT
