@@ -12,6 +12,7 @@ pub mod fluid;
 pub mod fluidised;
 #[cfg(feature = "mpi")]
 pub mod foam_fluid;
+pub mod heating;
 pub mod layout;
 mod monitors;
 pub mod native;
@@ -28,6 +29,7 @@ pub mod report;
 pub mod run;
 mod run_loop;
 pub mod sample;
+pub mod schumann;
 pub mod smoothing;
 mod stage1;
 pub mod surface_values;
