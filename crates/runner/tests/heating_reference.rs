@@ -390,3 +390,111 @@ fn noisy_profiles_and_bad_input() {
     assert!(r.fronts[0].width.is_nan() && !r.fronts[0].pass());
     assert!(!r.checks()[1].pass);
 }
+
+/// `openfoam-cases/packed-bed-heating/FILE` parsed by `foam`.
+fn case_dict(file: &str) -> foam::Dict {
+    let p = testkit::repo_root()
+        .join("openfoam-cases/packed-bed-heating")
+        .join(file);
+    foam::parse_file(&p).unwrap().body
+}
+
+#[test]
+fn the_case_samples_fronts_inside_its_bed() {
+    // the committed LIGGGHTS pack, measured as the runner measures a bed
+    let root = testkit::repo_root().join("openfoam-cases/packed-bed-heating");
+    let data = dem::deck::data_file::read_data(&root.join("reference/packed.data")).unwrap();
+    let x: Vec<mesh::v3::V3> = data.particles.iter().map(|p| p.x).collect();
+    let r: Vec<f64> = data.particles.iter().map(|p| p.radius).collect();
+    let rho: Vec<f64> = data.particles.iter().map(|p| p.density).collect();
+    let bed =
+        runner::bed::Bed::measure(&x, mesh::v3::V3::z(), &r, &rho, 0.0, 0.024 * 0.024).unwrap();
+    assert_eq!(bed.particles, 3000);
+    // the README's numbers
+    assert!((bed.voidage - 0.452).abs() < 5e-4, "{bed:?}");
+    assert!((bed.height - 0.1343).abs() < 5e-4, "{bed:?}");
+    let d = 2.0 * r[0];
+    // the case's parameters, read from its files
+    let tp = case_dict("CFD/constant/transportProperties");
+    let (nu, rho_g, pr) = (
+        tp.f64("nu").unwrap(),
+        tp.f64("rho").unwrap(),
+        tp.f64("Pr").unwrap(),
+    );
+    let cp = case_dict("CFD/constant/couplingProperties");
+    let la = cp.dict("LaEuScalarTempProps").unwrap();
+    let (lambda, c_g) = (la.f64("lambda").unwrap(), la.f64("Cp").unwrap());
+    assert!(
+        (c_g * nu * rho_g / lambda / pr - 1.0).abs() < 1e-4,
+        "Pr = Cp ν ρ/λ"
+    );
+    let u_sup = 0.05;
+    // Li & Mason (2000) as CFDEM's LaEuScalarTemp (Re < 200 branch), at the bed's mean ε
+    let eps = bed.voidage;
+    let re = d * u_sup / eps / nu;
+    let nu_p = 2.0 + 0.6 * eps.powf(3.5) * re.sqrt() * pr.powf(0.33);
+    let h = lambda * nu_p / d;
+    assert!(re < 200.0 && (h - 18.68).abs() < 0.01, "Re {re} h {h}");
+    let sb = SchumannBed::of_spheres(eps, d, rho[0], 1.0, rho_g, c_g, u_sup, h).unwrap();
+    assert!(
+        (sb.front_speed() - 0.03137).abs() < 1e-5 && (sb.transfer_length() - 2.93e-3).abs() < 1e-5
+    );
+    // validationDict → the check's spec; sample times are write times before endTime
+    let v = case_dict("validationDict");
+    let spec = HeatingSpec {
+        initial_temperature: v.f64("initialTemperature").unwrap(),
+        inlet_temperature: v.f64("inletTemperature").unwrap(),
+        cell_size: 3e-3,
+        position_cells: v.f64("positionToleranceCells").unwrap(),
+        position_fraction: v.f64("positionTolerance").unwrap(),
+        width_cells: v.f64("widthToleranceCells").unwrap(),
+        width_fraction: v.f64("widthTolerance").unwrap(),
+    };
+    let times = v.stream("sampleTimes").unwrap()[0].as_f64_list().unwrap();
+    let cd = case_dict("CFD/system/controlDict");
+    let (end, write) = (cd.f64("endTime").unwrap(), cd.f64("writeInterval").unwrap());
+    for t in &times {
+        assert!(
+            *t <= end + 1e-12 && ((t / write).round() * write - t).abs() < 1e-9,
+            "{t}"
+        );
+    }
+    // the slices inside the bed (centres below height − d) hold every front at every time:
+    // Schumann's own cell averages there pass
+    let n = ((bed.height - d) / 3e-3) as usize;
+    let snaps: Vec<Snapshot> = times
+        .iter()
+        .map(|&t| {
+            let mut s = sampled(&sb, t, &|x| x);
+            for p in [&mut s.gas, &mut s.solid] {
+                p.z.truncate(n);
+                p.temperature.truncate(n);
+            }
+            s
+        })
+        .collect();
+    let r = check(&sb, &spec, &snaps).unwrap();
+    assert!(r.pass(), "{r:?}");
+    let last = r.fronts.last().unwrap();
+    assert!(
+        last.reference_position > 0.075 && last.reference_position < 0.08,
+        "{last:?}"
+    );
+}
+
+#[test]
+fn the_case_init_deck_packs_on_the_native_dem() {
+    let deck = testkit::repo_root().join("openfoam-cases/packed-bed-heating/DEM/in.liggghts_init");
+    let vars: Vec<(String, String)> = [("np", "100"), ("tsettle", "300")]
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    let init = liggghts_deck::Deck::read_with_vars(deck, &vars).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let sim = dem::Simulation::from_deck(&init, dir.path()).unwrap();
+    assert_eq!(sim.particles.len(), 100);
+    for x in &sim.particles.x {
+        assert!(x[0] > 0.0 && x[0] < 0.024 && x[1] > 0.0 && x[1] < 0.024 && x[2] > 0.0);
+    }
+    assert!(dir.path().join("post/packed.data").is_file());
+}
