@@ -23,9 +23,10 @@
 //! axial size — one cell is what the gas profile resolves, and a fraction of the distance
 //! travelled covers the bed's measured voidage (the front speed goes as 1/(1 − ε): δε = 0.01 moves
 //! it by ≈ 1.7 %); a width passes within max(`width_cells` · Δz, `width_fraction` · reference
-//! width): the case's gas conduction (+≈ 5 % in width), the limited-linear convection scheme
-//! (+≤ 5 % while the front is young, measured on the case's 1-D model) and explicit coupling
-//! steps (−≈ 2 %) stay inside 20 %, while a first-order upwind T equation (+40 %) does not.
+//! width): on the case's grid the 1-D model with its gas conduction, limited-linear T
+//! convection and explicit coupling steps widens the front by +7 … +10 % (the case README's
+//! table), which leaves ≈ 10 % for the bed's randomness inside 20 %, while a first-order upwind
+//! T equation (+45 %) fails.
 
 use crate::schumann::SchumannBed;
 use crate::validation::Check;
