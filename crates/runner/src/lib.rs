@@ -13,6 +13,7 @@ pub mod fluidised;
 #[cfg(feature = "mpi")]
 pub mod foam_fluid;
 pub mod heat_plot;
+pub mod heating;
 pub mod layout;
 mod monitors;
 pub mod native;
@@ -29,6 +30,7 @@ pub mod report;
 pub mod run;
 mod run_loop;
 pub mod sample;
+pub mod schumann;
 pub mod smoothing;
 mod stage1;
 pub mod surface_values;
