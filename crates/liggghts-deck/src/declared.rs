@@ -123,6 +123,11 @@ pub struct Materials {
     pub density: Option<f64>,
     /// `particletemplate/sphere … radius constant`, or half of `set … diameter`, m.
     pub radius: Option<f64>,
+    /// `thermalCapacity peratomtype` (first type), J/(kg K): the particles' c_p of `fix
+    /// heat/gran` (checks of heat-transfer cases).
+    pub thermal_capacity: Option<f64>,
+    /// `thermalConductivity peratomtype` (first type), W/(m K).
+    pub thermal_conductivity: Option<f64>,
 }
 
 impl Materials {
@@ -135,6 +140,8 @@ impl Materials {
             restitution: self.restitution.or(other.restitution),
             density: self.density.or(other.density),
             radius: self.radius.or(other.radius),
+            thermal_capacity: self.thermal_capacity.or(other.thermal_capacity),
+            thermal_conductivity: self.thermal_conductivity.or(other.thermal_conductivity),
         }
     }
 }
@@ -273,6 +280,12 @@ impl Deck {
                     }
                     if let Some(v) = after("coefficientRestitution", 2) {
                         s.restitution = Some(v);
+                    }
+                    if let Some(v) = after("thermalCapacity", 1) {
+                        s.thermal_capacity = Some(v);
+                    }
+                    if let Some(v) = after("thermalConductivity", 1) {
+                        s.thermal_conductivity = Some(v);
                     }
                     if w.get(3).map(String::as_str) == Some("particletemplate/sphere") {
                         if let Some(v) = after("density", 1) {

@@ -30,12 +30,14 @@ use couple::CouplerSettings;
 
 use std::path::Path;
 
-/// The checks `spec` asks for, from `samples` (one per coupling step of length `dt_c`);
+/// The checks `spec` asks for, from `samples` (one per coupling step of length `dt_c`) and a
+/// heating case's `profiles`;
 /// plots go into `post`, what the log should say besides the checks into `notes`.
 pub fn evaluate(
     spec: &ValidationSpec,
     settings: &CouplerSettings,
     samples: &[Sample],
+    profiles: &crate::heating_run::Profiles,
     post: &Path,
     dt_c: f64,
     notes: &mut Vec<String>,
@@ -82,6 +84,9 @@ pub fn evaluate(
         ),
         ValidationSpec::PneumaticConveying(spec) => {
             crate::conveyor::checks(spec, samples, post, notes)
+        }
+        ValidationSpec::PackedBedHeating(case) => {
+            crate::heating_run::checks(case, settings, profiles, samples, post, notes)
         }
     }
 }

@@ -76,6 +76,10 @@ pub enum RunError {
     /// A backend that is not available or failed to start.
     #[error("{0}")]
     Backend(String),
+    /// A validation check that cannot be evaluated (a measurement or parameter it needs is
+    /// missing); the message names it.
+    #[error("check: {0}")]
+    Check(String),
 }
 
 pub(crate) fn setup_err(file: &Path, message: String) -> RunError {

@@ -78,6 +78,9 @@ pub enum ValidationSpec {
     /// mean outlet air velocity against the seed's incompressible and compressible results, the
     /// particles' axial velocity in the tube against the experiment, the chamber emptied.
     PneumaticConveying(crate::conveyor::ConveyorSpec),
+    /// `type packedBedHeating;`: hot gas through a cold fixed bed, the gas and solid
+    /// temperature fronts against Schumann's solution ([`crate::heating_run`]).
+    PackedBedHeating(crate::heating_run::HeatingCase),
 }
 
 fn entry_err(path: &Path, e: impl std::fmt::Display) -> LayoutError {
@@ -154,11 +157,14 @@ impl ValidationSpec {
                     emptied_tolerance: tolerance(&d, path, "emptiedTolerance")?,
                 },
             )),
+            "packedBedHeating" => Ok(ValidationSpec::PackedBedHeating(
+                crate::heating_run::read_case(&d).map_err(|e| entry_err(path, e))?,
+            )),
             other => Err(entry_err(
                 path,
                 format!(
                     "unknown validation type '{other}' (known: ergunPackedBed, settlingSphere, \
-                     fluidisedBed, pneumaticConveying)"
+                     fluidisedBed, pneumaticConveying, packedBedHeating)"
                 ),
             )),
         }

@@ -14,6 +14,7 @@ pub mod fluidised;
 pub mod foam_fluid;
 pub mod heat_plot;
 pub mod heating;
+pub mod heating_run;
 pub mod layout;
 mod monitors;
 pub mod native;

@@ -50,6 +50,8 @@ pub(crate) struct Observer {
     pub(crate) conveyor: Option<crate::conveyor::ConveyorSpec>,
     /// The outlet patch's cells and face areas (m²), for the outlet gas temperature.
     pub(crate) outlet_cells: Vec<(usize, f64)>,
+    /// A packed-bed heating case: the bins of its temperature profiles.
+    pub(crate) heating: Option<crate::heating_run::Profiler>,
 }
 
 impl Observer {
@@ -219,6 +221,8 @@ pub(crate) struct Open {
     pub(crate) sample: Sample,
     /// The step writes a time (write interval, last step or stop).
     pub(crate) write_now: bool,
+    /// At a heating case's sample time: the solid temperature profile (over all ranks).
+    pub(crate) solid: Option<crate::heating::Profile>,
 }
 
 /// What the run writes as its steps close: samples, monitors, time directories, particles.
@@ -250,6 +254,8 @@ pub(crate) struct Outputs<'a> {
     pub(crate) steps: u64,
     pub(crate) rank: usize,
     pub(crate) n_ranks: usize,
+    /// A heating case's profiles at its sample times (rank 0).
+    pub(crate) profiles: crate::heating_run::Profiles,
 }
 
 impl Outputs<'_> {
@@ -269,6 +275,7 @@ impl Outputs<'_> {
             mut step,
             mut sample,
             write_now,
+            solid,
         } = o;
         if let Some(h) = fluid.inner.held_exchange() {
             // the cells' owners formed the whole fields (rank 0 holds only its own particles')
@@ -279,6 +286,17 @@ impl Outputs<'_> {
         }
         self.observer.observe_fluid(&mut sample, &fluid.inner);
         let time = sample.time;
+        if let (Some(solid), Some(bins), Some(t)) = (
+            solid,
+            &self.observer.heating,
+            fluid.inner.state().temperature,
+        ) {
+            self.profiles.snapshots.push(crate::heating::Snapshot {
+                time,
+                gas: bins.gas(t),
+                solid,
+            });
+        }
         self.samples.push(sample);
         let rank = self.rank;
         if !self.monitors.is_empty() && rank == 0 {
@@ -418,16 +436,20 @@ pub(crate) fn write_time<F: RunFluid>(
     let file = pdir.join(piece(pieces.rank));
     let ids: Vec<i64> = ps.ids.iter().map(|&i| i as i64).collect();
     let fluid_force: Vec<V3> = step.forces.particles.iter().map(|c| c.total).collect();
-    vtk::write_vtp(
-        &file,
-        as_arrays(ps.position),
-        &[
-            vtk::DataArray::int64("id", &ids),
-            vtk::DataArray::scalar("radius", ps.radius),
-            vtk::DataArray::vector("velocity", as_arrays(ps.velocity)),
-            vtk::DataArray::vector("fluidForce", as_arrays(&fluid_force)),
-        ],
-    )?;
+    let mut arrays = vec![
+        vtk::DataArray::int64("id", &ids),
+        vtk::DataArray::scalar("radius", ps.radius),
+        vtk::DataArray::vector("velocity", as_arrays(ps.velocity)),
+        vtk::DataArray::vector("fluidForce", as_arrays(&fluid_force)),
+    ];
+    // with heat: LIGGGHTS's per-particle names, temperature (K) and convective flux (W)
+    if let Some(t) = ps.temperature {
+        arrays.push(vtk::DataArray::scalar("Temp", t));
+    }
+    if let Some(h) = &step.heat {
+        arrays.push(vtk::DataArray::scalar("convectiveHeatFlux", &h.q));
+    }
+    vtk::write_vtp(&file, as_arrays(ps.position), &arrays)?;
     if pieces.rank == 0 {
         for r in 0..pieces.ranks {
             vtp.push((fluid.time(), PathBuf::from(piece(r))));

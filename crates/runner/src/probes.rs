@@ -300,6 +300,19 @@ pub(crate) fn word_list(d: &Dict, key: &str) -> Result<Vec<String>, String> {
         .collect()
 }
 
+/// The numbers of `key ( … );` (with or without a length before the list).
+pub(crate) fn number_list(d: &Dict, key: &str) -> Result<Vec<f64>, String> {
+    if let [Item::Scalars(v)] | [Item::Label(_), Item::Scalars(v)] =
+        d.stream(key).map_err(|e| e.to_string())?
+    {
+        return Ok(v.clone());
+    }
+    list(d, key)?
+        .iter()
+        .map(|i| i.as_f64().ok_or_else(|| format!("`{i:?}` is not a number")))
+        .collect()
+}
+
 /// The items of `key ( … );` (with or without a length before the list).
 fn list(d: &Dict, key: &str) -> Result<Vec<Item>, String> {
     match d.stream(key).map_err(|e| e.to_string())? {

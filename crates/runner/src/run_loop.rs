@@ -120,11 +120,13 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         monitors,
         samples,
         output_seconds,
+        profiles,
         ..
     } = out;
     let end = End {
         monitors,
         samples,
+        profiles,
         output_seconds,
         t_loop,
         stopped,
@@ -159,6 +161,7 @@ struct Stage2<'a, P: ParticleSide, F: RunFluid> {
 struct End {
     monitors: RunMonitors,
     samples: Vec<crate::sample::Sample>,
+    profiles: crate::heating_run::Profiles,
     output_seconds: f64,
     t_loop: Instant,
     stopped: bool,
@@ -281,6 +284,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         let spec = &self.plan.layout.validation;
         let axis = match spec {
             Some(ValidationSpec::ErgunPackedBed { axis, .. }) => *axis,
+            Some(ValidationSpec::PackedBedHeating(c)) => c.axis,
             _ => unit(-physics.gravity).unwrap_or(V3::z()),
         };
         let volume: f64 = self
@@ -296,6 +300,9 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 | ValidationSpec::FluidisedBed { inlet, outlet, .. },
             ) => (Some(inlet.clone()), Some(outlet.clone())),
             Some(ValidationSpec::PneumaticConveying(c)) => {
+                (Some(c.inlet.clone()), Some(c.outlet.clone()))
+            }
+            Some(ValidationSpec::PackedBedHeating(c)) => {
                 (Some(c.inlet.clone()), Some(c.outlet.clone()))
             }
             _ => {
@@ -323,9 +330,21 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                     .collect()
             })
             .unwrap_or_default();
+        let column = Column::of(self.mesh, volume, axis);
+        let heating = match spec {
+            Some(ValidationSpec::PackedBedHeating(c)) => Some(crate::heating_run::Profiler::new(
+                c,
+                self.coupler.voidage_mesh().geometry(),
+                self.mesh,
+                column.floor,
+                self.schedule.dt_c,
+            )),
+            _ => None,
+        };
         Observer {
             outlet_cells,
-            column: Column::of(self.mesh, volume, axis),
+            heating,
+            column,
             rho: physics.rho,
             g: physics.gravity.dot(&physics.gravity).sqrt(),
             inlet,
@@ -402,6 +421,14 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             steps: s.steps,
             rank: self.rank,
             n_ranks: self.n_ranks,
+            profiles: crate::heating_run::Profiles {
+                snapshots: Vec::new(),
+                cell_size: observer
+                    .heating
+                    .as_ref()
+                    .map_or(f64::NAN, |p| p.cell_size()),
+                particle_capacity: plan.run_deck.materials().thermal_capacity,
+            },
         })
     }
 
@@ -465,6 +492,12 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             fluid.start_advance(dt).map_err(RunError::Fluid)?;
             held_max = held_max.max(dem.state().len());
             let sample = observer.sample(&*dem, &step, coupler.ranks(), evacuation.as_mut());
+            // a heating case's solid profile at its sample times (collective on N ranks)
+            let solid = observer
+                .heating
+                .as_ref()
+                .filter(|p| p.due(dem.time()))
+                .and_then(|p| p.solid(&dem.state(), coupler.ranks()));
             // every rank stops at the same step (a signal reaches the ranks at different steps)
             let stop_now = {
                 let mut s = [f64::from(u8::from(self.stop.load(Ordering::SeqCst)))];
@@ -477,6 +510,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 step,
                 sample,
                 write_now,
+                solid,
             };
             // writes and liggghtsCommands need the particles of step k and the fluid's clock
             let at_once = !self.overlap
@@ -511,6 +545,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         let End {
             monitors,
             samples,
+            profiles,
             output_seconds,
             t_loop,
             stopped,
@@ -561,7 +596,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }
         }
         let checks = match !stopped && rank == 0 {
-            true => self.checks(&samples, events)?,
+            true => self.checks(&samples, &profiles, events)?,
             false => Vec::new(),
         };
         Ok(RunReport {
@@ -615,6 +650,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
     fn checks(
         &self,
         samples: &[crate::sample::Sample],
+        profiles: &crate::heating_run::Profiles,
         events: &mut dyn FnMut(Event),
     ) -> Result<Vec<crate::validation::Check>, RunError> {
         let post: PathBuf = self.plan.layout.post_processing();
@@ -632,6 +668,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             spec,
             &self.plan.settings,
             samples,
+            profiles,
             &post,
             self.schedule.dt_c,
             &mut notes,
