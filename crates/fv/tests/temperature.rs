@@ -111,33 +111,35 @@ fn spec(nu: f64, delta_t: f64, end_time: f64) -> CaseSpec<'static> {
 
 const EMPTY: &str = "type empty;";
 
+/// A patch: name, polyMesh type, and its U, p and T entries.
+fn hp<'a>(name: &'a str, patch_type: &'a str, [u, p, t]: [&'a str; 3]) -> HeatPatch<'a> {
+    HeatPatch {
+        name,
+        patch_type,
+        u,
+        p,
+        t,
+    }
+}
+
+/// An `empty` patch.
+fn empty(name: &str) -> HeatPatch<'_> {
+    HeatPatch {
+        name,
+        patch_type: "empty",
+        u: EMPTY,
+        p: EMPTY,
+        t: EMPTY,
+    }
+}
+
 /// Patches of a 1-D channel along x: the ends with the given entries, y and z empty.
 fn channel_patches<'a>(inlet: [&'a str; 3], outlet: [&'a str; 3]) -> Vec<HeatPatch<'a>> {
     let mut v = vec![
-        HeatPatch {
-            name: "xMin",
-            patch_type: "patch",
-            u: inlet[0],
-            p: inlet[1],
-            t: inlet[2],
-        },
-        HeatPatch {
-            name: "xMax",
-            patch_type: "patch",
-            u: outlet[0],
-            p: outlet[1],
-            t: outlet[2],
-        },
+        hp("xMin", "patch", [inlet[0], inlet[1], inlet[2]]),
+        hp("xMax", "patch", [outlet[0], outlet[1], outlet[2]]),
     ];
-    for name in ["yMin", "yMax", "zMin", "zMax"] {
-        v.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    v.extend(["yMin", "yMax", "zMin", "zMax"].map(empty));
     v
 }
 
@@ -305,26 +307,18 @@ fn diffusion_from_a_step_matches_erfc() {
 /// A closed 2-D box (no-slip walls, U = 0), T zeroGradient everywhere, T0 = 300 K.
 fn closed_box(dir: &Path) -> fv::Fluid {
     let m = mesh::build::uniform_box([0.0; 3], [1.0, 1.0, 0.1], [4, 4, 1]);
-    let wall = |name| HeatPatch {
-        name,
-        patch_type: "wall",
-        u: "type noSlip;",
-        p: "type zeroGradient;",
-        t: "type zeroGradient;",
+    let wall = |name| {
+        hp(
+            name,
+            "wall",
+            ["type noSlip;", "type zeroGradient;", "type zeroGradient;"],
+        )
     };
     let mut patches: Vec<HeatPatch<'_>> = ["xMin", "xMax", "yMin", "yMax"]
         .into_iter()
         .map(wall)
         .collect();
-    for name in ["zMin", "zMax"] {
-        patches.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    patches.extend(["zMin", "zMax"].map(empty));
     let heat = HeatSpec {
         div_t: "Gauss limitedLinear 1",
         pr: 0.7,
@@ -410,39 +404,33 @@ fn uniform_t_stays_uniform_through_a_varying_voidage() {
     let m = mesh::build::uniform_box([0.0; 3], [1.0, 1.0, 0.1], [8, 8, 1]);
     let inlet_t = format!("type fixedValue; value uniform {t0};");
     let mut patches = vec![
-        HeatPatch {
-            name: "xMin",
-            patch_type: "patch",
-            u: "type fixedValue; value uniform (1 0 0);",
-            p: "type zeroGradient;",
-            t: &inlet_t,
-        },
-        HeatPatch {
-            name: "xMax",
-            patch_type: "patch",
-            u: "type zeroGradient;",
-            p: "type fixedValue; value uniform 0;",
-            t: "type inletOutlet; inletValue uniform 200; value uniform 350;",
-        },
+        hp(
+            "xMin",
+            "patch",
+            [
+                "type fixedValue; value uniform (1 0 0);",
+                "type zeroGradient;",
+                &inlet_t,
+            ],
+        ),
+        hp(
+            "xMax",
+            "patch",
+            [
+                "type zeroGradient;",
+                "type fixedValue; value uniform 0;",
+                "type inletOutlet; inletValue uniform 200; value uniform 350;",
+            ],
+        ),
     ];
     for name in ["yMin", "yMax"] {
-        patches.push(HeatPatch {
+        patches.push(hp(
             name,
-            patch_type: "wall",
-            u: "type slip;",
-            p: "type zeroGradient;",
-            t: "type zeroGradient;",
-        });
+            "wall",
+            ["type slip;", "type zeroGradient;", "type zeroGradient;"],
+        ));
     }
-    for name in ["zMin", "zMax"] {
-        patches.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    patches.extend(["zMin", "zMax"].map(empty));
     let heat = HeatSpec {
         div_t: "Gauss limitedLinear 1",
         pr: 0.7,
@@ -578,55 +566,49 @@ fn refusal(edit: impl FnOnce(&Path)) -> String {
 fn bad_heat_input_is_refused_naming_file_and_key() {
     let e = refusal(|d| std::fs::remove_file(d.join("0/T")).unwrap());
     assert!(e.contains("0/T") && e.contains("missing"), "{e}");
-    let e = refusal(|d| replace(d, "constant/transportProperties", "Prt 0.85;", ""));
-    assert!(
-        e.contains("transportProperties") && e.contains("Prt"),
-        "{e}"
-    );
-    let e = refusal(|d| {
-        replace(
-            d,
+    // (file, text, replacement, what the error names)
+    let edits = [
+        (
+            "constant/transportProperties",
+            "Prt 0.85;",
+            "",
+            ["transportProperties", "Prt"],
+        ),
+        (
             "constant/transportProperties",
             "Pr [0 0 0 0 0 0 0] 0.7",
             "Pr -1",
-        )
-    });
-    assert!(e.contains("transportProperties") && e.contains("Pr"), "{e}");
-    let e = refusal(|d| replace(d, "system/fvSolution", "\"(T|C)\"", "\"(C|D)\""));
-    assert!(e.contains("fvSolution") && e.contains("solvers.T"), "{e}");
-    let e = refusal(|d| {
-        replace(
-            d,
+            ["transportProperties", "Pr"],
+        ),
+        (
+            "system/fvSolution",
+            "\"(T|C)\"",
+            "\"(C|D)\"",
+            ["fvSolution", "solvers.T"],
+        ),
+        (
             "system/fvSchemes",
             "div(phi,T) Gauss limitedLinear 1",
             "div(phi,T) Gauss linearUpwind grad(T)",
-        )
-    });
-    assert!(e.contains("fvSchemes") && e.contains("div(phi,T)"), "{e}");
-    let e = refusal(|d| {
-        let s = std::fs::read_to_string(d.join("system/fvSolution")).unwrap();
-        put(
-            d,
+            ["fvSchemes", "div(phi,T)"],
+        ),
+        (
             "system/fvSolution",
-            &format!("{s}relaxationFactors {{ equations {{ \".*\" 1; }} }}\n"),
-        );
-    });
-    assert!(
-        e.contains("fvSolution") && e.contains("relaxationFactors"),
-        "{e}"
-    );
-    let e = refusal(|d| {
-        replace(
-            d,
+            "PISO {",
+            "relaxationFactors { equations { \".*\" 1; } }\nPISO {",
+            ["fvSolution", "relaxationFactors.equations"],
+        ),
+        (
             "0/T",
             "xMin { type zeroGradient; }",
             "xMin { type codedFixedValue; }",
-        )
-    });
-    assert!(
-        e.contains("0/T") && e.contains("boundaryField.xMin.type"),
-        "{e}"
-    );
+            ["0/T", "boundaryField.xMin.type"],
+        ),
+    ];
+    for (rel, from, to, names) in edits {
+        let e = refusal(|d| replace(d, rel, from, to));
+        assert!(names.iter().all(|n| e.contains(n)), "{e}");
+    }
     let alphat = |xmin_t: &str, xmin_alphat: &str| {
         let (xmin_t, xmin_alphat) = (xmin_t.to_string(), xmin_alphat.to_string());
         move |d: &Path| {
@@ -688,44 +670,40 @@ fn temperature_matches_scalar_transport_foam() {
     let ys = mesh::build::graded_planes(0.0, 1.0, 10, 4.0);
     let m = mesh::build::hex_grid(&xs, &ys, &[0.0, 0.1]);
     let mut patches = vec![
-        HeatPatch {
-            name: "xMin",
-            patch_type: "patch",
-            u: "type fixedValue; value uniform (1 0 0);",
-            p: "type zeroGradient;",
-            t: "type fixedValue; value uniform 300;",
-        },
-        HeatPatch {
-            name: "xMax",
-            patch_type: "patch",
-            u: "type zeroGradient;",
-            p: "type fixedValue; value uniform 0;",
-            t: "type zeroGradient;",
-        },
-        HeatPatch {
-            name: "yMin",
-            patch_type: "wall",
-            u: "type noSlip;",
-            p: "type zeroGradient;",
-            t: "type fixedValue; value uniform 400;",
-        },
-        HeatPatch {
-            name: "yMax",
-            patch_type: "wall",
-            u: "type noSlip;",
-            p: "type zeroGradient;",
-            t: "type zeroGradient;",
-        },
+        hp(
+            "xMin",
+            "patch",
+            [
+                "type fixedValue; value uniform (1 0 0);",
+                "type zeroGradient;",
+                "type fixedValue; value uniform 300;",
+            ],
+        ),
+        hp(
+            "xMax",
+            "patch",
+            [
+                "type zeroGradient;",
+                "type fixedValue; value uniform 0;",
+                "type zeroGradient;",
+            ],
+        ),
+        hp(
+            "yMin",
+            "wall",
+            [
+                "type noSlip;",
+                "type zeroGradient;",
+                "type fixedValue; value uniform 400;",
+            ],
+        ),
+        hp(
+            "yMax",
+            "wall",
+            ["type noSlip;", "type zeroGradient;", "type zeroGradient;"],
+        ),
     ];
-    for name in ["zMin", "zMax"] {
-        patches.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    patches.extend(["zMin", "zMax"].map(empty));
     let heat = HeatSpec {
         div_t: "Gauss limitedLinear 1",
         pr,
