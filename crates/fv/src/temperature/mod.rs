@@ -36,8 +36,10 @@
 //! (`Fluid::eps_faces`: linear inside, the `voidfraction` condition's on boundary faces) —
 //! φ°/ε°_f is the native counterpart of CFDEM's `phiByVoidfraction`, since φ° was formed with
 //! the previous step's face voidage, ε°_f. On a run's first step φ° is the start time's `phi`
-//! (or the flux of U), where CFDEM takes (U_f·S) ε_f. ν_t is the k–ε model's of the previous
-//! step. The written `alphat` holds ν_t/Prt of the last solve.
+//! (written by a run with the voidage of its last step, ε°) or, without one, the flux of U
+//! with ε ≡ 1, U_f·S, which the fluid forms before it has a voidage: then φ_T = ε_f U_f·S,
+//! CFDEM's `phi` from its `phiByVoidfraction = U_f·S` at the start. ν_t is the k–ε model's of
+//! the previous step. The written `alphat` holds ν_t/Prt of the last solve.
 //!
 //! Not done: the `backward` and `CrankNicolson` time schemes for T, `fvOptions` and radiation
 //! sources (cfdemSolverPisoScalar's `radiation->ST`, none in its tutorials), and T on steps the
@@ -66,8 +68,11 @@ pub struct Temperature {
     settings: TemperatureSettings,
     t: ScalarField,
     alphat: Option<ScalarField>,
-    /// Tsource (K/s per cell), written with `source_file`'s boundaryField.
+    /// Tsource (K/s per cell).
     source: ScalarField,
+    /// The next step's φ° is the flux of U with ε ≡ 1 (a start without `phi`: the fluid forms
+    /// it before it has a voidage), to be multiplied by ε_f alone, not by ε_f/ε°_f.
+    interstitial_start: bool,
 }
 
 /// What the T equation of a step takes from the fluid's step (see the module documentation).
@@ -96,7 +101,8 @@ pub struct HeatFlow<'a> {
 
 impl Temperature {
     /// Reads `T` (it must exist), `alphat` and `Tsource` (when present) of the time directory
-    /// `dir`, with the conditions of [`bc`]; `phi` the start time's face fluxes (inletOutlet).
+    /// `dir`, with the conditions of [`bc`]; `phi` the start time's face fluxes (inletOutlet):
+    /// the directory's `phi` when it has one, else the flux of U with ε ≡ 1.
     pub fn read(
         dir: &Path,
         mesh: &foam::PolyMesh,
@@ -149,6 +155,7 @@ impl Temperature {
             t,
             alphat,
             source,
+            interstitial_start: !dir.join("phi").is_file(),
         })
     }
 
@@ -184,12 +191,17 @@ impl Temperature {
     /// One step of the T equation (see the module documentation): its solve.
     pub fn solve(&mut self, g: &FvGeometry, flow: &HeatFlow<'_>) -> Result<SolveStats> {
         // CFDEM's phi = voidfractionf*phiByVoidfraction at this point of the step
-        let phi: Vec<f64> = (0..g.n_faces())
-            .map(|f| match flow.ef_old[f] > 0.0 {
-                true => flow.ef[f] * (flow.phi_old[f] / flow.ef_old[f]),
-                false => 0.0,
-            })
-            .collect();
+        let phi: Vec<f64> = match std::mem::take(&mut self.interstitial_start) {
+            true => (0..g.n_faces())
+                .map(|f| flow.ef[f] * flow.phi_old[f])
+                .collect(),
+            false => (0..g.n_faces())
+                .map(|f| match flow.ef_old[f] > 0.0 {
+                    true => flow.ef[f] * (flow.phi_old[f] / flow.ef_old[f]),
+                    false => 0.0,
+                })
+                .collect(),
+        };
         let gamma_f = self.diffusivity(g, flow);
         let t_old = self.t.cells.clone();
         let transport = Transport {
