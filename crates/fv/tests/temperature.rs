@@ -599,6 +599,12 @@ fn bad_heat_input_is_refused_naming_file_and_key() {
             ["fvSolution", "relaxationFactors.equations"],
         ),
         (
+            "system/fvSchemes",
+            "ddtSchemes { default Euler; }",
+            "ddtSchemes { default Euler; ddt(voidfraction,T) CrankNicolson 0.9; }",
+            ["fvSchemes", "ddtSchemes.ddt(voidfraction,T)"],
+        ),
+        (
             "0/T",
             "xMin { type zeroGradient; }",
             "xMin { type codedFixedValue; }",

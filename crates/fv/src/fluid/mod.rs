@@ -724,8 +724,9 @@ impl Fluid {
     }
 
     /// Sets the temperature equation's explicit source Tsource (K/s per cell, finite), held
-    /// over the following steps until set again. An error without heat or with the wrong
-    /// length.
+    /// over the following steps until set again: a heat rate Q (W) into the gas of cell c is
+    /// Tsource = Q/(ρ c_p V_c) with the whole cell's volume (the time term carries ε; CFDEM's
+    /// `LaEuScalarTemp`). An error without heat or with the wrong length.
     pub fn set_heat_source(&mut self, s: &[f64]) -> Result<()> {
         match &mut self.heat {
             Some(h) => h.set_source(&self.g, s),

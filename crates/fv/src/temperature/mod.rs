@@ -41,10 +41,14 @@
 //! CFDEM's `phi` from its `phiByVoidfraction = U_f·S` at the start. ν_t is the k–ε model's of
 //! the previous step. The written `alphat` holds ν_t/Prt of the last solve.
 //!
-//! Not done: the `backward` and `CrankNicolson` time schemes for T, `fvOptions` and radiation
-//! sources (cfdemSolverPisoScalar's `radiation->ST`, none in its tutorials), and T on steps the
-//! fluid holds ([`crate::Fluid::hold`], `solveFlow off`), which cfdemSolverPisoScalar still
-//! solves.
+//! Heat: the source enters as Tsource V (K·m³/s) against the time term ε° V (T − T°)/Δt, so a
+//! heat rate Q (W) into the gas of a cell of volume V is Tsource = Q/(ρ c_p V) with the whole
+//! cell's V — what CFDEM's `LaEuScalarTemp` hands over (−Σ q_p/(ρ c_p V)).
+//!
+//! Not done: the `backward` and `CrankNicolson` time schemes for T (refused), the radiation
+//! source (cfdemSolverPisoScalar's `radiation->ST`; packedBedTemp has no `radiationProperties`,
+//! so none there), and T on steps the fluid holds ([`crate::Fluid::hold`], `solveFlow off`),
+//! which cfdemSolverPisoScalar still solves.
 
 pub mod bc;
 pub mod settings;
