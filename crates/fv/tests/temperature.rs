@@ -122,6 +122,19 @@ fn hp<'a>(name: &'a str, patch_type: &'a str, [u, p, t]: [&'a str; 3]) -> HeatPa
     }
 }
 
+/// The inlet `xMin` of a plug flow at 1 m/s with the T entry `t`.
+fn plug_inlet(t: &str) -> HeatPatch<'_> {
+    hp(
+        "xMin",
+        "patch",
+        [
+            "type fixedValue; value uniform (1 0 0);",
+            "type zeroGradient;",
+            t,
+        ],
+    )
+}
+
 /// An `empty` patch.
 fn empty(name: &str) -> HeatPatch<'_> {
     HeatPatch {
@@ -404,15 +417,7 @@ fn uniform_t_stays_uniform_through_a_varying_voidage() {
     let m = mesh::build::uniform_box([0.0; 3], [1.0, 1.0, 0.1], [8, 8, 1]);
     let inlet_t = format!("type fixedValue; value uniform {t0};");
     let mut patches = vec![
-        hp(
-            "xMin",
-            "patch",
-            [
-                "type fixedValue; value uniform (1 0 0);",
-                "type zeroGradient;",
-                &inlet_t,
-            ],
-        ),
+        plug_inlet(&inlet_t),
         hp(
             "xMax",
             "patch",
@@ -676,15 +681,7 @@ fn temperature_matches_scalar_transport_foam() {
     let ys = mesh::build::graded_planes(0.0, 1.0, 10, 4.0);
     let m = mesh::build::hex_grid(&xs, &ys, &[0.0, 0.1]);
     let mut patches = vec![
-        hp(
-            "xMin",
-            "patch",
-            [
-                "type fixedValue; value uniform (1 0 0);",
-                "type zeroGradient;",
-                "type fixedValue; value uniform 300;",
-            ],
-        ),
+        plug_inlet("type fixedValue; value uniform 300;"),
         hp(
             "xMax",
             "patch",
