@@ -820,6 +820,17 @@ fn temperature_matches_scalar_transport_foam() {
 /// 0.01 s, with the voidage ε uniform and constant from the first step (the start has no
 /// `phi`).
 fn front_with_voidage(eps: f64) -> Vec<f64> {
+    let (_dir, mut fluid) = plug_front();
+    let n = fluid.geometry().n_cells;
+    for _ in 0..30 {
+        fluid.set_voidage(&vec![eps; n], &vec![eps; n]).unwrap();
+        fluid.advance(0.01).unwrap();
+    }
+    fluid.temperature().unwrap().to_vec()
+}
+
+/// The 1-D plug flow of [`front_with_voidage`], opened with heat, with its directory.
+fn plug_front() -> (tempfile::TempDir, fv::Fluid) {
     let dir = tempfile::tempdir().unwrap();
     let m = mesh::build::uniform_box([0.0; 3], [1.0, 0.1, 0.1], [40, 1, 1]);
     let patches = channel_patches(
@@ -843,13 +854,8 @@ fn front_with_voidage(eps: f64) -> Vec<f64> {
         t_internal: "uniform 300".into(),
     };
     write_heat_case(dir.path(), m, &patches, &sp, &heat);
-    let mut fluid = heat_fluid(dir.path()).unwrap();
-    let n = fluid.geometry().n_cells;
-    for _ in 0..30 {
-        fluid.set_voidage(&vec![eps; n], &vec![eps; n]).unwrap();
-        fluid.advance(0.01).unwrap();
-    }
-    fluid.temperature().unwrap().to_vec()
+    let fluid = heat_fluid(dir.path()).unwrap();
+    (dir, fluid)
 }
 
 /// With ε uniform and constant every term of the equation carries the factor ε (φ = ε U_f·S,
@@ -907,4 +913,43 @@ fn a_fixed_gradient_gives_the_linear_conduction_profile() {
     let outlet = &g.patches[g.patch_index("xMax").unwrap()];
     let tb = fluid.temperature_boundary().unwrap()[outlet.boundary_range(g.n_internal)][0];
     assert!((tb - (t0 + grad)).abs() < 1e-9, "{tb}");
+}
+
+/// Steps that hold the flow (`Fluid::hold_step`, CFDEM's `solveFlow off`) solve T on the held
+/// flux rescaled by the step's voidage: 10 solved steps with ε = 1, then 20 held steps with
+/// ε = ε° = 0.5 give the T of 20 held steps at ε = 1 (ε scales out of every term: the time
+/// term ε°(T − T°)/Δt, the flux ε_f φ/1, the diffusivity α ε; 1e-12 relative), and U, p, φ do
+/// not move. With the held flux divided by the step's previous voidage instead
+/// of the one it was formed with, the front would run twice as fast.
+#[test]
+fn held_steps_solve_the_temperature_on_the_held_flux() {
+    let run = |eps: f64| {
+        let (_dir, mut fluid) = plug_front();
+        let n = fluid.geometry().n_cells;
+        for _ in 0..10 {
+            fluid.set_voidage(&vec![1.0; n], &vec![1.0; n]).unwrap();
+            fluid.advance(0.01).unwrap();
+        }
+        let (u, phi) = (fluid.u().to_vec(), fluid.phi().to_vec());
+        for _ in 0..20 {
+            fluid.set_voidage(&vec![eps; n], &vec![eps; n]).unwrap();
+            assert!(fluid.hold_step(0.01).unwrap().is_some());
+        }
+        assert_eq!(fluid.u(), &u[..]);
+        assert_eq!(fluid.phi(), &phi[..]);
+        assert!((fluid.time() - 0.3).abs() < 1e-12);
+        fluid.temperature().unwrap().to_vec()
+    };
+    let (clear, porous) = (run(1.0), run(0.5));
+    assert!(
+        clear.iter().filter(|t| **t > 350.0).count() > 10,
+        "the front moves on"
+    );
+    let diff = clear
+        .iter()
+        .zip(&porous)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    eprintln!("held steps, ε = 0.5 vs ε = 1: max |ΔT| {diff:.3e} K");
+    assert!(diff < 1e-12 * 400.0, "{diff}");
 }

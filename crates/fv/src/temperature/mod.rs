@@ -32,13 +32,16 @@
 //! φ_T = ε_f (φ° / ε°_f)
 //! ```
 //!
-//! with φ° the previous step's final flux and ε_f, ε°_f the face voidages of ε and ε°
-//! (`Fluid::eps_faces`: linear inside, the `voidfraction` condition's on boundary faces) —
-//! φ°/ε°_f is the native counterpart of CFDEM's `phiByVoidfraction`, since φ° was formed with
-//! the previous step's face voidage, ε°_f. On a run's first step φ° is the start time's `phi`
-//! (written by a run with the voidage of its last step, ε°) or, without one, the flux of U
-//! with ε ≡ 1, U_f·S, which the fluid forms before it has a voidage: then φ_T = ε_f U_f·S,
-//! CFDEM's `phi` from its `phiByVoidfraction = U_f·S` at the start. ν_t is the k–ε model's of
+//! with φ° the fluid's current flux (the last solved step's) and ε_f, ε°_f the face voidages
+//! of the step and of the step that formed φ° (`Fluid::eps_faces`: linear inside, the
+//! `voidfraction` condition's on boundary faces) — φ°/ε°_f is the native counterpart of
+//! CFDEM's `phiByVoidfraction`. After a solved step ε°_f is that step's face voidage (which
+//! the coupler's `previous` repeats); on steps that hold the flow
+//! ([`crate::Fluid::hold_step`]) it stays the last solved step's while ε moves on, as CFDEM's
+//! `phiByVoidfraction` does under `solveFlow off`. On a run's first step φ° is the start
+//! time's `phi` (written by a run with the voidage of its last step, ε°) or, without one, the
+//! flux of U with ε ≡ 1, U_f·S, which the fluid forms before it has a voidage: then
+//! φ_T = ε_f U_f·S, CFDEM's `phi` from its `phiByVoidfraction = U_f·S` at the start. ν_t is the k–ε model's of
 //! the previous step. The written `alphat` holds ν_t/Prt of the last solve.
 //!
 //! Heat: the source enters as Tsource V (K·m³/s) against the time term ε° V (T − T°)/Δt, so a
@@ -74,9 +77,21 @@ pub struct Temperature {
     alphat: Option<ScalarField>,
     /// Tsource (K/s per cell).
     source: ScalarField,
-    /// The next step's φ° is the flux of U with ε ≡ 1 (a start without `phi`: the fluid forms
-    /// it before it has a voidage), to be multiplied by ε_f alone, not by ε_f/ε°_f.
-    interstitial_start: bool,
+    /// The face voidage the fluid's flux φ° was formed with.
+    flux_voidage: FluxVoidage,
+}
+
+/// The face voidage the fluid's current flux was formed with (the divisor that turns it into
+/// CFDEM's `phiByVoidfraction`).
+#[derive(Clone, Debug)]
+enum FluxVoidage {
+    /// ε ≡ 1: the flux of U of a start without `phi`, formed before the fluid has a voidage.
+    Unit,
+    /// The previous step's, ε°_f: a start from a `phi` file (written with the voidage of the
+    /// run's last step).
+    Previous,
+    /// These face values: the last step that solved the flow ([`Temperature::flux_formed_with`]).
+    Faces(Vec<f64>),
 }
 
 /// What the T equation of a step takes from the fluid's step (see the module documentation).
@@ -85,7 +100,7 @@ pub struct HeatFlow<'a> {
     pub phi_old: &'a [f64],
     /// ε at faces of the step (`current`).
     pub ef: &'a [f64],
-    /// ε at faces of the previous step, the one φ° was formed with.
+    /// ε at faces of the previous step (the one φ° was formed with on a restart's first step).
     pub ef_old: &'a [f64],
     /// ε per cell of the step.
     pub eps: &'a [f64],
@@ -159,7 +174,10 @@ impl Temperature {
             t,
             alphat,
             source,
-            interstitial_start: !dir.join("phi").is_file(),
+            flux_voidage: match dir.join("phi").is_file() {
+                true => FluxVoidage::Previous,
+                false => FluxVoidage::Unit,
+            },
         })
     }
 
@@ -195,13 +213,18 @@ impl Temperature {
     /// One step of the T equation (see the module documentation): its solve.
     pub fn solve(&mut self, g: &FvGeometry, flow: &HeatFlow<'_>) -> Result<SolveStats> {
         // CFDEM's phi = voidfractionf*phiByVoidfraction at this point of the step
-        let phi: Vec<f64> = match std::mem::take(&mut self.interstitial_start) {
-            true => (0..g.n_faces())
+        let divisor = match &self.flux_voidage {
+            FluxVoidage::Unit => None,
+            FluxVoidage::Previous => Some(flow.ef_old),
+            FluxVoidage::Faces(v) => Some(&v[..]),
+        };
+        let phi: Vec<f64> = match divisor {
+            None => (0..g.n_faces())
                 .map(|f| flow.ef[f] * flow.phi_old[f])
                 .collect(),
-            false => (0..g.n_faces())
-                .map(|f| match flow.ef_old[f] > 0.0 {
-                    true => flow.ef[f] * (flow.phi_old[f] / flow.ef_old[f]),
+            Some(d) => (0..g.n_faces())
+                .map(|f| match d[f] > 0.0 {
+                    true => flow.ef[f] * (flow.phi_old[f] / d[f]),
                     false => 0.0,
                 })
                 .collect(),
@@ -242,6 +265,12 @@ impl Temperature {
         }
         self.t.evaluate(g, &phi);
         Ok(stats)
+    }
+
+    /// Records the face voidage `ef` the fluid formed its new flux with (after a step that
+    /// solved the flow): the next T steps divide the flux by it, held steps too.
+    pub fn flux_formed_with(&mut self, ef: Vec<f64>) {
+        self.flux_voidage = FluxVoidage::Faces(ef);
     }
 
     /// The face diffusivity α_eff ε (m²/s) of the step, interpolated linearly from the cells'
