@@ -24,6 +24,9 @@
 //! they do not change the PISO solution (U's equation factor 1, any field factor).
 //! `fvOptions` (`constant/`, else `system/`): the mean-velocity sources of
 //! [`crate::fv_options`]; any other active source is refused.
+//! With heat ([`Settings::enable_temperature`], called by the caller) also the temperature
+//! equation's entries and `Pr`/`Prt` ([`crate::temperature::settings`]); without it none of
+//! them is read.
 
 use crate::error::{FvError, Result};
 use crate::linsolve::{Method, Preconditioner, Smoother, SmootherKind, SolverControls};
