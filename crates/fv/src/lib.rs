@@ -38,6 +38,9 @@
 //! Hagen–Poiseuille profiles, Ergun's pressure drop through a porous block and the time order
 //! of Euler and Crank–Nicolson against closed forms; OpenFOAM's `CrankNicolson 0.9` on the
 //! skewed cavity and the k–ε channel to round-off (`tests/schemes.rs`, `tests/k_epsilon.rs`).
+//! The temperature equation agrees with scalarTransportFoam on a developing channel flow to
+//! 6e-12 K, and with the closed forms of advection–diffusion, erfc diffusion and a heated box
+//! (`tests/temperature.rs`).
 //! Speed: `cargo bench -p fv`, `examples/bench_vs_pisofoam.rs` against pisoFoam (PCG or
 //! GAMG), `examples/amg_vs_dic.rs` for the pressure solvers alone. `examples/check_settings.rs`
 //! tells what the solver makes of a case's settings.

@@ -24,6 +24,9 @@
 //! they do not change the PISO solution (U's equation factor 1, any field factor).
 //! `fvOptions` (`constant/`, else `system/`): the mean-velocity sources of
 //! [`crate::fv_options`]; any other active source is refused.
+//! With heat ([`Settings::enable_temperature`], called by the caller) also the temperature
+//! equation's entries and `Pr`/`Prt` ([`crate::temperature::settings`]); without it none of
+//! them is read.
 
 use crate::error::{FvError, Result};
 use crate::linsolve::{Method, Preconditioner, Smoother, SmootherKind, SolverControls};
@@ -314,25 +317,8 @@ pub(crate) fn convection_of(sch: &Dict, file: &Path, entry: &str) -> Result<(Con
 /// `fields` entry: the PISO solvers do not call `p.relax()`) and of other equations (k,
 /// epsilon, …) change nothing and are accepted.
 fn momentum_relaxation(sol: &Dict, file: &Path) -> Result<()> {
-    let Some(rf) = sol.opt_dict("relaxationFactors") else {
+    let Some((factor, dotted)) = equation_relaxation(sol, "U") else {
         return Ok(());
-    };
-    let (eq, prefix) = match rf.opt_dict("equations") {
-        Some(eq) => (eq, "relaxationFactors.equations"),
-        None if rf.opt_dict("fields").is_none() => (rf, "relaxationFactors"),
-        None => return Ok(()),
-    };
-    let (value, key) = match eq.lookup_path("U") {
-        Some(v) => (v, "U"),
-        None => match eq.get("default") {
-            Some(v) => (v, "default"),
-            None => return Ok(()),
-        },
-    };
-    let dotted = format!("{prefix}.{key}");
-    let factor = match value {
-        foam::Value::Stream(s) => s.iter().rev().find_map(Item::as_f64),
-        foam::Value::Dict(_) => None,
     };
     match factor {
         Some(1.0) => Ok(()),
@@ -346,6 +332,28 @@ fn momentum_relaxation(sol: &Dict, file: &Path) -> Result<()> {
         )),
         None => Err(err(file, &dotted, "expected a number")),
     }
+}
+
+/// The `relaxationFactors` equation factor that applies to the equation of `field` as OpenFOAM
+/// v1912's `solution::relaxEquation` finds it (`equations` `field`, an exact key else a
+/// pattern, else `default`; the flat form of older versions counts too), with its dotted key;
+/// the factor `None` when the entry is not a number. `None` when no factor applies.
+pub(crate) fn equation_relaxation(sol: &Dict, field: &str) -> Option<(Option<f64>, String)> {
+    let rf = sol.opt_dict("relaxationFactors")?;
+    let (eq, prefix) = match rf.opt_dict("equations") {
+        Some(eq) => (eq, "relaxationFactors.equations"),
+        None if rf.opt_dict("fields").is_none() => (rf, "relaxationFactors"),
+        None => return None,
+    };
+    let (value, key) = match eq.lookup_path(field) {
+        Some(v) => (v, field),
+        None => (eq.get("default")?, "default"),
+    };
+    let factor = match value {
+        foam::Value::Stream(s) => s.iter().rev().find_map(Item::as_f64),
+        foam::Value::Dict(_) => None,
+    };
+    Some((factor, format!("{prefix}.{key}")))
 }
 
 /// The smoothers OpenFOAM v1912's GAMG accepts.

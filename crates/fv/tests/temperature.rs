@@ -111,33 +111,48 @@ fn spec(nu: f64, delta_t: f64, end_time: f64) -> CaseSpec<'static> {
 
 const EMPTY: &str = "type empty;";
 
+/// A patch: name, polyMesh type, and its U, p and T entries.
+fn hp<'a>(name: &'a str, patch_type: &'a str, [u, p, t]: [&'a str; 3]) -> HeatPatch<'a> {
+    HeatPatch {
+        name,
+        patch_type,
+        u,
+        p,
+        t,
+    }
+}
+
+/// The inlet `xMin` of a plug flow at 1 m/s with the T entry `t`.
+fn plug_inlet(t: &str) -> HeatPatch<'_> {
+    hp(
+        "xMin",
+        "patch",
+        [
+            "type fixedValue; value uniform (1 0 0);",
+            "type zeroGradient;",
+            t,
+        ],
+    )
+}
+
+/// An `empty` patch.
+fn empty(name: &str) -> HeatPatch<'_> {
+    HeatPatch {
+        name,
+        patch_type: "empty",
+        u: EMPTY,
+        p: EMPTY,
+        t: EMPTY,
+    }
+}
+
 /// Patches of a 1-D channel along x: the ends with the given entries, y and z empty.
 fn channel_patches<'a>(inlet: [&'a str; 3], outlet: [&'a str; 3]) -> Vec<HeatPatch<'a>> {
     let mut v = vec![
-        HeatPatch {
-            name: "xMin",
-            patch_type: "patch",
-            u: inlet[0],
-            p: inlet[1],
-            t: inlet[2],
-        },
-        HeatPatch {
-            name: "xMax",
-            patch_type: "patch",
-            u: outlet[0],
-            p: outlet[1],
-            t: outlet[2],
-        },
+        hp("xMin", "patch", [inlet[0], inlet[1], inlet[2]]),
+        hp("xMax", "patch", [outlet[0], outlet[1], outlet[2]]),
     ];
-    for name in ["yMin", "yMax", "zMin", "zMax"] {
-        v.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    v.extend(["yMin", "yMax", "zMin", "zMax"].map(empty));
     v
 }
 
@@ -305,26 +320,18 @@ fn diffusion_from_a_step_matches_erfc() {
 /// A closed 2-D box (no-slip walls, U = 0), T zeroGradient everywhere, T0 = 300 K.
 fn closed_box(dir: &Path) -> fv::Fluid {
     let m = mesh::build::uniform_box([0.0; 3], [1.0, 1.0, 0.1], [4, 4, 1]);
-    let wall = |name| HeatPatch {
-        name,
-        patch_type: "wall",
-        u: "type noSlip;",
-        p: "type zeroGradient;",
-        t: "type zeroGradient;",
+    let wall = |name| {
+        hp(
+            name,
+            "wall",
+            ["type noSlip;", "type zeroGradient;", "type zeroGradient;"],
+        )
     };
     let mut patches: Vec<HeatPatch<'_>> = ["xMin", "xMax", "yMin", "yMax"]
         .into_iter()
         .map(wall)
         .collect();
-    for name in ["zMin", "zMax"] {
-        patches.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    patches.extend(["zMin", "zMax"].map(empty));
     let heat = HeatSpec {
         div_t: "Gauss limitedLinear 1",
         pr: 0.7,
@@ -410,39 +417,25 @@ fn uniform_t_stays_uniform_through_a_varying_voidage() {
     let m = mesh::build::uniform_box([0.0; 3], [1.0, 1.0, 0.1], [8, 8, 1]);
     let inlet_t = format!("type fixedValue; value uniform {t0};");
     let mut patches = vec![
-        HeatPatch {
-            name: "xMin",
-            patch_type: "patch",
-            u: "type fixedValue; value uniform (1 0 0);",
-            p: "type zeroGradient;",
-            t: &inlet_t,
-        },
-        HeatPatch {
-            name: "xMax",
-            patch_type: "patch",
-            u: "type zeroGradient;",
-            p: "type fixedValue; value uniform 0;",
-            t: "type inletOutlet; inletValue uniform 200; value uniform 350;",
-        },
+        plug_inlet(&inlet_t),
+        hp(
+            "xMax",
+            "patch",
+            [
+                "type zeroGradient;",
+                "type fixedValue; value uniform 0;",
+                "type inletOutlet; inletValue uniform 200; value uniform 350;",
+            ],
+        ),
     ];
     for name in ["yMin", "yMax"] {
-        patches.push(HeatPatch {
+        patches.push(hp(
             name,
-            patch_type: "wall",
-            u: "type slip;",
-            p: "type zeroGradient;",
-            t: "type zeroGradient;",
-        });
+            "wall",
+            ["type slip;", "type zeroGradient;", "type zeroGradient;"],
+        ));
     }
-    for name in ["zMin", "zMax"] {
-        patches.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    patches.extend(["zMin", "zMax"].map(empty));
     let heat = HeatSpec {
         div_t: "Gauss limitedLinear 1",
         pr: 0.7,
@@ -578,55 +571,55 @@ fn refusal(edit: impl FnOnce(&Path)) -> String {
 fn bad_heat_input_is_refused_naming_file_and_key() {
     let e = refusal(|d| std::fs::remove_file(d.join("0/T")).unwrap());
     assert!(e.contains("0/T") && e.contains("missing"), "{e}");
-    let e = refusal(|d| replace(d, "constant/transportProperties", "Prt 0.85;", ""));
-    assert!(
-        e.contains("transportProperties") && e.contains("Prt"),
-        "{e}"
-    );
-    let e = refusal(|d| {
-        replace(
-            d,
+    // (file, text, replacement, what the error names)
+    let edits = [
+        (
+            "constant/transportProperties",
+            "Prt 0.85;",
+            "",
+            ["transportProperties", "Prt"],
+        ),
+        (
             "constant/transportProperties",
             "Pr [0 0 0 0 0 0 0] 0.7",
             "Pr -1",
-        )
-    });
-    assert!(e.contains("transportProperties") && e.contains("Pr"), "{e}");
-    let e = refusal(|d| replace(d, "system/fvSolution", "\"(T|C)\"", "\"(C|D)\""));
-    assert!(e.contains("fvSolution") && e.contains("solvers.T"), "{e}");
-    let e = refusal(|d| {
-        replace(
-            d,
+            ["transportProperties", "Pr"],
+        ),
+        (
+            "system/fvSolution",
+            "\"(T|C)\"",
+            "\"(C|D)\"",
+            ["fvSolution", "solvers.T"],
+        ),
+        (
             "system/fvSchemes",
             "div(phi,T) Gauss limitedLinear 1",
             "div(phi,T) Gauss linearUpwind grad(T)",
-        )
-    });
-    assert!(e.contains("fvSchemes") && e.contains("div(phi,T)"), "{e}");
-    let e = refusal(|d| {
-        let s = std::fs::read_to_string(d.join("system/fvSolution")).unwrap();
-        put(
-            d,
+            ["fvSchemes", "div(phi,T)"],
+        ),
+        (
             "system/fvSolution",
-            &format!("{s}relaxationFactors {{ equations {{ \".*\" 1; }} }}\n"),
-        );
-    });
-    assert!(
-        e.contains("fvSolution") && e.contains("relaxationFactors"),
-        "{e}"
-    );
-    let e = refusal(|d| {
-        replace(
-            d,
+            "PISO {",
+            "relaxationFactors { equations { \".*\" 1; } }\nPISO {",
+            ["fvSolution", "relaxationFactors.equations"],
+        ),
+        (
+            "system/fvSchemes",
+            "ddtSchemes { default Euler; }",
+            "ddtSchemes { default Euler; ddt(voidfraction,T) CrankNicolson 0.9; }",
+            ["fvSchemes", "ddtSchemes.ddt(voidfraction,T)"],
+        ),
+        (
             "0/T",
             "xMin { type zeroGradient; }",
             "xMin { type codedFixedValue; }",
-        )
-    });
-    assert!(
-        e.contains("0/T") && e.contains("boundaryField.xMin.type"),
-        "{e}"
-    );
+            ["0/T", "boundaryField.xMin.type"],
+        ),
+    ];
+    for (rel, from, to, names) in edits {
+        let e = refusal(|d| replace(d, rel, from, to));
+        assert!(names.iter().all(|n| e.contains(n)), "{e}");
+    }
     let alphat = |xmin_t: &str, xmin_alphat: &str| {
         let (xmin_t, xmin_alphat) = (xmin_t.to_string(), xmin_alphat.to_string());
         move |d: &Path| {
@@ -688,44 +681,32 @@ fn temperature_matches_scalar_transport_foam() {
     let ys = mesh::build::graded_planes(0.0, 1.0, 10, 4.0);
     let m = mesh::build::hex_grid(&xs, &ys, &[0.0, 0.1]);
     let mut patches = vec![
-        HeatPatch {
-            name: "xMin",
-            patch_type: "patch",
-            u: "type fixedValue; value uniform (1 0 0);",
-            p: "type zeroGradient;",
-            t: "type fixedValue; value uniform 300;",
-        },
-        HeatPatch {
-            name: "xMax",
-            patch_type: "patch",
-            u: "type zeroGradient;",
-            p: "type fixedValue; value uniform 0;",
-            t: "type zeroGradient;",
-        },
-        HeatPatch {
-            name: "yMin",
-            patch_type: "wall",
-            u: "type noSlip;",
-            p: "type zeroGradient;",
-            t: "type fixedValue; value uniform 400;",
-        },
-        HeatPatch {
-            name: "yMax",
-            patch_type: "wall",
-            u: "type noSlip;",
-            p: "type zeroGradient;",
-            t: "type zeroGradient;",
-        },
+        plug_inlet("type fixedValue; value uniform 300;"),
+        hp(
+            "xMax",
+            "patch",
+            [
+                "type zeroGradient;",
+                "type fixedValue; value uniform 0;",
+                "type zeroGradient;",
+            ],
+        ),
+        hp(
+            "yMin",
+            "wall",
+            [
+                "type noSlip;",
+                "type zeroGradient;",
+                "type fixedValue; value uniform 400;",
+            ],
+        ),
+        hp(
+            "yMax",
+            "wall",
+            ["type noSlip;", "type zeroGradient;", "type zeroGradient;"],
+        ),
     ];
-    for name in ["zMin", "zMax"] {
-        patches.push(HeatPatch {
-            name,
-            patch_type: "empty",
-            u: EMPTY,
-            p: EMPTY,
-            t: EMPTY,
-        });
-    }
+    patches.extend(["zMin", "zMax"].map(empty));
     let heat = HeatSpec {
         div_t: "Gauss limitedLinear 1",
         pr,
@@ -833,4 +814,142 @@ fn temperature_matches_scalar_transport_foam() {
     );
     assert!(rise > 10.0, "the wall should heat the flow: {rise}");
     assert!(diff < 1e-8, "{diff}");
+}
+
+/// T in a 1-D plug flow (U 1 m/s, α 0.05 m²/s, inflow 400 K into 300 K) after 30 steps of
+/// 0.01 s, with the voidage ε uniform and constant from the first step (the start has no
+/// `phi`).
+fn front_with_voidage(eps: f64) -> Vec<f64> {
+    let (_dir, mut fluid) = plug_front();
+    let n = fluid.geometry().n_cells;
+    for _ in 0..30 {
+        fluid.set_voidage(&vec![eps; n], &vec![eps; n]).unwrap();
+        fluid.advance(0.01).unwrap();
+    }
+    fluid.temperature().unwrap().to_vec()
+}
+
+/// The 1-D plug flow of [`front_with_voidage`], opened with heat, with its directory.
+fn plug_front() -> (tempfile::TempDir, fv::Fluid) {
+    let dir = tempfile::tempdir().unwrap();
+    let m = mesh::build::uniform_box([0.0; 3], [1.0, 0.1, 0.1], [40, 1, 1]);
+    let patches = channel_patches(
+        [
+            "type fixedValue; value uniform (1 0 0);",
+            "type zeroGradient;",
+            "type fixedValue; value uniform 400;",
+        ],
+        [
+            "type zeroGradient;",
+            "type fixedValue; value uniform 0;",
+            "type zeroGradient;",
+        ],
+    );
+    let mut sp = spec(0.05, 0.01, 0.3);
+    sp.u_internal = [1.0, 0.0, 0.0];
+    let heat = HeatSpec {
+        div_t: "Gauss limitedLinear 1",
+        pr: 1.0,
+        prt: 0.85,
+        t_internal: "uniform 300".into(),
+    };
+    write_heat_case(dir.path(), m, &patches, &sp, &heat);
+    let fluid = heat_fluid(dir.path()).unwrap();
+    (dir, fluid)
+}
+
+/// With ε uniform and constant every term of the equation carries the factor ε (φ = ε U_f·S,
+/// the time term ε (T − T°)/Δt, the diffusivity α ε), so T does not depend on it: the front
+/// through ε = 0.5 is the front through ε = 1, to 1e-12 relative — from the first step, where
+/// the start's flux of U (formed before the fluid has a voidage) is scaled by ε_f alone, as
+/// CFDEM scales its `phiByVoidfraction`.
+#[test]
+fn a_uniform_voidage_does_not_change_the_temperature() {
+    let (clear, porous) = (front_with_voidage(1.0), front_with_voidage(0.5));
+    assert!(clear.iter().any(|t| *t > 350.0), "the front should move in");
+    let diff = clear
+        .iter()
+        .zip(&porous)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    eprintln!("ε = 0.5 vs ε = 1: max |ΔT| {diff:.3e} K");
+    assert!(diff < 1e-12 * 400.0, "{diff}");
+}
+
+/// `fixedGradient`: steady conduction (U = 0, α = 1 m²/s) between T0 = 300 K fixed at x = 0
+/// and a gradient G = 50 K/m imposed at x = 1 m is the line T = T0 + G x, which the
+/// finite-volume solution holds exactly (a linear profile has no truncation error): to 1e-9 K
+/// in the cells and on the gradient face, after 60 implicit steps of 1 s (each damps the
+/// slowest mode by 1 + απ²Δt/4L² ≈ 3.5).
+#[test]
+fn a_fixed_gradient_gives_the_linear_conduction_profile() {
+    let (t0, grad) = (300.0, 50.0);
+    let dir = tempfile::tempdir().unwrap();
+    let m = mesh::build::uniform_box([0.0; 3], [1.0, 0.1, 0.1], [10, 1, 1]);
+    let fixed = format!("type fixedValue; value uniform {t0};");
+    let gradient = format!("type fixedGradient; gradient uniform {grad};");
+    let mut patches = channel_patches(
+        ["type noSlip;", "type zeroGradient;", &fixed],
+        ["type noSlip;", "type zeroGradient;", &gradient],
+    );
+    for p in &mut patches[..2] {
+        p.patch_type = "wall";
+    }
+    let heat = HeatSpec {
+        div_t: "Gauss limitedLinear 1",
+        pr: 1.0,
+        prt: 0.85,
+        t_internal: format!("uniform {t0}"),
+    };
+    write_heat_case(dir.path(), m, &patches, &spec(1.0, 1.0, 60.0), &heat);
+    let mut fluid = heat_fluid(dir.path()).unwrap();
+    for _ in 0..60 {
+        fluid.advance(1.0).unwrap();
+    }
+    let g = fluid.geometry();
+    for (c, t) in g.c.iter().zip(fluid.temperature().unwrap()) {
+        assert!((t - (t0 + grad * c[0])).abs() < 1e-9, "x {}: {t}", c[0]);
+    }
+    let outlet = &g.patches[g.patch_index("xMax").unwrap()];
+    let tb = fluid.temperature_boundary().unwrap()[outlet.boundary_range(g.n_internal)][0];
+    assert!((tb - (t0 + grad)).abs() < 1e-9, "{tb}");
+}
+
+/// Steps that hold the flow (`Fluid::hold_step`, CFDEM's `solveFlow off`) solve T on the held
+/// flux rescaled by the step's voidage: 10 solved steps with ε = 1, then 20 held steps with
+/// ε = ε° = 0.5 give the T of 20 held steps at ε = 1 (ε scales out of every term: the time
+/// term ε°(T − T°)/Δt, the flux ε_f φ/1, the diffusivity α ε; 1e-12 relative), and U, p, φ do
+/// not move. With the held flux divided by the step's previous voidage instead
+/// of the one it was formed with, the front would run twice as fast.
+#[test]
+fn held_steps_solve_the_temperature_on_the_held_flux() {
+    let run = |eps: f64| {
+        let (_dir, mut fluid) = plug_front();
+        let n = fluid.geometry().n_cells;
+        for _ in 0..10 {
+            fluid.set_voidage(&vec![1.0; n], &vec![1.0; n]).unwrap();
+            fluid.advance(0.01).unwrap();
+        }
+        let (u, phi) = (fluid.u().to_vec(), fluid.phi().to_vec());
+        for _ in 0..20 {
+            fluid.set_voidage(&vec![eps; n], &vec![eps; n]).unwrap();
+            assert!(fluid.hold_step(0.01).unwrap().is_some());
+        }
+        assert_eq!(fluid.u(), &u[..]);
+        assert_eq!(fluid.phi(), &phi[..]);
+        assert!((fluid.time() - 0.3).abs() < 1e-12);
+        fluid.temperature().unwrap().to_vec()
+    };
+    let (clear, porous) = (run(1.0), run(0.5));
+    assert!(
+        clear.iter().filter(|t| **t > 350.0).count() > 10,
+        "the front moves on"
+    );
+    let diff = clear
+        .iter()
+        .zip(&porous)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    eprintln!("held steps, ε = 0.5 vs ε = 1: max |ΔT| {diff:.3e} K");
+    assert!(diff < 1e-12 * 400.0, "{diff}");
 }

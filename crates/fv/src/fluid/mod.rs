@@ -365,8 +365,8 @@ impl Fluid {
     /// previous step's. grainPisoFoam and CFDEM's solvers, which skip the equations, keep
     /// them and continue the recursion with the derivative from before the hold.
     ///
-    /// With heat the temperature is held too (cfdemSolverPisoScalar solves its T equation
-    /// also when the flow is not solved: not done here).
+    /// With heat the temperature is held too; cfdemSolverPisoScalar solves its T equation also
+    /// when the flow is not solved, which [`Self::hold_step`] does step by step.
     pub fn hold(&mut self, dt: f64) {
         self.time += dt;
         if let Some(s) = &mut self.cn {
@@ -377,6 +377,30 @@ impl Fluid {
         if let Some(t) = &mut self.turbulence {
             t.restart_time_schemes();
         }
+    }
+
+    /// One step of `dt` seconds on a held flow (CFDEM's `solveFlow off` in
+    /// cfdemSolverPisoScalar): U, p and φ stay as they are, the clock and the schemes' history
+    /// as [`Self::hold`] leaves them, and with heat the temperature equation is solved with the
+    /// step's voidage ([`Self::set_voidage`]) and the held flux rescaled by it
+    /// ([`crate::temperature`]). Returns the temperature solve (`None` without heat).
+    pub fn hold_step(&mut self, dt: f64) -> Result<Option<SolveStats>> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(FvError::Value {
+                what: "time step".into(),
+                msg: format!("{dt} is not a positive number"),
+            });
+        }
+        let stats = match self.heat.is_some() {
+            true => {
+                let (ef, ef_old) = (self.eps_faces(&self.eps), self.eps_faces(&self.eps_old));
+                let phi_old = self.phi.clone();
+                self.heat_step(dt, &phi_old, &ef, &ef_old)?
+            }
+            false => None,
+        };
+        self.hold(dt);
+        Ok(stats)
     }
 
     /// Number of steps taken.
@@ -598,8 +622,8 @@ impl Fluid {
     /// Advances by `dt` seconds (one PISO step), in the stages of pisoFoam's and CFDEM's
     /// cfdemSolverPiso's time loop: the old time levels and the time scheme's history
     /// ([`Self::old_time_levels`]), with heat the temperature equation
-    /// ([`Self::solve_temperature`], where cfdemSolverPisoScalar solves it), the momentum matrix ([`Self::momentum_matrix`]) and
-    /// predictor ([`Self::momentum_predictor`]), the coefficients the correctors share
+    /// ([`Self::solve_temperature`], where cfdemSolverPisoScalar solves it), the momentum
+    /// matrix ([`Self::momentum_matrix`]) and predictor ([`Self::momentum_predictor`]), the coefficients the correctors share
     /// ([`Self::corrector_coeffs`]: γ_f, ddtCorr, the porous faces' time terms, ∂ε/∂t),
     /// `nCorrectors` PISO correctors ([`Self::piso_corrector`]: pressure equation, flux and
     /// velocity), the continuity error, the turbulence model ([`Self::correct_turbulence`])
@@ -636,6 +660,9 @@ impl Fluid {
             )));
         }
         report.turbulence = self.correct_turbulence(dt)?;
+        if let Some(h) = &mut self.heat {
+            h.flux_formed_with(lv.ef.clone());
+        }
         self.end_step(lv);
         Ok(report)
     }
@@ -685,6 +712,18 @@ impl Fluid {
     /// the start of a step, after its old time levels `lv`: ε and ε° of the step, the face
     /// flux ε_f φ°/ε°_f, ν_t of the previous step. `None` without heat.
     fn solve_temperature(&mut self, lv: &Levels) -> Result<Option<SolveStats>> {
+        self.heat_step(lv.dt, &lv.phi_old, &lv.ef, &lv.ef_old)
+    }
+
+    /// The temperature equation over `dt` with the flux `phi_old` and the face voidages `ef`,
+    /// `ef_old` of the step ([`crate::temperature::HeatFlow`]); `None` without heat.
+    fn heat_step(
+        &mut self,
+        dt: f64,
+        phi_old: &[f64],
+        ef: &[f64],
+        ef_old: &[f64],
+    ) -> Result<Option<SolveStats>> {
         let Some(heat) = &mut self.heat else {
             return Ok(None);
         };
@@ -693,12 +732,12 @@ impl Fluid {
             .as_ref()
             .map(|t| (t.nut(), t.nut_boundary()));
         let flow = HeatFlow {
-            phi_old: &lv.phi_old,
-            ef: &lv.ef,
-            ef_old: &lv.ef_old,
+            phi_old,
+            ef,
+            ef_old,
             eps: &self.eps,
             eps_old: &self.eps_old,
-            dt: lv.dt,
+            dt,
             nu: self.settings.nu,
             nut,
             lap_dc: &self.lap_dc,
@@ -724,8 +763,9 @@ impl Fluid {
     }
 
     /// Sets the temperature equation's explicit source Tsource (K/s per cell, finite), held
-    /// over the following steps until set again. An error without heat or with the wrong
-    /// length.
+    /// over the following steps until set again: a heat rate Q (W) into the gas of cell c is
+    /// Tsource = Q/(ρ c_p V_c) with the whole cell's volume (the time term carries ε; CFDEM's
+    /// `LaEuScalarTemp`). An error without heat or with the wrong length.
     pub fn set_heat_source(&mut self, s: &[f64]) -> Result<()> {
         match &mut self.heat {
             Some(h) => h.set_source(&self.g, s),

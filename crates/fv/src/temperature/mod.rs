@@ -32,17 +32,26 @@
 //! φ_T = ε_f (φ° / ε°_f)
 //! ```
 //!
-//! with φ° the previous step's final flux and ε_f, ε°_f the face voidages of ε and ε°
-//! (`Fluid::eps_faces`: linear inside, the `voidfraction` condition's on boundary faces) —
-//! φ°/ε°_f is the native counterpart of CFDEM's `phiByVoidfraction`, since φ° was formed with
-//! the previous step's face voidage, ε°_f. On a run's first step φ° is the start time's `phi`
-//! (or the flux of U), where CFDEM takes (U_f·S) ε_f. ν_t is the k–ε model's of the previous
-//! step. The written `alphat` holds ν_t/Prt of the last solve.
+//! with φ° the fluid's current flux (the last solved step's) and ε_f, ε°_f the face voidages
+//! of the step and of the step that formed φ° (`Fluid::eps_faces`: linear inside, the
+//! `voidfraction` condition's on boundary faces) — φ°/ε°_f is the native counterpart of
+//! CFDEM's `phiByVoidfraction`. After a solved step ε°_f is that step's face voidage (which
+//! the coupler's `previous` repeats); on steps that hold the flow
+//! ([`crate::Fluid::hold_step`]) it stays the last solved step's while ε moves on, as CFDEM's
+//! `phiByVoidfraction` does under `solveFlow off`. On a run's first step φ° is the start
+//! time's `phi` (written by a run with the voidage of its last step, ε°) or, without one, the
+//! flux of U with ε ≡ 1, U_f·S, which the fluid forms before it has a voidage: then
+//! φ_T = ε_f U_f·S, CFDEM's `phi` from its `phiByVoidfraction = U_f·S` at the start. ν_t is the k–ε model's of
+//! the previous step. The written `alphat` holds ν_t/Prt of the last solve.
 //!
-//! Not done: the `backward` and `CrankNicolson` time schemes for T, `fvOptions` and radiation
-//! sources (cfdemSolverPisoScalar's `radiation->ST`, none in its tutorials), and T on steps the
-//! fluid holds ([`crate::Fluid::hold`], `solveFlow off`), which cfdemSolverPisoScalar still
-//! solves.
+//! Heat: the source enters as Tsource V (K·m³/s) against the time term ε° V (T − T°)/Δt, so a
+//! heat rate Q (W) into the gas of a cell of volume V is Tsource = Q/(ρ c_p V) with the whole
+//! cell's V — what CFDEM's `LaEuScalarTemp` hands over (−Σ q_p/(ρ c_p V)).
+//!
+//! Not done: the `backward` and `CrankNicolson` time schemes for T (refused), the radiation
+//! source (cfdemSolverPisoScalar's `radiation->ST`; packedBedTemp has no `radiationProperties`,
+//! so none there), and T on steps the fluid holds ([`crate::Fluid::hold`], `solveFlow off`),
+//! which cfdemSolverPisoScalar still solves.
 
 pub mod bc;
 pub mod settings;
@@ -66,8 +75,23 @@ pub struct Temperature {
     settings: TemperatureSettings,
     t: ScalarField,
     alphat: Option<ScalarField>,
-    /// Tsource (K/s per cell), written with `source_file`'s boundaryField.
+    /// Tsource (K/s per cell).
     source: ScalarField,
+    /// The face voidage the fluid's flux φ° was formed with.
+    flux_voidage: FluxVoidage,
+}
+
+/// The face voidage the fluid's current flux was formed with (the divisor that turns it into
+/// CFDEM's `phiByVoidfraction`).
+#[derive(Clone, Debug)]
+enum FluxVoidage {
+    /// ε ≡ 1: the flux of U of a start without `phi`, formed before the fluid has a voidage.
+    Unit,
+    /// The previous step's, ε°_f: a start from a `phi` file (written with the voidage of the
+    /// run's last step).
+    Previous,
+    /// These face values: the last step that solved the flow ([`Temperature::flux_formed_with`]).
+    Faces(Vec<f64>),
 }
 
 /// What the T equation of a step takes from the fluid's step (see the module documentation).
@@ -76,7 +100,7 @@ pub struct HeatFlow<'a> {
     pub phi_old: &'a [f64],
     /// ε at faces of the step (`current`).
     pub ef: &'a [f64],
-    /// ε at faces of the previous step, the one φ° was formed with.
+    /// ε at faces of the previous step (the one φ° was formed with on a restart's first step).
     pub ef_old: &'a [f64],
     /// ε per cell of the step.
     pub eps: &'a [f64],
@@ -96,7 +120,8 @@ pub struct HeatFlow<'a> {
 
 impl Temperature {
     /// Reads `T` (it must exist), `alphat` and `Tsource` (when present) of the time directory
-    /// `dir`, with the conditions of [`bc`]; `phi` the start time's face fluxes (inletOutlet).
+    /// `dir`, with the conditions of [`bc`]; `phi` the start time's face fluxes (inletOutlet):
+    /// the directory's `phi` when it has one, else the flux of U with ε ≡ 1.
     pub fn read(
         dir: &Path,
         mesh: &foam::PolyMesh,
@@ -149,6 +174,10 @@ impl Temperature {
             t,
             alphat,
             source,
+            flux_voidage: match dir.join("phi").is_file() {
+                true => FluxVoidage::Previous,
+                false => FluxVoidage::Unit,
+            },
         })
     }
 
@@ -184,12 +213,22 @@ impl Temperature {
     /// One step of the T equation (see the module documentation): its solve.
     pub fn solve(&mut self, g: &FvGeometry, flow: &HeatFlow<'_>) -> Result<SolveStats> {
         // CFDEM's phi = voidfractionf*phiByVoidfraction at this point of the step
-        let phi: Vec<f64> = (0..g.n_faces())
-            .map(|f| match flow.ef_old[f] > 0.0 {
-                true => flow.ef[f] * (flow.phi_old[f] / flow.ef_old[f]),
-                false => 0.0,
-            })
-            .collect();
+        let divisor = match &self.flux_voidage {
+            FluxVoidage::Unit => None,
+            FluxVoidage::Previous => Some(flow.ef_old),
+            FluxVoidage::Faces(v) => Some(&v[..]),
+        };
+        let phi: Vec<f64> = match divisor {
+            None => (0..g.n_faces())
+                .map(|f| flow.ef[f] * flow.phi_old[f])
+                .collect(),
+            Some(d) => (0..g.n_faces())
+                .map(|f| match d[f] > 0.0 {
+                    true => flow.ef[f] * (flow.phi_old[f] / d[f]),
+                    false => 0.0,
+                })
+                .collect(),
+        };
         let gamma_f = self.diffusivity(g, flow);
         let t_old = self.t.cells.clone();
         let transport = Transport {
@@ -226,6 +265,12 @@ impl Temperature {
         }
         self.t.evaluate(g, &phi);
         Ok(stats)
+    }
+
+    /// Records the face voidage `ef` the fluid formed its new flux with (after a step that
+    /// solved the flow): the next T steps divide the flux by it, held steps too.
+    pub fn flux_formed_with(&mut self, ef: Vec<f64>) {
+        self.flux_voidage = FluxVoidage::Faces(ef);
     }
 
     /// The face diffusivity α_eff ε (m²/s) of the step, interpolated linearly from the cells'

@@ -22,10 +22,11 @@
 use crate::convection::Convection;
 use crate::error::Result;
 use crate::settings::{
-    convection_of, dimensioned, err, linear_solver, scheme_group, scheme_words, MOMENTUM_LAPLACIANS,
+    convection_of, dimensioned, equation_relaxation, err, linear_solver, scheme_group,
+    scheme_words, MOMENTUM_LAPLACIANS,
 };
 use crate::turbulence::scalar_eqn::ScalarScheme;
-use foam::{Case, Dict, Item};
+use foam::{Case, Dict};
 use std::path::Path;
 
 /// The settings of the temperature equation.
@@ -149,28 +150,12 @@ fn laplacian(sch: &Dict, sch_file: &Path) -> Result<()> {
 
 /// No `relaxationFactors` equation factor may apply to T (see the module documentation).
 fn relaxation(sol: &Dict, sol_file: &Path) -> Result<()> {
-    let Some(rf) = sol.opt_dict("relaxationFactors") else {
+    let Some((factor, dotted)) = equation_relaxation(sol, "T") else {
         return Ok(());
-    };
-    let (eq, prefix) = match rf.opt_dict("equations") {
-        Some(eq) => (eq, "relaxationFactors.equations"),
-        None if rf.opt_dict("fields").is_none() => (rf, "relaxationFactors"),
-        None => return Ok(()),
-    };
-    let (value, key) = match eq.lookup_path("T") {
-        Some(v) => (v, "T"),
-        None => match eq.get("default") {
-            Some(v) => (v, "default"),
-            None => return Ok(()),
-        },
-    };
-    let factor = match value {
-        foam::Value::Stream(s) => s.iter().rev().find_map(Item::as_f64),
-        foam::Value::Dict(_) => None,
     };
     Err(err(
         sol_file,
-        &format!("{prefix}.{key}"),
+        &dotted,
         format!(
             "a relaxation factor ({}) applies to the temperature equation: not supported \
              (OpenFOAM's relax changes a matrix that is not diagonally dominant even with \

@@ -6,7 +6,8 @@
 //! * [`k_epsilon`]: the model's equations, solved after the PISO correctors;
 //! * [`wall_functions`]: `nutkWallFunction`, `epsilonWallFunction` (log law);
 //! * [`near_wall`]: their wall distance y (OpenFOAM's `nearWallDist`);
-//! * [`scalar_bc`]: boundary conditions of k, ε and νt;
+//! * [`scalar_bc`]: boundary conditions of k, ε and νt (and, read by [`crate::temperature::bc`],
+//!   of T and α_t);
 //! * [`scalar_eqn`]: the transport equation of a cell scalar (ddt, convection, Laplacian,
 //!   `setValues`);
 //! * `scalar_field`: one cell scalar with its conditions, read and written (k, ε, νt, T);
