@@ -305,6 +305,8 @@ impl<'a> Session<'a> {
                 .for_run(&self.registry, &self.vars)
                 .map_err(DemError::Setup)?;
             self.warn(self.line, warnings);
+            self.sim_mut().map_err(fail)?;
+            self.drop_restart_heat();
             self.sim_mut().map_err(fail)?.run(0)?;
             let header = columns.header();
             (self.observer)(DeckEvent::Output(header));

@@ -178,5 +178,11 @@ mod tests {
         assert_eq!(liggghts_default(263.0), 263.0);
         assert_eq!(liggghts_default(1234.56789), 1234.568);
         assert_eq!(liggghts_default(0.1234567891), 0.123457);
+        // Debian's LIGGGHTS 3.8.0 with `initial_temperature 293.1234567` dumps (%.17g)
+        // 293.12349999999998 for every sphere
+        assert_eq!(
+            liggghts_default(293.1234567),
+            "293.12349999999998".parse::<f64>().unwrap()
+        );
     }
 }

@@ -35,6 +35,8 @@ pub(super) fn run(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
     let (columns, warnings) = session.thermo.for_run(&session.registry, &session.vars)?;
     session.warn(c.line, warnings);
     let checks = session.checks.clone();
+    session.sim_mut()?;
+    session.drop_restart_heat();
     let s = session.sim_mut()?;
     let steps = if upto {
         n.checked_sub(s.step())

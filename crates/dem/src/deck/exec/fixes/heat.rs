@@ -222,6 +222,19 @@ pub(in crate::deck::exec) fn refresh(
 }
 
 impl Session<'_> {
+    /// At a run's start: LIGGGHTS hands a restart file's per-atom data only to fixes defined
+    /// before the first run, so temperatures no heat fix took up by now are dropped (reported).
+    pub(in crate::deck::exec) fn drop_restart_heat(&mut self) {
+        if self.restart_heat.take().is_some() {
+            let message = "the restart file's temperatures (Temp, heatFlux) are dropped: no heat \
+                           fix (heat/gran, couple/cfd/convection) was defined before the first \
+                           run (LIGGGHTS drops them too; a heat fix defined later starts at its \
+                           initial temperature)"
+                .to_string();
+            self.warn(self.line, vec![message]);
+        }
+    }
+
     /// Applies a heat fix now if the simulation exists, else when it is built; the first
     /// one applied takes up the temperatures a restart file carried.
     fn define_heat(&mut self, fix: HeatFix) -> Result<(), Failure> {
