@@ -501,3 +501,57 @@ run 0
     assert!(deleted > 0.0);
     assert!((after + deleted - before).abs() <= 1e-12 * before);
 }
+
+/// CFDEM's packedBedTemp run deck's pattern: `run 0` before `fix nve/sphere` (a run of steps
+/// still needs it), the heat fixes after it, a region of `INF` bounds, and the
+/// liggghtsCommand `set region total property/atom Temp 600` between runs.
+#[test]
+fn packed_bed_temp_pattern() {
+    let dir = tempfile::tempdir().unwrap();
+    let head = PREAMBLE.to_string()
+        + "\
+region box block 0 0.1 0 0.1 0 0.1 units box
+create_box 1 box
+create_atoms 1 single 0.05 0.05 0.05 units box
+create_atoms 1 single 0.02 0.05 0.05 units box
+set group all diameter 0.022 density 2500
+fix m1 all property/global youngsModulus peratomtype 5.e6
+fix m2 all property/global poissonsRatio peratomtype 0.45
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+pair_style gran model hertz tangential history
+pair_coeff * *
+timestep 0.00001
+fix cfd all couple/cfd couple_every 100 mpi
+fix cfd2 all couple/cfd/force/implicit
+fix ftco all property/global thermalConductivity peratomtype 5.
+fix ftca all property/global thermalCapacity peratomtype 0.1
+run 0
+fix heattransfer all heat/gran initial_temperature 600.
+fix cfd3 all couple/cfd/convection T0 600
+region total block INF INF INF INF INF INF units box
+";
+    let read = |text: String| {
+        let path = dir.path().join("in.run");
+        std::fs::write(&path, text).unwrap();
+        liggghts_deck::Deck::read(&path).unwrap()
+    };
+    let e = dem::Simulation::from_deck(&read(head.clone() + "run 10\n"), dir.path())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("nve/sphere") && e.contains("in.run:"), "{e}");
+    let deck = read(head + "fix integr all nve/sphere\nrun 0\n");
+    let mut s = dem::deck::exec::Session::new(dir.path(), |_| {});
+    s.execute(&deck).unwrap();
+    let sim = s.simulation().unwrap();
+    sim.set_convective_heat_flux(&[1.0, -1.0]).unwrap();
+    s.advance(100).unwrap();
+    let t = s.sim().unwrap().temperature().unwrap().to_vec();
+    assert!(t[0] > 600.0 && t[1] < 600.0, "{t:?}");
+    s.command_text(
+        "set region total property/atom Temp 600",
+        Path::new("liggghtsCommands"),
+    )
+    .unwrap();
+    assert_eq!(s.sim().unwrap().temperature().unwrap(), &[600.0, 600.0]);
+}

@@ -315,6 +315,9 @@ impl<'a> Session<'a> {
             (self.observer)(DeckEvent::Output(first));
             self.continuation = Some((columns, started));
         }
+        if steps > 0 {
+            self.require_integration().map_err(DemError::Setup)?;
+        }
         let (columns, started) = self.continuation.take().expect("set above");
         let from = self.sim_mut().map_err(fail)?.step();
         let result = self.steps(from, from + steps, &columns, started, false);
@@ -360,6 +363,15 @@ impl Session<'_> {
             .as_ref()
             .map(|b| b.1)
             .ok_or_else(|| "needs the box first (create_box or read_data)".into())
+    }
+
+    /// A run of steps needs `fix nve/sphere` (a `run 0` does not: CFDEM's coupled decks set up
+    /// with `run 0` before they define it).
+    fn require_integration(&self) -> Res<()> {
+        match self.nve {
+            true => Ok(()),
+            false => Err("no time integration: `fix ID all nve/sphere` is required".into()),
+        }
     }
 
     fn before_run(&self, what: &str) -> Res<()> {
@@ -513,9 +525,6 @@ impl Session<'_> {
             }
             (None, None) => return Err("no `pair_style gran …`".into()),
         };
-        if !self.nve {
-            return Err("no time integration: `fix ID all nve/sphere` is required".into());
-        }
         let prop = |name: &str, style: &str, needed: bool| -> Res<Vec<f64>> {
             match (p.props.get(name), p.prop_style.get(name)) {
                 (Some(v), Some(s)) if s == style => {

@@ -45,6 +45,10 @@ pub(super) fn run(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
         n
     };
     let (from, to) = (s.step(), s.step() + steps);
+    if steps > 0 {
+        session.require_integration()?;
+    }
+    let s = session.sim_mut()?;
     let started = std::time::Instant::now();
     s.run(0)?;
     for (fr, fh) in checks {

@@ -54,6 +54,14 @@ pub(super) fn wall_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
         }
         o => return Err(format!("primitive wall `{o}` is not supported").into()),
     };
+    if w.get(k).map(String::as_str) == Some("temperature") {
+        return Err(
+            "wall/gran `temperature`: conduction between particles and walls is not \
+                    implemented by the native DEM (its walls are adiabatic, as LIGGGHTS's are \
+                    without `temperature`)"
+                .into(),
+        );
+    }
     if k != w.len() {
         return Err(format!("unsupported wall keyword `{}`", w[k]).into());
     }
