@@ -79,6 +79,16 @@ newton off
 units si
 ";
 
+/// The material (one type) and contact model of the small decks.
+const MATERIALS: &str = "\
+fix m1 all property/global youngsModulus peratomtype 5.e6
+fix m2 all property/global poissonsRatio peratomtype 0.45
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+pair_style gran model hertz tangential history
+pair_coeff * *
+";
+
 fn vars(area: &str) -> Vec<(String, String)> {
     vec![("area".to_string(), area.to_string())]
 }
@@ -154,13 +164,9 @@ create_box 1 box
 create_atoms 1 single 0 0 0 units box
 create_atoms 1 single 0.5 0 0 units box
 set group all diameter 0.1 density 2000
-fix m1 all property/global youngsModulus peratomtype 5.e6
-fix m2 all property/global poissonsRatio peratomtype 0.45
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+" + MATERIALS
+        + "\
 fix tca all property/global thermalCapacity peratomtype 800.
-pair_style gran model hertz tangential history
-pair_coeff * *
 timestep 0.001
 fix integr all nve/sphere
 fix cfd all couple/cfd couple_every 10 mpi
@@ -460,14 +466,11 @@ fn inserted_particles_start_at_t0_and_deleted_heat_is_counted() {
         + "\
 region box block 0 0.1 0 0.1 0 0.1 units box
 create_box 1 box
-fix m1 all property/global youngsModulus peratomtype 5.e6
-fix m2 all property/global poissonsRatio peratomtype 0.45
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+"
+        + MATERIALS
+        + "\
 fix tc all property/global thermalConductivity peratomtype 5.
 fix tca all property/global thermalCapacity peratomtype 10.
-pair_style gran model hertz tangential history
-pair_coeff * *
 timestep 0.00001
 fix ht all heat/gran initial_temperature 263.
 fix pts all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant 0.005
@@ -515,12 +518,8 @@ create_box 1 box
 create_atoms 1 single 0.05 0.05 0.05 units box
 create_atoms 1 single 0.02 0.05 0.05 units box
 set group all diameter 0.022 density 2500
-fix m1 all property/global youngsModulus peratomtype 5.e6
-fix m2 all property/global poissonsRatio peratomtype 0.45
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
-pair_style gran model hertz tangential history
-pair_coeff * *
+" + MATERIALS
+        + "\
 timestep 0.00001
 fix cfd all couple/cfd couple_every 100 mpi
 fix cfd2 all couple/cfd/force/implicit

@@ -6,7 +6,8 @@
 //!   `processors`, `region ID block|cylinder … [units box] [side in]`, `create_box N REGION`,
 //!   `read_data FILE`, `read_restart FILE` (LIGGGHTS 3.8 restart files, `*` = the latest step;
 //!   [`restart`](super::restart)), `create_atoms T single x y z [units box]`, `set group all diameter D
-//!   density ρ`, `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
+//!   density ρ`, `set group all|region R property/atom Temp|heatFlux|convectiveHeatFlux V`
+//!   ([`crate::heat`]; block regions may have `INF` bounds), `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
 //!   (`delay every check one page contact_distance_factor`), `soft_particles yes`,
 //!   `hard_particles yes`, `timestep DT`, `delete_atoms region R [compress yes|no]`;
 //! - contacts: `pair_style gran model hertz tangential history [cohesion sjkr]
@@ -21,7 +22,10 @@
 //!   [`crate::insert_stream`]; arguments of all in
 //!   [`insertion`](super::insertion)), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
-//!   vector `f_ID[1..3]` is the total coupling force), `print` ([`print`](super::print));
+//!   vector `f_ID[1..3]` is the total coupling force), `heat/gran[/conduction]
+//!   initial_temperature T0 [contact_area overlap|projection|constant A] [area_correction
+//!   yes|no]` and `couple/cfd/convection T0 T` ([`crate::heat`]; `f_ID` of heat/gran is Σ m c T,
+//!   `f_ID[0]` in dumps its temperatures), `print` ([`print`](super::print));
 //!   `unfix` of gravity, prints, walls and pending insertions;
 //! - output: `dump ID all custom|custom/vtk N FILE cols…` (`dump ID all stl …` warns and
 //!   writes nothing) (columns of [`crate::atom_value`]),
@@ -33,7 +37,8 @@
 //!   when it runs); `log FILE|none [append yes]` ([`DeckEvent::Log`]); `compute_modify` and
 //!   `echo` are accepted and have no effect;
 //! - `run N [upto] [pre yes|no] [post yes|no]`, reported as [`DeckEvent`]s: the run's span,
-//!   progress, thermo rows and LIGGGHTS's `Loop time of …` line.
+//!   progress, thermo rows and LIGGGHTS's `Loop time of …` line; a run of steps needs `fix
+//!   nve/sphere`, a `run 0` does not (CFDEM's coupled decks set up with one before defining it).
 //!
 //! Relative file names are resolved against the working directory given to
 //! [`Simulation::from_deck`] (LIGGGHTS resolves them against its current directory).
