@@ -159,7 +159,8 @@ pub struct Loaded {
     /// The coupling blocks ([`COUPLING_BLOCKS`] order) per particle (same order), those the
     /// file has.
     coupling: [Option<Vec<Vec<f64>>>; 3],
-    /// The saved temperatures and heat flows ([`HEAT_BLOCKS`]), taken up by the first heat fix.
+    /// The saved temperatures and heat flows (the `Temp` and `heatFlux` blocks), taken up by the
+    /// first heat fix.
     pub heat: Option<SavedHeat>,
 }
 
