@@ -14,7 +14,8 @@
 //!   [rolling_friction cdt|epsd2] [tangential_damping on|off] [limitForce on|off]`,
 //!   `pair_coeff * *`;
 //! - fixes (group `all`): `property/global`, `gravity G vector x y z`, `wall/gran model … primitive
-//!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2` or `… mesh n_meshes N
+//!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2 [temperature T]
+//!   [contact_area …]` or `… mesh n_meshes N
 //!   meshes ID…` ([`crate::mesh_wall`]), `mesh/surface[/stress] file F.stl type T …`
 //!   ([`mesh_surface`](super::mesh_surface)),
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
@@ -106,6 +107,8 @@ struct Pending {
     restart: Option<restart::Loaded>,
     /// The heat fixes defined before the simulation was built (applied in order when it is).
     heat: Vec<fixes::heat::HeatFix>,
+    /// The primitive walls with a temperature (handed to the heat state when it exists).
+    wall_heat: Vec<crate::heat::WallHeat>,
     /// Ids of `dump … stl` outputs (they write `fix mesh/surface` meshes; accepted with a
     /// warning, writing nothing), so that `undump` finds them.
     stl_dumps: Vec<String>,
@@ -612,6 +615,9 @@ impl Session<'_> {
         }
         for h in std::mem::take(&mut p.heat) {
             fixes::heat::apply(&mut sim, &p.props, &p.prop_style, &h)?;
+            for w in &p.wall_heat {
+                sim.set_wall_heat(w.clone());
+            }
         }
         if sim.heat().is_some() {
             if let Some(saved) = self.restart_heat.take() {

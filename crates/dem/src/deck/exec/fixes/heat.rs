@@ -46,25 +46,9 @@ pub(super) fn heat_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
     while k < w.len() {
         match w[k].as_str() {
             "contact_area" => {
-                area = match word(w, k + 1, "contact_area mode")? {
-                    "overlap" => ContactArea::Overlap,
-                    "projection" => ContactArea::Projection,
-                    "constant" => {
-                        let a = num(w, k + 2, "contact_area constant")?;
-                        if a <= 0.0 {
-                            return Err("'contact_area constant' value must be > 0".into());
-                        }
-                        k += 1;
-                        ContactArea::Constant(a)
-                    }
-                    o => {
-                        return Err(format!(
-                            "contact_area `{o}`: expecting overlap, projection or constant"
-                        )
-                        .into())
-                    }
-                };
-                k += 2;
+                let (a, used) = contact_area(w, k + 1)?;
+                area = a;
+                k += 1 + used;
             }
             "area_correction" => {
                 correction = yes_no(w, k + 1, "area_correction")?;
@@ -99,6 +83,27 @@ pub(super) fn heat_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
         t0,
         area,
         correction,
+    })
+}
+
+/// The words of `contact_area overlap|projection|constant A` from `w[k]` on (the mode), as
+/// `heat/gran` and `wall/gran` read them: the area model and how many words it took.
+pub(super) fn contact_area(w: &[String], k: usize) -> Res<(ContactArea, usize)> {
+    Ok(match word(w, k, "contact_area mode")? {
+        "overlap" => (ContactArea::Overlap, 1),
+        "projection" => (ContactArea::Projection, 1),
+        "constant" => {
+            let a = num(w, k + 1, "contact_area constant")?;
+            if a <= 0.0 {
+                return Err("'contact_area constant' value must be > 0".into());
+            }
+            (ContactArea::Constant(a), 2)
+        }
+        o => {
+            return Err(format!(
+                "contact_area `{o}`: expecting overlap, projection or constant"
+            ))
+        }
     })
 }
 
@@ -241,6 +246,9 @@ impl Session<'_> {
         match &mut self.sim {
             Some(s) => {
                 apply(s, &self.pending.props, &self.pending.prop_style, &fix)?;
+                for w in &self.pending.wall_heat {
+                    s.set_wall_heat(w.clone());
+                }
                 if let Some(saved) = self.restart_heat.take() {
                     s.set_heat_by_id(&saved)?;
                 }
