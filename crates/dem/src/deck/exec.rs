@@ -315,6 +315,7 @@ impl<'a> Session<'a> {
             self.warn(self.line, warnings);
             self.sim_mut().map_err(fail)?;
             self.drop_restart_heat();
+            self.check_wall_heat().map_err(DemError::Setup)?;
             self.sim_mut().map_err(fail)?.run(0)?;
             let header = columns.header();
             (self.observer)(DeckEvent::Output(header));

@@ -37,6 +37,7 @@ pub(super) fn run(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
     let checks = session.checks.clone();
     session.sim_mut()?;
     session.drop_restart_heat();
+    session.check_wall_heat()?;
     let s = session.sim_mut()?;
     let steps = if upto {
         n.checked_sub(s.step())

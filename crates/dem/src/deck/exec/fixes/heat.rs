@@ -240,6 +240,30 @@ impl Session<'_> {
         }
     }
 
+    /// At a run's start: what the native heat model cannot do as LIGGGHTS would (walls with a
+    /// temperature need `heat/gran`'s conductivities and no `area_correction`) is refused.
+    pub(in crate::deck::exec) fn check_wall_heat(&self) -> Res<()> {
+        let Some(h) = self.sim.as_ref().and_then(|s| s.heat()) else {
+            return Ok(());
+        };
+        let Some(w) = h.walls.first() else {
+            return Ok(());
+        };
+        match &h.conduction {
+            None => Err(format!(
+                "wall {} has a temperature: the native DEM conducts with walls only with \
+                 `fix heat/gran` (its thermalConductivity)",
+                w.wall
+            )),
+            Some(c) if c.deltan_ratio.is_some() => Err(format!(
+                "wall {} has a temperature: heat/gran area_correction with walls is not \
+                 implemented by the native DEM",
+                w.wall
+            )),
+            Some(_) => Ok(()),
+        }
+    }
+
     /// Applies a heat fix now if the simulation exists, else when it is built; the first
     /// one applied takes up the temperatures a restart file carried.
     fn define_heat(&mut self, fix: HeatFix) -> Result<(), Failure> {
