@@ -244,7 +244,15 @@ impl Session<'_> {
     /// temperature need `heat/gran`'s conductivities and no `area_correction`) is refused.
     pub(in crate::deck::exec) fn check_wall_heat(&self) -> Res<()> {
         let Some(h) = self.sim.as_ref().and_then(|s| s.heat()) else {
-            return Ok(());
+            return match self.pending.wall_heat.first() {
+                // LIGGGHTS stops too: the wall looks for the particles' `Temp` property
+                Some(w) => Err(format!(
+                    "wall {} has a temperature but no heat fix defines the particles' Temp \
+                     (`fix ID all heat/gran initial_temperature T0`)",
+                    w.wall
+                )),
+                None => Ok(()),
+            };
         };
         let Some(w) = h.walls.first() else {
             return Ok(());
