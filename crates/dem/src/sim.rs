@@ -889,7 +889,7 @@ impl Simulation {
         // forces, then the second half kick in the same pass
         self.compute_forces(HistoryUse::Advance, Some(half));
         if let Some(h) = &mut self.heat {
-            h.step(&self.pairs, &self.particles, dt);
+            h.step(&self.pairs, &self.particles, &self.walls, dt);
         }
         self.carry_held();
         self.write_dumps()

@@ -193,7 +193,14 @@ fn bad_decks_name_file_line_and_command() {
         e.contains("bad.in:22: `run`") && e.contains("soft_particles"),
         "{e}"
     );
-    let e = deck_error(&SMALL.replace("zplane 0", "zplane 0 temperature 300"));
+    // a wall with a temperature conducts (`heat/gran`): without a heat fix the run stops, as
+    // LIGGGHTS's does (no `Temp` property); a bad temperature names the wall's line
+    let e = deck_error(&format!("{SMALL}run 1\n").replace("zplane 0", "zplane 0 temperature 300"));
+    assert!(
+        e.contains("bad.in:22: `run`") && e.contains("temperature") && e.contains("heat/gran"),
+        "{e}"
+    );
+    let e = deck_error(&SMALL.replace("zplane 0", "zplane 0 temperature hot"));
     assert!(
         e.contains("bad.in:17: `fix wall/gran`") && e.contains("temperature"),
         "{e}"

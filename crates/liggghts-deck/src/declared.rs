@@ -1,7 +1,8 @@
 //! What a read deck declares that other crates need before or around running it: the typed
 //! accessors that every crate uses instead of interpreting commands itself — the DEM time step,
 //! the files the deck reads and writes, the `processors` grid, CFDEM's coupling fixes
-//! (`couple/cfd`, `couple/cfd/force[/implicit]`) and the material values the time-step advice
+//! (`couple/cfd`, `couple/cfd/force[/implicit]`, and `couple/cfd/convection`, which makes the
+//! DEM take a convective heat flow per particle) and the material values the time-step advice
 //! reads.
 //!
 //! Executing a command stays the executor's business (`dem`), and the checks LIGGGHTS needs
@@ -95,6 +96,16 @@ pub enum CfdFix {
     Couple(CoupleFix),
     /// `couple/cfd/force` or `couple/cfd/force/implicit`.
     Force(ForceFix),
+}
+
+/// `fix ID GROUP couple/cfd/convection T0 T`: the DEM takes a convective heat flow per particle
+/// from the CFD side (and hands it the particle temperatures, `Temp`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConvectionFix {
+    /// 1-based deck line.
+    pub line: usize,
+    /// `T0` (K): the initial temperature when this fix creates the heat equation.
+    pub t0: f64,
 }
 
 /// What `fix couple/cfd` and `fix couple/cfd/force[/implicit]` declare together.
@@ -230,6 +241,29 @@ impl Deck {
                 }
                 _ => {}
             }
+        }
+        Ok(out)
+    }
+
+    /// The deck's `couple/cfd/convection` fix, if any (the last one): the CFD side then
+    /// exchanges heat with the particles. An ill-formed one is an error naming its line.
+    pub fn convection(&self) -> Result<Option<ConvectionFix>, DeckError> {
+        let mut out = None;
+        for c in self.named("fix") {
+            if c.words.get(3).map(String::as_str) != Some("couple/cfd/convection") {
+                continue;
+            }
+            let t0 = match (c.words.get(4).map(String::as_str), c.words.get(5)) {
+                (Some("T0"), Some(v)) => v.parse::<f64>().ok().filter(|t| *t >= 0.0),
+                _ => None,
+            };
+            let t0 = t0.ok_or_else(|| {
+                self.syntax(
+                    c,
+                    "couple/cfd/convection: expected `T0 T` with T ≥ 0".into(),
+                )
+            })?;
+            out = Some(ConvectionFix { line: c.line, t0 });
         }
         Ok(out)
     }
@@ -529,6 +563,24 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("yes or no"), "{e}");
+    }
+
+    #[test]
+    fn convection_fix_is_read_with_its_t0() {
+        let d = deck(
+            "fix cfd all couple/cfd couple_every 100 mpi\n\
+             fix c3 all couple/cfd/convection T0 600\n",
+        );
+        assert_eq!(
+            d.convection().unwrap(),
+            Some(ConvectionFix { line: 2, t0: 600.0 })
+        );
+        assert_eq!(deck("run 1\n").convection().unwrap(), None);
+        let e = deck("fix c3 all couple/cfd/convection 600\n")
+            .convection()
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("in.t:1:") && e.contains("T0"), "{e}");
     }
 
     #[test]

@@ -29,8 +29,8 @@ pub mod format;
 pub mod lines;
 
 pub use declared::{
-    CfdFix, CoupleFix, CoupledDeck, DataCoupling, DeckFile, ForceFix, ForceLawOption, Materials,
-    Processors,
+    CfdFix, ConvectionFix, CoupleFix, CoupledDeck, DataCoupling, DeckFile, ForceFix,
+    ForceLawOption, Materials, Processors,
 };
 
 use std::collections::HashMap;

@@ -6,14 +6,16 @@
 //!   `processors`, `region ID block|cylinder … [units box] [side in]`, `create_box N REGION`,
 //!   `read_data FILE`, `read_restart FILE` (LIGGGHTS 3.8 restart files, `*` = the latest step;
 //!   [`restart`](super::restart)), `create_atoms T single x y z [units box]`, `set group all diameter D
-//!   density ρ`, `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
+//!   density ρ`, `set group all|region R property/atom Temp|heatFlux|convectiveHeatFlux V`
+//!   ([`crate::heat`]; block regions may have `INF` bounds), `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
 //!   (`delay every check one page contact_distance_factor`), `soft_particles yes`,
 //!   `hard_particles yes`, `timestep DT`, `delete_atoms region R [compress yes|no]`;
 //! - contacts: `pair_style gran model hertz tangential history [cohesion sjkr]
 //!   [rolling_friction cdt|epsd2] [tangential_damping on|off] [limitForce on|off]`,
 //!   `pair_coeff * *`;
 //! - fixes (group `all`): `property/global`, `gravity G vector x y z`, `wall/gran model … primitive
-//!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2` or `… mesh n_meshes N
+//!   type T xplane|yplane|zplane P | xcylinder|ycylinder|zcylinder R C1 C2 [temperature T]
+//!   [contact_area …]` or `… mesh n_meshes N
 //!   meshes ID…` ([`crate::mesh_wall`]), `mesh/surface[/stress] file F.stl type T …`
 //!   ([`mesh_surface`](super::mesh_surface)),
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
@@ -21,7 +23,10 @@
 //!   [`crate::insert_stream`]; arguments of all in
 //!   [`insertion`](super::insertion)), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
-//!   vector `f_ID[1..3]` is the total coupling force), `print` ([`print`](super::print));
+//!   vector `f_ID[1..3]` is the total coupling force), `heat/gran[/conduction]
+//!   initial_temperature T0 [contact_area overlap|projection|constant A] [area_correction
+//!   yes|no]` and `couple/cfd/convection T0 T` ([`crate::heat`]; `f_ID` of heat/gran is Σ m c T,
+//!   `f_ID[0]` in dumps its temperatures), `print` ([`print`](super::print));
 //!   `unfix` of gravity, prints, walls and pending insertions;
 //! - output: `dump ID all custom|custom/vtk N FILE cols…` (`dump ID all stl …` warns and
 //!   writes nothing) (columns of [`crate::atom_value`]),
@@ -33,7 +38,8 @@
 //!   when it runs); `log FILE|none [append yes]` ([`DeckEvent::Log`]); `compute_modify` and
 //!   `echo` are accepted and have no effect;
 //! - `run N [upto] [pre yes|no] [post yes|no]`, reported as [`DeckEvent`]s: the run's span,
-//!   progress, thermo rows and LIGGGHTS's `Loop time of …` line.
+//!   progress, thermo rows and LIGGGHTS's `Loop time of …` line; a run of steps needs `fix
+//!   nve/sphere`, a `run 0` does not (CFDEM's coupled decks set up with one before defining it).
 //!
 //! Relative file names are resolved against the working directory given to
 //! [`Simulation::from_deck`] (LIGGGHTS resolves them against its current directory).
@@ -101,6 +107,8 @@ struct Pending {
     restart: Option<restart::Loaded>,
     /// The heat fixes defined before the simulation was built (applied in order when it is).
     heat: Vec<fixes::heat::HeatFix>,
+    /// The primitive walls with a temperature (handed to the heat state when it exists).
+    wall_heat: Vec<crate::heat::WallHeat>,
     /// Ids of `dump … stl` outputs (they write `fix mesh/surface` meshes; accepted with a
     /// warning, writing nothing), so that `undump` finds them.
     stl_dumps: Vec<String>,
@@ -305,6 +313,9 @@ impl<'a> Session<'a> {
                 .for_run(&self.registry, &self.vars)
                 .map_err(DemError::Setup)?;
             self.warn(self.line, warnings);
+            self.sim_mut().map_err(fail)?;
+            self.drop_restart_heat();
+            self.check_wall_heat().map_err(DemError::Setup)?;
             self.sim_mut().map_err(fail)?.run(0)?;
             let header = columns.header();
             (self.observer)(DeckEvent::Output(header));
@@ -312,6 +323,9 @@ impl<'a> Session<'a> {
             let first = self.row(&columns, 0.0).map_err(DemError::Setup)?;
             (self.observer)(DeckEvent::Output(first));
             self.continuation = Some((columns, started));
+        }
+        if steps > 0 {
+            self.require_integration().map_err(DemError::Setup)?;
         }
         let (columns, started) = self.continuation.take().expect("set above");
         let from = self.sim_mut().map_err(fail)?.step();
@@ -358,6 +372,15 @@ impl Session<'_> {
             .as_ref()
             .map(|b| b.1)
             .ok_or_else(|| "needs the box first (create_box or read_data)".into())
+    }
+
+    /// A run of steps needs `fix nve/sphere` (a `run 0` does not: CFDEM's coupled decks set up
+    /// with `run 0` before they define it).
+    fn require_integration(&self) -> Res<()> {
+        match self.nve {
+            true => Ok(()),
+            false => Err("no time integration: `fix ID all nve/sphere` is required".into()),
+        }
     }
 
     fn before_run(&self, what: &str) -> Res<()> {
@@ -511,9 +534,6 @@ impl Session<'_> {
             }
             (None, None) => return Err("no `pair_style gran …`".into()),
         };
-        if !self.nve {
-            return Err("no time integration: `fix ID all nve/sphere` is required".into());
-        }
         let prop = |name: &str, style: &str, needed: bool| -> Res<Vec<f64>> {
             match (p.props.get(name), p.prop_style.get(name)) {
                 (Some(v), Some(s)) if s == style => {
@@ -596,6 +616,9 @@ impl Session<'_> {
         }
         for h in std::mem::take(&mut p.heat) {
             fixes::heat::apply(&mut sim, &p.props, &p.prop_style, &h)?;
+            for w in &p.wall_heat {
+                sim.set_wall_heat(w.clone());
+            }
         }
         if sim.heat().is_some() {
             if let Some(saved) = self.restart_heat.take() {

@@ -23,8 +23,10 @@
 //!   state after an exchange, so these are the next interval's forces;
 //! - the temperatures and heat flows (`fix property/atom` blocks `Temp`, `heatFlux`, which
 //!   LIGGGHTS's `heat/gran` saves), taken up by the deck's first heat fix (`heat/gran` or
-//!   `couple/cfd/convection`), even one defined after a `run`, as LIGGGHTS hands the saved
-//!   values to the `Temp` property the fix creates; a file the native DEM writes has them
+//!   `couple/cfd/convection`) if it is defined before the first run, as LIGGGHTS hands the
+//!   saved values to the `Temp` property the fix creates (after a run LIGGGHTS has dropped
+//!   them: a warning says so; `tests/fixtures/dem/restart/heat_continue*.in`); an all-zero
+//!   `heatSource` block is accepted (the native DEM has no heat source); a file the native DEM writes has them
 //!   whenever it has a heat state (the convective flows are not saved: LIGGGHTS's are not,
 //!   and the coupler sets them at each exchange).
 //!
@@ -112,6 +114,10 @@ const COUPLING_BLOCKS: [(&str, usize); 3] = [("dragforce", 3), ("Ksl", 1), ("uf"
 /// flow of the last step (W).
 const HEAT_BLOCKS: [&str; 2] = ["Temp", "heatFlux"];
 
+/// The per-atom heat source LIGGGHTS's `heat/gran` saves (W): the native DEM has none, so a
+/// file's block is accepted when it is all zero and reported as dropped otherwise.
+const HEAT_SOURCE_ID: &str = "heatSource";
+
 /// Temperature (K) and, if saved, heat flow (W) by particle id.
 pub type SavedHeat = HashMap<u64, (f64, Option<f64>)>;
 
@@ -153,7 +159,8 @@ pub struct Loaded {
     /// The coupling blocks ([`COUPLING_BLOCKS`] order) per particle (same order), those the
     /// file has.
     coupling: [Option<Vec<Vec<f64>>>; 3],
-    /// The saved temperatures and heat flows ([`HEAT_BLOCKS`]), taken up by the first heat fix.
+    /// The saved temperatures and heat flows (the `Temp` and `heatFlux` blocks), taken up by the
+    /// first heat fix.
     pub heat: Option<SavedHeat>,
 }
 
@@ -340,6 +347,13 @@ impl PerAtomData {
                 data.coupling[b] = Some(coupling_block_values(f, k, b)?);
             } else if let (Some(b), PROPERTY_ATOM_STYLE) = (heat_block, fix.style.as_str()) {
                 data.heat[b] = Some(scalar_block(f, k, HEAT_BLOCKS[b])?);
+            } else if fix.id == HEAT_SOURCE_ID
+                && fix.style == PROPERTY_ATOM_STYLE
+                && scalar_block(f, k, HEAT_SOURCE_ID)?
+                    .iter()
+                    .all(|&v| v == 0.0)
+            {
+                // heat/gran's heat source, zero unless a deck sets it: nothing is lost
             } else if fix.style == CONTACT_HISTORY_STYLE {
                 data.contacts = Some(pair_contact_block(f, k, fix));
             } else if let (Some(wall), PROPERTY_ATOM_STYLE) = (wall_id, fix.style.as_str()) {

@@ -123,7 +123,18 @@ impl Registry {
             }
             "erotate/sphere" => Compute::RotationalEnergy,
             "com" => Compute::CentreOfMass,
-            "reduce" => reduce(&w[4..])?,
+            "reduce" => {
+                let c = reduce(&w[4..])?;
+                if let Compute::Reduce { inputs, .. } = &c {
+                    if !self.heat && inputs.iter().any(|v| v.needs_heat()) {
+                        return Err("compute reduce: the heat values (f_Temp, f_heatFlux, \
+                                    f_convectiveHeatFlux) need a heat fix defined before \
+                                    (heat/gran or couple/cfd/convection)"
+                            .into());
+                    }
+                }
+                c
+            }
             s => Compute::Unsupported(s.to_owned()),
         };
         self.computes.insert(id.clone(), compute);

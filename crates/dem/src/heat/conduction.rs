@@ -16,8 +16,8 @@
 //! - `projection`: π max(r_i, r_j)²;
 //! - `constant A`.
 //!
-//! The formulas are evaluated in LIGGGHTS's operation order. Walls do not conduct here (LIGGGHTS
-//! conducts to a wall only when the wall has a `temperature`, which the native walls refuse).
+//! The formulas are evaluated in LIGGGHTS's operation order. Walls with a `temperature` conduct
+//! too ([`super::walls`]).
 //!
 //! Order: the flows of all pairs are computed in parallel, one per pair of the list, then added
 //! to the particles serially in the list's order — row by row in the spatial order, which is

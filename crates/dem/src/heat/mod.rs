@@ -6,8 +6,9 @@
 //! Per particle: the temperature T (K), the heat flow of the last step Q (W, LIGGGHTS's
 //! `heatFlux`) and, with the convection fix, the convective heat flow Q_c (W,
 //! `convectiveHeatFlux`). One step (LIGGGHTS's order): Q is reset to zero when the step begins
-//! (`initial_integrate`); after the forces the conduction of every contact and Q_c are added
-//! (`post_force`, in the order the fixes were defined); then (`final_integrate`)
+//! (`initial_integrate`); after the forces the conduction with walls that have a temperature
+//! ([`walls`]), between touching particles and Q_c are added (`post_force`, in the order the
+//! fixes were defined); then (`final_integrate`)
 //!
 //!   T ← T + Q·Δt / (m c)
 //!
@@ -20,15 +21,23 @@
 //! (the first of `heat/gran` and `couple/cfd/convection`), rounded as LIGGGHTS passes it on:
 //! printed `%f` into the equation's arguments, then `%e` into the `property/atom` fix
 //! ([`liggghts_default`]).
+//!
+//! Not modelled: `heatSource` (always zero here), `directionalHeatFlux`, `store_contact_data`,
+//! mesh walls with a temperature, `fix_modify … integrate stop|every`. At a run's set-up
+//! LIGGGHTS's wall fixes add their wall heat to the flows once more (only what a set-up dump
+//! shows; the temperatures never use it): the native set-up leaves the flows as they were.
 
 use rayon::prelude::*;
 
 use crate::neighbor::PairList;
 use crate::particles::Particles;
+use crate::walls::Wall;
 
 pub mod conduction;
+pub mod walls;
 
 pub use conduction::{Conduction, ContactArea};
+pub use walls::WallHeat;
 
 /// |c| at or below which a particle's temperature is not integrated (J/(kg K)): LIGGGHTS's
 /// `SMALL` of `fix transportequation/scalar`.
@@ -51,6 +60,8 @@ pub struct Heat {
     pub capacity: Vec<f64>,
     /// `heat/gran`'s conduction, if defined.
     pub conduction: Option<Conduction>,
+    /// Walls with a temperature ([`walls`]): they conduct with the particles touching them.
+    pub walls: Vec<WallHeat>,
     /// Whether `couple/cfd/convection` is defined (its flows are then in `convective`).
     pub convection: bool,
     /// Whether the convection fix was defined before `heat/gran` (its flow is added first).
@@ -74,6 +85,7 @@ impl Heat {
             t0,
             capacity,
             conduction: None,
+            walls: Vec::new(),
             convection: false,
             convection_first: false,
             temp: vec![t0; n],
@@ -125,13 +137,24 @@ impl Heat {
         (0..p.len()).map(|i| self.energy_of(p, i)).sum()
     }
 
-    /// One step's heat (after the forces of the step): Q = conduction + convection in the fixes'
-    /// order, then T ← T + QΔt/(mc). `pairs` is the list the forces were evaluated with.
-    pub fn step(&mut self, pairs: &PairList, p: &Particles, dt: f64) {
+    /// One step's heat (after the forces of the step): Q = conduction with the walls, between
+    /// particles and convection in the fixes' order, then T ← T + QΔt/(mc). `pairs` is the list
+    /// the forces were evaluated with.
+    pub fn step(&mut self, pairs: &PairList, p: &Particles, walls: &[Wall], dt: f64) {
         self.flux.clear();
         self.flux.resize(p.len(), 0.0);
         if self.convection && self.convection_first {
             self.add_convection();
+        }
+        if let (false, Some(c)) = (self.walls.is_empty(), &self.conduction) {
+            walls::add_wall_flux(
+                &self.walls,
+                walls,
+                &c.conductivity,
+                p,
+                &self.temp,
+                &mut self.flux,
+            );
         }
         if let Some(c) = &self.conduction {
             c.pass(pairs, p, &self.temp, &mut self.pair_flux, &mut self.flux);
@@ -178,5 +201,11 @@ mod tests {
         assert_eq!(liggghts_default(263.0), 263.0);
         assert_eq!(liggghts_default(1234.56789), 1234.568);
         assert_eq!(liggghts_default(0.1234567891), 0.123457);
+        // Debian's LIGGGHTS 3.8.0 with `initial_temperature 293.1234567` dumps (%.17g)
+        // 293.12349999999998 for every sphere
+        assert_eq!(
+            liggghts_default(293.1234567),
+            "293.12349999999998".parse::<f64>().unwrap()
+        );
     }
 }

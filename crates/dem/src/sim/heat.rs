@@ -63,6 +63,15 @@ impl Simulation {
         Ok(())
     }
 
+    /// Gives a primitive wall a temperature (replacing its earlier settings); nothing without
+    /// the heat state (the deck executor hands the walls over when it is created).
+    pub fn set_wall_heat(&mut self, w: crate::heat::WallHeat) {
+        if let Some(h) = &mut self.heat {
+            h.walls.retain(|x| x.wall != w.wall);
+            h.walls.push(w);
+        }
+    }
+
     /// Particle temperatures (K), in the order of [`Simulation::particles`]; `None` without
     /// `heat/gran` or `couple/cfd/convection`.
     pub fn temperature(&self) -> Option<&[f64]> {

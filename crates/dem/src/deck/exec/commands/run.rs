@@ -35,6 +35,9 @@ pub(super) fn run(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
     let (columns, warnings) = session.thermo.for_run(&session.registry, &session.vars)?;
     session.warn(c.line, warnings);
     let checks = session.checks.clone();
+    session.sim_mut()?;
+    session.drop_restart_heat();
+    session.check_wall_heat()?;
     let s = session.sim_mut()?;
     let steps = if upto {
         n.checked_sub(s.step())
@@ -43,6 +46,10 @@ pub(super) fn run(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
         n
     };
     let (from, to) = (s.step(), s.step() + steps);
+    if steps > 0 {
+        session.require_integration()?;
+    }
+    let s = session.sim_mut()?;
     let started = std::time::Instant::now();
     s.run(0)?;
     for (fr, fh) in checks {

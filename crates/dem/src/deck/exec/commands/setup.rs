@@ -97,13 +97,21 @@ pub(super) fn region(session: &mut Session<'_>, c: &Command) -> Result<(), Failu
     Ok(())
 }
 
+/// What LAMMPS's region `block` puts for a bound `INF` (its `BIG`, m).
+const REGION_BIG: f64 = 1e20;
+
 fn parse_region(w: &[String]) -> Res<(String, Region)> {
     let id = word(w, 1, "region id")?.to_string();
     let style = word(w, 2, "region style")?;
     let (reg, mut k) = match style {
         "block" => {
+            // `INF` (LAMMPS's ±BIG = 1e20): unbounded on that side
             let v: Vec<f64> = (3..9)
-                .map(|k| num(w, k, "block bound"))
+                .map(|k| match w.get(k).map(String::as_str) {
+                    Some("INF" | "-INF") if k % 2 == 1 => Ok(-REGION_BIG),
+                    Some("INF") => Ok(REGION_BIG),
+                    _ => num(w, k, "block bound"),
+                })
                 .collect::<Res<_>>()?;
             if v[0] >= v[1] || v[2] >= v[3] || v[4] >= v[5] {
                 return Err("block bounds must satisfy lo < hi".into());

@@ -46,25 +46,9 @@ pub(super) fn heat_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
     while k < w.len() {
         match w[k].as_str() {
             "contact_area" => {
-                area = match word(w, k + 1, "contact_area mode")? {
-                    "overlap" => ContactArea::Overlap,
-                    "projection" => ContactArea::Projection,
-                    "constant" => {
-                        let a = num(w, k + 2, "contact_area constant")?;
-                        if a <= 0.0 {
-                            return Err("'contact_area constant' value must be > 0".into());
-                        }
-                        k += 1;
-                        ContactArea::Constant(a)
-                    }
-                    o => {
-                        return Err(format!(
-                            "contact_area `{o}`: expecting overlap, projection or constant"
-                        )
-                        .into())
-                    }
-                };
-                k += 2;
+                let (a, used) = contact_area(w, k + 1)?;
+                area = a;
+                k += 1 + used;
             }
             "area_correction" => {
                 correction = yes_no(w, k + 1, "area_correction")?;
@@ -99,6 +83,27 @@ pub(super) fn heat_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
         t0,
         area,
         correction,
+    })
+}
+
+/// The words of `contact_area overlap|projection|constant A` from `w[k]` on (the mode), as
+/// `heat/gran` and `wall/gran` read them: the area model and how many words it took.
+pub(super) fn contact_area(w: &[String], k: usize) -> Res<(ContactArea, usize)> {
+    Ok(match word(w, k, "contact_area mode")? {
+        "overlap" => (ContactArea::Overlap, 1),
+        "projection" => (ContactArea::Projection, 1),
+        "constant" => {
+            let a = num(w, k + 1, "contact_area constant")?;
+            if a <= 0.0 {
+                return Err("'contact_area constant' value must be > 0".into());
+            }
+            (ContactArea::Constant(a), 2)
+        }
+        o => {
+            return Err(format!(
+                "contact_area `{o}`: expecting overlap, projection or constant"
+            ))
+        }
     })
 }
 
@@ -222,12 +227,60 @@ pub(in crate::deck::exec) fn refresh(
 }
 
 impl Session<'_> {
+    /// At a run's start: LIGGGHTS hands a restart file's per-atom data only to fixes defined
+    /// before the first run, so temperatures no heat fix took up by now are dropped (reported).
+    pub(in crate::deck::exec) fn drop_restart_heat(&mut self) {
+        if self.restart_heat.take().is_some() {
+            let message = "the restart file's temperatures (Temp, heatFlux) are dropped: no heat \
+                           fix (heat/gran, couple/cfd/convection) was defined before the first \
+                           run (LIGGGHTS drops them too; a heat fix defined later starts at its \
+                           initial temperature)"
+                .to_string();
+            self.warn(self.line, vec![message]);
+        }
+    }
+
+    /// At a run's start: what the native heat model cannot do as LIGGGHTS would (walls with a
+    /// temperature need `heat/gran`'s conductivities and no `area_correction`) is refused.
+    pub(in crate::deck::exec) fn check_wall_heat(&self) -> Res<()> {
+        let Some(h) = self.sim.as_ref().and_then(|s| s.heat()) else {
+            return match self.pending.wall_heat.first() {
+                // LIGGGHTS stops too: the wall looks for the particles' `Temp` property
+                Some(w) => Err(format!(
+                    "wall {} has a temperature but no heat fix defines the particles' Temp \
+                     (`fix ID all heat/gran initial_temperature T0`)",
+                    w.wall
+                )),
+                None => Ok(()),
+            };
+        };
+        let Some(w) = h.walls.first() else {
+            return Ok(());
+        };
+        match &h.conduction {
+            None => Err(format!(
+                "wall {} has a temperature: the native DEM conducts with walls only with \
+                 `fix heat/gran` (its thermalConductivity)",
+                w.wall
+            )),
+            Some(c) if c.deltan_ratio.is_some() => Err(format!(
+                "wall {} has a temperature: heat/gran area_correction with walls is not \
+                 implemented by the native DEM",
+                w.wall
+            )),
+            Some(_) => Ok(()),
+        }
+    }
+
     /// Applies a heat fix now if the simulation exists, else when it is built; the first
     /// one applied takes up the temperatures a restart file carried.
     fn define_heat(&mut self, fix: HeatFix) -> Result<(), Failure> {
         match &mut self.sim {
             Some(s) => {
                 apply(s, &self.pending.props, &self.pending.prop_style, &fix)?;
+                for w in &self.pending.wall_heat {
+                    s.set_wall_heat(w.clone());
+                }
                 if let Some(saved) = self.restart_heat.take() {
                     s.set_heat_by_id(&saved)?;
                 }

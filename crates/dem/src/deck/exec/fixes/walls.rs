@@ -3,6 +3,7 @@
 
 use crate::contact::ContactModel;
 use crate::deck::mesh_surface;
+use crate::heat::{ContactArea, WallHeat};
 use crate::mesh_wall::{MeshSurface, MeshWall};
 use crate::walls::{Wall, WallShape};
 
@@ -54,9 +55,7 @@ pub(super) fn wall_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
         }
         o => return Err(format!("primitive wall `{o}` is not supported").into()),
     };
-    if k != w.len() {
-        return Err(format!("unsupported wall keyword `{}`", w[k]).into());
-    }
+    let heat = wall_heat(&id, &w[k..])?;
     let wall = Wall {
         name: id,
         shape,
@@ -67,7 +66,44 @@ pub(super) fn wall_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
         Some(s) => s.add_wall(wall)?,
         None => session.pending.walls.push(wall),
     }
+    if let Some(h) = heat {
+        session.pending.wall_heat.retain(|x| x.wall != h.wall);
+        session.pending.wall_heat.push(h.clone());
+        if let Some(s) = &mut session.sim {
+            s.set_wall_heat(h);
+        }
+    }
     Ok(())
+}
+
+/// `[temperature T] [contact_area overlap|projection|constant A]` after a primitive wall's
+/// shape: its heat settings when it has a temperature ≥ 0 ([`crate::heat::walls`]).
+fn wall_heat(id: &str, w: &[String]) -> Res<Option<WallHeat>> {
+    let mut temperature = None;
+    let mut area = ContactArea::Overlap;
+    let mut k = 0;
+    while k < w.len() {
+        match w[k].as_str() {
+            "temperature" => {
+                temperature = Some(num(w, k + 1, "wall temperature")?);
+                k += 2;
+            }
+            "contact_area" => {
+                let (a, used) = super::heat::contact_area(w, k + 1)?;
+                area = a;
+                k += 1 + used;
+            }
+            o => return Err(format!("unsupported wall keyword `{o}`")),
+        }
+    }
+    // LIGGGHTS: a negative temperature (its default, -1) is no heat transfer
+    Ok(temperature
+        .filter(|t| *t >= 0.0)
+        .map(|temperature| WallHeat {
+            wall: id.to_string(),
+            temperature,
+            area,
+        }))
 }
 
 pub(super) fn mesh_surface(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), Failure> {
