@@ -130,7 +130,7 @@ impl FluidSide for NativeFluid {
         let base = self.fluid.settings.delta_t;
         let n = (dt / base).round().max(1.0) as u64;
         let h = dt / n as f64;
-        if !self.solve_flow {
+        if !self.solve_flow && self.fluid.temperature().is_none() {
             self.fluid.hold(dt);
             return Ok(());
         }
@@ -144,7 +144,13 @@ impl FluidSide for NativeFluid {
             };
             blend_scalar(&self.eps_old, &self.eps_new, alpha, &mut eps);
             self.fluid.set_voidage(&eps, &self.eps_last)?;
-            self.fluid.advance(h)?;
+            if self.solve_flow {
+                self.fluid.advance(h)?;
+            } else {
+                // `solveFlow off` with heat: the flow is held, T is still solved (as
+                // cfdemSolverPisoScalar does)
+                self.fluid.hold_step(h)?;
+            }
             std::mem::swap(&mut self.eps_last, &mut eps);
             self.steps_done += 1;
         }
