@@ -156,7 +156,7 @@ impl HeatingCheck {
                 ),
             ];
             for (what, sim, reference, tol) in rows {
-                let name = format!("{p} front {what} at t = {t} s");
+                let name = format!("{p} front {what} at t = {} s", cfmt::format_g(t, 6));
                 out.push(Check::new(&name, sim, reference, "m", tol / reference));
             }
         }

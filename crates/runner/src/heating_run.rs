@@ -229,7 +229,37 @@ pub(crate) fn checks(
     plot(&bed, &spec, &bedded, top, post)?;
     let result =
         crate::heating::check(&bed, &spec, &bedded).map_err(|e| check_err(e.to_string()))?;
-    Ok(result.checks())
+    let mut checks = result.checks();
+    checks.push(heat_balance(samples)?);
+    Ok(checks)
+}
+
+/// The heat account over the run: the heat the fluid gave up (−Σ Tsource ρ c_p V per step,
+/// plus what `maxSource` cut) against the heat the particles received (Σ q_p per step), summed
+/// over the coupling steps; they must agree to round-off (relative 1e-9).
+fn heat_balance(samples: &[Sample]) -> Result<Check, RunError> {
+    let (mut given, mut taken) = (0.0, 0.0);
+    for s in samples {
+        match (s.heat_to_particles, s.heat_from_fluid, s.heat_clipped) {
+            (Some(q), Some(f), Some(c)) => {
+                given += q;
+                taken += f + c;
+            }
+            _ => {
+                return Err(check_err(format!(
+                    "the step at t = {} s has no heat account",
+                    s.time
+                )))
+            }
+        }
+    }
+    Ok(Check::new(
+        "heat balance: received by the particles vs given by the fluid, summed over the steps",
+        given,
+        taken,
+        "W (sum over steps)",
+        1e-9,
+    ))
 }
 
 /// `heating_fronts.png`: the measured gas and solid profiles (normalised, points) and
