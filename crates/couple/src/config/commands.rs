@@ -152,7 +152,8 @@ impl LiggghtsCommands {
         let mut r = Reader::new(file);
         let key = LIGGGHTS_COMMANDS.key;
         let mut setup = Setup::default();
-        for name in r.word_list(top, key)? {
+        for (position, name) in r.word_list(top, key)?.into_iter().enumerate() {
+            setup.position = position;
             r.apply(
                 &LIGGGHTS_COMMANDS,
                 &Given {
@@ -238,14 +239,16 @@ pub(super) fn write_liggghts(r: &mut Reader, g: &Given, s: &mut Setup) -> Built 
     Ok(())
 }
 
-/// `execute`: the k-th of the list reads `executeProps<k>` (k from 0), as CFDEM does.
+/// `execute` at position i of the list (from 0, counting every model) reads
+/// `executeProps<i>`, as CFDEM-PUBLIC's `execute.C` (constructed with the model's index in
+/// `cfdemCloud`'s loop over the list): `( runLiggghts execute )` reads `executeProps1`.
 pub(super) fn execute(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
-    let dict = &format!("executeProps{}", s.executes);
-    s.executes += 1;
+    let dict = &format!("executeProps{}", s.position);
     let Some(props) = sub_dict(r, g.top, dict)? else {
         return Err(r.err(
             dict,
-            "missing: the k-th `execute` of liggghtsCommandModels reads executeProps<k> (k from 0)",
+            "missing: an `execute` at position i of liggghtsCommandModels (from 0, counting \
+             every model) reads executeProps<i>",
         ));
     };
     r.check_props(
@@ -455,7 +458,7 @@ mod tests {
             "liggghtsCommandModels ( runLiggghts writeLiggghts execute );\n\
              runLiggghtsProps { preNo false; }\n\
              writeLiggghtsProps { path \"../DEM/post/restart\"; overwrite off; writeLastOnly off; }\n\
-             executeProps0 { startTime 0.04; endTime 100; timeInterval 40; \
+             executeProps2 { startTime 0.04; endTime 100; timeInterval 40; \
                command ( write_restart noBlanks dotdot slash DEM slash r_ timeStamp ); \
                runFirst off; runLast off; runEveryCouplingStep off; runEveryWriteStep off; }\n",
         )
@@ -517,6 +520,10 @@ mod tests {
         assert!(e.contains("writeLiggghts"), "{e}");
         let e = read("liggghtsCommandModels ( execute );").unwrap_err();
         assert!(e.contains("executeProps0"), "{e}");
+        // the index counts every model, as CFDEM's (packedBedTemp: runLiggghts, execute)
+        let e = read("liggghtsCommandModels ( runLiggghts execute );\nexecuteProps0 {}")
+            .unwrap_err();
+        assert!(e.contains("executeProps1"), "{e}");
         let e = read(
             "liggghtsCommandModels ( writeLiggghts );\nwriteLiggghtsProps { overwrite on; bogus 1; }",
         )

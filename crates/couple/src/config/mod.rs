@@ -197,8 +197,9 @@ struct Setup {
     smoothing: Option<crate::smoothing::SmoothingSettings>,
     /// `liggghtsCommandModels`' commands, in the list's order.
     commands: Vec<ScheduledCommand>,
-    /// `execute` models read so far (the k-th reads `executeProps<k>`).
-    executes: usize,
+    /// The position (from 0) in `liggghtsCommandModels` of the model being read: an
+    /// `execute` at position i reads `executeProps<i>`.
+    position: usize,
     /// The heat transfer model.
     heat: Option<HeatSettings>,
 }
