@@ -47,6 +47,28 @@ pub fn command(deck: &Path, vars: &[(String, String)], log: &Path, screen: &Path
     c
 }
 
+/// The ranks a deck's `processors Px Py Pz` grid fixes (their product; 1 without the command
+/// or with a `*`, where LIGGGHTS fits the grid to the ranks it has): LIGGGHTS stops with
+/// "Specified processors != physical processors" on any other count, as CFDEM's
+/// `packedBedTemp` init deck (`processors 1 1 2`) would as a singleton.
+fn grid_ranks(deck: &Path, vars: &[(String, String)]) -> Result<usize, LiggghtsError> {
+    let d = liggghts_deck::Deck::read_with_vars(deck, vars)?;
+    Ok(match d.processors()? {
+        Some(p) if p.grid.iter().all(Option::is_some) => p.grid.iter().flatten().product(),
+        _ => 1,
+    })
+}
+
+/// `c` (a [`command`]) launched on `n` ranks by `mpirun -np n --oversubscribe`, itself started
+/// without the job variables of the process that launches it ([`alone`]).
+fn on_ranks(n: usize, c: Command) -> Command {
+    let mut m = Command::new("mpirun");
+    alone(&mut m);
+    m.args(["--oversubscribe", "-np", &n.to_string()]);
+    m.arg(c.get_program()).args(c.get_args());
+    m
+}
+
 /// Removes from `c`'s environment what `mpirun` sets for its ranks (Open MPI's `OMPI_*` but
 /// the run-as-root permissions, PMIx's `PMIX_*`, PMI's `PMI_*`): a `liggghts` started by a
 /// foamgrain rank would otherwise take itself for a rank of foamgrain's job and fail in
@@ -87,7 +109,11 @@ pub fn run_deck(
     let workdir = absolute(workdir)?;
     let log = workdir.join(format!("log.{name}"));
     let screen = workdir.join(format!("screen.{name}"));
-    let mut c = command(&deck_abs, vars, &log, &screen);
+    let ranks = grid_ranks(&deck_abs, vars)?;
+    let mut c = match ranks {
+        1 => command(&deck_abs, vars, &log, &screen),
+        n => on_ranks(n, command(&deck_abs, vars, &log, &screen)),
+    };
     c.current_dir(&workdir);
     let start = Instant::now();
     let status = c.status().map_err(|e| LiggghtsError::Program {

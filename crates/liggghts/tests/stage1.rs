@@ -94,3 +94,38 @@ fn seeds_that_liggghts_would_refuse_are_a_warning() {
     let log = std::fs::read_to_string(&run.log).unwrap();
     assert!(log.contains("681573"), "LIGGGHTS's seed warning: {log}");
 }
+
+/// An init deck that fixes its `processors` grid (CFDEM's packedBedTemp: `processors 1 1 2`)
+/// runs on that many ranks (`mpirun -np 2`): as a singleton LIGGGHTS would stop with
+/// "Specified processors != physical processors".
+#[test]
+fn a_deck_with_a_processors_grid_runs_on_its_ranks() {
+    if !testkit::tool("liggghts") || !testkit::tool("mpirun") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("in.grid");
+    std::fs::write(
+        &deck,
+        "atom_style granular\natom_modify map array\nboundary f f f\nnewton off\n\
+         communicate single vel yes\nunits si\nprocessors 1 1 2\n\
+         region reg block 0 0.1 0 0.1 0 0.1 units box\ncreate_box 1 reg\n\
+         neighbor 0.001 bin\n\
+         fix m1 all property/global youngsModulus peratomtype 5.e6\n\
+         fix m2 all property/global poissonsRatio peratomtype 0.45\n\
+         fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3\n\
+         fix m4 all property/global coefficientFriction peratomtypepair 1 0.5\n\
+         pair_style gran model hertz tangential history\npair_coeff * *\n\
+         timestep 0.00001\n\
+         create_atoms 1 single 0.05 0.05 0.02 units box\n\
+         create_atoms 1 single 0.05 0.05 0.08 units box\n\
+         set group all diameter 0.002 density 2000\n\
+         fix integr all nve/sphere\nrun 10\nwrite_data grid.data\n",
+    )
+    .unwrap();
+    let run = liggghts::run_deck(&deck, dir.path(), &[], "grid").unwrap();
+    let log = std::fs::read_to_string(&run.log).unwrap();
+    assert!(log.contains("on 2 procs"), "{log}");
+    let data = std::fs::read_to_string(dir.path().join("grid.data")).unwrap();
+    assert!(data.lines().any(|l| l.trim() == "2 atoms"), "{data}");
+}

@@ -521,8 +521,8 @@ mod tests {
         let e = read("liggghtsCommandModels ( execute );").unwrap_err();
         assert!(e.contains("executeProps0"), "{e}");
         // the index counts every model, as CFDEM's (packedBedTemp: runLiggghts, execute)
-        let e = read("liggghtsCommandModels ( runLiggghts execute );\nexecuteProps0 {}")
-            .unwrap_err();
+        let e =
+            read("liggghtsCommandModels ( runLiggghts execute );\nexecuteProps0 {}").unwrap_err();
         assert!(e.contains("executeProps1"), "{e}");
         let e = read(
             "liggghtsCommandModels ( writeLiggghts );\nwriteLiggghtsProps { overwrite on; bogus 1; }",
