@@ -65,6 +65,15 @@ fn on_ranks(n: usize, c: Command) -> Command {
     let mut m = Command::new("mpirun");
     alone(&mut m);
     m.args(["--oversubscribe", "-np", &n.to_string()]);
+    // Open MPI refuses root without its two permission variables; a user running foamgrain as
+    // root has not necessarily set them
+    let root = {
+        use std::os::unix::fs::MetadataExt;
+        std::fs::metadata("/proc/self").is_ok_and(|m| m.uid() == 0)
+    };
+    if root {
+        m.arg("--allow-run-as-root");
+    }
     m.arg(c.get_program()).args(c.get_args());
     m
 }
