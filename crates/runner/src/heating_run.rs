@@ -291,22 +291,22 @@ fn plot(
                 .collect()
         };
         series.push(Series {
-            name: format!("Schumann gas, t = {} s", s.time),
+            name: format!("Schumann gas, t = {} s", cfmt::format_g(s.time, 6)),
             points: curve(&|z| bed.gas(z, s.time)),
             style: Style::Line,
         });
         series.push(Series {
-            name: format!("Schumann solid, t = {} s", s.time),
+            name: format!("Schumann solid, t = {} s", cfmt::format_g(s.time, 6)),
             points: curve(&|z| bed.solid(z, s.time)),
             style: Style::Line,
         });
         series.push(Series {
-            name: format!("gas (cells), t = {} s", s.time),
+            name: format!("gas (cells), t = {} s", cfmt::format_g(s.time, 6)),
             points: points(&s.gas),
             style: Style::Points,
         });
         series.push(Series {
-            name: format!("particles (binned), t = {} s", s.time),
+            name: format!("particles (binned), t = {} s", cfmt::format_g(s.time, 6)),
             points: points(&s.solid),
             style: Style::Points,
         });
