@@ -427,6 +427,50 @@ mod tests {
         }
     }
 
+    /// A volume whose every point overlaps the sphere at the origin; it counts its draws.
+    struct Blocked(std::cell::Cell<u64>);
+
+    impl InsertVolume for Blocked {
+        fn random_point(&self, _: &mut rand_chacha::ChaCha8Rng, _: f64, _: bool) -> Option<V3> {
+            self.0.set(self.0.get() + 1);
+            Some(V3::zeros())
+        }
+    }
+
+    /// The tries budget of a batch that places nothing: maxattempt · n, widened to
+    /// ⌊maxattempt · n / (1 − ρ)⌋ for a region already a fraction ρ full (LIGGGHTS's
+    /// `FixInsertPack::calc_maxtry`): 50 · 2 / 0.25 = 400.
+    #[test]
+    fn the_tries_budget_grows_with_the_fill_ratio() {
+        let d = Distribution::new("d", vec![(template("s", 1e-3, 1000.0), 1.0)], false);
+        let mut existing = Particles::default();
+        let q = NewParticle {
+            id: 1,
+            atom_type: 1,
+            x: V3::zeros(),
+            v: V3::zeros(),
+            omega: V3::zeros(),
+            radius: 1e-3,
+            density: 1000.0,
+        };
+        existing.push(q, 1).unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        for (ratio, tries) in [(0.0, 100), (0.75, 400), (1.0, 100)] {
+            let batch = Batch {
+                counts: vec![2],
+                velocity: V3::zeros(),
+                omega: V3::zeros(),
+                all_in: false,
+                overlap_check: true,
+                max_attempt: 50,
+                fill_ratio: ratio,
+            };
+            let v = Blocked(std::cell::Cell::new(0));
+            assert!(place(&v, &d, &batch, &existing, &mut rng).is_empty());
+            assert_eq!(v.0.get(), tries, "ρ = {ratio}");
+        }
+    }
+
     #[test]
     fn mass_fractions_become_number_fractions() {
         // equal mass of spheres with radii 1 and 2 (same ρ): number ratio 8 : 1
