@@ -293,7 +293,8 @@ impl RateInsertion {
             }
         };
         let per = self.spec.per_insertion_every(dt, every);
-        if !fill && !(per > 0.0 && per.is_finite()) {
+        let valid = fill || (per > 0.0 && per.is_finite());
+        if !valid {
             return Err(format!(
                 "{style} {name}: {per} particles per insertion (the rate must be > 0)"
             ));
