@@ -130,23 +130,69 @@ pub struct Inserted {
     pub wanted: usize,
 }
 
-impl InsertPack {
-    /// Number of particles to insert given those already present.
-    pub fn count(&self, existing: &Particles) -> usize {
-        let inside = (0..existing.len()).filter(|&i| self.region.contains(existing.x[i]));
-        let n = match self.target {
-            InsertTarget::ParticlesInRegion(n) => n as f64 - inside.count() as f64,
+/// What the particles whose centres lie in a region hold (boundary included).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RegionContent {
+    /// Number of particles.
+    pub count: u64,
+    /// Their volume Σ 4/3 π r³ (m³).
+    pub volume: f64,
+    /// Their mass (kg).
+    pub mass: f64,
+}
+
+impl RegionContent {
+    /// The particles of `existing` whose centres lie in `region`.
+    pub fn of(region: &Region, existing: &Particles) -> RegionContent {
+        let inside: Vec<usize> = (0..existing.len())
+            .filter(|&i| region.contains(existing.x[i]))
+            .collect();
+        RegionContent {
+            count: inside.len() as u64,
+            volume: (inside.iter())
+                .map(|&i| 4.0 / 3.0 * std::f64::consts::PI * existing.radius[i].powi(3))
+                .sum(),
+            mass: inside.iter().map(|&i| existing.mass[i]).sum(),
+        }
+    }
+}
+
+impl InsertTarget {
+    /// The particles missing to reach the target (real; may be ≤ 0): N − n_present;
+    /// (φ·V_region − V_present)/V̄; (M − M_present)/m̄, with V̄, m̄ the distribution's expected
+    /// particle volume (m³) and mass (kg), `region_volume` V_region in m³.
+    pub fn missing(&self, present: &RegionContent, region_volume: f64, dist: &Distribution) -> f64 {
+        match *self {
+            InsertTarget::ParticlesInRegion(n) => n as f64 - present.count as f64,
             InsertTarget::VolumeFraction(phi) => {
-                let v: f64 = inside
-                    .map(|i| 4.0 / 3.0 * std::f64::consts::PI * existing.radius[i].powi(3))
-                    .sum();
-                (phi * self.region.volume() - v) / self.distribution.volume_expect()
+                (phi * region_volume - present.volume) / dist.volume_expect()
             }
-            InsertTarget::MassInRegion(m) => {
-                let present: f64 = inside.map(|i| existing.mass[i]).sum();
-                (m - present) / self.distribution.mass_expect()
-            }
+            InsertTarget::MassInRegion(m) => (m - present.mass) / dist.mass_expect(),
+        }
+    }
+
+    /// How full the region is, in [0, 1]: n_present/N, V_present/(φ·V_region) or
+    /// M_present/M (LIGGGHTS's `insertion_ratio`, which widens the tries budget, [`Batch`]).
+    pub fn fill_ratio(&self, present: &RegionContent, region_volume: f64) -> f64 {
+        let r = match *self {
+            InsertTarget::ParticlesInRegion(n) => present.count as f64 / n as f64,
+            InsertTarget::VolumeFraction(phi) => present.volume / (phi * region_volume),
+            InsertTarget::MassInRegion(m) => present.mass / m,
         };
+        if r.is_nan() {
+            1.0
+        } else {
+            r.clamp(0.0, 1.0)
+        }
+    }
+}
+
+impl InsertPack {
+    /// Number of particles to insert given those already present: the missing number
+    /// ([`InsertTarget::missing`]) rounded to the nearest integer, 0 if none are missing.
+    pub fn count(&self, existing: &Particles) -> usize {
+        let present = RegionContent::of(&self.region, existing);
+        let n = (self.target).missing(&present, self.region.volume(), &self.distribution);
         if n > 0.0 {
             n.round() as usize
         } else {
@@ -165,6 +211,7 @@ impl InsertPack {
             all_in: self.all_in,
             overlap_check: self.overlap_check,
             max_attempt: self.max_attempt,
+            fill_ratio: 0.0,
         };
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.seed);
         let particles = place(&self.region, &self.distribution, &batch, existing, &mut rng);
@@ -213,6 +260,10 @@ pub struct Batch {
     pub overlap_check: bool,
     /// Tries per particle wanted, one budget for the batch (`maxattempt`).
     pub max_attempt: u32,
+    /// How full the region already is, ρ ∈ [0, 1) (a repeated `insert/pack`'s
+    /// [`InsertTarget::fill_ratio`]; 0 otherwise): the budget is ⌊maxattempt · n / (1 − ρ)⌋
+    /// tries, as LIGGGHTS's `FixInsertPack::calc_maxtry` (ρ ≥ 1: maxattempt · n).
+    pub fill_ratio: f64,
 }
 
 /// Splits `n` particles over the templates by their number fractions: largest remainder of
@@ -286,6 +337,9 @@ pub fn place(
     }
     let mut out = Vec::with_capacity(wanted);
     let mut tries_left = u64::from(batch.max_attempt.max(1)) * wanted as u64;
+    if batch.fill_ratio > 0.0 && batch.fill_ratio < 1.0 {
+        tries_left = (tries_left as f64 / (1.0 - batch.fill_ratio)) as u64;
+    }
     'templates: for &k in &order {
         let t = &parts[k].0;
         for _ in 0..batch.counts[k] {
@@ -370,6 +424,50 @@ mod tests {
             atom_type: 1,
             density: rho,
             radius: r,
+        }
+    }
+
+    /// A volume whose every point overlaps the sphere at the origin; it counts its draws.
+    struct Blocked(std::cell::Cell<u64>);
+
+    impl InsertVolume for Blocked {
+        fn random_point(&self, _: &mut rand_chacha::ChaCha8Rng, _: f64, _: bool) -> Option<V3> {
+            self.0.set(self.0.get() + 1);
+            Some(V3::zeros())
+        }
+    }
+
+    /// The tries budget of a batch that places nothing: maxattempt · n, widened to
+    /// ⌊maxattempt · n / (1 − ρ)⌋ for a region already a fraction ρ full (LIGGGHTS's
+    /// `FixInsertPack::calc_maxtry`): 50 · 2 / 0.25 = 400.
+    #[test]
+    fn the_tries_budget_grows_with_the_fill_ratio() {
+        let d = Distribution::new("d", vec![(template("s", 1e-3, 1000.0), 1.0)], false);
+        let mut existing = Particles::default();
+        let q = NewParticle {
+            id: 1,
+            atom_type: 1,
+            x: V3::zeros(),
+            v: V3::zeros(),
+            omega: V3::zeros(),
+            radius: 1e-3,
+            density: 1000.0,
+        };
+        existing.push(q, 1).unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        for (ratio, tries) in [(0.0, 100), (0.75, 400), (1.0, 100)] {
+            let batch = Batch {
+                counts: vec![2],
+                velocity: V3::zeros(),
+                omega: V3::zeros(),
+                all_in: false,
+                overlap_check: true,
+                max_attempt: 50,
+                fill_ratio: ratio,
+            };
+            let v = Blocked(std::cell::Cell::new(0));
+            assert!(place(&v, &d, &batch, &existing, &mut rng).is_empty());
+            assert_eq!(v.0.get(), tries, "ρ = {ratio}");
         }
     }
 

@@ -3,7 +3,9 @@
 //! LIGGGHTS 3.8.0 counts it (read in its `fix_insert.cpp`, `fix_insert_rate_region.cpp` and
 //! `fix_insert_stream.cpp`; the code here is foamgrain's own). What is particular to the
 //! stream (its volume, K from `extrude_length`, the carrying to the face) is in
-//! [`crate::insert_stream`].
+//! [`crate::insert_stream`]. The same schedule runs `insert/pack … insert_every K`
+//! ([`Rate::Fill`], read in LIGGGHTS's `fix_insert_pack.cpp`), which refills its region to
+//! the target at each insertion instead of inserting at a rate.
 //!
 //! Counting:
 //! - the rate is `particlerate ṅ` (1/s) or `massrate ṁ` (kg/s, ṅ = ṁ / m̄ with m̄ the
@@ -25,13 +27,26 @@
 //!   error, as in LIGGGHTS; an extruded stream face reaching outside the box is a warning (as
 //!   LIGGGHTS's "may not insert all particles correctly").
 //!
+//! `insert/pack … insert_every K` ([`Rate::Fill`]; no total, no rate):
+//! - it inserts at the step after the fix is defined (or `start`), then every K steps for as
+//!   long as the simulation runs (LIGGGHTS has no end for it either);
+//! - each insertion wants the particles missing in its region
+//!   ([`crate::insert::InsertTarget::missing`], counting every particle whose centre lies in
+//!   the region): exactly N − n_present for `particles_in_region N`, ⌊x + u⌋ (u uniform in
+//!   [0, 1), as LIGGGHTS) for `volumefraction_region` and `mass_in_region`; none if x ≤ 0
+//!   (then nothing happens at that step and the next insertion is K steps later);
+//! - the tries budget is ⌊maxattempt · n / (1 − ρ)⌋ with ρ how full the region is
+//!   ([`crate::insert::Batch::fill_ratio`], LIGGGHTS's `calc_maxtry`), so a nearly full region
+//!   still gets tries to place its last particles; what cannot be placed is not carried over
+//!   (the next insertion counts the region again).
+//!
 //! Particles are inserted after the drift of their step, before its force evaluation (LIGGGHTS's
 //! `pre_exchange`), so they receive the second half kick of that step.
 
 use mesh::v3::V3;
 use rand::{Rng, SeedableRng};
 
-use crate::insert::{place, split, Batch, Distribution, InsertVolume};
+use crate::insert::{place, split, Batch, Distribution, InsertTarget, InsertVolume, RegionContent};
 use crate::insert_stream::{Held, Stream};
 use crate::particles::{NewParticle, Particles};
 use crate::region::Region;
@@ -73,6 +88,9 @@ pub enum Rate {
     Particles(f64),
     /// `massrate ṁ` (kg/s).
     Mass(f64),
+    /// No rate: `insert/pack … insert_every K` refills its region ([`Source::Region`]) to the
+    /// target at each insertion (module doc); its total is [`Total::Unlimited`].
+    Fill(InsertTarget),
 }
 
 /// A `fix ID all insert/rate/region …` or `insert/stream …` specification.
@@ -108,6 +126,14 @@ pub struct InsertRate {
 }
 
 impl InsertRate {
+    /// The fix style, for messages.
+    pub fn style(&self) -> &'static str {
+        match self.rate {
+            Rate::Fill(_) => "insert/pack",
+            _ => self.source.style(),
+        }
+    }
+
     /// The number of particles to insert in total (`None`: unlimited).
     pub fn total_particles(&self) -> Option<u64> {
         match self.total {
@@ -122,10 +148,12 @@ impl InsertRate {
         self.per_insertion_every(dt, self.every)
     }
 
+    /// (0 for [`Rate::Fill`], whose insertions count their region instead.)
     fn per_insertion_every(&self, dt: f64, every: u64) -> f64 {
         let rate = match self.rate {
             Rate::Particles(n) => n,
             Rate::Mass(m) => m / self.distribution.mass_expect(),
+            Rate::Fill(_) => 0.0,
         };
         rate * every as f64 * dt
     }
@@ -179,7 +207,7 @@ impl RateInsertion {
             Some(s) if s < now + 1 => {
                 return Err(format!(
                     "{} {}: `start {s}` is before the next step {}",
-                    spec.source.style(),
+                    spec.style(),
                     spec.name,
                     now + 1
                 ))
@@ -228,7 +256,8 @@ impl RateInsertion {
         if self.per.is_some() {
             return Ok(Vec::new());
         }
-        let style = self.spec.source.style();
+        let style = self.spec.style();
+        let fill = matches!(self.spec.rate, Rate::Fill(_));
         let name = &self.spec.name;
         let r_max = (self.spec.distribution.parts.iter())
             .map(|(t, _)| t.radius)
@@ -264,7 +293,8 @@ impl RateInsertion {
             }
         };
         let per = self.spec.per_insertion_every(dt, every);
-        if !(per > 0.0 && per.is_finite()) {
+        let valid = fill || (per > 0.0 && per.is_finite());
+        if !valid {
             return Err(format!(
                 "{style} {name}: {per} particles per insertion (the rate must be > 0)"
             ));
@@ -289,7 +319,22 @@ impl RateInsertion {
         }
         let per = self.per?;
         let total = self.spec.total_particles();
-        let mut n = (per + self.rng.gen::<f64>()).floor() as u64;
+        let (mut n, fill_ratio) = match (self.spec.rate, &self.spec.source) {
+            (Rate::Fill(target), Source::Region(region)) => {
+                let dist = &self.spec.distribution;
+                let present = RegionContent::of(region, existing);
+                let missing = target.missing(&present, region.volume(), dist);
+                let n = match target {
+                    InsertTarget::ParticlesInRegion(_) => missing,
+                    _ => (missing + self.rng.gen::<f64>()).floor(),
+                };
+                let ratio = target.fill_ratio(&present, region.volume());
+                (n.max(0.0) as u64, ratio)
+            }
+            // `Fill` is made with a region only (`deck::insertion::insert_pack`)
+            (Rate::Fill(_), Source::Stream(_)) => (0, 0.0),
+            _ => ((per + self.rng.gen::<f64>()).floor() as u64, 0.0),
+        };
         if let Some(t) = total {
             n = n.min(t.saturating_sub(self.stats.inserted));
         }
@@ -305,6 +350,7 @@ impl RateInsertion {
             all_in: self.spec.all_in,
             overlap_check: self.spec.overlap_check,
             max_attempt: self.spec.max_attempt,
+            fill_ratio,
         };
         let volume: &dyn InsertVolume = match &self.spec.source {
             Source::Region(r) => r,
@@ -394,6 +440,77 @@ mod tests {
             }
         }
         log
+    }
+
+    /// `insert/pack … insert_every 10 particles_in_region 10`: each insertion wants N minus the
+    /// particles whose centres are in the region (LIGGGHTS's `FixInsertPack::calc_ninsert_this`),
+    /// at steps 1, 11, 21, … with no end, none wanted once the region holds 10.
+    #[test]
+    fn fill_wants_the_target_minus_the_particles_present() {
+        let mut s = spec(
+            Total::Unlimited,
+            Rate::Fill(InsertTarget::ParticlesInRegion(10)),
+            10,
+        );
+        s.name = "pack".into();
+        let mut ins = RateInsertion::new(s, 0).unwrap();
+        assert_eq!(ins.spec().style(), "insert/pack");
+        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0))
+            .unwrap();
+        let mut p = Particles::default();
+        // three inside the region (0–20 mm), two outside
+        for (k, z) in [0.005, 0.01, 0.015, 0.03, -0.01].into_iter().enumerate() {
+            let q = NewParticle {
+                id: k as u64 + 1,
+                atom_type: 1,
+                x: V3::new(0.01, 0.01, z),
+                v: V3::zeros(),
+                omega: V3::zeros(),
+                radius: 1e-3,
+                density: 2000.0,
+            };
+            p.push(q, 1).unwrap();
+        }
+        let mut log = Vec::new();
+        for step in 1..=35 {
+            if let Some(b) = ins.due(step, &p) {
+                log.push((step, b.wanted, b.particles.len()));
+                for q in b.particles {
+                    p.push(q, 1).unwrap();
+                }
+            }
+        }
+        assert_eq!(log, [(1, 7, 7), (11, 0, 0), (21, 0, 0), (31, 0, 0)]);
+        assert_eq!(ins.next_step(), Some(41));
+        assert_eq!(ins.stats().inserted, 7);
+    }
+
+    /// `volumefraction_region φ`: x = φ·V/V̄ particles missing in an empty region is
+    /// inserted as ⌊x + u⌋, u uniform (LIGGGHTS): x on average. V = (20 mm)³, R = 1 mm,
+    /// φ = 0.01: x = 19.0986; over 2000 insertions the mean is within 4σ of x (σ = √(f(1−f)/n),
+    /// f = 0.0986 the fractional part).
+    #[test]
+    fn fill_volume_fraction_rounds_at_random_to_the_missing_number() {
+        let s = spec(
+            Total::Unlimited,
+            Rate::Fill(InsertTarget::VolumeFraction(0.01)),
+            1,
+        );
+        let mut ins = RateInsertion::new(s, 0).unwrap();
+        ins.activate(1e-3, false, V3::repeat(-1.0), V3::repeat(1.0))
+            .unwrap();
+        let x = 0.01 * 8e-6 / (4.0 / 3.0 * std::f64::consts::PI * 1e-9);
+        let n = 2000;
+        let mut sum = 0;
+        for step in 1..=n {
+            let b = ins.due(step, &Particles::default()).unwrap();
+            assert!(b.wanted == 19 || b.wanted == 20, "{}", b.wanted);
+            sum += b.wanted;
+        }
+        let f = x - x.floor();
+        let sigma = (f * (1.0 - f) / n as f64).sqrt();
+        let mean = sum as f64 / n as f64;
+        assert!((mean - x).abs() < 4.0 * sigma, "{mean} vs {x} ± {sigma}");
     }
 
     /// ṅ = 1000/s, K = 10, Δt = 1e-3 s: 10 per insertion at steps 1, 11, 21, … until 35 are

@@ -19,8 +19,8 @@
 //!   meshes ID…` ([`crate::mesh_wall`]), `mesh/surface[/stress] file F.stl type T …`
 //!   ([`mesh_surface`](super::mesh_surface)),
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
-//!   (`insert_every once`), `insert/rate/region` and `insert/stream` ([`crate::insert_rate`],
-//!   [`crate::insert_stream`]; arguments of all in
+//!   (`insert_every once` or `K`), `insert/rate/region` and `insert/stream`
+//!   ([`crate::insert_rate`], [`crate::insert_stream`]; arguments of all in
 //!   [`insertion`](super::insertion)), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
 //!   vector `f_ID[1..3]` is the total coupling force), `heat/gran[/conduction]

@@ -161,30 +161,63 @@ fn common(
     Ok(c)
 }
 
-/// `fix ID all insert/pack … insert_every once …` (`w`: the command's words).
-pub(crate) fn insert_pack(id: &str, w: &[String], known: &Known<'_>) -> Res<InsertPack> {
+/// An `insert/pack` fix: inserting once (at the start of the next run), or every K steps on
+/// the schedule of the rate insertions ([`crate::insert_rate`], [`Rate::Fill`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum PackFix {
+    /// `insert_every once` (or `0`, which LIGGGHTS reads as `once`).
+    Once(InsertPack),
+    /// `insert_every K`, K ≥ 1.
+    Every(InsertRate),
+}
+
+/// `fix ID all insert/pack seed S distributiontemplate D insert_every once|K [start s]
+/// particles_in_region N | volumefraction_region φ | mass_in_region M region R [all_in yes|no]
+/// [overlapcheck yes|no] [vel constant …] [omega constant …] [maxattempt n] [ntry_mc n]`
+/// (`w`: the command's words). `start` only with `insert_every K`.
+pub(crate) fn insert_pack(id: &str, w: &[String], known: &Known<'_>) -> Res<PackFix> {
     let mut target = None;
     let c = common("insert/pack", w, known, |k| {
         let key = w[k].as_str();
-        target = Some(match key {
+        let t = match key {
             "particles_in_region" => InsertTarget::ParticlesInRegion(count(w, k + 1, key)?),
             "volumefraction_region" => InsertTarget::VolumeFraction(number(w, k + 1, key)?),
             "mass_in_region" => InsertTarget::MassInRegion(number(w, k + 1, key)?),
+            // the Monte-Carlo tries for the region's volume: the native regions know theirs
+            "ntry_mc" if count(w, k + 1, key)? < 1000 => {
+                return Err("insert/pack: ntry_mc must be ≥ 1000 (as LIGGGHTS)".into())
+            }
+            "ntry_mc" => return Ok(Some(k + 2)),
             _ => return Ok(None),
-        });
+        };
+        if target.is_some() {
+            return Err("insert/pack: give exactly one of particles_in_region, \
+                        volumefraction_region and mass_in_region"
+                .into());
+        }
+        target = Some(t);
         Ok(Some(k + 2))
     })?;
-    match c.every {
-        Some(Every::Once) => {}
-        Some(Every::Steps(_)) => {
-            return Err("insert_every N of insert/pack is not supported (only `once`)".into())
-        }
-        None => return Err("insert/pack needs `insert_every once`".into()),
+    let every = match c.every {
+        Some(Every::Once | Every::Steps(0)) => None,
+        Some(Every::Steps(k)) => Some(k),
+        None => return Err("insert/pack needs `insert_every once` or `insert_every K`".into()),
+    };
+    let target = target
+        .ok_or("insert/pack needs particles_in_region, volumefraction_region or mass_in_region")?;
+    if let Some(k) = every {
+        let region = c.region.ok_or("insert/pack needs `region`")?;
+        let rk = RateKeys {
+            total: Some(Total::Unlimited),
+            rate: Some(Rate::Fill(target)),
+        };
+        let spec = rate_spec(id, "insert/pack", c, rk, Source::Region(region), k)?;
+        return Ok(PackFix::Every(spec));
     }
     if c.start.is_some() {
-        return Err("insert/pack: `start` is not supported".into());
+        return Err("insert/pack: `start` is supported with `insert_every K` only".into());
     }
-    Ok(InsertPack {
+    Ok(PackFix::Once(InsertPack {
         name: id.to_string(),
         seed: c.seed.ok_or("insert/pack needs `seed`")?,
         distribution: c
@@ -193,13 +226,11 @@ pub(crate) fn insert_pack(id: &str, w: &[String], known: &Known<'_>) -> Res<Inse
         velocity: c.velocity,
         omega: c.omega,
         region: c.region.ok_or("insert/pack needs `region`")?,
-        target: target.ok_or(
-            "insert/pack needs particles_in_region, volumefraction_region or mass_in_region",
-        )?,
+        target,
         all_in: c.all_in,
         overlap_check: c.overlap_check,
         max_attempt: c.max_attempt,
-    })
+    }))
 }
 
 /// `fix ID all insert/rate/region seed S distributiontemplate D [nparticles N|INF | mass

@@ -127,7 +127,7 @@ impl Simulation {
                 self.warn(format!(
                     "{} {}: inserted {} of {} particles at step {step} (no free place found; \
                      later shortfalls are counted, not reported)",
-                    r.spec().source.style(),
+                    r.spec().style(),
                     r.spec().name,
                     batch.particles.len(),
                     batch.wanted
