@@ -164,8 +164,10 @@ impl OpenFoamFluid {
         OpenFoamFluid::spawn_ranked_with(world, case, np, solver, SpawnOptions::default())
     }
 
-    /// As [`OpenFoamFluid::spawn_ranked`], with `options`. The sparse exchange carries no heat
-    /// yet: `options.heat` is refused (on every rank, before anything is spawned).
+    /// As [`OpenFoamFluid::spawn_ranked`], with `options`, which must be the same on every
+    /// rank. With `options.heat` the sparse exchange carries T and the ranks' Tsource shares
+    /// ([`crate::protocol`]); rank 0's fluid has T after an advance with
+    /// [`OpenFoamFluid::set_whole`] (and the patches' Σ φ T_b after every advance).
     pub fn spawn_ranked_with(
         world: &SimpleCommunicator,
         case: &Path,
@@ -173,22 +175,16 @@ impl OpenFoamFluid {
         solver: &Path,
         options: SpawnOptions,
     ) -> Result<(Option<OpenFoamFluid>, SolverCells), LinkError> {
-        if options.heat {
-            return Err(LinkError::Parameter(
-                "heat transfer with grainPisoFoam is not implemented for several coupler ranks \
-                 (the sparse exchange carries no Tsource/T); run the coupler on one rank"
-                    .into(),
-            ));
-        }
         let root = world.process_at_rank(0);
         if world.rank() == 0 {
-            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, false)?;
+            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options.heat)?;
             fluid.sparse = true;
             let mut words = share_words(&fluid.map, &fluid.tp().pids());
             let mut len = [words.len() as u64];
             root.broadcast_into(&mut len[..]);
             root.broadcast_into(&mut words[..]);
-            let cells = SolverCells::new(0, fluid.transport.clone(), fluid.map.clone());
+            let cells =
+                SolverCells::new(0, fluid.transport.clone(), fluid.map.clone(), options.heat);
             return Ok((Some(fluid), cells));
         }
         // The program and count matter at the root only; Open MPI sizes its error codes by
@@ -212,7 +208,7 @@ impl OpenFoamFluid {
         let rank = world.rank() as usize;
         Ok((
             None,
-            SolverCells::new(rank, Rc::new(RefCell::new(transport)), map),
+            SolverCells::new(rank, Rc::new(RefCell::new(transport)), map, options.heat),
         ))
     }
 
@@ -648,7 +644,9 @@ impl OpenFoamFluid {
             } else if reply == tag::WHOLE_STATE {
                 let cells = self.map.cells_of(rank).to_vec();
                 let n = cells.len();
-                let split = (1 + STATE_WORDS_PER_CELL * n + PATCH_WORDS * n_patches).min(msg.len());
+                let h = self.state.heat_words();
+                let split = (1 + (STATE_WORDS_PER_CELL + h) * n + (PATCH_WORDS + h) * n_patches)
+                    .min(msg.len());
                 let (state, held) = msg.split_at(split);
                 let held_fields = self.held.as_mut().expect("allocated by start_held");
                 scatter_held(&cells, held, held_fields)
