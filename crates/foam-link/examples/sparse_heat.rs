@@ -9,7 +9,8 @@
 //! the whole state. Rank 0 writes to OUT, one value a line: `reply_T CELL T` (the T the sparse
 //! reply gave rank 0 at the start of interval 3, i.e. after two intervals), `outlet I Σφ Σφ T_b`
 //! after each interval, `T CELL T` after the third. Exits 1 when a reply's summed volume or
-//! lowest-rank flag is wrong.
+//! lowest-rank flag is wrong, or when rank 0's fluid shows T after an advance without the
+//! whole state (it would be stale) or none after one with it.
 
 use couple::ranks::{owner_reply_width, CellOwners};
 use foam::{Case, Label};
@@ -87,6 +88,10 @@ fn main() {
             f.set_whole(i == 2);
             f.set_fields_with_heat(&empty, Some(&[])).unwrap();
             f.advance_interval(0.1).unwrap();
+            if f.temperature().is_some() != (i == 2) {
+                eprintln!("interval {i}: T on rank 0 without the whole state, or none with it");
+                std::process::exit(1);
+            }
             let o = f.patch("outlet").unwrap();
             writeln!(
                 text,

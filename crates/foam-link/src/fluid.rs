@@ -91,6 +91,9 @@ pub struct OpenFoamFluid {
     pending: Option<Pending>,
     /// The solver solves the temperature equation ([`SpawnOptions::heat`]).
     heat: bool,
+    /// In a sparse run with heat: the last advance replied the patch sums only, so the cells'
+    /// T is that of an earlier reply ([`OpenFoamFluid::temperature`] then says `None`).
+    stale_temperature: bool,
 }
 
 /// What [`OpenFoamFluid::finish_interval`] needs of the advance it completes.
@@ -270,6 +273,7 @@ impl OpenFoamFluid {
             held: None,
             pending: None,
             heat,
+            stale_temperature: false,
             case,
             map: RankMap::serial(0),
             patch_names: Vec::new(),
@@ -407,8 +411,13 @@ impl OpenFoamFluid {
     }
 
     /// T per global cell (K) after the last advance (the start field before the first);
-    /// `None` without heat.
+    /// `None` without heat, and in a sparse run after an advance without
+    /// [`OpenFoamFluid::set_whole`] (the solver replied its patch sums only: the cells' T here
+    /// would be an earlier one; the coupler ranks get T of their cells in the sparse exchange).
     pub fn temperature(&self) -> Option<&[f64]> {
+        if self.stale_temperature {
+            return None;
+        }
         self.state.temperature.as_deref()
     }
 
@@ -660,6 +669,7 @@ impl OpenFoamFluid {
             };
         }
         self.state.time = time;
+        self.stale_temperature = reply == tag::PATCH_STATE;
         self.stats.intervals += 1;
         let waited = self.tp().wait_seconds - wait_before;
         self.stats.transfer_seconds += t.elapsed().as_secs_f64() - waited;
