@@ -51,7 +51,8 @@ pub struct HeatAccount {
 pub struct HeatStep {
     /// q_p per particle (this rank's), W into the particle.
     pub q: Vec<f64>,
-    /// Tsource per cell, K/s (on rank 0 of several ranks; empty on the others).
+    /// Tsource per cell, K/s (on rank 0 of several ranks; empty on the others, and on every
+    /// rank when the cells' owners are elsewhere, [`crate::ranks::CellOwners`]).
     pub tsource: Vec<f64>,
     /// The balance.
     pub account: HeatAccount,

@@ -41,6 +41,12 @@
 //!    ([`Ranks::sum_to_root`] then the division of Σ Ksl·Us by Σ Ksl).
 //!
 //! No coupler rank then holds a whole field: bytes per rank scale with its particles' cells.
+//!
+//! With heat ([`crate::heat`]) round 1 also returns T per touched cell, each rank computes its
+//! particles' q from ε, U and T of its touched cells, and round 2 also gives its share of
+//! Tsource per touched cell ([`OWNER_HEAT_WIDTH`]); the heat account's parts are summed over
+//! the ranks. `maxSource` is refused there: its cut needs a cell's Tsource summed over the
+//! ranks, which only the owners hold.
 
 use crate::error::SideError;
 use foam::Label;
@@ -52,14 +58,34 @@ pub const OWNER_REPLY_WIDTH: usize = 12;
 /// Σ f (3, N/m³).
 pub const OWNER_SUMS_WIDTH: usize = 8;
 
+/// Values per touched cell that heat adds at the end of each record (heat transfer on,
+/// [`crate::heat`]): to the reply of [`CellOwners::deposit`] the fluid's T (K), to the sums of
+/// [`CellOwners::exchange`] this rank's share of the heat source, −Σ_p w_pc q_p / (ρ c_p V_c)
+/// (K/s; the owners add the ranks' shares, in rank order, into the cell's Tsource). Without
+/// heat no record grows.
+pub const OWNER_HEAT_WIDTH: usize = 1;
+
+/// Values per touched cell of [`CellOwners::deposit`]'s reply: [`OWNER_REPLY_WIDTH`], plus
+/// [`OWNER_HEAT_WIDTH`] (T) when `heat`.
+pub const fn owner_reply_width(heat: bool) -> usize {
+    OWNER_REPLY_WIDTH + if heat { OWNER_HEAT_WIDTH } else { 0 }
+}
+
+/// Values per touched cell [`CellOwners::exchange`] takes: [`OWNER_SUMS_WIDTH`], plus
+/// [`OWNER_HEAT_WIDTH`] (the Tsource share) when `heat`.
+pub const fn owner_sums_width(heat: bool) -> usize {
+    OWNER_SUMS_WIDTH + if heat { OWNER_HEAT_WIDTH } else { 0 }
+}
+
 /// The fluid's cells held by other processes (grainPisoFoam's ranks), reached from every
 /// coupler rank (module docs). Both methods are collective over the coupler's ranks and the
 /// owners: every rank calls them every coupling step, in this order, with possibly no cells.
 pub trait CellOwners {
     /// Round 1: this rank's solid volume (m³) per touched cell (`cells` increasing, no
-    /// repeats); returns [`OWNER_REPLY_WIDTH`] values per cell, in `cells`' order.
+    /// repeats); returns [`owner_reply_width`] values per cell (heat on or not, as the owners
+    /// were started), in `cells`' order.
     fn deposit(&mut self, cells: &[Label], solid: &[f64]) -> Result<Vec<f64>, SideError>;
-    /// Round 2: [`OWNER_SUMS_WIDTH`] values per cell of the last [`CellOwners::deposit`].
+    /// Round 2: [`owner_sums_width`] values per cell of the last [`CellOwners::deposit`].
     fn exchange(&mut self, sums: &[f64]) -> Result<(), SideError>;
     /// Payload bytes this rank has sent to and received from the owners so far.
     fn traffic(&self) -> (u64, u64);

@@ -35,7 +35,7 @@ use crate::heat::{
 use crate::interpolate::Placement;
 use crate::periodic::PeriodicMesh;
 use crate::population::{Population, PopulationChange};
-use crate::ranks::{pick, CellOwners, Ranks, Serial, OWNER_REPLY_WIDTH, OWNER_SUMS_WIDTH};
+use crate::ranks::{owner_reply_width, owner_sums_width, pick, CellOwners, Ranks, Serial};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 use foam::{Label, PolyMesh};
 use mesh::v3::V3;
@@ -253,11 +253,12 @@ impl Coupler {
         fluid: &FluidState<'_>,
     ) -> Result<CouplingStep, CoupleError> {
         check_particles(particles)?;
-        if self.settings.heat.is_some() {
-            if self.owners.is_some() {
+        if let Some(heat) = &self.settings.heat {
+            if self.owners.is_some() && heat.max_source.is_some() {
                 return Err(CoupleError::Parameter(
-                    "heat with grainPisoFoam on several coupler ranks is not supported yet; run \
-                     one coupler rank"
+                    "maxSource with grainPisoFoam on several coupler ranks: its cut needs each \
+                     cell's Tsource summed over the coupler ranks, which no coupler rank holds; \
+                     remove maxSource from the heat model's properties, or run one coupler rank"
                         .into(),
                 ));
             }
@@ -404,23 +405,13 @@ impl Coupler {
         self.ranks.all_sum(&mut sums);
         let mut fluid_sums = [fluid.from_fluid, fluid.clipped, fluid.clipped_cells as f64];
         self.ranks.broadcast(&mut fluid_sums);
-        let q = std::mem::take(&mut p.q);
-        let all = ParticleHeat {
-            q: Vec::new(),
-            to_particles: sums[0],
-            outside: sums[1] as usize,
-        };
         let fluid = HeatAccount {
             from_fluid: fluid_sums[0],
             clipped: fluid_sums[1],
             clipped_cells: fluid_sums[2] as usize,
             ..HeatAccount::default()
         };
-        HeatStep {
-            q,
-            tsource,
-            account: HeatAccount::close(&all, fluid),
-        }
+        closed_heat(std::mem::take(&mut p.q), sums, fluid, tsource)
     }
 
     /// Step 3: the particles' placement (centre cells from `self.hints`), forces and this
@@ -597,16 +588,15 @@ impl Coupler {
             .as_mut()
             .expect("exchange_owned runs with owners");
         let got = owners.deposit(&touched, &solid).map_err(fluid_err)?;
-        same_lengths(
-            touched.len() * OWNER_REPLY_WIDTH,
-            &[("owners' reply", got.len())],
-        )?;
+        let heat_on = self.settings.heat.is_some();
+        let reply_width = owner_reply_width(heat_on);
+        same_lengths(touched.len() * reply_width, &[("owners' reply", got.len())])?;
         // ε of the touched cells from the summed volume; statistics on the lowest rank only
         let volumes = self.vm.cell_volumes();
         let mut summed = Vec::with_capacity(touched.len());
         let mut vols = Vec::with_capacity(touched.len());
         let (mut home_summed, mut home_vols) = (Vec::new(), Vec::new());
-        for (&c, g) in touched.iter().zip(got.chunks_exact(OWNER_REPLY_WIDTH)) {
+        for (&c, g) in touched.iter().zip(got.chunks_exact(reply_width)) {
             let v = volumes[c as usize];
             summed.push(g[0]);
             vols.push(v);
@@ -630,18 +620,24 @@ impl Coupler {
         voidage.clipped_cells = stats[1] as usize;
         voidage.negative_cells = stats[2] as usize;
         voidage.min_epsilon = -lowest[0];
-        let mut records = Vec::with_capacity(touched.len() * FLUID_WIDTH);
-        for (e, g) in eps.iter().zip(got.chunks_exact(OWNER_REPLY_WIDTH)) {
+        // ε, then the reply's U, p, ∇p, ∇·τ (and T): the records of `forces_at`
+        let mut records = Vec::with_capacity(touched.len() * self.fluid_width());
+        for (e, g) in eps.iter().zip(got.chunks_exact(reply_width)) {
             records.push(*e);
-            records.extend_from_slice(&g[2..OWNER_REPLY_WIDTH]);
+            records.extend_from_slice(&g[2..]);
         }
         let (placement, forces, mut exchange) =
             self.forces_at(&touched, &records, shares, particles);
-        let mut sums = Vec::with_capacity(touched.len() * OWNER_SUMS_WIDTH);
-        for (&c, e) in touched.iter().zip(&eps) {
+        let heat = match heat_on {
+            true => Some(self.heat_owned(&placement, &touched, particles)?),
+            false => None,
+        };
+        let mut sums = Vec::with_capacity(touched.len() * owner_sums_width(heat_on));
+        for (k, (&c, e)) in touched.iter().zip(&eps).enumerate() {
             let c = c as usize;
-            let (k, u, f) = (exchange.ksl[c], exchange.us[c], exchange.f[c]);
-            sums.extend_from_slice(&[*e, k, k * u[0], k * u[1], k * u[2], f[0], f[1], f[2]]);
+            let (b, u, f) = (exchange.ksl[c], exchange.us[c], exchange.f[c]);
+            sums.extend_from_slice(&[*e, b, b * u[0], b * u[1], b * u[2], f[0], f[1], f[2]]);
+            sums.extend(heat.as_ref().map(|h| h.1[k]));
         }
         let owners = self
             .owners
@@ -656,8 +652,45 @@ impl Coupler {
             forces,
             exchange,
             population,
-            heat: None,
+            heat: heat.map(|h| h.0),
         })
+    }
+
+    /// The heat of [`Coupler::exchange_owned`] ([`crate::ranks`]): this rank's particles' q
+    /// from ε, U and T of its `touched` cells (in `self.remote`), and its share of Tsource per
+    /// touched cell, −Σ_p w_pc q_p / (ρ c_p V_c) (K/s, [`heat_source`] on the touched cells;
+    /// no `maxSource` here, [`Coupler::exchange`] refuses it). The account's parts (Σ q, the
+    /// particles outside, the heat the fluid gives) are summed over the ranks; the step's
+    /// `tsource` is empty (the owners sum the shares).
+    fn heat_owned(
+        &mut self,
+        placement: &Placement,
+        touched: &[Label],
+        particles: &ParticleState<'_>,
+    ) -> Result<(HeatStep, Vec<f64>), CoupleError> {
+        let remote = std::mem::take(&mut self.remote);
+        let cells = CellFields {
+            eps: &remote.eps,
+            u: &remote.u,
+            t: &remote.t,
+        };
+        let got = self.heat_particles(placement, cells, particles);
+        self.remote = remote;
+        let (mut p, w) = got?;
+        let heat = self.settings.heat.as_ref().expect("heat is on");
+        let mut w_touched = Vec::with_capacity(touched.len());
+        let mut volumes = Vec::with_capacity(touched.len());
+        pick(touched, &w, 1, &mut w_touched);
+        pick(touched, self.vm.cell_volumes(), 1, &mut volumes);
+        let (share, fluid) = heat_source(heat, self.settings.physics.rho, &w_touched, &volumes);
+        let mut sums = [p.to_particles, p.outside as f64, fluid.from_fluid];
+        self.ranks.all_sum(&mut sums);
+        let fluid = HeatAccount {
+            from_fluid: sums[2],
+            ..HeatAccount::default()
+        };
+        let q = std::mem::take(&mut p.q);
+        Ok((closed_heat(q, [sums[0], sums[1]], fluid, Vec::new()), share))
     }
 
     /// Step 1 of [`crate::ranks`]: the touched cells' solid volume summed on rank 0 (which
@@ -858,6 +891,26 @@ impl Coupler {
         self.spare.couplings = step.forces.particles;
         self.spare.centre = step.placement.centre;
         self.spare.shares = Some(step.placement.shares);
+    }
+}
+
+/// A rank's heat step: its particles' `q`, the account closed from the particles' part summed
+/// over ranks (`[Σ q (W), particles outside]`) and the fluid's part `fluid` (over all ranks).
+fn closed_heat(
+    q: Vec<f64>,
+    particles: [f64; 2],
+    fluid: HeatAccount,
+    tsource: Vec<f64>,
+) -> HeatStep {
+    let all = ParticleHeat {
+        q: Vec::new(),
+        to_particles: particles[0],
+        outside: particles[1] as usize,
+    };
+    HeatStep {
+        q,
+        tsource,
+        account: HeatAccount::close(&all, fluid),
     }
 }
 

@@ -5,7 +5,9 @@
 //! * one sphere in a uniform stream gets q = h A ΔT with h from Li & Mason evaluated by hand,
 //!   and the sides receive it (q to the particles, Tsource to the fluid);
 //! * two coupler ranks (threads, the fluid on rank 0) give the one-rank result;
-//! * heat on with a side without temperature is an error saying what the case needs;
+//! * heat on with a side without temperature is an error saying what the case needs, and
+//!   `maxSource` with the cells' owners elsewhere (several coupler ranks with grainPisoFoam)
+//!   is refused;
 //! * without heat nothing is handed over.
 
 use closures::heat::{Nusselt, ReynoldsVelocity};
@@ -363,15 +365,15 @@ fn one_sphere_with_the_superficial_reynolds_number_of_pfm_and_stm() {
     }
 }
 
-/// Owners of the fluid's cells that are never reached (heat refuses them first).
+/// Owners of the fluid's cells that are never reached (`maxSource` is refused first).
 struct NoOwners;
 
 impl couple::ranks::CellOwners for NoOwners {
     fn deposit(&mut self, _: &[Label], _: &[f64]) -> Result<Vec<f64>, couple::SideError> {
-        unreachable!("heat is refused before the owners are asked")
+        unreachable!("maxSource is refused before the owners are asked")
     }
     fn exchange(&mut self, _: &[f64]) -> Result<(), couple::SideError> {
-        unreachable!("heat is refused before the owners are asked")
+        unreachable!("maxSource is refused before the owners are asked")
     }
     fn traffic(&self) -> (u64, u64) {
         (0, 0)
@@ -402,13 +404,21 @@ fn a_side_without_temperature_is_named() {
     };
     let e = Coupler::new(&mesh, settings(Method::Exact, Some(bad_cp))).err();
     assert!(e.unwrap().to_string().contains("`Cp`"));
-    let mut owned = Coupler::new(&mesh, s).unwrap();
+    // maxSource cannot be cut where no rank holds a cell's summed Tsource: refused before
+    // the owners are asked
+    let clipping = settings(Method::Exact, Some(heat(Interpolation::Cell, Some(1.0))));
+    let mut owned = Coupler::new(&mesh, clipping).unwrap();
     owned.set_owners(Box::new(NoOwners));
     let e = owned
         .exchange(&b.state(), &state(&f))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("grainPisoFoam on several coupler ranks") && e.contains("one coupler rank"));
+    assert!(
+        e.contains("maxSource")
+            && e.contains("several coupler ranks")
+            && e.contains("one coupler rank"),
+        "{e}"
+    );
     let mut bad = bed(200);
     bad.temp[17] = f64::NAN;
     let e = c

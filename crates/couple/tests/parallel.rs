@@ -471,18 +471,19 @@ fn the_first_bad_particle_is_named() {
 /// The owned exchange (`couple::ranks`, `Coupler::set_owners`) of two coupler ranks, run as
 /// two threads with test doubles of the MPI ranks and of the solver ranks owning the cells,
 /// against one dense coupler holding every particle: the same forces, ε, exchange fields,
-/// accounting and clipping statistics, up to the order of the per-cell sums (round-off).
+/// accounting and clipping statistics, up to the order of the per-cell sums (round-off); with
+/// heat also the same q per particle, Tsource per cell and heat account.
 mod owned {
     use super::*;
-    use couple::ranks::{CellOwners, Ranks, OWNER_REPLY_WIDTH, OWNER_SUMS_WIDTH};
+    use couple::ranks::{owner_reply_width, owner_sums_width, CellOwners, Ranks};
     use couple::SideError;
     use foam::Label;
     use std::sync::{Arc, Barrier, Mutex};
 
     const RANKS: usize = 2;
 
-    /// The fields an owner formed: ε, Ksl, Us, f (dense).
-    type Formed = (Vec<f64>, Vec<f64>, Vec<V3>, Vec<V3>);
+    /// The fields an owner formed: ε, Ksl, Us, f and Tsource (dense; Tsource 0 without heat).
+    type Formed = (Vec<f64>, Vec<f64>, Vec<V3>, Vec<V3>, Vec<f64>);
 
     /// What the threads share: a barrier and one slot per rank for each exchange.
     struct Shared {
@@ -551,6 +552,8 @@ mod owned {
         rank: usize,
         shared: Arc<Shared>,
         fluid: Arc<Fluid>,
+        /// T per cell (K) with heat on.
+        temperature: Option<Arc<Vec<f64>>>,
         n_cells: usize,
     }
 
@@ -579,8 +582,10 @@ mod owned {
                 out.extend_from_slice(&[
                     sum[c], home, u[0], u[1], u[2], f.p[c], g[0], g[1], g[2], t[0], t[1], t[2],
                 ]);
+                out.extend(self.temperature.as_ref().map(|t| t[c]));
             }
-            assert_eq!(out.len(), cells.len() * OWNER_REPLY_WIDTH);
+            let heat = self.temperature.is_some();
+            assert_eq!(out.len(), cells.len() * owner_reply_width(heat));
             sh.barrier.wait();
             Ok(out)
         }
@@ -591,13 +596,16 @@ mod owned {
             sh.barrier.wait();
             if self.rank == 0 {
                 let n = self.n_cells;
+                let width = owner_sums_width(self.temperature.is_some());
+                let mut tsource = vec![0.0; n];
                 let (mut eps, mut ksl) = (vec![1.0; n], vec![0.0; n]);
                 let (mut kus, mut f) = (vec![V3::zeros(); n], vec![V3::zeros(); n]);
                 let mut seen = vec![false; n];
                 let cells = sh.cells.lock().unwrap();
                 let sums = sh.sums.lock().unwrap();
                 for q in 0..RANKS {
-                    for (&c, s) in cells[q].iter().zip(sums[q].chunks_exact(OWNER_SUMS_WIDTH)) {
+                    assert_eq!(sums[q].len(), cells[q].len() * width);
+                    for (&c, s) in cells[q].iter().zip(sums[q].chunks_exact(width)) {
                         let c = c as usize;
                         if !seen[c] {
                             eps[c] = s[0];
@@ -606,6 +614,9 @@ mod owned {
                         ksl[c] += s[1];
                         kus[c] += V3::new(s[2], s[3], s[4]);
                         f[c] += V3::new(s[5], s[6], s[7]);
+                        if width > 8 {
+                            tsource[c] += s[8];
+                        }
                     }
                 }
                 let us = kus
@@ -613,7 +624,7 @@ mod owned {
                     .zip(&ksl)
                     .map(|(v, &k)| if k > 0.0 { v / k } else { V3::zeros() })
                     .collect();
-                *sh.formed.lock().unwrap() = Some((eps, ksl, us, f));
+                *sh.formed.lock().unwrap() = Some((eps, ksl, us, f, tsource));
             }
             sh.barrier.wait();
             Ok(())
@@ -628,24 +639,22 @@ mod owned {
         (a - b).abs() <= 1e-12 * scale.max(f64::MIN_POSITIVE)
     }
 
-    #[test]
-    fn two_ranks_with_the_cells_elsewhere_equal_one_dense_rank() {
-        let c = cloud(6000);
-        let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [12, 12, 12]);
-        let fl = Arc::new(fluid(&VoidageMesh::new(&grid).unwrap()));
-        let settings = CouplerSettings {
-            method: Method::Exact,
-            // high enough that some cells clip: the statistics must count each cell once
-            alpha_min: Some(0.9),
-            coupling_interval: 1,
-            physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
-            heat: None,
-        };
-        let reference = Coupler::new(&grid, settings)
-            .unwrap()
-            .exchange(&c.state(), &state(&fl))
-            .unwrap();
-        assert!(reference.voidage.clipped_cells > 0);
+    /// The heat of the owned tests: T per cell and per particle, K.
+    struct Temperatures {
+        fluid: Arc<Vec<f64>>,
+        particles: Vec<f64>,
+    }
+
+    /// `settings`' exchange of the cloud `c` on [`RANKS`] threads (rank r holds the particles
+    /// k with k % RANKS == r: neighbours, so many cells are shared), the cells owned by
+    /// [`ThreadOwners`]; each rank's step and the fields the owners formed.
+    fn owned_steps(
+        c: &Cloud,
+        grid: &foam::PolyMesh,
+        fl: &Arc<Fluid>,
+        settings: CouplerSettings,
+        temps: Option<&Temperatures>,
+    ) -> (Vec<couple::CouplingStep>, Formed) {
         let n_cells = grid.n_cells;
         let shared = Arc::new(Shared {
             barrier: Barrier::new(RANKS),
@@ -655,14 +664,11 @@ mod owned {
             sums: Mutex::new(vec![Vec::new(); RANKS]),
             formed: Mutex::new(None),
         });
-        // rank r holds the particles k with k % 2 == r: neighbours, so many cells are shared
-        let pick_of =
-            |r: usize| -> Vec<usize> { (0..c.ids.len()).filter(|k| k % 2 == r).collect() };
         let steps: Vec<_> = std::thread::scope(|s| {
             let handles: Vec<_> = (0..RANKS)
                 .map(|r| {
-                    let (shared, fl, grid) = (shared.clone(), fl.clone(), &grid);
-                    let mine = pick_of(r);
+                    let (shared, fl) = (shared.clone(), fl.clone());
+                    let mine = pick_of(c, r);
                     let part = Cloud {
                         pos: mine.iter().map(|&k| c.pos[k]).collect(),
                         rad: mine.iter().map(|&k| c.rad[k]).collect(),
@@ -670,6 +676,9 @@ mod owned {
                         ids: mine.iter().map(|&k| c.ids[k]).collect(),
                         den: mine.iter().map(|&k| c.den[k]).collect(),
                     };
+                    let part_temp: Option<Vec<f64>> =
+                        temps.map(|t| mine.iter().map(|&k| t.particles[k]).collect());
+                    let temperature = temps.map(|t| t.fluid.clone());
                     s.spawn(move || {
                         let mut coupler = Coupler::new(grid, settings).unwrap();
                         coupler.set_ranks(Box::new(ThreadRanks {
@@ -680,6 +689,7 @@ mod owned {
                             rank: r,
                             shared,
                             fluid: fl,
+                            temperature,
                             n_cells,
                         }));
                         let empty = Fluid {
@@ -688,14 +698,50 @@ mod owned {
                             grad_p: Vec::new(),
                             div_tau: Vec::new(),
                         };
-                        coupler.exchange(&part.state(), &state(&empty)).unwrap()
+                        let mut state_r = part.state();
+                        state_r.temperature = part_temp.as_deref();
+                        coupler.exchange(&state_r, &state(&empty)).unwrap()
                     })
                 })
                 .collect();
             handles.into_iter().map(|h| h.join().unwrap()).collect()
         });
+        let formed = shared.formed.lock().unwrap().take().unwrap();
+        (steps, formed)
+    }
+
+    /// The particles of rank `r` (indices into `c`).
+    fn pick_of(c: &Cloud, r: usize) -> Vec<usize> {
+        (0..c.ids.len()).filter(|k| k % RANKS == r).collect()
+    }
+
+    fn owned_settings(heat: Option<couple::HeatSettings>) -> CouplerSettings {
+        CouplerSettings {
+            method: Method::Exact,
+            // high enough that some cells clip: the statistics must count each cell once
+            alpha_min: Some(0.9),
+            coupling_interval: 1,
+            physics: physics([Interpolation::Smooth; 3], ModelType::A, DragLaw::KochHill),
+            heat,
+        }
+    }
+
+    #[test]
+    fn two_ranks_with_the_cells_elsewhere_equal_one_dense_rank() {
+        let c = cloud(6000);
+        let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [12, 12, 12]);
+        let fl = Arc::new(fluid(&VoidageMesh::new(&grid).unwrap()));
+        let settings = owned_settings(None);
+        let reference = Coupler::new(&grid, settings)
+            .unwrap()
+            .exchange(&c.state(), &state(&fl))
+            .unwrap();
+        assert!(reference.voidage.clipped_cells > 0);
+        let n_cells = grid.n_cells;
+        let (steps, formed) = owned_steps(&c, &grid, &fl, settings, None);
         for (r, step) in steps.iter().enumerate() {
-            for (j, &k) in pick_of(r).iter().enumerate() {
+            assert!(step.heat.is_none());
+            for (j, &k) in pick_of(&c, r).iter().enumerate() {
                 let (a, b) = (&step.forces.particles[j], &reference.forces.particles[k]);
                 let scale = b.total.norm();
                 for d in 0..3 {
@@ -724,7 +770,8 @@ mod owned {
             assert!(close(v.clipped_volume, w.clipped_volume, w.clipped_volume));
             assert!(close(v.min_epsilon, w.min_epsilon, 1.0));
         }
-        let (eps, ksl, us, f) = shared.formed.lock().unwrap().take().unwrap();
+        let (eps, ksl, us, f, tsource) = formed;
+        assert!(tsource.iter().all(|&x| x == 0.0), "no heat, no source");
         let e = &reference.exchange;
         let kmax = e.ksl.iter().cloned().fold(0.0, f64::max);
         let fmax = e.f.iter().map(|v| v.norm()).fold(0.0, f64::max);
@@ -744,5 +791,93 @@ mod owned {
             "the cloud has particles outside the mesh"
         );
         assert_eq!(steps[0].exchange.outside.particles, e.outside.particles);
+    }
+
+    /// With heat (PFM's `heatTransferGunn`: Gunn's Nu of ε and the superficial Re, ε floored
+    /// at 0.95 so that both branches of the floor occur; smooth interpolation of U, T and ε):
+    /// each rank's q per particle, the Tsource the owners sum from the ranks' shares, and the
+    /// heat account summed over the ranks equal the one-rank heat step (fluid on rank 0) to
+    /// 1e-12.
+    #[test]
+    fn two_ranks_with_the_cells_elsewhere_and_heat_equal_one_dense_rank() {
+        use closures::heat::{Nusselt, ReynoldsVelocity};
+        use couple::config::HeatModel;
+        let c = cloud(6000);
+        let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [12, 12, 12]);
+        let vm = VoidageMesh::new(&grid).unwrap();
+        let fl = Arc::new(fluid(&vm));
+        let temps = Temperatures {
+            fluid: Arc::new(
+                vm.geometry()
+                    .cell_centres
+                    .iter()
+                    .map(|x| 300.0 + 100.0 * x[0] + 50.0 * x[1] * x[2])
+                    .collect(),
+            ),
+            particles: (0..c.ids.len())
+                .map(|k| 350.0 + 200.0 * (k as f64 * 0.71).sin())
+                .collect(),
+        };
+        let heat = couple::HeatSettings {
+            model: HeatModel::HeatTransferGunn,
+            nusselt: Nusselt::Gunn,
+            reynolds: ReynoldsVelocity::Superficial,
+            voidage_floor: 0.95,
+            nusselt_scale: 1.0,
+            lambda: 0.0256,
+            cp: 1007.0,
+            prandtl: None,
+            max_source: None,
+            interpolation: Interpolation::Smooth,
+        };
+        let settings = owned_settings(Some(heat));
+        let mut all = c.state();
+        all.temperature = Some(&temps.particles);
+        let mut whole = state(&fl);
+        whole.temperature = Some(&temps.fluid);
+        let reference = Coupler::new(&grid, settings)
+            .unwrap()
+            .exchange(&all, &whole)
+            .unwrap();
+        let h = reference.heat.as_ref().unwrap();
+        let (steps, formed) = owned_steps(&c, &grid, &fl, settings, Some(&temps));
+        let qmax = h.q.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        assert!(qmax > 0.0);
+        for (r, step) in steps.iter().enumerate() {
+            let sh = step.heat.as_ref().expect("heat on every rank");
+            assert!(sh.tsource.is_empty(), "the owners hold Tsource");
+            let mine = pick_of(&c, r);
+            assert_eq!(sh.q.len(), mine.len());
+            for (j, &k) in mine.iter().enumerate() {
+                assert!(
+                    close(sh.q[j], h.q[k], qmax),
+                    "q of particle {k}: {} vs {}",
+                    sh.q[j],
+                    h.q[k]
+                );
+            }
+            let (a, b) = (&sh.account, &h.account);
+            let scale = b.to_particles.abs().max(b.from_fluid.abs());
+            assert!(
+                close(a.to_particles, b.to_particles, scale),
+                "{a:?} vs {b:?}"
+            );
+            assert!(close(a.from_fluid, b.from_fluid, scale), "{a:?} vs {b:?}");
+            assert!(close(a.imbalance, 0.0, scale), "{a:?}");
+            assert_eq!(a.particles_outside, b.particles_outside);
+            assert!(b.particles_outside > 0, "the cloud has particles outside");
+            assert_eq!((a.clipped, a.clipped_cells), (0.0, 0));
+        }
+        let tsource = formed.4;
+        let tmax = h.tsource.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        assert!(tmax > 0.0);
+        for cell in 0..grid.n_cells {
+            assert!(
+                close(tsource[cell], h.tsource[cell], tmax),
+                "Tsource of cell {cell}: {} vs {}",
+                tsource[cell],
+                h.tsource[cell]
+            );
+        }
     }
 }

@@ -91,6 +91,9 @@ pub struct OpenFoamFluid {
     pending: Option<Pending>,
     /// The solver solves the temperature equation ([`SpawnOptions::heat`]).
     heat: bool,
+    /// In a sparse run with heat: the last advance replied the patch sums only, so the cells'
+    /// T is that of an earlier reply ([`OpenFoamFluid::temperature`] then says `None`).
+    stale_temperature: bool,
 }
 
 /// What [`OpenFoamFluid::finish_interval`] needs of the advance it completes.
@@ -164,8 +167,10 @@ impl OpenFoamFluid {
         OpenFoamFluid::spawn_ranked_with(world, case, np, solver, SpawnOptions::default())
     }
 
-    /// As [`OpenFoamFluid::spawn_ranked`], with `options`. The sparse exchange carries no heat
-    /// yet: `options.heat` is refused (on every rank, before anything is spawned).
+    /// As [`OpenFoamFluid::spawn_ranked`], with `options`, which must be the same on every
+    /// rank. With `options.heat` the sparse exchange carries T and the ranks' Tsource shares
+    /// ([`crate::protocol`]); rank 0's fluid has T after an advance with
+    /// [`OpenFoamFluid::set_whole`] (and the patches' Σ φ T_b after every advance).
     pub fn spawn_ranked_with(
         world: &SimpleCommunicator,
         case: &Path,
@@ -173,22 +178,16 @@ impl OpenFoamFluid {
         solver: &Path,
         options: SpawnOptions,
     ) -> Result<(Option<OpenFoamFluid>, SolverCells), LinkError> {
-        if options.heat {
-            return Err(LinkError::Parameter(
-                "heat transfer with grainPisoFoam is not implemented for several coupler ranks \
-                 (the sparse exchange carries no Tsource/T); run the coupler on one rank"
-                    .into(),
-            ));
-        }
         let root = world.process_at_rank(0);
         if world.rank() == 0 {
-            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, false)?;
+            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options.heat)?;
             fluid.sparse = true;
             let mut words = share_words(&fluid.map, &fluid.tp().pids());
             let mut len = [words.len() as u64];
             root.broadcast_into(&mut len[..]);
             root.broadcast_into(&mut words[..]);
-            let cells = SolverCells::new(0, fluid.transport.clone(), fluid.map.clone());
+            let cells =
+                SolverCells::new(0, fluid.transport.clone(), fluid.map.clone(), options.heat);
             return Ok((Some(fluid), cells));
         }
         // The program and count matter at the root only; Open MPI sizes its error codes by
@@ -212,7 +211,7 @@ impl OpenFoamFluid {
         let rank = world.rank() as usize;
         Ok((
             None,
-            SolverCells::new(rank, Rc::new(RefCell::new(transport)), map),
+            SolverCells::new(rank, Rc::new(RefCell::new(transport)), map, options.heat),
         ))
     }
 
@@ -274,6 +273,7 @@ impl OpenFoamFluid {
             held: None,
             pending: None,
             heat,
+            stale_temperature: false,
             case,
             map: RankMap::serial(0),
             patch_names: Vec::new(),
@@ -411,8 +411,13 @@ impl OpenFoamFluid {
     }
 
     /// T per global cell (K) after the last advance (the start field before the first);
-    /// `None` without heat.
+    /// `None` without heat, and in a sparse run after an advance without
+    /// [`OpenFoamFluid::set_whole`] (the solver replied its patch sums only: the cells' T here
+    /// would be an earlier one; the coupler ranks get T of their cells in the sparse exchange).
     pub fn temperature(&self) -> Option<&[f64]> {
+        if self.stale_temperature {
+            return None;
+        }
         self.state.temperature.as_deref()
     }
 
@@ -648,7 +653,9 @@ impl OpenFoamFluid {
             } else if reply == tag::WHOLE_STATE {
                 let cells = self.map.cells_of(rank).to_vec();
                 let n = cells.len();
-                let split = (1 + STATE_WORDS_PER_CELL * n + PATCH_WORDS * n_patches).min(msg.len());
+                let h = self.state.heat_words();
+                let split = (1 + (STATE_WORDS_PER_CELL + h) * n + (PATCH_WORDS + h) * n_patches)
+                    .min(msg.len());
                 let (state, held) = msg.split_at(split);
                 let held_fields = self.held.as_mut().expect("allocated by start_held");
                 scatter_held(&cells, held, held_fields)
@@ -662,6 +669,7 @@ impl OpenFoamFluid {
             };
         }
         self.state.time = time;
+        self.stale_temperature = reply == tag::PATCH_STATE;
         self.stats.intervals += 1;
         let waited = self.tp().wait_seconds - wait_before;
         self.stats.transfer_seconds += t.elapsed().as_secs_f64() - waited;

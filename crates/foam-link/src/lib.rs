@@ -47,7 +47,10 @@
 //!   and the state carries `FluidState::temperature` (T, K) and each [`PatchFlow`] its
 //!   `t_flux` (Σ φ T_b, K m³/s; `t_flux / flux` is the patch's mixing-cup temperature).
 //!   Without heat nothing changes.
-//!   Not over the sparse exchange ([`OpenFoamFluid::spawn_ranked_with`] refuses heat).
+//!   Over the sparse exchange ([`OpenFoamFluid::spawn_ranked_with`] with heat) each coupler
+//!   rank gets T of its touched cells and gives its share of Tsource ([`SolverCells`],
+//!   [`protocol`]); rank 0's fluid has T only after an advance with
+//!   [`OpenFoamFluid::set_whole`] (`None` otherwise), and the patches' `t_flux` always.
 //! * **Logs**: each rank writes `CASE/log.grainPisoFoam` (serial) or
 //!   `CASE/log.grainPisoFoam.<rank>`.
 //!

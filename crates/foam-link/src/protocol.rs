@@ -43,10 +43,13 @@
 //! | 1 [`tag::HELLO`] | i32\[6\]: the five words, then flags ([`HELLO_FLAG_HEAT`]) |
 //! | 11 [`tag::FIELDS`] | f64\[10n\]: the nine blocks above, then Tsource (n), K/s |
 //! | 20 [`tag::STATE`] | f64\[1+11n+4m\]: time, U, p, ∇p, ∇·τ, then T (n, K), then per patch Σp\|S\|, Σ\|S\|, Σφ and Σ φT_b (K m³/s, the same φ) |
+//! | 23 [`tag::PATCH_STATE`] | f64\[1+4m\]: time, then per patch the four sums of tag 20 |
+//! | 24 [`tag::WHOLE_STATE`] | tag 20's message with heat, then the held fields as above |
+//! | 22 [`tag::SPARSE_REPLY`] | f64\[13k\]: per cell the twelve values above, then T (K) |
+//! | 14 [`tag::SPARSE_SUMS`] | f64\[9k\]: per cell the eight values above, then q's share of Tsource, −Σ_p w q_p/(ρ c_p V) (K/s; the rank adds the shares in coupler-rank order into Tsource, 0 in cells no coupler rank touches) |
 //!
-//! The sparse exchange carries no heat: the solver refuses [`Command::Exchange`] and
-//! [`Command::AdvanceHeld`] with heat on, and [`crate::OpenFoamFluid::spawn_ranked_with`]
-//! refuses heat.
+//! ([`sparse_reply_words`], [`sparse_sums_words`]; the coupler's side is
+//! [`couple::ranks::owner_reply_width`] and [`couple::ranks::owner_sums_width`].)
 //!
 //! Units are ADR 0004's: ε dimensionless, Ksl kg/(m³ s), Us m/s, f N/m³; U m/s, p m²/s²
 //! (kinematic), ∇p and ∇·τ m/s², φ m³/s.
@@ -106,6 +109,17 @@ pub const PATCH_WORDS: usize = 3;
 pub const SPARSE_REPLY_WORDS: usize = 12;
 /// Doubles per cell of [`tag::SPARSE_SUMS`]: ε, Σ Ksl, Σ Ksl·Us (3), Σ f (3).
 pub const SPARSE_SUMS_WORDS: usize = 8;
+
+/// Doubles per cell of [`tag::SPARSE_REPLY`]: [`SPARSE_REPLY_WORDS`], and T when `heat`.
+pub const fn sparse_reply_words(heat: bool) -> usize {
+    SPARSE_REPLY_WORDS + if heat { HEAT_WORDS_PER_CELL } else { 0 }
+}
+
+/// Doubles per cell of [`tag::SPARSE_SUMS`]: [`SPARSE_SUMS_WORDS`], and the Tsource share when
+/// `heat`.
+pub const fn sparse_sums_words(heat: bool) -> usize {
+    SPARSE_SUMS_WORDS + if heat { HEAT_WORDS_PER_CELL } else { 0 }
+}
 /// Doubles per cell that [`tag::WHOLE_STATE`] adds to [`tag::STATE`]'s message: ε, Ksl, Us
 /// (3), f (3).
 pub const HELD_WORDS_PER_CELL: usize = 8;
@@ -333,27 +347,37 @@ impl GlobalState {
         }
     }
 
-    /// Adds one rank's [`tag::PATCH_STATE`] reply (time, then the patch sums) to the patch
-    /// sums; returns the rank's time. `Err` when the length does not fit the patches.
+    /// Adds one rank's [`tag::PATCH_STATE`] reply (time, then the patch sums, with heat Σ φ T_b
+    /// after each patch's three) to the patch sums; returns the rank's time. `Err` when the
+    /// length does not fit the patches.
     pub fn add_patch_sums(&mut self, msg: &[f64]) -> Result<f64, String> {
         let m = self.patch_sums.len();
-        if msg.len() != 1 + PATCH_WORDS * m {
+        let per_patch = PATCH_WORDS + self.heat_words();
+        if msg.len() != 1 + per_patch * m {
             return Err(format!(
                 "patch reply of {} values, expected {} ({m} patches)",
                 msg.len(),
-                1 + PATCH_WORDS * m
+                1 + per_patch * m
             ));
         }
-        for (acc, s) in self
-            .patch_sums
-            .iter_mut()
-            .zip(msg[1..].chunks_exact(PATCH_WORDS))
-        {
-            for k in 0..PATCH_WORDS {
-                acc[k] += s[k];
+        for (j, s) in msg[1..].chunks_exact(per_patch).enumerate() {
+            for (acc, x) in self.patch_sums[j].iter_mut().zip(s) {
+                *acc += x;
+            }
+            if let Some(acc) = self.patch_t_flux.as_mut() {
+                acc[j] += s[PATCH_WORDS];
             }
         }
         Ok(msg[0])
+    }
+
+    /// Doubles per cell and per patch the heat block adds to the replies (0 without heat).
+    pub fn heat_words(&self) -> usize {
+        if self.temperature.is_some() {
+            HEAT_WORDS_PER_CELL
+        } else {
+            0
+        }
     }
 
     /// Scatters one rank's [`tag::STATE`] reply into the global arrays and adds its patch sums;
@@ -361,11 +385,7 @@ impl GlobalState {
     pub fn scatter(&mut self, cells: &[u32], msg: &[f64]) -> Result<f64, String> {
         let n = cells.len();
         let m = self.patch_sums.len();
-        let heat = if self.temperature.is_some() {
-            HEAT_WORDS_PER_CELL
-        } else {
-            0
-        };
+        let heat = self.heat_words();
         let per_patch = PATCH_WORDS + heat;
         let expected = 1 + (STATE_WORDS_PER_CELL + heat) * n + per_patch * m;
         if msg.len() != expected {
@@ -635,6 +655,46 @@ mod tests {
             advance_bytes_with(4480, 2, 3, true),
             (8 * (8 + 10 * 4480), 8 * (2 * 13 + 11 * 4480))
         );
+    }
+
+    #[test]
+    fn heat_grows_the_sparse_records_by_one_and_the_patch_reply_by_one_per_patch() {
+        // the solver's records as mpiCouplingSource.H documents them: 12 + T, 8 + Tsource
+        assert_eq!(
+            (sparse_reply_words(false), sparse_reply_words(true)),
+            (12, 13)
+        );
+        assert_eq!((sparse_sums_words(false), sparse_sums_words(true)), (8, 9));
+        for heat in [false, true] {
+            assert_eq!(
+                sparse_reply_words(heat),
+                couple::ranks::owner_reply_width(heat)
+            );
+            assert_eq!(
+                sparse_sums_words(heat),
+                couple::ranks::owner_sums_width(heat)
+            );
+        }
+        // tag 23 with heat: time, then Σp|S|, Σ|S|, Σφ, Σφ T_b per patch, added over ranks
+        let mut s = GlobalState::with_heat(2, 2);
+        let rank0 = [0.5, 1.0, 2.0, 3.0, 30.0, 4.0, 5.0, 6.0, 60.0];
+        let rank1 = [0.5, 0.5, 0.5, 0.5, 5.0, 1.0, 1.0, 1.0, 10.0];
+        assert_eq!(s.add_patch_sums(&rank0), Ok(0.5));
+        assert_eq!(s.add_patch_sums(&rank1), Ok(0.5));
+        assert_eq!(s.patch_sums, [[1.5, 2.5, 3.5], [5.0, 6.0, 7.0]]);
+        assert_eq!(s.patch_t_flux.as_deref(), Some(&[35.0, 70.0][..]));
+        // the cold reply is refused with heat on, and the hot one without
+        let err = s
+            .add_patch_sums(&[0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+            .unwrap_err();
+        assert!(err.contains("expected 9"), "{err}");
+        let mut cold = GlobalState::new(2, 2);
+        assert!(cold.add_patch_sums(&rank0).is_err());
+        assert_eq!(
+            cold.add_patch_sums(&[0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]),
+            Ok(0.5)
+        );
+        assert_eq!(cold.patch_sums, [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
     }
 
     #[test]

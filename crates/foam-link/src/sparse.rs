@@ -7,10 +7,11 @@
 //! the local cells it touches there and its solid volume in each (two messages, empty when it
 //! touches none of that rank's cells), receives the summed volume and the fluid of those cells,
 //! and after its forces sends ε and its force sums. A coupler rank's bytes per step are 8·(1 +
-//! 1 + 12 + 8) = 176 per touched cell plus four empty-or-not messages per solver rank: they
-//! scale with its particles, not with the mesh, and no coupler rank relays for another.
+//! 1 + 12 + 8) = 176 per touched cell (192 with heat: T back, its Tsource share out) plus four
+//! empty-or-not messages per solver rank: they scale with its particles, not with the mesh,
+//! and no coupler rank relays for another.
 
-use crate::protocol::{tag, Command, SPARSE_REPLY_WORDS, SPARSE_SUMS_WORDS};
+use crate::protocol::{sparse_reply_words, sparse_sums_words, tag, Command};
 use crate::ranks::RankMap;
 use crate::transport::Transport;
 use couple::ranks::CellOwners;
@@ -29,13 +30,21 @@ pub struct SolverCells {
     groups: Vec<Vec<usize>>,
     /// Cells of the last deposit.
     touched: usize,
+    /// The solver solves heat: the records carry T and the Tsource share.
+    heat: bool,
     sent: u64,
     received: u64,
 }
 
 impl SolverCells {
-    /// The link of coupler rank `rank` over `transport`, with the solver's cell `map`.
-    pub(crate) fn new(rank: usize, transport: Rc<RefCell<Transport>>, map: RankMap) -> SolverCells {
+    /// The link of coupler rank `rank` over `transport`, with the solver's cell `map`; `heat`
+    /// when the solver was spawned with heat.
+    pub(crate) fn new(
+        rank: usize,
+        transport: Rc<RefCell<Transport>>,
+        map: RankMap,
+        heat: bool,
+    ) -> SolverCells {
         let np = map.ranks();
         SolverCells {
             rank,
@@ -43,6 +52,7 @@ impl SolverCells {
             map,
             groups: vec![Vec::new(); np],
             touched: 0,
+            heat,
             sent: 0,
             received: 0,
         }
@@ -91,12 +101,13 @@ impl CellOwners for SolverCells {
             )?;
             self.sent += (12 * local[s].len()) as u64;
         }
-        let mut out = vec![0.0; cells.len() * SPARSE_REPLY_WORDS];
+        let width = sparse_reply_words(self.heat);
+        let mut out = vec![0.0; cells.len() * width];
         for s in 0..np {
             let msg: Vec<f64> =
                 transport.receive(s, tag::SPARSE_REPLY, "the touched cells' fluid")?;
             let group = &self.groups[s];
-            if msg.len() != group.len() * SPARSE_REPLY_WORDS {
+            if msg.len() != group.len() * width {
                 transport.mark_broken();
                 return Err(Box::new(crate::LinkError::Protocol {
                     rank: s,
@@ -109,8 +120,8 @@ impl CellOwners for SolverCells {
                 }));
             }
             self.received += 8 * msg.len() as u64;
-            for (&k, rec) in group.iter().zip(msg.chunks_exact(SPARSE_REPLY_WORDS)) {
-                out[k * SPARSE_REPLY_WORDS..(k + 1) * SPARSE_REPLY_WORDS].copy_from_slice(rec);
+            for (&k, rec) in group.iter().zip(msg.chunks_exact(width)) {
+                out[k * width..(k + 1) * width].copy_from_slice(rec);
             }
         }
         self.touched = cells.len();
@@ -118,7 +129,8 @@ impl CellOwners for SolverCells {
     }
 
     fn exchange(&mut self, sums: &[f64]) -> Result<(), SideError> {
-        if sums.len() != self.touched * SPARSE_SUMS_WORDS {
+        let width = sparse_sums_words(self.heat);
+        if sums.len() != self.touched * width {
             return Err(format!(
                 "{} exchange values for {} touched cells",
                 sums.len(),
@@ -131,7 +143,7 @@ impl CellOwners for SolverCells {
         for (s, group) in self.groups.iter().enumerate() {
             buf.clear();
             for &k in group {
-                buf.extend_from_slice(&sums[k * SPARSE_SUMS_WORDS..(k + 1) * SPARSE_SUMS_WORDS]);
+                buf.extend_from_slice(&sums[k * width..(k + 1) * width]);
             }
             transport.send(s, &buf, tag::SPARSE_SUMS, "the force sums to arrive")?;
             self.sent += 8 * buf.len() as u64;

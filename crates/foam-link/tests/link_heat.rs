@@ -7,7 +7,8 @@
 //!   history). The fluid's heat ε ρ c_p V T grows by S ρ c_p V per second.
 //! * The heat channel with a porous, cooled block on 2 solver ranks equals 1 rank.
 //! * Heat on and off are checked against each other's API: a missing Tsource, a Tsource
-//!   without heat, heat with several coupler ranks and a case without `0/T` are clear errors.
+//!   without heat and a case without `0/T` are clear errors. (Heat over several coupler
+//!   ranks: `link_sparse_heat.rs`.)
 
 mod common;
 use common::*;
@@ -162,31 +163,15 @@ fn falling_voidage_keeps_the_rate_s_over_eps(
 /// preconditioners change the iterates, not the converged solution; as link_parallel).
 fn two_ranks_equal_one_rank(world: &mpi::topology::SimpleCommunicator, solver: &std::path::Path) {
     let case = TestCase::new("heat-channel");
-    let (_, g) = case.mesh();
-    let block: Vec<bool> = g
-        .cell_centres
-        .iter()
-        .map(|c| c[0] > 0.04 && c[0] < 0.06)
-        .collect();
-    let pick =
-        |a: f64, b: f64| -> Vec<f64> { block.iter().map(|&x| if x { a } else { b }).collect() };
-    let eps = pick(0.6, 1.0);
-    let ksl = pick(500.0, 0.0);
-    let ts = pick(-5.0, 0.0);
-    let zeros_v = vec![V3::zeros(); eps.len()];
-    let ones = vec![1.0; eps.len()];
+    let channel = HeatChannel::new(&case);
+    let block = &channel.block;
     let run = |np: usize| -> (Vec<f64>, Vec<V3>, [foam_link::PatchFlow; 2]) {
         let copy = case.duplicate();
         let mut fluid = OpenFoamFluid::spawn_with(world, &copy.dir, np, solver, HEAT).unwrap();
         for i in 0..3 {
-            let fields = FieldsIn {
-                eps_old: if i == 0 { &ones } else { &eps },
-                eps_new: &eps,
-                ksl: &ksl,
-                us: &zeros_v,
-                f: &zeros_v,
-            };
-            fluid.set_fields_with_heat(&fields, Some(&ts)).unwrap();
+            fluid
+                .set_fields_with_heat(&channel.fields(i), Some(&channel.tsource))
+                .unwrap();
             fluid.advance_interval(0.1).unwrap();
         }
         let t = fluid.temperature().unwrap().to_vec();
@@ -230,8 +215,8 @@ fn two_ranks_equal_one_rank(world: &mpi::topology::SimpleCommunicator, solver: &
     assert!(dt < 1e-8 && du < 1e-8, "T {dt:e}, U {du:e}");
 }
 
-/// Heat without Tsource, Tsource without heat, heat over several coupler ranks, heat on a case
-/// without `0/T`: each a clear error.
+/// Heat without Tsource, Tsource without heat, heat on a case without `0/T`: each a clear
+/// error.
 fn misuse_is_refused(world: &mpi::topology::SimpleCommunicator, solver: &std::path::Path) {
     let case = TestCase::new("heat-channel");
     let n = case.mesh().0.n_cells;
@@ -274,15 +259,6 @@ fn misuse_is_refused(world: &mpi::topology::SimpleCommunicator, solver: &std::pa
         .to_string();
     assert!(err.contains("without heat"), "{err}");
     fluid.finish().unwrap();
-
-    let err = OpenFoamFluid::spawn_ranked_with(world, &case.dir, 1, solver, HEAT)
-        .err()
-        .expect("heat over the sparse exchange is refused")
-        .to_string();
-    assert!(
-        err.contains("not implemented for several coupler ranks"),
-        "{err}"
-    );
 
     let no_t = TestCase::new("heat-channel");
     std::fs::remove_file(no_t.dir.join("0/T")).unwrap();

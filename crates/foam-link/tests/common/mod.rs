@@ -188,3 +188,52 @@ pub fn tools() -> Option<std::path::PathBuf> {
     }
     Some(solver)
 }
+
+/// The heat channel's exchange fields (`foam-solver-tests`' heat-channel case, used by
+/// link_heat and link_sparse_heat): a porous block 40 mm < x < 60 mm at ε 0.6 with
+/// Ksl = 500 kg/(m³ s), cooled by Tsource = −5 K/s; ε 1, Ksl 0 and Tsource 0 elsewhere; Us and
+/// f zero. ε starts from 1 in the first interval.
+pub struct HeatChannel {
+    /// Cells of the block.
+    pub block: Vec<bool>,
+    pub eps: Vec<f64>,
+    pub ksl: Vec<f64>,
+    /// Tsource, K/s.
+    pub tsource: Vec<f64>,
+    zeros_v: Vec<V3>,
+    ones: Vec<f64>,
+}
+
+impl HeatChannel {
+    pub fn new(case: &TestCase) -> HeatChannel {
+        let (_, g) = case.mesh();
+        let block: Vec<bool> = g
+            .cell_centres
+            .iter()
+            .map(|c| c[0] > 0.04 && c[0] < 0.06)
+            .collect();
+        let pick =
+            |a: f64, b: f64| -> Vec<f64> { block.iter().map(|&x| if x { a } else { b }).collect() };
+        let (eps, ksl, tsource) = (pick(0.6, 1.0), pick(500.0, 0.0), pick(-5.0, 0.0));
+        let n = block.len();
+        HeatChannel {
+            block,
+            eps,
+            ksl,
+            tsource,
+            zeros_v: vec![V3::zeros(); n],
+            ones: vec![1.0; n],
+        }
+    }
+
+    /// The exchange fields of interval `i` (0 the first).
+    pub fn fields(&self, i: usize) -> foam_link::protocol::FieldsIn<'_> {
+        foam_link::protocol::FieldsIn {
+            eps_old: if i == 0 { &self.ones } else { &self.eps },
+            eps_new: &self.eps,
+            ksl: &self.ksl,
+            us: &self.zeros_v,
+            f: &self.zeros_v,
+        }
+    }
+}
