@@ -179,6 +179,12 @@ pub(crate) fn checks(
     post: &Path,
     notes: &mut Vec<String>,
 ) -> Result<Vec<Check>, RunError> {
+    if profiles.snapshots.is_empty() {
+        return Err(check_err(format!(
+            "the run reached none of the sample times {:?} s (validationDict's sampleTimes)",
+            case.sample_times
+        )));
+    }
     let (particle_capacity, cell_size, snapshots) = (
         profiles.particle_capacity,
         profiles.cell_size,

@@ -189,8 +189,9 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         let dem = Timed::new(dem);
         let mut fluid = Timed::new(fluid);
         let owned = owners.is_some();
-        if owned && plan.layout.coupling.monitors.needs_fields() {
-            // the monitors read whole fields on rank 0, which no coupler rank holds otherwise
+        if owned && (plan.layout.coupling.monitors.needs_fields() || plan.settings.heat.is_some()) {
+            // the monitors, and with heat the outlet gas temperature and a heating case's gas
+            // profile, read whole fields on rank 0, which no coupler rank holds otherwise
             fluid.inner.want_held();
         }
         let schedule = Schedule::of(plan, opts, dem.time_step(), fluid.inner.time())?;
