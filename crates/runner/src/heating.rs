@@ -143,20 +143,24 @@ impl HeatingCheck {
             let (p, t) = (f.phase.name(), f.time);
             let rows = [
                 (
-                    "position (θ = 0.5)",
+                    ("position", "θ = 0.5"),
                     f.position,
                     f.reference_position,
                     f.position_tolerance,
                 ),
                 (
-                    "width (θ 0.9 → 0.1)",
+                    ("width", "θ 0.9 → 0.1"),
                     f.width,
                     f.reference_width,
                     f.width_tolerance,
                 ),
             ];
-            for (what, sim, reference, tol) in rows {
-                let name = format!("{p} front {what} at t = {} s", cfmt::format_g(t, 6));
+            for ((what, levels), sim, reference, tol) in rows {
+                // the time before the parenthesis: runs are compared by the name's head
+                let name = format!(
+                    "{p} front {what} at t = {} s ({levels})",
+                    cfmt::format_g(t, 6)
+                );
                 out.push(Check::new(&name, sim, reference, "m", tol / reference));
             }
         }
