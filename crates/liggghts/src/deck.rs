@@ -108,7 +108,7 @@ impl CouplingDeck {
             ));
         }
         let skipped_runs = trailing_runs(&deck, couple.line).map_err(|(l, m)| err(l, m))?;
-        let convection = convection_fix(&deck).map_err(|(l, m)| err(l, m))?;
+        let convection = convection_fix(&deck, deck.convection()?).map_err(|(l, m)| err(l, m))?;
         Ok(CouplingDeck {
             file: file.to_path_buf(),
             source: source.to_string(),
@@ -329,19 +329,26 @@ fn refuse_hidden_commands(deck: &Deck) -> Result<(), (usize, String)> {
 
 /// Exactly one `couple/cfd` and one force fix after it, with the options LIGGGHTS 3.8.0
 /// survives.
-/// The line of the deck's `fix … couple/cfd/convection T0 …` (LIGGGHTS 3.8 allows one, and
-/// it needs `fix heat/gran`, which holds the per-particle `Temp` and `heatFlux`; without it
-/// LIGGGHTS adds a `transportequation/scalar` of its own, which we refuse: the particles'
-/// heat conduction would then silently be off).
-fn convection_fix(deck: &liggghts_deck::Deck) -> Result<Option<usize>, (usize, String)> {
-    let mut lines = deck.fixes("couple/cfd/convection").map(|c| c.line);
-    let Some(line) = lines.next() else {
+/// The line of the deck's `fix … couple/cfd/convection T0 …` (`Deck::convection`, which reads
+/// it whole; LIGGGHTS 3.8 allows one, and it needs `fix heat/gran`, which holds the
+/// per-particle `Temp` and `heatFlux`; without it LIGGGHTS adds a `transportequation/scalar`
+/// of its own, which we refuse: the particles' heat conduction would then silently be off).
+fn convection_fix(
+    deck: &liggghts_deck::Deck,
+    fix: Option<liggghts_deck::ConvectionFix>,
+) -> Result<Option<usize>, (usize, String)> {
+    let Some(fix) = fix else {
         return Ok(None);
     };
-    if let Some(second) = lines.next() {
+    let line = fix.line;
+    if let Some(first) = deck
+        .fixes("couple/cfd/convection")
+        .map(|c| c.line)
+        .find(|&l| l != line)
+    {
         return Err((
-            second,
-            format!("a second `fix … couple/cfd/convection` (the first is on line {line})"),
+            line,
+            format!("a second `fix … couple/cfd/convection` (the first is on line {first})"),
         ));
     }
     if deck.fixes("heat/gran").next().is_none() {
