@@ -6,7 +6,8 @@
 #   docker/build-and-run.sh STEP...      only these steps
 #
 # Steps:
-#   packages   apt packages: OpenFOAM v1912 (openfoam, libopenfoam), LIGGGHTS 3.8.0 (liggghts,
+#   packages   apt packages: OpenFOAM v1912 (openfoam, libopenfoam, and openfoam-examples, whose
+#              cases `foamgrain fluid` is compared on), LIGGGHTS 3.8.0 (liggghts,
 #              libliggghts-dev), OpenMPI, libclang (for the mpi crate's bindings), g++, dpkg-dev,
 #              bzip2, curl and ca-certificates (for rustup), git, python3
 #   rust       Rust stable through rustup, unless cargo is already on PATH
@@ -34,7 +35,7 @@ step() { printf '\n==== %s (%s)\n' "$*" "$(date -u +%H:%M:%S)"; }
 
 step_packages() {
     step "packages"
-    local pkgs=(openfoam libopenfoam liggghts libliggghts-dev openmpi-bin libopenmpi-dev
+    local pkgs=(openfoam libopenfoam openfoam-examples liggghts libliggghts-dev openmpi-bin libopenmpi-dev
                 libclang-dev g++ dpkg-dev bzip2 curl ca-certificates git python3)
     local missing=()
     for p in "${pkgs[@]}"; do

@@ -6,6 +6,7 @@ mod args;
 mod convert;
 mod couple;
 mod dem;
+mod fluid;
 mod gci;
 mod info;
 mod run;
@@ -40,6 +41,9 @@ enum Command {
     /// Run a LIGGGHTS deck on the native DEM, as `liggghts -in DECK` would: thermo lines,
     /// dumps, write_data, a progress bar (`foamgrain dem DECK -var NAME VALUE …`).
     Dem(dem::DemArgs),
+    /// Run the native fluid alone on a plain OpenFOAM case (pisoFoam, icoFoam), writing time
+    /// directories as OpenFOAM does, to put it side by side with OpenFOAM.
+    Fluid(fluid::FluidArgs),
     /// Run a coupled CFD-DEM case (CFDEM layout: CASE/CFD, CASE/DEM) and check it against
     /// its references (CASE/validationDict). `mpirun -np N foamgrain run CASE --dem liggghts`
     /// runs LIGGGHTS on N ranks, each coupling its own particles (the native fluid on rank 0;
@@ -71,6 +75,7 @@ fn main() {
         Command::Timestep(a) => timestep::run(&a),
         Command::Run(a) => run::run(&a),
         Command::Dem(a) => dem::run(&a),
+        Command::Fluid(a) => fluid::run(&a),
         Command::Gci(a) => gci::run(&a),
         Command::Study(c) => study::run(&c),
     };

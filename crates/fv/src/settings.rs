@@ -98,6 +98,8 @@ pub struct Settings {
     pub write: WriteControl,
     /// Write ASCII or binary.
     pub write_format: foam::Format,
+    /// controlDict's `purgeWrite`: keep only the last N written time directories (0: all).
+    pub purge_write: usize,
     /// Momentum time scheme.
     pub time_scheme: TimeScheme,
     /// Convection scheme (`divSchemes` `div(phi,U)`).
@@ -507,6 +509,7 @@ struct Control {
     delta_t: f64,
     write: WriteControl,
     write_format: foam::Format,
+    purge_write: usize,
 }
 
 impl Control {
@@ -541,12 +544,24 @@ impl Control {
             ));
         }
         let (write, write_format) = writes(cd, &cd_file)?;
+        let purge_write = match cd.f64_or("purgeWrite", 0.0) {
+            Ok(n) if n >= 0.0 && n.fract() == 0.0 => n as usize,
+            Ok(n) => {
+                return Err(err(
+                    &cd_file,
+                    "purgeWrite",
+                    format!("{n} is not a number of time directories (0, 1, 2, …)"),
+                ))
+            }
+            Err(e) => return Err(err(&cd_file, "purgeWrite", e.0)),
+        };
         Ok(Control {
             start_time,
             end_time,
             delta_t,
             write,
             write_format,
+            purge_write,
         })
     }
 }
@@ -815,6 +830,7 @@ impl Settings {
             delta_t: control.delta_t,
             write: control.write,
             write_format: control.write_format,
+            purge_write: control.purge_write,
             time_scheme,
             convection,
             bounded_convection,

@@ -9,6 +9,7 @@ pub mod checks;
 pub mod conveyor;
 pub mod error;
 pub mod fluid;
+pub mod fluid_case;
 pub mod fluidised;
 #[cfg(feature = "mpi")]
 pub mod foam_fluid;

@@ -86,6 +86,24 @@ impl Probes {
         heat: bool,
         locate: &dyn Fn(V3) -> Option<usize>,
     ) -> Result<(Probes, Vec<String>), RunError> {
+        let heat_fields = HEAT_FIELDS.map(|n| (n, false));
+        let available: Vec<(&str, bool)> = FIELDS
+            .iter()
+            .chain(if heat { &heat_fields[..] } else { &[] })
+            .copied()
+            .collect();
+        Probes::read_fields(cfd, control, start_name, &available, locate)
+    }
+
+    /// [`Probes::read`] for a run that holds the fields `available` (name, whether a vector);
+    /// a probed field not among them is left out with a warning, as OpenFOAM does.
+    pub fn read_fields(
+        cfd: &Path,
+        control: &ControlDict,
+        start_name: &str,
+        available: &[(&str, bool)],
+        locate: &dyn Fn(V3) -> Option<usize>,
+    ) -> Result<(Probes, Vec<String>), RunError> {
         let path = &control.path;
         let err = |message: String| RunError::Setup {
             file: path.clone(),
@@ -125,7 +143,7 @@ impl Probes {
             let mut fields = Vec::new();
             let mut left_out = Vec::new();
             for f in word_list(d, "fields").map_err(|m| err(format!("{}: {m}", at("fields"))))? {
-                if FIELDS.iter().any(|(n, _)| *n == f) || (heat && HEAT_FIELDS.contains(&&*f)) {
+                if available.iter().any(|(n, _)| *n == f) {
                     fields.push(f);
                 } else {
                     left_out.push(f);
@@ -137,11 +155,9 @@ impl Probes {
                     path.display(),
                     at("fields"),
                     left_out.join(" "),
-                    FIELDS
-                        .map(|(n, _)| n)
+                    available
                         .iter()
-                        .chain(if heat { &HEAT_FIELDS[..] } else { &[] })
-                        .copied()
+                        .map(|(n, _)| *n)
                         .collect::<Vec<_>>()
                         .join(" ")
                 ));
@@ -175,6 +191,17 @@ impl Probes {
         write: bool,
         fields: &StepFields<'_>,
     ) -> Result<(), RunError> {
+        self.sample_with(time, write, &|name| fields.get(name))
+    }
+
+    /// [`Probes::sample`] with the fields given by name (`get` gives each field
+    /// [`Probes::read_fields`] accepted).
+    pub(crate) fn sample_with<'f>(
+        &mut self,
+        time: f64,
+        write: bool,
+        get: &dyn Fn(&str) -> Field<'f>,
+    ) -> Result<(), RunError> {
         for set in &mut self.sets {
             if set.control == Control::WriteTime && !write {
                 continue;
@@ -183,7 +210,7 @@ impl Probes {
             let g = |x: f64| sig(x, digits);
             for (name, text) in set.fields.iter().zip(&mut set.text) {
                 let _ = write!(text, "{:>width$}", couple::output::time_name(time));
-                let field = fields.get(name);
+                let field = get(name);
                 for &(_, c) in &set.points {
                     let value = match &field {
                         Field::Scalar(phi) => g(phi[c]),

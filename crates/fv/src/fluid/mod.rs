@@ -883,13 +883,26 @@ impl Fluid {
     /// Runs the case as its controlDict says (start to end time, writing time directories);
     /// returns the number of steps.
     pub fn run(&mut self) -> Result<usize> {
+        self.run_observed(None, |_, _| Ok(()))
+    }
+
+    /// [`Fluid::run`] to `end_time` (the controlDict's when `None`), calling `observe` after
+    /// every step and every write. Writes follow the controlDict's `writeControl` and
+    /// `writeInterval`, and always at the last step; with `purgeWrite N` only the last N
+    /// directories this run wrote are kept, as OpenFOAM's `Time::writeTime` does. An error
+    /// from `observe` ends the run with it.
+    pub fn run_observed(
+        &mut self,
+        end_time: Option<f64>,
+        mut observe: impl FnMut(&Fluid, RunEvent<'_>) -> Result<()>,
+    ) -> Result<usize> {
         let dt = self.settings.delta_t;
-        let n_steps = ((self.settings.end_time - self.time) / dt - 1e-9)
-            .ceil()
-            .max(0.0) as usize;
+        let end = end_time.unwrap_or(self.settings.end_time);
+        let n_steps = ((end - self.time) / dt - 1e-9).ceil().max(0.0) as usize;
         let mut next_write = self.time;
+        let mut written: std::collections::VecDeque<String> = Default::default();
         for step in 1..=n_steps {
-            self.advance(dt)?;
+            let report = self.advance(dt)?;
             let write = match self.settings.write {
                 crate::settings::WriteControl::TimeStep(n) => step % n == 0,
                 crate::settings::WriteControl::RunTime(t) => {
@@ -901,12 +914,63 @@ impl Fluid {
                     }
                 }
             };
-            if write || step == n_steps {
-                self.write(&self.time_name())?;
+            let write = write || step == n_steps;
+            observe(
+                self,
+                RunEvent::Step {
+                    index: step,
+                    of: n_steps,
+                    report: &report,
+                    writes: write,
+                },
+            )?;
+            if write {
+                let name = self.time_name();
+                self.write(&name)?;
+                written.push_back(name.clone());
+                self.purge(&mut written)?;
+                observe(self, RunEvent::Wrote { name: &name })?;
             }
         }
         Ok(n_steps)
     }
+
+    /// Removes the oldest of the `written` directories beyond `purgeWrite` (none when 0).
+    fn purge(&self, written: &mut std::collections::VecDeque<String>) -> Result<()> {
+        let keep = self.settings.purge_write;
+        while keep > 0 && written.len() > keep {
+            let Some(old) = written.pop_front() else {
+                break;
+            };
+            let dir = self.case.time_path(&old);
+            std::fs::remove_dir_all(&dir).map_err(|e| FvError::Value {
+                what: dir.display().to_string(),
+                msg: format!("purgeWrite could not remove it: {e}"),
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// What [`Fluid::run_observed`] reports.
+#[derive(Debug)]
+pub enum RunEvent<'a> {
+    /// Step `index` of `of` is done.
+    Step {
+        /// 1-based.
+        index: usize,
+        /// Steps of the run.
+        of: usize,
+        /// The step's solves.
+        report: &'a StepReport,
+        /// The step ends at a write time (its directory is written next).
+        writes: bool,
+    },
+    /// The time directory `name` was written.
+    Wrote {
+        /// Its name.
+        name: &'a str,
+    },
 }
 
 /// The time directory to start from.
