@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Makes one variant of openfoam-cases/fluidised-bed in the working directory (issue 31: one
+change at a time). usage: make_variant.py NAME (see the branches below for the names)."""
+import os, re, shutil, subprocess, sys
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+name = sys.argv[1]
+dst = os.path.abspath(name)
+if os.path.exists(dst):
+    sys.exit(f"{dst} exists")
+# the tracked files only
+files = subprocess.check_output(["git", "-C", REPO, "ls-files", "openfoam-cases/fluidised-bed"], text=True).split()
+for f in files:
+    rel = f[len("openfoam-cases/fluidised-bed/"):]
+    os.makedirs(os.path.dirname(os.path.join(dst, rel)) or dst, exist_ok=True)
+    shutil.copy(os.path.join(REPO, f), os.path.join(dst, rel))
+os.makedirs(f"{dst}/DEM/post", exist_ok=True)
+shutil.copy(f"{dst}/reference/packed.data", f"{dst}/DEM/post/packed.data")
+cp = f"{dst}/CFD/constant/couplingProperties"
+deck = f"{dst}/DEM/in.liggghts_run"
+def sub(path, a, b, count=1):
+    s = open(path).read()
+    n = s.count(a)
+    assert n >= 1, (path, a)
+    s = s.replace(a, b) if count == 0 else s.replace(a, b, count)
+    open(path, "w").write(s)
+def mesh(ny):
+    sub(f"{dst}/CFD/system/blockMeshDict", "(12 1 26)", f"(12 {ny} 26)")
+    shutil.rmtree(f"{dst}/CFD/constant/polyMesh")
+    env = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
+    subprocess.check_call(["bash", "-c", "source /usr/share/openfoam/etc/bashrc 2>/dev/null; blockMesh -case CFD > log.blockMesh 2>&1"], cwd=dst, env=env)
+def drag(law, extra=""):
+    sub(cp, "    BeetstraDrag\n", f"    {law}\n")
+    sub(cp, "BeetstraDragProps", f"{law}Props")
+    if extra:
+        sub(cp, f"{law}Props\n{{\n", f"{law}Props\n{{\n{extra}")
+# denser particle dumps (every 0.01 s) for time-averaged voidage profiles; no effect on results
+sub(deck, "dump            dmp all custom 20000", "dump            dmp all custom 4000")
+def inlet(u):
+    sub(f"{dst}/CFD/0/U", "(0.1 (0 0 0.66))", f"(0.1 (0 0 {u}))")
+    sub(f"{dst}/CFD/0/U", "(0.0 (0 0 0.0066))", f"(0.0 (0 0 {u/100}))")
+if name == "base":
+    pass
+elif name == "u06":
+    inlet(0.6)
+elif name == "u09":
+    inlet(0.9)
+elif name == "depth3":
+    mesh(3)
+elif name == "depth5":
+    mesh(5)
+elif name == "yfric":   # front/back walls (type 2) with the particles' friction 0.1
+    sub(deck, "coefficientFriction peratomtypepair 2 0.1 0.0 0.0 0.0", "coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1")
+elif name == "gidaspow":
+    drag("GidaspowDrag", "    implForceDEM            true;\n")
+elif name == "kochhill":
+    drag("KochHillDrag")
+elif name == "difelice":
+    drag("DiFeliceDrag")
+elif name == "exact":
+    sub(cp, "voidFractionModel   divided;", "voidFractionModel   exact;   ")
+    sub(cp, "dividedProps", "exactProps")
+    sub(cp, "    scaleUpVol              1.0;\n", "")
+elif name == "ci50":
+    sub(cp, "couplingInterval    100;", "couplingInterval    50; ")
+    sub(deck, "couple_every 100", "couple_every 50")
+elif name == "count":   # the experiment's 0.03 m settled bed: drop the highest particles
+    p = f"{dst}/DEM/post/packed.data"
+    lines = open(p).read().split("\n")
+    i0 = lines.index("Atoms") + 2
+    i1 = i0
+    while i1 < len(lines) and lines[i1].strip():
+        i1 += 1
+    atoms = lines[i0:i1]
+    def top(l):
+        w = l.split(); return float(w[6]) + float(w[2]) / 2
+    keep = sorted(atoms, key=top)
+    # the mean surface is measured by runner::Bed; scale the count by 0.03 / 0.03242
+    n = round(len(atoms) * 0.03 / 0.03242)
+    kept_ids = set(id(a) for a in keep[:n])
+    atoms2 = [a for a in atoms if id(a) in kept_ids]
+    ids = set(a.split()[0] for a in atoms2)
+    out = []
+    in_vel = False
+    for l in lines[i1:]:
+        if l.strip() == "Velocities":
+            in_vel = True
+        w = l.split()
+        if in_vel and len(w) == 7 and w[0] not in ids:
+            continue
+        out.append(l)
+    hdr = lines[:i0]
+    hdr = [re.sub(r"^\d+ atoms", f"{len(atoms2)} atoms", l) for l in hdr]
+    open(p, "w").write("\n".join(hdr + atoms2 + out))
+    print("kept", len(atoms2), "of", len(atoms))
+else:
+    sys.exit(f"unknown variant {name}")
+print("made", dst)
