@@ -257,9 +257,14 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }));
             if self.plan.layout.coupling.monitors.basic_io {
                 events(Event::Message(
-                    "warning: basicIO's particle files are not written on several ranks (no \
-                     rank holds all particles); the deck's dumps have them"
+                    "warning: the IOModel's particle files are not written on several ranks \
+                     (no rank holds all particles); the deck's dumps have them"
                         .into(),
+                ));
+            }
+            if self.plan.layout.coupling.monitors.particle_probe.is_some() {
+                events(Event::Message(
+                    "warning: particleProbe's files are not written on several ranks".into(),
                 ));
             }
         }
@@ -402,9 +407,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             layout,
             observer,
             monitors: RunMonitors::new(&layout.coupling.monitors, &layout.cfd, &start_name),
+            particle_probes: self.particle_probes(&start_name)?,
             probes,
             surface,
             commands: &plan.commands,
+            command_runs: vec![0; plan.commands.commands.len()],
             csv,
             kept_rows,
             samples: Vec::with_capacity(s.steps as usize),
@@ -431,6 +438,30 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 particle_capacity: plan.run_deck.materials().thermal_capacity,
             },
         })
+    }
+
+    /// `probeModel particleProbe`'s files (one rank; with `verboseToFile`).
+    fn particle_probes(
+        &self,
+        start_name: &str,
+    ) -> Result<Option<crate::particle_probe::ParticleProbes>, RunError> {
+        let Some(cfg) = &self.plan.layout.coupling.monitors.particle_probe else {
+            return Ok(None);
+        };
+        if self.n_ranks > 1 {
+            return Ok(None);
+        }
+        let control = &self.plan.control;
+        let precision = crate::probes::write_precision(&control.body)
+            .map_err(|m| setup_err(&control.path, m))?;
+        Ok(crate::particle_probe::ParticleProbes::new(
+            cfg,
+            &self.plan.settings.physics,
+            &self.plan.layout.cfd,
+            start_name,
+            self.rank,
+            precision,
+        ))
     }
 
     /// The controlDict's `probes` and `surfaceFieldValue`, which the native fluid runs on
@@ -490,6 +521,20 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 coupler.recycle(step);
             }
             let (step, dt) = coupler.hand_over(dem, fluid)?;
+            if let Some(p) = &mut out.particle_probes {
+                // the exchange's values, before the fluid advances
+                let physics = &coupler.settings().physics;
+                let voidage = &step.voidage.epsilon;
+                let state = fluid.inner.state();
+                p.sample(
+                    dem.time(),
+                    physics,
+                    &step.placement,
+                    &state,
+                    voidage,
+                    &dem.state(),
+                )?;
+            }
             fluid.start_advance(dt).map_err(RunError::Fluid)?;
             held_max = held_max.max(dem.state().len());
             let sample = observer.sample(&*dem, &step, coupler.ranks(), evacuation.as_mut());
@@ -506,12 +551,16 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 s[0] > 0.0
             };
             let write_now = k % write_every == 0 || k == steps || stop_now;
+            let located_volume =
+                RunMonitors::wants_located_volume(&self.plan.layout.coupling.monitors)
+                    .then(|| Observer::located_volume(&*dem, &step, coupler.ranks()));
             let o = Open {
                 k,
                 step,
                 sample,
                 write_now,
                 solid,
+                located_volume,
             };
             // writes and liggghtsCommands need the particles of step k and the fluid's clock
             let at_once = !self.overlap
