@@ -503,7 +503,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         events: &mut dyn FnMut(Event),
     ) -> Result<(bool, usize), RunError> {
         let Schedule {
-            steps, write_every, ..
+            steps,
+            write_every,
+            start,
+            dt_c,
+            ..
         } = self.schedule;
         let commands = &self.plan.commands;
         let (dem, fluid, coupler) = (&mut self.dem, &mut self.fluid, &mut self.coupler);
