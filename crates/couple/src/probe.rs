@@ -20,15 +20,15 @@ use mesh::v3::V3;
 pub struct ModelProbe {
     /// The model's CFDEM name (the probe file is `<name>.logDat.<rank>`).
     pub model: &'static str,
-    /// The name of its first vector, the force (the header's only column).
-    pub force_name: &'static str,
+    /// The names of its vectors (CFDEM's `vectorFields_`): the force first.
+    pub vector_names: &'static [&'static str],
     /// The vectors CFDEM writes on a line: the force, then (drags) U_f − v_p.
     pub vectors: Vec<V3>,
 }
 
-/// The CFDEM names of the probed models of `physics`, in the order foamgrain applies them:
-/// the drag law, `gradPForce`, `viscForce`, `Archimedes`.
-pub fn probed_models(physics: &Physics) -> Vec<(&'static str, &'static str)> {
+/// The CFDEM names of the probed models of `physics` with their vectors' names, in the order
+/// foamgrain applies them: the drag law, `gradPForce`, `viscForce`, `Archimedes`.
+pub fn probed_models(physics: &Physics) -> Vec<(&'static str, &'static [&'static str])> {
     let f = &physics.forces;
     let mut out = Vec::new();
     if let Some(d) = f.drag {
@@ -36,16 +36,16 @@ pub fn probed_models(physics: &Physics) -> Vec<(&'static str, &'static str)> {
             .iter()
             .find(|(_, law)| *law == d.closure.law)
             .map_or("drag", |(n, _)| *n);
-        out.push((name, "dragForce"));
+        out.push((name, &["dragForce", "Urel"][..]));
     }
     if f.grad_p.is_some() {
-        out.push(("gradPForce", "gradPForce"));
+        out.push(("gradPForce", &["gradPForce"][..]));
     }
     if f.viscous.is_some() {
-        out.push(("viscForce", "viscForce"));
+        out.push(("viscForce", &["viscForce"][..]));
     }
     if f.archimedes {
-        out.push(("Archimedes", "archimedesForce"));
+        out.push(("Archimedes", &["archimedesForce"][..]));
     }
     out
 }
@@ -75,8 +75,8 @@ pub fn particle_probes(
     };
     let probes = probed_models(physics)
         .into_iter()
-        .map(|(model, force_name)| {
-            let vectors = match force_name {
+        .map(|(model, vector_names)| {
+            let vectors = match vector_names[0] {
                 "dragForce" => vec![part(beta, zero, zero, zero).drag, at.u - v],
                 "gradPForce" => vec![part(0.0, at.grad_p, zero, zero).explicit],
                 "viscForce" => vec![part(0.0, zero, at.div_tau, zero).explicit],
@@ -84,7 +84,7 @@ pub fn particle_probes(
             };
             ModelProbe {
                 model,
-                force_name,
+                vector_names,
                 vectors,
             }
         })

@@ -12,7 +12,9 @@
 //! ```
 //!
 //! The header names only the first vector (the force) unless `probeDebug`, but a line holds
-//! every vector the model hands over (the drags add U_f − v_p). The time is printed with
+//! every vector the model hands over (the drags add U_f − v_p). With `probeDebug` CFDEM also
+//! writes the models' internal scalars (Rep, Cd, β, V_s…) after `||   scalarData:`; foamgrain
+//! does not (the configuration warns), so neither that header part nor those columns appear. The time is printed with
 //! `IOstream::defaultPrecision() + 7` significant digits (controlDict's `writePrecision` + 7),
 //! the vectors and the position with `writePrecision` (default 3), C++'s default float format
 //! (`%g`, [`cfmt::format_g`]). A line is written every `printEvery` coupling steps (or only at
@@ -61,9 +63,13 @@ impl ParticleProbes {
         let dir = cfd.join("particleProbes").join(start);
         let files = probed_models(physics)
             .into_iter()
-            .map(|(model, force)| {
+            .map(|(model, names)| {
                 let mut h = format!("#processor: {rank}\n#index   time      ||  vectorData:     ");
-                let _ = write!(h, "{force}   ");
+                // `writeHeader`: the first vector only, all with `probeDebug`
+                let shown = if cfg.debug { names.len() } else { 1 };
+                for name in &names[..shown] {
+                    let _ = write!(h, "{name}   ");
+                }
                 h.push_str(if cfg.include_position {
                     " ||  position\n"
                 } else {

@@ -118,6 +118,8 @@ pub struct ParticleProbe {
     pub print_only_at: Option<u64>,
     /// `includePosition`: the particle's position after the force.
     pub include_position: bool,
+    /// `probeDebug`: the header names every vector, not only the force.
+    pub debug: bool,
     /// `writePrecision`: significant digits of the values (default 3).
     pub write_precision: usize,
 }
@@ -392,10 +394,9 @@ pub(super) fn particle_probe(r: &mut Reader, g: &Given, s: &mut Setup) -> Built 
         ],
     )?;
     if props.contains("probeDebug") {
-        return Err(r.err(
-            &format!("{dict}/probeDebug"),
-            "the force models' internal values (Rep, Cd, β…) are not probed; remove it to \
-             write the forces",
+        r.warn(format!(
+            "{dict}/probeDebug: the header names every probed vector, but the force models' \
+             internal scalars (Rep, Cd, β, Vs…) are not written"
         ));
     }
     let path = format!("{dict}/particleIDsToSample");
@@ -432,6 +433,7 @@ pub(super) fn particle_probe(r: &mut Reader, g: &Given, s: &mut Setup) -> Built 
             false => None,
         },
         include_position: props.contains("includePosition"),
+        debug: props.contains("probeDebug"),
         write_precision: count("writePrecision", 3)? as usize,
     });
     Ok(())

@@ -325,7 +325,20 @@ pub const FORCES: Family = Family {
         ),
         ("fieldTimeAverage", acts(monitors::field_time_average)),
         ("particleVolume", acts(monitors::particle_volume)),
-        ("fieldVolWeighted", refuse("not implemented")),
+        (
+            "fieldVolWeighted",
+            refuse(
+                "CFDEM's source of it was never published (only its Props in ErgunTestMPI of \
+                 2016), so its output cannot be reproduced; use volWeightedAverage",
+            ),
+        ),
+        (
+            "checkCouplingInterval",
+            refuse(
+                "not implemented; `foamgrain timestep` reports the Courant number and the \
+                 coupling interval's criteria",
+            ),
+        ),
         ("LaEuScalarTemp", acts(heat::la_eu_scalar_temp)),
         ("scalarGeneralExchange", acts(heat::scalar_general_exchange)),
     ],
