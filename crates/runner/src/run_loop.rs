@@ -530,14 +530,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 let physics = &coupler.settings().physics;
                 let voidage = &step.voidage.epsilon;
                 let state = fluid.inner.state();
-                p.sample(
-                    dem.time(),
-                    physics,
-                    &step.placement,
-                    &state,
-                    voidage,
-                    &dem.state(),
-                )?;
+                // the time the step's exchange closes, as the fluid names it (the coupling
+                // clock's k·Δt_c carries the DEM step's rounding in its last digits)
+                let t = start + k as f64 * dt_c;
+                let t = couple::output::time_name(t).parse().unwrap_or(t);
+                p.sample(t, physics, &step.placement, &state, voidage, &dem.state())?;
             }
             fluid.start_advance(dt).map_err(RunError::Fluid)?;
             held_max = held_max.max(dem.state().len());
