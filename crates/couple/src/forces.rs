@@ -165,20 +165,20 @@ pub fn couplings_and_exchange(
 
 /// Volume of a sphere of radius r, m³.
 #[inline]
-fn ball(r: f64) -> f64 {
+pub(crate) fn ball(r: f64) -> f64 {
     4.0 / 3.0 * std::f64::consts::PI * r * r * r
 }
 
 /// What a particle's cells give it: u_f and ε with the drag's rule, ∇p and ∇·τ with theirs.
-struct AtParticle {
-    u: V3,
-    voidage: f64,
-    grad_p: V3,
-    div_tau: V3,
+pub(crate) struct AtParticle {
+    pub(crate) u: V3,
+    pub(crate) voidage: f64,
+    pub(crate) grad_p: V3,
+    pub(crate) div_tau: V3,
 }
 
 /// The per-particle force computation with the settings resolved once for all particles.
-struct Kernel<'a> {
+pub(crate) struct Kernel<'a> {
     physics: &'a Physics,
     /// μ = ν ρ, Pa·s.
     mu: f64,
@@ -194,7 +194,7 @@ struct Kernel<'a> {
 }
 
 impl<'a> Kernel<'a> {
-    fn new(physics: &'a Physics, fluid: &'a FluidState<'a>, voidage: &'a [f64]) -> Self {
+    pub(crate) fn new(physics: &'a Physics, fluid: &'a FluidState<'a>, voidage: &'a [f64]) -> Self {
         Kernel {
             physics,
             mu: physics.nu * physics.rho,
@@ -218,7 +218,7 @@ impl<'a> Kernel<'a> {
     /// [`Placement::value_at`] gives, bit for bit, with one pass over the particle's shares
     /// for all the fields that use the smooth rule.
     #[inline]
-    fn fluid_at(&self, placement: &Placement, i: usize) -> Option<AtParticle> {
+    pub(crate) fn fluid_at(&self, placement: &Placement, i: usize) -> Option<AtParticle> {
         if !placement.inside(i) {
             return None;
         }
@@ -260,6 +260,42 @@ impl<'a> Kernel<'a> {
         Some(at)
     }
 
+    /// The drag law's β (kg/s) for a particle of radius `r` and velocity `v` in the fluid at
+    /// it, and that fluid with ε floored to the law's floor, as `particle_forces` takes it.
+    #[inline]
+    pub(crate) fn drag_at(
+        &self,
+        u_f: V3,
+        eps: f64,
+        grad_p: V3,
+        div_tau: V3,
+        r: f64,
+        v: V3,
+    ) -> (f64, FluidAtParticle) {
+        let ph = self.physics;
+        let (beta, floored) = match ph.forces.drag {
+            Some(DragSettings { closure, .. }) => {
+                let x = DragInput::new(eps, 2.0 * r, (u_f - v).norm(), ph.rho, self.mu);
+                let floored = eps.clamp(closure.voidage_floor, 1.0);
+                (closure.beta(&x), floored)
+            }
+            None => (0.0, eps.clamp(f64::MIN_POSITIVE, 1.0)),
+        };
+        let at = FluidAtParticle {
+            u: u_f,
+            grad_p,
+            div_tau,
+            voidage: floored,
+            rho: ph.rho,
+        };
+        (beta, at)
+    }
+
+    /// Gravity as Archimedes sees it (zero without Archimedes), m/s².
+    pub(crate) fn gravity(&self) -> V3 {
+        self.gravity
+    }
+
     /// The coupling of particle `i`, `None` outside the mesh.
     #[inline]
     fn particle(
@@ -277,23 +313,8 @@ impl<'a> Kernel<'a> {
         } = self.fluid_at(placement, i)?;
         let r = p.radius[i];
         let v = p.velocity[i];
-        let volume = ball(r);
-        let (beta, floored) = match ph.forces.drag {
-            Some(DragSettings { closure, .. }) => {
-                let x = DragInput::new(eps, 2.0 * r, (u_f - v).norm(), ph.rho, self.mu);
-                let floored = eps.clamp(closure.voidage_floor, 1.0);
-                (closure.beta(&x), floored)
-            }
-            None => (0.0, eps.clamp(f64::MIN_POSITIVE, 1.0)),
-        };
-        let at = FluidAtParticle {
-            u: u_f,
-            grad_p,
-            div_tau,
-            voidage: floored,
-            rho: ph.rho,
-        };
-        let f = particle_forces(ph.model, beta, volume, &at, v, self.gravity);
+        let (beta, at) = self.drag_at(u_f, eps, grad_p, div_tau, r, v);
+        let f = particle_forces(ph.model, beta, ball(r), &at, v, self.gravity);
         let settings = ph.forces.drag;
         let implicit_dem = settings.is_some_and(|d| d.implicit_dem);
         let explicit_fluid = settings.is_some_and(|d| d.explicit_fluid);

@@ -21,7 +21,9 @@
 //! * [`ranks`]: the coupler on several ranks, each with the particles its DEM rank owns;
 //! * [`timestep`]: DEM/CFD time-step and coupling-interval advice;
 //! * [`monitor`]: the values of CFDEM's observing models (`particleCellVolume`,
-//!   `volWeightedAverage`); [`output`]: cell fields into time directories.
+//!   `volWeightedAverage`, `fieldTimeAverage`, `particleVolume`, `totalMomentumExchange`);
+//!   [`probe`]: each force model's force on a particle (`particleProbe`); [`output`]: cell
+//!   fields into time directories.
 //!
 //! Invariant: what the particles receive equals what the fluid loses — Σ_c V_c Ksl_c (U_c −
 //! Us_c) = Σ_p β_p (u_f − v_p) with the smooth interpolation and Σ_c V_c f_c = −Σ_p F_p, to
@@ -52,6 +54,7 @@ pub mod monitor;
 pub mod output;
 pub mod periodic;
 pub mod population;
+pub mod probe;
 pub mod ranks;
 pub mod replay;
 pub mod sides;

@@ -440,7 +440,7 @@ fn cfdem_flags_that_do_nothing_here_warn() {
     let c = read(
         &CFDEM_VOCABULARY
             .replace("debug false;", "debug true;")
-            .replace("probeModel off;", "probeModel particleProbe;"),
+            .replace("averagingModel dense;", "averagingModel dilute;"),
     )
     .unwrap();
     assert_eq!(c.warnings.len(), 3, "{:?}", c.warnings);
@@ -448,7 +448,36 @@ fn cfdem_flags_that_do_nothing_here_warn() {
     assert!(c
         .warnings
         .iter()
-        .any(|w| w.contains("probeModel particleProbe")));
+        .any(|w| w.contains("averagingModel dilute")));
+}
+
+/// `probeModel particleProbe` acts (issue 28): its `particleProbeProps` as CFDEM's
+/// voidfractionTest writes them, where a switch is on when its key is present
+/// (`particleProbe.C`: `propsDict_.found(…)`); `particleIDsToSample` is required as there;
+/// `probeDebug` warns that the models' internal scalars are not written.
+#[test]
+fn particle_probe_reads_cfdems_props() {
+    let props = "particleProbeProps { particleIDsToSample (0 0); verboseToFile; printEvery 2; \
+                 sampleAll; probeDebug; includePosition; writePrecision 4; }\n";
+    let c =
+        read(&(CFDEM_VOCABULARY.replace("probeModel off;", "probeModel particleProbe;") + props))
+            .unwrap();
+    let p = c.monitors.particle_probe.as_ref().unwrap();
+    assert_eq!(p.ids, [0, 0]);
+    assert!(p.verbose_to_file && p.sample_all && p.include_position && p.debug);
+    assert_eq!(
+        (p.print_every, p.print_only_at, p.write_precision),
+        (2, None, 4)
+    );
+    assert!(
+        c.warnings.iter().any(|w| w.contains("probeDebug")),
+        "{:?}",
+        c.warnings
+    );
+    let e = read(&CFDEM_VOCABULARY.replace("probeModel off;", "probeModel particleProbe;"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("particleProbeProps/particleIDsToSample"), "{e}");
 }
 
 /// CFDEM keeps the fluid density in the field `0/rho`; transportProperties' `rho` wins.

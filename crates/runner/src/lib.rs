@@ -20,6 +20,7 @@ pub mod layout;
 mod monitors;
 pub mod native;
 mod outputs;
+mod particle_probe;
 pub mod patches;
 pub mod plan;
 pub mod plot;

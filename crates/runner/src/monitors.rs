@@ -8,8 +8,22 @@
 //!   in the log and `postProcessing/volWeightedAverage/<start>/volWeightedAverage.txt`; the
 //!   uniform fields `volAverage_<name>` at write times;
 //! * `fieldStore`: `stored_<name>` copies of the named fields at write times;
+//! * `fieldTimeAverage`: `timeAverage_<name>` at write times, the mean of the field over the
+//!   coupling steps from `startTime` (CFDEM: the fields' `AUTO_WRITE`);
+//! * `particleVolume`: each coupling step from `startTime`, `<time> <volume>` in
+//!   `postProcessing/particleVolume/<start>/particleVolume.txt` (`writeToFile`; CFDEM's
+//!   `particleVolume.C` writes `time << " " << VsTot`) and the log line `Total particle volume
+//!   (located in domain) = V` (`verbose`);
+//! * `totalMomentumExchange`: each coupling step, `<time> (Fx Fy Fz) (Ix Iy Iz) (Ex Ey Ez)`,
+//!   the total, implicit and explicit force of the fluid on the particles (N), in
+//!   `postProcessing/totalMomentumExchange/<start>/totalMomentumExchange.txt` (CFDEM's source
+//!   of this model is not public — only its header, which reads the Ksl, U, Us, explicit-force
+//!   and density field names and `verbous`; the file follows its siblings' layout);
 //! * `IOModel basicIO`: `<time>/lagrangian/particleCloud/{positions, v, r}` at write times,
-//!   the particles inside the mesh;
+//!   the particles inside the mesh; `sophIO` adds `voidfractions` (ε of the particle's cell),
+//!   `impForces` (the drag handed to the fluid through Ksl, β_fluid (u_f − v)), `expForces`
+//!   (the force handed to it through f) and `DEMForces` (the explicit force the DEM gets),
+//!   `trackIO` also `id` (CFDEM-PUBLIC's `sophIO.C`, `trackIO.C`);
 //! * `clockModel standardClock`: the timing table at the end, in the log and
 //!   `clockData/timeEval.txt`.
 //!
@@ -19,9 +33,14 @@
 //! The text files are rewritten whole (atomically) at each write time and at the end.
 
 use crate::error::RunError;
-use couple::config::monitors::{ParticleCellVolume, VolWeightedAverage};
+use couple::config::monitors::{
+    ParticleCellVolume, ParticleIo, TotalMomentumExchange, VolWeightedAverage,
+};
 use couple::config::Monitors;
-use couple::monitor::{particle_cell_volume, vol_weighted_scalar, vol_weighted_vector};
+use couple::monitor::{
+    accumulate_mean, particle_cell_volume, total_momentum_exchange, vol_weighted_scalar,
+    vol_weighted_vector,
+};
 use couple::output::write_cell_field;
 use couple::{CouplingStep, FluidState, ParticleState};
 use foam::{FieldValues, Format, PolyMesh};
@@ -141,11 +160,22 @@ enum FieldValuesOne {
     Vector(V3),
 }
 
+/// One running mean of `fieldTimeAverage`.
+enum Mean {
+    Scalar(Vec<f64>),
+    Vector(Vec<V3>),
+}
+
 /// The observing models of one run.
 pub(crate) struct RunMonitors {
     cfg: Monitors,
     pcv_log: Option<TextLog>,
     vwa_log: Option<TextLog>,
+    pv_log: Option<TextLog>,
+    tme_log: Option<TextLog>,
+    /// `fieldTimeAverage`'s means by field name, and the samples in them.
+    means: Vec<(String, Mean)>,
+    samples: u64,
     last: Last,
     /// ε before the current step (kept only when `ddtVoidfraction` is observed).
     pub(crate) needs_ddt: bool,
@@ -195,18 +225,40 @@ impl RunMonitors {
                     &format!("# time | {}\n", names.join(" | ")),
                 )
             });
-        let needs_ddt = cfg
-            .field_store
-            .iter()
-            .any(|s| s.scalar_fields.iter().any(|n| n == "ddtVoidfraction"))
+        let pv_log = cfg
+            .particle_volume
+            .as_ref()
+            .filter(|m| m.write_to_file)
+            .map(|_| log("particleVolume", ""));
+        let tme_log = cfg
+            .total_momentum_exchange
+            .as_ref()
+            .filter(|m| m.write_to_file)
+            .map(|_| {
+                log(
+                    "totalMomentumExchange",
+                    "# time | total (Fx Fy Fz) | implicit (Ksl (U - Us)) | explicit (-f), N, \
+                     force of the fluid on the particles\n",
+                )
+            });
+        let observed = |names: &[String]| names.iter().any(|n| n == "ddtVoidfraction");
+        let needs_ddt = cfg.field_store.iter().any(|s| observed(&s.scalar_fields))
             || cfg
                 .vol_weighted_average
                 .iter()
-                .any(|s| s.scalar_fields.iter().any(|n| n == "ddtVoidfraction"));
+                .any(|s| observed(&s.scalar_fields))
+            || cfg
+                .field_time_average
+                .iter()
+                .any(|s| observed(&s.scalar_fields));
         RunMonitors {
             cfg: cfg.clone(),
             pcv_log,
             vwa_log,
+            pv_log,
+            tme_log,
+            means: Vec::new(),
+            samples: 0,
             last: Last::default(),
             needs_ddt,
         }
@@ -216,20 +268,49 @@ impl RunMonitors {
     pub(crate) fn is_empty(&self) -> bool {
         let c = &self.cfg;
         c.field_store.is_none()
+            && c.field_time_average.is_none()
+            && c.particle_volume.is_none()
+            && c.total_momentum_exchange.is_none()
             && c.particle_cell_volume.is_none()
             && c.vol_weighted_average.is_none()
             && !c.clock
             && !c.basic_io
     }
 
-    /// Observes one coupling step at `time`; returns the log lines (`verbose`).
+    /// True when `particleVolume` needs the volume of the located particles (summed over
+    /// the ranks by the caller, [`couple::monitor::located_particle_volume`]).
+    pub(crate) fn wants_located_volume(cfg: &Monitors) -> bool {
+        cfg.particle_volume.is_some()
+    }
+
+    /// Observes one coupling step at `time`; `located_volume` is the volume of the particles
+    /// inside the mesh (m³, over all ranks; `Some` when [`RunMonitors::wants_located_volume`]).
+    /// Returns the log lines (`verbose`).
     pub(crate) fn observe(
         &mut self,
         time: f64,
         volumes: &[f64],
         f: &StepFields<'_>,
+        located_volume: Option<f64>,
     ) -> Vec<String> {
         let mut lines = Vec::new();
+        let start = self.cfg.field_time_average.as_ref().map(|m| m.start_time);
+        if start.is_some_and(|s| time >= s) {
+            self.average(f);
+        }
+        if let (Some(m), Some(v)) = (&self.cfg.particle_volume, located_volume) {
+            if time >= m.start_time {
+                if m.verbose {
+                    lines.push(format!("Total particle volume (located in domain) = {v}"));
+                }
+                if let Some(log) = &mut self.pv_log {
+                    let _ = writeln!(log.text, "{} {v}", couple::output::time_name(time));
+                }
+            }
+        }
+        if let Some(m) = self.cfg.total_momentum_exchange.clone() {
+            self.momentum_exchange(&m, time, volumes, f, &mut lines);
+        }
         if let Some(m) = self.cfg.particle_cell_volume.clone() {
             self.cell_volume(&m, time, volumes, f, &mut lines);
         }
@@ -237,6 +318,68 @@ impl RunMonitors {
             self.averages(&m, time, volumes, f, &mut lines);
         }
         lines
+    }
+
+    /// `fieldTimeAverage`: adds this step's fields to the means.
+    fn average(&mut self, f: &StepFields<'_>) {
+        let Some(m) = &self.cfg.field_time_average else {
+            return;
+        };
+        let n = self.samples;
+        for (i, name) in m.scalar_fields.iter().chain(&m.vector_fields).enumerate() {
+            if self.means.len() <= i {
+                self.means.push((name.clone(), Mean::Scalar(Vec::new())));
+            }
+            let mean = &mut self.means[i].1;
+            match (f.get(name), mean) {
+                (Field::Scalar(x), Mean::Scalar(avg)) => accumulate_mean(avg, n, &x),
+                (Field::Vector(x), mean) => {
+                    if !matches!(mean, Mean::Vector(_)) {
+                        *mean = Mean::Vector(Vec::new());
+                    }
+                    if let Mean::Vector(avg) = mean {
+                        accumulate_mean(avg, n, x);
+                    }
+                }
+                (Field::Scalar(_), Mean::Vector(_)) => unreachable!("a field keeps its kind"),
+            }
+        }
+        self.samples += 1;
+    }
+
+    fn momentum_exchange(
+        &mut self,
+        m: &TotalMomentumExchange,
+        time: f64,
+        volumes: &[f64],
+        f: &StepFields<'_>,
+        lines: &mut Vec<String>,
+    ) {
+        if time < m.start_time {
+            return;
+        }
+        let e = &f.step.exchange;
+        let x = total_momentum_exchange(&e.ksl, f.fluid.u, &e.us, &e.f, volumes, m.explicit);
+        let v = |v: V3| format!("({} {} {})", v.x, v.y, v.z);
+        if m.verbose {
+            lines.push(format!(
+                "totalMomentumExchange: force of the fluid on the particles {} N (implicit {}, \
+                 explicit {})",
+                v(x.total()),
+                v(x.implicit),
+                v(x.explicit)
+            ));
+        }
+        if let Some(log) = &mut self.tme_log {
+            let _ = writeln!(
+                log.text,
+                "{} {} {} {}",
+                couple::output::time_name(time),
+                v(x.total()),
+                v(x.implicit),
+                v(x.explicit)
+            );
+        }
     }
 
     fn cell_volume(
@@ -369,15 +512,29 @@ impl RunMonitors {
             let field = format!("volAverage_{name}");
             write_cell_field(dir, time, mesh, &field, dimensions(name), values, fmt)?;
         }
+        for (name, mean) in &self.means {
+            let values = match mean {
+                Mean::Scalar(x) if x.len() == n => FieldValues::Scalar(x.clone()),
+                Mean::Vector(x) if x.len() == n => FieldValues::Vector(mesh::v3::to_arrays(x)),
+                // no step averaged yet (before startTime): CFDEM's field is still zero
+                Mean::Scalar(_) => FieldValues::Scalar(vec![0.0; n]),
+                Mean::Vector(_) => FieldValues::Vector(vec![[0.0; 3]; n]),
+            };
+            let field = format!("timeAverage_{name}");
+            write_cell_field(dir, time, mesh, &field, dimensions(name), values, fmt)?;
+        }
         if let (true, Some(particles)) = (self.cfg.basic_io, particles) {
-            write_basic_io(dir, f.step, particles)?;
+            write_basic_io(dir, f.step, particles, self.cfg.particle_io)?;
         }
         self.write_logs()
     }
 
     /// Rewrites the text files.
     pub(crate) fn write_logs(&self) -> Result<(), RunError> {
-        for log in self.pcv_log.iter().chain(&self.vwa_log) {
+        for log in [&self.pcv_log, &self.vwa_log, &self.pv_log, &self.tme_log]
+            .into_iter()
+            .flatten()
+        {
             log.write()?;
         }
         Ok(())
@@ -411,11 +568,12 @@ impl RunMonitors {
 
 /// CFDEM's basicIO: the particles inside the mesh as `positions` (OpenFOAM's pre-v1706
 /// `Cloud<passiveParticle>` form `(x y z) cell`), `v` and `r`, in
-/// `dir/lagrangian/particleCloud/`.
+/// `dir/lagrangian/particleCloud/`; with `sophIO`/`trackIO` also their files (module docs).
 fn write_basic_io(
     dir: &Path,
     step: &CouplingStep,
     particles: &ParticleState<'_>,
+    kind: ParticleIo,
 ) -> Result<(), RunError> {
     let out = dir.join("lagrangian").join("particleCloud");
     let io = |path: &Path| {
@@ -447,7 +605,35 @@ fn write_basic_io(
         let _ = writeln!(v, "({} {} {})", u.x, u.y, u.z);
         let _ = writeln!(r, "{}", particles.radius[i]);
     }
-    for (name, mut text) in [("positions", positions), ("v", v), ("r", r)] {
+    let mut files = vec![("positions", positions), ("v", v), ("r", r)];
+    if kind != ParticleIo::Basic {
+        let vector = |name: &'static str, of: &dyn Fn(usize) -> V3| {
+            let mut text = header("vectorField", name);
+            for &(i, _) in &inside {
+                let x = of(i);
+                let _ = writeln!(text, "({} {} {})", x.x, x.y, x.z);
+            }
+            (name, text)
+        };
+        let c = &step.forces.particles;
+        let mut eps = header("scalarField", "voidfractions");
+        for &(_, cell) in &inside {
+            let _ = writeln!(eps, "{}", step.voidage.epsilon[cell]);
+        }
+        files.push(("voidfractions", eps));
+        let imp = |i: usize| (c[i].u_f - particles.velocity[i]) * c[i].beta_fluid;
+        files.push(vector("impForces", &imp));
+        files.push(vector("expForces", &|i| c[i].f_fluid));
+        files.push(vector("DEMForces", &|i| c[i].f_ext));
+    }
+    if kind == ParticleIo::Track {
+        let mut id = header("scalarField", "id");
+        for &(i, _) in &inside {
+            let _ = writeln!(id, "{}", particles.ids[i]);
+        }
+        files.push(("id", id));
+    }
+    for (name, mut text) in files {
         text.push_str(")\n");
         let path = out.join(name);
         atomic_write::write_atomically(&path, |w| w.write_all(text.as_bytes()))

@@ -55,6 +55,22 @@ pub(crate) struct Observer {
 }
 
 impl Observer {
+    /// `particleVolume`'s value at a step: Σ 4πr³/3 over the particles whose centre is in
+    /// the mesh, summed over the ranks (collective on N ranks).
+    pub(crate) fn located_volume<P: ParticleSide>(
+        dem: &P,
+        step: &CouplingStep,
+        ranks: &dyn couple::Ranks,
+    ) -> f64 {
+        let ps = dem.state();
+        let centre = &step.placement.centre;
+        let mut v = [couple::monitor::located_particle_volume(ps.radius, |i| {
+            centre.get(i).is_some_and(Option::is_some)
+        })];
+        ranks.all_sum(&mut v);
+        v[0]
+    }
+
     /// The step's integrals. Collective on N ranks (each gives its own particles); rank 0's
     /// sample is the run's.
     ///
@@ -223,6 +239,8 @@ pub(crate) struct Open {
     pub(crate) write_now: bool,
     /// At a heating case's sample time: the solid temperature profile (over all ranks).
     pub(crate) solid: Option<crate::heating::Profile>,
+    /// `particleVolume`: the volume of the particles inside the mesh, m³ (over all ranks).
+    pub(crate) located_volume: Option<f64>,
 }
 
 /// What the run writes as its steps close: samples, monitors, time directories, particles.
@@ -230,11 +248,15 @@ pub(crate) struct Outputs<'a> {
     pub(crate) layout: &'a CaseLayout,
     pub(crate) observer: &'a Observer,
     pub(crate) monitors: RunMonitors,
+    /// `probeModel particleProbe` (one rank; sampled at the exchange).
+    pub(crate) particle_probes: Option<crate::particle_probe::ParticleProbes>,
     /// The controlDict's `probes` on the native fluid (grainPisoFoam runs OpenFOAM's own).
     pub(crate) probes: crate::probes::Probes,
     /// The controlDict's `surfaceFieldValue`s on the native fluid (likewise).
     pub(crate) surface: crate::surface_values::SurfaceValues,
     pub(crate) commands: &'a couple::config::LiggghtsCommands,
+    /// How often each command has run (`readLiggghtsData` numbers its files by it).
+    pub(crate) command_runs: Vec<u64>,
     pub(crate) csv: PathBuf,
     pub(crate) kept_rows: Vec<String>,
     pub(crate) samples: Vec<Sample>,
@@ -276,6 +298,7 @@ impl Outputs<'_> {
             mut sample,
             write_now,
             solid,
+            located_volume,
         } = o;
         if let Some(h) = fluid.inner.held_exchange() {
             // the cells' owners formed the whole fields (rank 0 holds only its own particles')
@@ -308,7 +331,11 @@ impl Outputs<'_> {
                 self.eps_before.clone_from(eps);
             }
             let fields = StepFields::new(&step, &self.ddt_eps, fluid.inner.state(), self.rho);
-            for line in self.monitors.observe(time, &self.cell_volumes, &fields) {
+            let volumes = &self.cell_volumes;
+            for line in self
+                .monitors
+                .observe(time, volumes, &fields, located_volume)
+            {
                 events(Event::Message(line));
             }
         }
@@ -331,9 +358,11 @@ impl Outputs<'_> {
             write: write_now,
             writes: self.writes,
         };
-        for c in &self.commands.commands {
-            if let Some(cmd) = c.due(now) {
+        self.command_runs.resize(self.commands.commands.len(), 0);
+        for (c, runs) in self.commands.commands.iter().zip(&mut self.command_runs) {
+            if let Some(cmd) = c.due_after(now, *runs) {
                 run_command(dem, &cmd, self.layout, events)?;
+                *runs += 1;
             }
         }
         if write_now {

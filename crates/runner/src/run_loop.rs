@@ -257,9 +257,14 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }));
             if self.plan.layout.coupling.monitors.basic_io {
                 events(Event::Message(
-                    "warning: basicIO's particle files are not written on several ranks (no \
-                     rank holds all particles); the deck's dumps have them"
+                    "warning: the IOModel's particle files are not written on several ranks \
+                     (no rank holds all particles); the deck's dumps have them"
                         .into(),
+                ));
+            }
+            if self.plan.layout.coupling.monitors.particle_probe.is_some() {
+                events(Event::Message(
+                    "warning: particleProbe's files are not written on several ranks".into(),
                 ));
             }
         }
@@ -402,9 +407,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             layout,
             observer,
             monitors: RunMonitors::new(&layout.coupling.monitors, &layout.cfd, &start_name),
+            particle_probes: self.particle_probes(&start_name)?,
             probes,
             surface,
             commands: &plan.commands,
+            command_runs: vec![0; plan.commands.commands.len()],
             csv,
             kept_rows,
             samples: Vec::with_capacity(s.steps as usize),
@@ -431,6 +438,30 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 particle_capacity: plan.run_deck.materials().thermal_capacity,
             },
         })
+    }
+
+    /// `probeModel particleProbe`'s files (one rank; with `verboseToFile`).
+    fn particle_probes(
+        &self,
+        start_name: &str,
+    ) -> Result<Option<crate::particle_probe::ParticleProbes>, RunError> {
+        let Some(cfg) = &self.plan.layout.coupling.monitors.particle_probe else {
+            return Ok(None);
+        };
+        if self.n_ranks > 1 {
+            return Ok(None);
+        }
+        let control = &self.plan.control;
+        let precision = crate::probes::write_precision(&control.body)
+            .map_err(|m| setup_err(&control.path, m))?;
+        Ok(crate::particle_probe::ParticleProbes::new(
+            cfg,
+            &self.plan.settings.physics,
+            &self.plan.layout.cfd,
+            start_name,
+            self.rank,
+            precision,
+        ))
     }
 
     /// The controlDict's `probes` and `surfaceFieldValue`, which the native fluid runs on
@@ -472,7 +503,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         events: &mut dyn FnMut(Event),
     ) -> Result<(bool, usize), RunError> {
         let Schedule {
-            steps, write_every, ..
+            steps,
+            write_every,
+            start,
+            dt_c,
+            ..
         } = self.schedule;
         let commands = &self.plan.commands;
         let (dem, fluid, coupler) = (&mut self.dem, &mut self.fluid, &mut self.coupler);
@@ -490,6 +525,17 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 coupler.recycle(step);
             }
             let (step, dt) = coupler.hand_over(dem, fluid)?;
+            if let Some(p) = &mut out.particle_probes {
+                // the exchange's values, before the fluid advances
+                let physics = &coupler.settings().physics;
+                let voidage = &step.voidage.epsilon;
+                let state = fluid.inner.state();
+                // the time the step's exchange closes, as the fluid names it (the coupling
+                // clock's k·Δt_c carries the DEM step's rounding in its last digits)
+                let t = start + k as f64 * dt_c;
+                let t = couple::output::time_name(t).parse().unwrap_or(t);
+                p.sample(t, physics, &step.placement, &state, voidage, &dem.state())?;
+            }
             fluid.start_advance(dt).map_err(RunError::Fluid)?;
             held_max = held_max.max(dem.state().len());
             let sample = observer.sample(&*dem, &step, coupler.ranks(), evacuation.as_mut());
@@ -506,12 +552,16 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 s[0] > 0.0
             };
             let write_now = k % write_every == 0 || k == steps || stop_now;
+            let located_volume =
+                RunMonitors::wants_located_volume(&self.plan.layout.coupling.monitors)
+                    .then(|| Observer::located_volume(&*dem, &step, coupler.ranks()));
             let o = Open {
                 k,
                 step,
                 sample,
                 write_now,
                 solid,
+                located_volume,
             };
             // writes and liggghtsCommands need the particles of step k and the fluid's clock
             let at_once = !self.overlap

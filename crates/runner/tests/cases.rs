@@ -841,3 +841,148 @@ fn monitor_text_files_hold_the_sphere_and_nan_where_nothing_is_measured() {
     assert!(vwa[1..].iter().any(|r| r[1] > 0.0), "{vwa:?}");
     assert!(vwa.iter().all(|r| r[1] != 0.0), "{vwa:?}");
 }
+
+/// CFDEM's `fieldTimeAverage`, `particleVolume`, `totalMomentumExchange`, `particleProbe` and
+/// `IOModel trackIO` on the settling sphere (d = 0.1 mm, ρ_p = 3000 kg/m³ in a fluid of
+/// ρ = 10 kg/m³, ν = 1e-5 m²/s: relaxation time ρ_p d²/(18 μ) = 17 ms, so by 0.1 s the sphere
+/// falls at its terminal speed to e⁻⁶):
+/// * `particleVolume.txt` (CFDEM's `particleVolume.C`: `time << " " << VsTot`): every row is
+///   the sphere, π d³/6;
+/// * `timeAverage_voidfraction` (CFDEM: the running mean, `AUTO_WRITE`): the divided voidage
+///   keeps Σ V (1 − ε) = π d³/6 at every step, so its time average keeps it too;
+/// * `totalMomentumExchange.txt`: at terminal speed the drag holds the buoyant weight, the
+///   implicit part's y is (ρ_p − ρ) V g to 1 %;
+/// * `particleProbes/0/DiFeliceDrag.logDat.0` and `Archimedes.logDat.0` in
+///   `particleProbe.C`'s layout (`#processor: 0`, `#index   time      ||  vectorData:     `
+///   force name, then `index   time   ||   Fx   Fy   Fz   …`): Archimedes' force is ρ V g up
+///   (3 significant digits, `writePrecision 3`), the drag's y at the last line the buoyant
+///   weight to 1 %;
+/// * trackIO's `voidfractions`, `impForces`, `expForces`, `DEMForces`, `id` beside basicIO's
+///   files (CFDEM's `sophIO.C`, `trackIO.C`).
+#[test]
+fn cfdem_monitors_probe_and_track_the_settling_sphere() {
+    let (_tmp, case) = case_copy("settling");
+    let props = case.join("CFD/constant/couplingProperties");
+    let text = std::fs::read_to_string(&props)
+        .unwrap()
+        .replace("IOModel             basicIO;", "IOModel             trackIO;")
+        .replace("probeModel          off;", "probeModel          particleProbe;")
+        .replace(
+            "    Archimedes\n);",
+            "    Archimedes\n    fieldTimeAverage\n    particleVolume\n    totalMomentumExchange\n);\n\
+             fieldTimeAverageProps { startTime 0; scalarFieldNames ( voidfraction ); \
+             vectorFieldNames ( U ); }\n\
+             particleVolumeProps { writeToFile true; verbose true; }\n\
+             totalMomentumExchangeProps { implicitMomExFieldName \"Ksl\"; \
+             explicitMomExFieldName \"none\"; fluidVelFieldName \"U\"; granVelFieldName \"Us\"; }\n\
+             particleProbeProps { particleIDsToSample ( 0 ); verboseToFile; includePosition; }\n",
+        );
+    std::fs::write(&props, text).unwrap();
+    let opts = RunOptions {
+        end_time: Some(0.1),
+        ..RunOptions::default()
+    };
+    let (_, log) = run_logged_with(&case, &opts, &AtomicBool::new(false));
+    let d: f64 = 1e-4;
+    let v = std::f64::consts::PI * d.powi(3) / 6.0;
+    let weight = (3000.0 - 10.0) * v * 9.81;
+    assert!(
+        log.iter()
+            .any(|l| l.starts_with("Total particle volume (located in domain) = ")),
+        "{log:?}"
+    );
+    let post = |name: &str| {
+        std::fs::read_to_string(case.join(format!("CFD/postProcessing/{name}/0/{name}.txt")))
+            .unwrap()
+    };
+    let pv = post("particleVolume");
+    let rows: Vec<Vec<f64>> = pv
+        .lines()
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 100);
+    assert_eq!(rows[9][0], 0.01);
+    for r in &rows {
+        assert_eq!(r.len(), 2);
+        assert!((r[1] - v).abs() < 1e-12 * v, "{} vs {v}", r[1]);
+    }
+    // the time average at the write time 0.1 of ε: Σ V (1 − ⟨ε⟩) = π d³/6
+    let cfd = case.join("CFD");
+    let mesh = foam::read_poly_mesh(&cfd.join("constant/polyMesh")).unwrap();
+    let volumes = mesh::MeshGeometry::new(&mesh).unwrap().cell_volumes;
+    let field = foam::VolField::read(&cfd.join("0.1/timeAverage_voidfraction")).unwrap();
+    let foam::FieldValues::Scalar(avg) = field.internal(volumes.len()).unwrap() else {
+        panic!("timeAverage_voidfraction is a scalar field")
+    };
+    let solid: f64 = avg.iter().zip(&volumes).map(|(e, v)| (1.0 - e) * v).sum();
+    assert!((solid - v).abs() < 1e-9 * v, "{solid} vs {v}");
+    assert!(cfd.join("0.1/timeAverage_U").is_file());
+    // the drag at terminal speed, from the exchange fields
+    let tme = post("totalMomentumExchange");
+    let last = tme.lines().last().unwrap();
+    let numbers: Vec<f64> = last
+        .replace(['(', ')'], " ")
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    assert_eq!(numbers.len(), 10, "{last}");
+    assert!(
+        (numbers[5] - weight).abs() < 0.01 * weight,
+        "{last} vs {weight}"
+    );
+    assert_eq!(
+        &numbers[7..],
+        &[0.0, 0.0, 0.0],
+        "explicitMomExFieldName none"
+    );
+    // the probes
+    let probe = |model: &str| {
+        std::fs::read_to_string(cfd.join(format!("particleProbes/0/{model}.logDat.0"))).unwrap()
+    };
+    let arch = probe("Archimedes");
+    let mut lines = arch.lines();
+    assert_eq!(lines.next(), Some("#processor: 0"));
+    assert_eq!(
+        lines.next(),
+        Some("#index   time      ||  vectorData:     archimedesForce    ||  position")
+    );
+    let first = lines.next().unwrap();
+    let w: Vec<&str> = first.split_whitespace().collect();
+    assert_eq!(&w[..3], &["0", "0.001", "||"], "{first}");
+    let buoyancy = 10.0 * v * 9.81;
+    let fy: f64 = w[4].parse().unwrap();
+    assert!(
+        (fy - buoyancy).abs() < 5e-3 * buoyancy,
+        "{first} vs {buoyancy}"
+    );
+    assert_eq!(w[6], "||");
+    assert_eq!(arch.lines().count(), 102);
+    let drag = probe("DiFeliceDrag");
+    assert!(drag
+        .lines()
+        .nth(1)
+        .unwrap()
+        .ends_with("dragForce    ||  position"));
+    let last: Vec<&str> = drag.lines().last().unwrap().split_whitespace().collect();
+    // index, time, ||, drag (3), Urel (3), ||, position (3)
+    assert_eq!(last.len(), 13, "{last:?}");
+    // the time with writePrecision + 7 = 17 digits: 0.1 as C++ streams it at that precision
+    assert_eq!(last[1], "0.10000000000000001");
+    let dy: f64 = last[4].parse().unwrap();
+    assert!((dy - weight).abs() < 0.01 * weight, "{dy} vs {weight}");
+    // trackIO's files beside basicIO's
+    let cloud = cfd.join("0.1/lagrangian/particleCloud");
+    for name in [
+        "positions",
+        "v",
+        "r",
+        "voidfractions",
+        "impForces",
+        "expForces",
+        "DEMForces",
+    ] {
+        assert!(cloud.join(name).is_file(), "{name}");
+    }
+    let id = std::fs::read_to_string(cloud.join("id")).unwrap();
+    assert!(id.contains("\n1\n(\n1\n)\n"), "{id}");
+}

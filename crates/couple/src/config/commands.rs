@@ -17,6 +17,14 @@
 //!   `timeInterval` coupling steps from `startTime` to `endTime` (s). The k-th `execute` of the
 //!   list reads `executeProps<k>` (k from 0), as CFDEM does.
 //!
+//! * `readLiggghtsData`: `read_data <filePath>_<n> add` (`filePath` words glued, with the
+//!   `dot`/`dotdot`/`slash` tokens), n counting from `startIndex` at each run, on `execute`'s
+//!   schedule switches (`readLiggghtsDataProps<k>`);
+//! * `setDEMGravity`: `fix gravity all gravity |g| vector gx/|g| gy/|g| gz/|g|` (C's `%f`) with
+//!   g from the case's `constant/g`, or `unfix gravity` with `unfix on`; run every
+//!   `timeInterval` coupling steps from `startTime` to `endTime` (CFDEM reads no other
+//!   schedule for it) (`setDEMGravityProps<k>`).
+//!
 //! A missing file means `runLiggghts` alone.
 
 use super::registry::LIGGGHTS_COMMANDS;
@@ -60,6 +68,9 @@ pub struct ScheduledCommand {
     pub time_stamp: bool,
     /// When it runs.
     pub schedule: Schedule,
+    /// `readLiggghtsData`: the command gets `_<n> add` appended, n counting the runs from
+    /// this start index ([`ScheduledCommand::due_after`]).
+    pub numbered_from: Option<u64>,
 }
 
 /// Where a run stands after a coupling step, for [`ScheduledCommand::due`].
@@ -111,6 +122,17 @@ impl ScheduledCommand {
 }
 
 impl ScheduledCommand {
+    /// [`ScheduledCommand::due`] for a command that has run `runs` times before: a numbered
+    /// command (`readLiggghtsData`) reads file number start + runs, as CFDEM's
+    /// `readLiggghtsData::command` appends `_%d` of its counter and ` add`.
+    pub fn due_after(&self, now: Moment, runs: u64) -> Option<String> {
+        let command = self.due(now)?;
+        Some(match self.numbered_from {
+            Some(start) => format!("{command}_{} add", start + runs),
+            None => command,
+        })
+    }
+
     /// Whether [`ScheduledCommand::due`] can run the command at coupling step `step` of
     /// `steps` (write time or not: `write`) whatever the simulated time: false only when the
     /// schedule alone rules it out. A run that must know the fluid's time before it calls
@@ -235,6 +257,7 @@ pub(super) fn write_liggghts(r: &mut Reader, g: &Given, s: &mut Setup) -> Built 
             true => Schedule::Last,
             false => Schedule::EveryWriteTime { every },
         },
+        numbered_from: None,
     });
     Ok(())
 }
@@ -284,10 +307,24 @@ pub(super) fn execute(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
     let (scalars, labels) = (numbers("scalars")?, numbers("labels")?);
     let (command, time_stamp) =
         assemble(&words, &scalars, &labels).map_err(|m| r.err(&format!("{dict}/command"), m))?;
+    let schedule = time_mode(r, props, dict)?;
+    s.commands.push(ScheduledCommand {
+        command,
+        time_stamp,
+        schedule,
+        numbered_from: None,
+    });
+    Ok(())
+}
+
+/// CFDEM's `checkTimeMode` and `checkTimeSettings` (`liggghtsCommandModel.C`): the switches
+/// `runFirst`, `runLast`, `runEveryCouplingStep`, `runEveryWriteStep` in this order, each read
+/// only when the ones before are off, else every `timeInterval` coupling steps from
+/// `startTime` to `endTime`.
+fn time_mode(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<Schedule, CoupleError> {
     let flag =
         |key: &str| -> Result<bool, CoupleError> { r.switch(props, key, &format!("{dict}/{key}")) };
-    // CFDEM reads the switches in this order, each only when the ones before are off
-    let schedule = if flag("runFirst")? {
+    Ok(if flag("runFirst")? {
         Schedule::First
     } else if flag("runLast")? {
         Schedule::Last
@@ -296,24 +333,150 @@ pub(super) fn execute(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
     } else if flag("runEveryWriteStep")? {
         Schedule::EveryWriteTime { every: 1 }
     } else {
-        let num = |key: &str| r.number(props, key, &format!("{dict}/{key}"));
-        let interval = num("timeInterval")?;
-        if interval.is_nan() || interval < 1.0 {
-            return Err(r.err(
-                &format!("{dict}/timeInterval"),
-                format!("{interval} is not ≥ 1 (coupling steps between runs)"),
-            ));
-        }
-        Schedule::Interval {
-            start: num("startTime")?,
-            end: num("endTime")?,
-            interval: interval.floor() as u64,
-        }
+        interval(r, props, dict)?
+    })
+}
+
+/// `checkTimeSettings`' "every n steps": `timeInterval` coupling steps (≥ 1) from `startTime`
+/// to `endTime`.
+fn interval(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<Schedule, CoupleError> {
+    let num = |key: &str| r.number(props, key, &format!("{dict}/{key}"));
+    let interval = num("timeInterval")?;
+    if interval.is_nan() || interval < 1.0 {
+        return Err(r.err(
+            &format!("{dict}/timeInterval"),
+            format!("{interval} is not ≥ 1 (coupling steps between runs)"),
+        ));
+    }
+    Ok(Schedule::Interval {
+        start: num("startTime")?,
+        end: num("endTime")?,
+        interval: interval.floor() as u64,
+    })
+}
+
+/// The Props of the k-th model of the list, `<name>Props<k>` (CFDEM's numbering, as
+/// [`execute`]'s).
+fn numbered_props<'d>(
+    r: &Reader<'_>,
+    g: &Given<'d>,
+    s: &Setup,
+) -> Result<(&'d Dict, String), CoupleError> {
+    let dict = format!("{}Props{}", g.name, s.position);
+    match sub_dict(r, g.top, &dict)? {
+        Some(props) => Ok((props, dict)),
+        None => Err(r.err(
+            &dict,
+            format!(
+                "missing: a `{}` at position i of liggghtsCommandModels (from 0, counting \
+                 every model) reads {}Props<i>",
+                g.name, g.name
+            ),
+        )),
+    }
+}
+
+/// `readLiggghtsData`: `read_data <path>_<n> add`, n from `startIndex` (CFDEM-PUBLIC's
+/// `readLiggghtsData.C`).
+pub(super) fn read_liggghts_data(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = numbered_props(r, g, s)?;
+    let dict = &dict;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "startIndex",
+            "filePath",
+            "exactTiming",
+            "verbose",
+            "runFirst",
+            "runLast",
+            "runEveryCouplingStep",
+            "runEveryWriteStep",
+            "startTime",
+            "endTime",
+            "timeInterval",
+        ],
+    )?;
+    let key = format!("{dict}/startIndex");
+    let start = r.number(props, "startIndex", &key)?;
+    if start < 0.0 || start.fract() != 0.0 {
+        return Err(r.err(&key, format!("{start} is not a whole number ≥ 0")));
+    }
+    let mut path = String::new();
+    for w in r.word_list_at(props, "filePath", &format!("{dict}/filePath"))? {
+        path.push_str(match w.as_str() {
+            "dot" => ".",
+            "dotdot" => "..",
+            "slash" => "/",
+            other => other,
+        });
+    }
+    let schedule = time_mode(r, props, dict)?;
+    s.commands.push(ScheduledCommand {
+        command: format!("read_data {path}"),
+        time_stamp: false,
+        schedule,
+        numbered_from: Some(start as u64),
+    });
+    Ok(())
+}
+
+/// `setDEMGravity`: the fluid case's gravity `constant/g` set in the DEM as CFDEM-PUBLIC's
+/// `setDEMGravity.C` does, `fix gravity all gravity |g| vector ĝ` (C's `%f`), or `unfix
+/// gravity` with `unfix on`.
+pub(super) fn set_dem_gravity(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = numbered_props(r, g, s)?;
+    let dict = &dict;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "unfix",
+            "exactTiming",
+            "verbose",
+            "startTime",
+            "endTime",
+            "timeInterval",
+        ],
+    )?;
+    let unfix = r
+        .opt_switch(props, "unfix", &format!("{dict}/unfix"))?
+        .unwrap_or(false);
+    let command = if unfix {
+        "unfix gravity".to_owned()
+    } else {
+        let case = r
+            .file
+            .parent()
+            .and_then(Path::parent)
+            .unwrap_or(Path::new("."));
+        let gravity = super::transport::read_gravity(case)?
+            .filter(|g| g.norm() > 0.0)
+            .ok_or_else(|| {
+                r.err(
+                    dict,
+                    format!(
+                        "setDEMGravity sets the fluid's gravity in the DEM: {} is missing or zero",
+                        case.join("constant").join("g").display()
+                    ),
+                )
+            })?;
+        let n = gravity.norm();
+        let d = gravity / n;
+        let words: Vec<String> = "fix gravity all gravity number vector number number number"
+            .split(' ')
+            .map(str::to_owned)
+            .collect();
+        assemble(&words, &[n, d.x, d.y, d.z], &[])
+            .map_err(|m| r.err(dict, m))?
+            .0
     };
     s.commands.push(ScheduledCommand {
         command,
-        time_stamp,
-        schedule,
+        time_stamp: false,
+        schedule: interval(r, props, dict)?,
+        numbered_from: None,
     });
     Ok(())
 }
@@ -403,6 +566,7 @@ mod tests {
                 command: "write_restart r".into(),
                 time_stamp: true,
                 schedule: schedule.clone(),
+                numbered_from: None,
             };
             let mut ruled_out = 0;
             for step in 1..=steps {
@@ -529,5 +693,80 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.contains("writeLiggghtsProps/bogus"), "{e}");
+    }
+
+    /// CFDEM-PUBLIC's `readLiggghtsData.C`: the command is `"read_data " + filePath` with
+    /// `sprintf(h, "_%d", insertionNr_)` and `" add"` appended, the counter starting at
+    /// `startIndex` and counting each run.
+    #[test]
+    fn read_liggghts_data_numbers_its_files() {
+        let c = read(
+            "liggghtsCommandModels ( runLiggghts readLiggghtsData );\n\
+             readLiggghtsDataProps1 { startIndex 3; filePath ( dotdot slash DEM slash data dot \
+             in ); runFirst off; runLast off; runEveryCouplingStep on; exactTiming; }\n",
+        )
+        .unwrap();
+        let d = &c.commands[0];
+        let now = Moment {
+            step: 1,
+            steps: 5,
+            time: 0.1,
+            elapsed: 0.1,
+            dt_c: 0.1,
+            write: false,
+            writes: 0,
+        };
+        assert_eq!(
+            d.due_after(now, 0).as_deref(),
+            Some("read_data ../DEM/data.in_3 add")
+        );
+        assert_eq!(
+            d.due_after(now, 2).as_deref(),
+            Some("read_data ../DEM/data.in_5 add")
+        );
+        let e = read("liggghtsCommandModels ( readLiggghtsData );\nreadLiggghtsDataProps0 { }")
+            .unwrap_err();
+        assert!(e.contains("readLiggghtsDataProps0/startIndex"), "{e}");
+    }
+
+    /// CFDEM-PUBLIC's `setDEMGravity.C`: the words `fix gravity all gravity number vector
+    /// number number number` with the scalars |g|, g/|g| (C's `%f`), g from the case's
+    /// `constant/g`; `unfix gravity` with `unfix on`; the schedule is always `startTime`,
+    /// `endTime`, `timeInterval`.
+    #[test]
+    fn set_dem_gravity_from_the_case() {
+        let dir = tempfile::tempdir().unwrap();
+        let constant = dir.path().join("constant");
+        std::fs::create_dir(&constant).unwrap();
+        std::fs::write(
+            constant.join("liggghtsCommands"),
+            "liggghtsCommandModels ( runLiggghts setDEMGravity setDEMGravity );\n\
+             setDEMGravityProps1 { startTime 0; endTime 1; timeInterval 1; }\n\
+             setDEMGravityProps2 { unfix on; startTime 0.5; endTime 0.5; timeInterval 1; }\n",
+        )
+        .unwrap();
+        let e = LiggghtsCommands::read_case(dir.path())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("constant/g"), "{e}");
+        std::fs::write(
+            constant.join("g"),
+            "dimensions [0 1 -2 0 0 0 0];\nvalue (3 0 -4);\n",
+        )
+        .unwrap();
+        let c = LiggghtsCommands::read_case(dir.path()).unwrap();
+        assert_eq!(
+            c.commands[0].command,
+            "fix gravity all gravity 5.000000 vector 0.600000 0.000000 -0.800000"
+        );
+        assert_eq!(
+            c.commands[0].schedule,
+            Schedule::Interval {
+                start: 0.0,
+                end: 1.0,
+                interval: 1
+            }
+        );
+        assert_eq!(c.commands[1].command, "unfix gravity");
     }
 }

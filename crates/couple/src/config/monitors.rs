@@ -1,7 +1,8 @@
 //! CFDEM's models that observe a run and write what CFDEM writes: the auxiliary "force models"
-//! `fieldStore`, `particleCellVolume`, `volWeightedAverage` (listed in `forceModels`, they
-//! exert no force), `clockModel standardClock` and `IOModel basicIO`. This module reads their
-//! settings; [`crate::monitor`] computes their values and the runner writes them.
+//! `fieldStore`, `fieldTimeAverage`, `particleCellVolume`, `particleVolume`,
+//! `volWeightedAverage`, `totalMomentumExchange` (listed in `forceModels`, they exert no
+//! force), `clockModel standardClock` and `IOModel basicIO`/`sophIO`/`trackIO`. This module
+//! reads their settings; [`crate::monitor`] computes their values and the runner writes them.
 
 use super::{Built, Given, Reader, Setup};
 use crate::error::CoupleError;
@@ -59,26 +60,114 @@ pub struct VolWeightedAverage {
     pub write_to_file: bool,
 }
 
+/// `fieldTimeAverage`: the running mean of each named field over the coupling steps from
+/// `startTime`, written as `timeAverage_<name>` at the write times (CFDEM-PUBLIC's
+/// `fieldTimeAverage.C`).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct FieldTimeAverage {
+    /// `scalarFieldNames`.
+    pub scalar_fields: Vec<String>,
+    /// `vectorFieldNames`.
+    pub vector_fields: Vec<String>,
+    /// `startTime`, s (default 0).
+    pub start_time: f64,
+}
+
+/// `particleVolume`: Σ 4πr³/3 over the particles whose centre lies in the mesh, each coupling
+/// step from `startTime` (CFDEM-PUBLIC's `particleVolume.C`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParticleVolume {
+    /// `startTime`, s (default 0).
+    pub start_time: f64,
+    /// `verbose`: the value goes to the log.
+    pub verbose: bool,
+    /// `writeToFile`: `postProcessing/particleVolume/<start>/particleVolume.txt`.
+    pub write_to_file: bool,
+}
+
+/// `totalMomentumExchange`: the fluid–particle momentum exchange summed over the cells, its
+/// implicit part Σ V Ksl (U − Us) and its explicit part −Σ V f (N, the force on the particles).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TotalMomentumExchange {
+    /// `explicitMomExFieldName`: `f` (the explicit part is summed) or `none`.
+    pub explicit: bool,
+    /// `startTime`, s (default 0).
+    pub start_time: f64,
+    /// `verbose` (CFDEM's header spells it `verbous`; both are read).
+    pub verbose: bool,
+    /// `writeToFile` (default on): `postProcessing/totalMomentumExchange/<start>/
+    /// totalMomentumExchange.txt`.
+    pub write_to_file: bool,
+}
+
+/// `probeModel particleProbe`: per-particle files of the force models' forces (CFDEM-PUBLIC's
+/// `particleProbe.C`). A switch of `particleProbeProps` is on when its key is present, whatever
+/// its value, as CFDEM reads them (`propsDict_.found("verboseToFile")`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParticleProbe {
+    /// `particleIDsToSample`: the particle indices written (CFDEM's index in its particle
+    /// arrays, from 0).
+    pub ids: Vec<u64>,
+    /// `sampleAll`: every particle.
+    pub sample_all: bool,
+    /// `verboseToFile`: without it nothing is written.
+    pub verbose_to_file: bool,
+    /// `printEvery` (coupling steps, default 1).
+    pub print_every: u64,
+    /// `printOnlyAtStep`: only at this coupling step.
+    pub print_only_at: Option<u64>,
+    /// `includePosition`: the particle's position after the force.
+    pub include_position: bool,
+    /// `probeDebug`: the header names every vector, not only the force.
+    pub debug: bool,
+    /// `writePrecision`: significant digits of the values (default 3).
+    pub write_precision: usize,
+}
+
+/// `IOModel`: which particle files are written at the write times.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ParticleIo {
+    /// `basicIO`: positions, v, r.
+    #[default]
+    Basic,
+    /// `sophIO`: basicIO's and voidfractions, impForces, expForces, DEMForces.
+    Soph,
+    /// `trackIO`: sophIO's and id.
+    Track,
+}
+
 /// The observing models of a configuration.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Monitors {
     /// `fieldStore`.
     pub field_store: Option<FieldStore>,
+    /// `fieldTimeAverage`.
+    pub field_time_average: Option<FieldTimeAverage>,
+    /// `particleVolume`.
+    pub particle_volume: Option<ParticleVolume>,
+    /// `totalMomentumExchange`.
+    pub total_momentum_exchange: Option<TotalMomentumExchange>,
     /// `particleCellVolume`.
     pub particle_cell_volume: Option<ParticleCellVolume>,
+    /// `probeModel particleProbe`.
+    pub particle_probe: Option<ParticleProbe>,
     /// `volWeightedAverage`.
     pub vol_weighted_average: Option<VolWeightedAverage>,
     /// `clockModel standardClock`: the timing table at the end (log and `clockData/timeEval.txt`).
     pub clock: bool,
-    /// `IOModel basicIO`: particle positions, velocities and radii under
-    /// `<time>/lagrangian/particleCloud/` at each write time.
+    /// `IOModel basicIO` (or `sophIO`/`trackIO`): particle positions, velocities and radii
+    /// under `<time>/lagrangian/particleCloud/` at each write time.
     pub basic_io: bool,
+    /// Which of the IO models writes them (with `basic_io`).
+    pub particle_io: ParticleIo,
 }
 
 impl Monitors {
     /// True when a model reads whole cell fields (ε, the exchange fields, the fluid).
     pub fn needs_fields(&self) -> bool {
         self.field_store.is_some()
+            || self.field_time_average.is_some()
+            || self.total_momentum_exchange.is_some()
             || self.particle_cell_volume.is_some()
             || self.vol_weighted_average.is_some()
     }
@@ -136,6 +225,90 @@ pub(super) fn field_store(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
     s.monitors.field_store = Some(FieldStore {
         scalar_fields: field_names(r, props, dict, "scalarFieldNames", &SCALAR_FIELDS)?,
         vector_fields: field_names(r, props, dict, "vectorFieldNames", &VECTOR_FIELDS)?,
+    });
+    Ok(())
+}
+
+/// `fieldTimeAverage` of `forceModels`.
+pub(super) fn field_time_average(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "scalarFieldNames",
+            "vectorFieldNames",
+            "startTime",
+            "verbose",
+        ],
+    )?;
+    s.monitors.field_time_average = Some(FieldTimeAverage {
+        scalar_fields: field_names(r, props, dict, "scalarFieldNames", &SCALAR_FIELDS)?,
+        vector_fields: field_names(r, props, dict, "vectorFieldNames", &VECTOR_FIELDS)?,
+        start_time: number_or(r, props, dict, "startTime", 0.0)?,
+    });
+    Ok(())
+}
+
+/// `particleVolume` of `forceModels`.
+pub(super) fn particle_volume(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(props, dict, &["startTime", "verbose", "writeToFile"])?;
+    s.monitors.particle_volume = Some(ParticleVolume {
+        start_time: number_or(r, props, dict, "startTime", 0.0)?,
+        verbose: switch_or(r, props, dict, "verbose")?,
+        write_to_file: switch_or(r, props, dict, "writeToFile")?,
+    });
+    Ok(())
+}
+
+/// `totalMomentumExchange` of `forceModels` (its Props as CFDEM's ErgunTestMPI tutorial of
+/// 2012–2016 writes them: `implicitMomExFieldName "Ksl"`, `explicitMomExFieldName "none"`,
+/// `fluidVelFieldName "U"`, `granVelFieldName "Us"`).
+pub(super) fn total_momentum_exchange(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "implicitMomExFieldName",
+            "explicitMomExFieldName",
+            "fluidVelFieldName",
+            "startTime",
+            "verbose",
+            "verbous",
+            "writeToFile",
+        ],
+    )?;
+    for (key, standard) in [
+        ("implicitMomExFieldName", "Ksl"),
+        ("fluidVelFieldName", "U"),
+    ] {
+        let path = format!("{dict}/{key}");
+        if let Some(given) = r.opt_word(props, key, &path)? {
+            if given != standard {
+                return Err(r.err(
+                    &path,
+                    format!("foamgrain holds `{standard}`, not `{given}`"),
+                ));
+            }
+        }
+    }
+    let path = format!("{dict}/explicitMomExFieldName");
+    let explicit = match r.opt_word(props, "explicitMomExFieldName", &path)? {
+        None | Some("f") => true,
+        Some("none") => false,
+        Some(other) => {
+            return Err(r.err(&path, format!("`f` or `none`, not `{other}`")));
+        }
+    };
+    s.monitors.total_momentum_exchange = Some(TotalMomentumExchange {
+        explicit,
+        start_time: number_or(r, props, dict, "startTime", 0.0)?,
+        verbose: switch_or(r, props, dict, "verbose")? || switch_or(r, props, dict, "verbous")?,
+        write_to_file: r
+            .opt_switch(props, "writeToFile", &format!("{dict}/writeToFile"))?
+            .unwrap_or(true),
     });
     Ok(())
 }
@@ -202,6 +375,70 @@ pub(super) fn vol_weighted_average(r: &mut Reader, g: &Given, s: &mut Setup) -> 
     Ok(())
 }
 
+/// `probeModel particleProbe`, from `particleProbeProps`.
+pub(super) fn particle_probe(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "particleIDsToSample",
+            "verbose",
+            "verboseToFile",
+            "printEvery",
+            "printOnlyAtStep",
+            "sampleAll",
+            "probeDebug",
+            "includePosition",
+            "writePrecision",
+        ],
+    )?;
+    if props.contains("probeDebug") {
+        r.warn(format!(
+            "{dict}/probeDebug: the header names every probed vector, but the force models' \
+             internal scalars (Rep, Cd, β, Vs…) are not written"
+        ));
+    }
+    let path = format!("{dict}/particleIDsToSample");
+    let listed = match props.stream("particleIDsToSample") {
+        Ok([item]) | Ok([foam::Item::Label(_), item]) => item.as_f64_list(),
+        _ => None,
+    };
+    let listed =
+        listed.ok_or_else(|| r.err(&path, "expected a list of particle indices `( 0 1 … )`"))?;
+    let ids = listed
+        .iter()
+        .map(|&x| match x >= 0.0 && x.fract() == 0.0 {
+            true => Ok(x as u64),
+            false => Err(r.err(&path, format!("{x} is not a particle index ≥ 0"))),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let count = |key: &str, default: u64| -> Result<u64, CoupleError> {
+        let path = format!("{dict}/{key}");
+        match props.contains(key) {
+            false => Ok(default),
+            true => match r.number(props, key, &path)? {
+                x if x >= 1.0 && x.fract() == 0.0 => Ok(x as u64),
+                x => Err(r.err(&path, format!("{x} is not a whole number ≥ 1"))),
+            },
+        }
+    };
+    s.monitors.particle_probe = Some(ParticleProbe {
+        ids,
+        sample_all: props.contains("sampleAll"),
+        verbose_to_file: props.contains("verboseToFile"),
+        print_every: count("printEvery", 1)?,
+        print_only_at: match props.contains("printOnlyAtStep") {
+            true => Some(count("printOnlyAtStep", 1)?),
+            false => None,
+        },
+        include_position: props.contains("includePosition"),
+        debug: props.contains("probeDebug"),
+        write_precision: count("writePrecision", 3)? as usize,
+    });
+    Ok(())
+}
+
 /// `clockModel standardClock`: the timing table (no Props read).
 pub(super) fn standard_clock(_: &mut Reader, _: &Given, s: &mut Setup) -> Built {
     s.monitors.clock = true;
@@ -211,5 +448,19 @@ pub(super) fn standard_clock(_: &mut Reader, _: &Given, s: &mut Setup) -> Built 
 /// `IOModel basicIO`: particle output at the write times (no Props read).
 pub(super) fn basic_io(_: &mut Reader, _: &Given, s: &mut Setup) -> Built {
     s.monitors.basic_io = true;
+    Ok(())
+}
+
+/// `IOModel sophIO`: basicIO's files and the per-particle voidfractions and forces.
+pub(super) fn soph_io(_: &mut Reader, _: &Given, s: &mut Setup) -> Built {
+    s.monitors.basic_io = true;
+    s.monitors.particle_io = ParticleIo::Soph;
+    Ok(())
+}
+
+/// `IOModel trackIO`: sophIO's files and the particle ids.
+pub(super) fn track_io(_: &mut Reader, _: &Given, s: &mut Setup) -> Built {
+    s.monitors.basic_io = true;
+    s.monitors.particle_io = ParticleIo::Track;
     Ok(())
 }

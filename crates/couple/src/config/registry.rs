@@ -260,14 +260,8 @@ pub const IO: Family = Family {
     models: &[
         ("off", SAME),
         ("basicIO", acts(monitors::basic_io)),
-        (
-            "trackIO",
-            warn("foamgrain writes basicIO's files (positions, v, r), not trackIO's"),
-        ),
-        (
-            "sophIO",
-            warn("foamgrain writes basicIO's files (positions, v, r), not sophIO's"),
-        ),
+        ("trackIO", acts(monitors::track_io)),
+        ("sophIO", acts(monitors::soph_io)),
     ],
 };
 
@@ -276,10 +270,7 @@ pub const PROBE: Family = Family {
     key: "probeModel",
     models: &[
         ("off", SAME),
-        (
-            "particleProbe",
-            warn("particle probes are not written (postProcessing/particles/*.vtp has every particle's state at the write times)"),
-        ),
+        ("particleProbe", acts(monitors::particle_probe)),
     ],
 };
 
@@ -328,9 +319,26 @@ pub const FORCES: Family = Family {
         ),
         ("DEMbasedDrag", refuse("use one of the drag laws")),
         ("RongDrag", refuse("use one of the drag laws")),
-        ("totalMomentumExchange", refuse("not implemented")),
-        ("fieldTimeAverage", refuse("not implemented")),
-        ("fieldVolWeighted", refuse("not implemented")),
+        (
+            "totalMomentumExchange",
+            acts(monitors::total_momentum_exchange),
+        ),
+        ("fieldTimeAverage", acts(monitors::field_time_average)),
+        ("particleVolume", acts(monitors::particle_volume)),
+        (
+            "fieldVolWeighted",
+            refuse(
+                "CFDEM's source of it was never published (only its Props in ErgunTestMPI of \
+                 2016), so its output cannot be reproduced; use volWeightedAverage",
+            ),
+        ),
+        (
+            "checkCouplingInterval",
+            refuse(
+                "not implemented; `foamgrain timestep` reports the Courant number and the \
+                 coupling interval's criteria",
+            ),
+        ),
         ("LaEuScalarTemp", acts(heat::la_eu_scalar_temp)),
         ("scalarGeneralExchange", acts(heat::scalar_general_exchange)),
     ],
@@ -402,14 +410,8 @@ pub const LIGGGHTS_COMMANDS: Family = Family {
         ("runLiggghts", SAME),
         ("writeLiggghts", acts(commands::write_liggghts)),
         ("execute", acts(commands::execute)),
-        (
-            "readLiggghtsData",
-            refuse("use `execute` with a read_data command"),
-        ),
-        (
-            "setDEMGravity",
-            refuse("set gravity in the deck (`fix … gravity`)"),
-        ),
+        ("readLiggghtsData", acts(commands::read_liggghts_data)),
+        ("setDEMGravity", acts(commands::set_dem_gravity)),
     ],
 };
 
@@ -446,9 +448,14 @@ mod tests {
     const REQUIRED_PROPS: &str = "\
         constDiffSmoothingProps { smoothingLength 0.01; lowerLimit 0; upperLimit 1; }\n\
         fieldStoreProps { scalarFieldNames ( ); vectorFieldNames ( U ); }\n\
+        fieldTimeAverageProps { scalarFieldNames ( voidfraction ); vectorFieldNames ( ); }\n\
         volWeightedAverageProps { lowerThreshold 0; upperThreshold 1; \
             scalarFieldNames ( ); vectorFieldNames ( ); }\n\
         executeProps0 { command ( write_restart r ); runFirst on; }\n\
+        particleProbeProps { particleIDsToSample ( 0 ); verboseToFile; }\n\
+        readLiggghtsDataProps0 { startIndex 0; filePath ( dotdot slash DEM slash d ); \
+            runFirst on; }\n\
+        setDEMGravityProps0 { startTime 0; endTime 1; timeInterval 1; }\n\
         LaEuScalarTempProps { tempFieldName \"T\"; lambda 0.0256; Cp 1007; }\n\
         heatTransferGunnProps { partTempName \"Temp\"; implicit false; }\n\
         scalarGeneralExchangeProps { tempFieldName \"T\"; partTempName \"Temp\"; \
@@ -468,6 +475,7 @@ mod tests {
             "nu 1.5e-5;\nrho 1.2;\nkf kf [1 1 -3 -1 0 0 0] 0.0256;\nCp Cp [0 2 -2 -1 0 0 0] 1007;\n",
         )
         .unwrap();
+        std::fs::write(constant.join("g"), "value (0 0 -9.81);\n").unwrap();
         std::fs::write(
             constant.join("scalarTransportProperties"),
             "scalarTransportModel generalManual;\n\
