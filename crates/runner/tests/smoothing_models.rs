@@ -250,3 +250,69 @@ fn bad_temporal_settings_are_errors() {
     .to_string();
     assert!(e.contains("smoothingLength"), "{e}");
 }
+
+/// `constDiffAndTemporalSmoothing` on the coupler: the fluid receives at exchange k a solid
+/// volume Σ V(1 − ε) = V_p (1 − (1+γ)⁻ᵏ) (the history starts at ε = 1, the particle stays in
+/// the mesh), and the step's clipped volume reports the rest, V_p (1+γ)⁻ᵏ, so the two add up
+/// to the particle's volume at every exchange.
+#[test]
+fn the_coupler_hands_the_fluid_the_relaxed_voidage_and_reports_the_lag() {
+    use closures::model::ModelType;
+    use couple::config::Forces;
+    use couple::memory::{MemoryFluid, MemoryParticles};
+    use couple::{Coupler, CouplerSettings, FluidSide, Physics};
+    use mesh::v3::V3;
+    let d = 1e-3;
+    let mesh = uniform_box([0.0; 3], [0.01; 3], [10, 10, 10]);
+    let mut fluid = MemoryFluid::uniform(mesh, V3::zeros());
+    let (centre, r) = (V3::new(0.0031, 0.0062, 0.0044), d / 2.0);
+    let mut particles = MemoryParticles::new(vec![centre], vec![r], 2500.0, 1e-5);
+    let settings = CouplerSettings {
+        method: voidage::Method::Exact,
+        alpha_min: None,
+        coupling_interval: 1,
+        physics: Physics {
+            rho: 1000.0,
+            nu: 1e-6,
+            gravity: V3::zeros(),
+            model: ModelType::A,
+            forces: Forces::default(),
+            implicit_couple: true,
+        },
+        heat: None,
+    };
+    let mut coupler = Coupler::new(fluid.mesh(), settings).unwrap();
+    let gamma = 0.5;
+    let model = SmoothingModel::ConstDiffAndTemporal {
+        spatial: spatial(1e-3),
+        gamma,
+    };
+    coupler.set_smoothing(native(fluid.mesh(), model).unwrap());
+    let mut clipped = Vec::new();
+    coupler
+        .run(&mut particles, &mut fluid, 4, |s| {
+            clipped.push(s.voidage.clipped_volume)
+        })
+        .unwrap();
+    let vols = coupler.voidage_mesh().cell_volumes().to_vec();
+    let vp = std::f64::consts::PI * d * d * d / 6.0;
+    assert_eq!(fluid.received.len(), 4);
+    for (k, got) in fluid.received.iter().enumerate() {
+        let held: f64 = got
+            .voidage_new
+            .iter()
+            .zip(&vols)
+            .map(|(e, v)| (1.0 - e) * v)
+            .sum();
+        let lag = vp * (1.0 + gamma).powi(-(k as i32 + 1));
+        assert!(
+            (held - (vp - lag)).abs() < 1e-9 * vp,
+            "exchange {k}: {held}"
+        );
+        assert!(
+            (clipped[k] - lag).abs() < 1e-9 * vp,
+            "exchange {k}: {}",
+            clipped[k]
+        );
+    }
+}
