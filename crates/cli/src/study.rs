@@ -30,8 +30,8 @@ pub struct CellsizeArgs {
     /// --dx-over-d; replaces it when given).
     #[arg(long, value_delimiter = ',', conflicts_with = "dx_over_d")]
     pub cells_per_d: Vec<f64>,
-    /// Voidage methods (centre, divided, trilinear, cube, corrected-cube, exact); default all
-    /// but trilinear.
+    /// Voidage methods (centre, divided, trilinear, cube, corrected-cube, exact, bigParticle);
+    /// default all but trilinear and bigParticle.
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<voidage::Method>,
     /// Superficial velocities as fractions of the bed's minimum fluidisation velocity.

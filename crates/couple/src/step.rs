@@ -104,8 +104,8 @@ pub struct Coupler {
     remote: Remote,
     /// The fluid's cells' owners, when they are not rank 0 ([`Coupler::set_owners`]).
     owners: Option<Box<dyn CellOwners>>,
-    /// `constDiffSmoothing` of the ε handed to the fluid ([`Coupler::set_smoothing`]).
-    smoothing: Option<crate::smoothing::ConstDiffSmoothing>,
+    /// The smoothing of the ε handed to the fluid ([`Coupler::set_smoothing`]).
+    smoothing: Option<crate::smoothing::Smoothing>,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -177,11 +177,12 @@ impl Coupler {
         })
     }
 
-    /// Smooths the voidage handed to the fluid from now on (`smoothingModel
-    /// constDiffSmoothing`, [`crate::smoothing`]); the bounds' volume change is added to the
-    /// step's clipped volume and cells. Not with [`Coupler::set_owners`] (no rank holds the
+    /// Smooths the voidage handed to the fluid from now on (`smoothingModel`
+    /// `constDiffSmoothing`, `temporalSmoothing`, `constDiffAndTemporalSmoothing`,
+    /// [`crate::smoothing`]); the bounds' volume change, and the volume a temporal relaxation
+    /// lags, are added to the step's clipped volume (the bounds' cells to its clipped cells). Not with [`Coupler::set_owners`] (no rank holds the
     /// whole ε there): the next exchange is then an error.
-    pub fn set_smoothing(&mut self, smoothing: crate::smoothing::ConstDiffSmoothing) {
+    pub fn set_smoothing(&mut self, smoothing: crate::smoothing::Smoothing) {
         self.smoothing = Some(smoothing);
     }
 
@@ -267,13 +268,13 @@ impl Coupler {
         let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
-            if self.smoothing.is_some() {
-                return Err(CoupleError::Parameter(
-                    "smoothingModel constDiffSmoothing needs the whole voidage field on one \
+            if let Some(s) = &self.smoothing {
+                return Err(CoupleError::Parameter(format!(
+                    "smoothingModel {} needs the whole voidage field on one \
                      rank; with grainPisoFoam on several coupler ranks no rank holds it (run \
-                     one coupler rank, or the native fluid)"
-                        .into(),
-                ));
+                     one coupler rank, or the native fluid)",
+                    s.model().name()
+                )));
             }
             return self.exchange_owned(particles, population);
         }
@@ -336,7 +337,7 @@ impl Coupler {
             // after the forces: the drag uses each particle's unsmoothed ε (module docs of
             // `smoothing`); the fluid gets the smoothed field
             let r = s.smooth(&mut voidage.epsilon)?;
-            voidage.clipped_volume += r.bounded_volume;
+            voidage.clipped_volume += r.bounded_volume + r.lagged_volume;
             voidage.clipped_cells += r.bounded_cells;
         }
         self.voidage.clone_from(&voidage.epsilon);

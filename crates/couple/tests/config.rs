@@ -175,8 +175,8 @@ fn errors_name_file_and_key() {
     fails("couplingInterval 10;", "", &["couplingInterval", "missing"]);
     fails(
         "voidFractionModel exact;",
-        "voidFractionModel bigParticle;",
-        &["voidFractionModel", "not supported", "cube or exact"],
+        "voidFractionModel GaussVoidFraction;",
+        &["voidFractionModel", "not supported", "use exact"],
     );
     fails(
         "voidFractionModel exact;",
@@ -215,8 +215,12 @@ fn errors_name_file_and_key() {
     );
     fails(
         "locateModel engine;",
-        "smoothingModel temporalSmoothing;",
-        &["smoothingModel", "temporalSmoothing", "constDiffSmoothing"],
+        "smoothingModel localPSizeDiffSmoothing;",
+        &[
+            "smoothingModel",
+            "localPSizeDiffSmoothing",
+            "constDiffSmoothing",
+        ],
     );
     fails(
         "locateModel engine;",
@@ -371,11 +375,13 @@ fn cfdem_auxiliary_models_and_flags() {
     );
     assert_eq!(
         read(&smooth).unwrap().smoothing,
-        Some(couple::smoothing::SmoothingSettings {
-            length: 3e-4,
-            lower: 0.0,
-            upper: 1e99
-        })
+        Some(couple::smoothing::SmoothingModel::ConstDiff(
+            couple::smoothing::SmoothingSettings {
+                length: 3e-4,
+                lower: 0.0,
+                upper: 1e99
+            }
+        ))
     );
 
     // CFDEM-PFM's voidfractionTest: the key alone switches ∂ε/∂t on

@@ -1,8 +1,8 @@
-//! CFDEM's `smoothingModel constDiffSmoothing` ([`couple::smoothing`]) on the native
-//! fluid's discretisation: its diffusion step is [`fv::diffusion::DiffusionStep`] (the coupler
-//! does not depend on `fv`; this is where the two meet).
+//! CFDEM-PFM's `smoothingModel`s ([`couple::smoothing`]) on the native fluid's
+//! discretisation: their diffusion step is [`fv::diffusion::DiffusionStep`] (the coupler does
+//! not depend on `fv`; this is where the two meet).
 
-use couple::smoothing::{ConstDiffSmoothing, Diffusion, SmoothingSettings};
+use couple::smoothing::{Diffusion, Smoothing, SmoothingModel};
 use couple::CoupleError;
 use foam::PolyMesh;
 use fv::diffusion::DiffusionStep;
@@ -24,12 +24,10 @@ impl Diffusion for FvDiffusion {
     }
 }
 
-/// `constDiffSmoothing` with `settings` on `mesh`, diffused by `fv`'s step.
-pub fn native(
-    mesh: &PolyMesh,
-    settings: SmoothingSettings,
-) -> Result<ConstDiffSmoothing, CoupleError> {
-    ConstDiffSmoothing::new(settings, |length| {
+/// The smoothing `model` (or `constDiffSmoothing` with its settings) on `mesh`, diffused by
+/// `fv`'s step.
+pub fn native(mesh: &PolyMesh, model: impl Into<SmoothingModel>) -> Result<Smoothing, CoupleError> {
+    Smoothing::new(model, |length| {
         let step = DiffusionStep::new(mesh, length).map_err(|e| e.to_string())?;
         Ok(Box::new(FvDiffusion(step)) as Box<dyn Diffusion>)
     })
@@ -38,6 +36,7 @@ pub fn native(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use couple::smoothing::SmoothingSettings;
 
     /// A row of `n` cubes of side h along x (blockMesh-like numbering), walls all round.
     fn row(n: usize, h: f64) -> PolyMesh {

@@ -18,7 +18,7 @@
 //! [`VoidageMesh`] prepares an OpenFOAM [`foam::PolyMesh`] (geometry, [`mesh::Locator`],
 //! indexes) and deposits the volume of N particles ([`ParticleSet`]) into per-cell solid volume
 //! with a [`Method`] — `centre`, `divided`, `trilinear` (uniform axis-aligned grids only),
-//! `cube`, `corrected-cube` or `exact` — in parallel,
+//! `cube`, `corrected-cube`, `exact` or CFDEM's `bigParticle` — in parallel,
 //! with every particle's volume either in a cell or counted outside the mesh ([`Deposit`]);
 //! [`VoidageMesh::voidage`] turns it into ε = 1 − solid / cell volume ([`Voidage`]), optionally
 //! clipped from below with the clipped volume reported. See the [`engine`] module docs for how

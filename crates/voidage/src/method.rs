@@ -26,21 +26,28 @@ pub enum Method {
     CorrectedCube,
     /// `exact`: the exact volume of ball ∩ cell ([`crate::sphere_box`], [`crate::sphere_poly`]).
     Exact,
+    /// `bigParticle` (CFDEM `bigParticle`, for particles larger than a cell): equal shares to
+    /// the centre's cell and the cells whose centre lies within the radius, reached from it
+    /// through faces (`engine::big`). Jumps when a cell centre enters or leaves the ball.
+    BigParticle,
 }
 
 impl Method {
     /// Every method, in the order of the CLI help.
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Centre,
         Method::Divided,
         Method::Trilinear,
         Method::Cube,
         Method::CorrectedCube,
         Method::Exact,
+        Method::BigParticle,
     ];
 
-    /// The methods defined on every mesh: all but `trilinear`, which needs a structured grid
-    /// of equal axis-aligned cells ([`crate::VoidageMesh::check_method`]).
+    /// The methods defined on every mesh that the studies compare by default: all but
+    /// `trilinear`, which needs a structured grid of equal axis-aligned cells
+    /// ([`crate::VoidageMesh::check_method`]), and `bigParticle` (defined on every mesh, but
+    /// meant for particles larger than a cell).
     pub const ANY_MESH: [Method; 5] = [
         Method::Centre,
         Method::Divided,
@@ -58,6 +65,7 @@ impl Method {
             Method::Cube => "cube",
             Method::CorrectedCube => "corrected-cube",
             Method::Exact => "exact",
+            Method::BigParticle => "bigParticle",
         }
     }
 
@@ -73,6 +81,7 @@ impl Method {
             Method::Cube => &["cube"],
             Method::CorrectedCube => &["correctedCube", "corrected-cube"],
             Method::Exact => &["exact", "exactVoidFraction"],
+            Method::BigParticle => &["bigParticle", "bigParticleVoidFraction"],
         }
     }
 
@@ -82,6 +91,7 @@ impl Method {
             Method::Centre => Some("centre"),
             Method::Divided => Some("divided"),
             Method::Trilinear => Some("trilinear"),
+            Method::BigParticle => Some("bigParticle"),
             _ => None,
         }
     }

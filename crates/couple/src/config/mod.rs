@@ -16,7 +16,7 @@
 //! | `forceModels` (one drag law of [`registry::DRAG_LAWS`], closures' list, and [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
 //! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
-//! | `smoothingModel constDiffSmoothing` (`<name>Props`: `smoothingLength`, `lowerLimit`, `upperLimit`) | [`CouplingConfig::smoothing`], [`crate::smoothing`]; the other smoothing models are refused |
+//! | `smoothingModel` `constDiffSmoothing` (`<name>Props`: `smoothingLength`, `lowerLimit`, `upperLimit`), `temporalSmoothing` (`gamma`, `refField voidfraction`, the limits), `constDiffAndTemporalSmoothing` (`smoothingLength`, `smoothingStrength`, the limits) | [`CouplingConfig::smoothing`], [`crate::smoothing`]; `localPSizeDiffSmoothing` is refused |
 //! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
 //! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
 //! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's); the key alone (`useDDTvoidfraction;`) is `b`, as CFDEM-PFM reads it | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
@@ -144,9 +144,10 @@ pub struct CouplingConfig {
     /// `solveFlow` (default true): when off the fluid is not solved (U and p stay as read) while
     /// the particles, the voidage and the exchange fields go on.
     pub solve_flow: bool,
-    /// `smoothingModel constDiffSmoothing`: its settings ([`crate::smoothing`]); `None` for
-    /// `off`.
-    pub smoothing: Option<crate::smoothing::SmoothingSettings>,
+    /// `smoothingModel` `constDiffSmoothing`, `temporalSmoothing` or
+    /// `constDiffAndTemporalSmoothing`: the model and its settings ([`crate::smoothing`]);
+    /// `None` for `off`.
+    pub smoothing: Option<crate::smoothing::SmoothingModel>,
     /// `useDDTvoidfraction`: `b` puts ∂ε/∂t into the continuity equation, `off` leaves it out.
     /// Without the key it is left out, as CFDEM's default (`off`) does.
     pub ddt_voidage: bool,
@@ -194,7 +195,7 @@ struct Setup {
     /// `momCoupleModels`.
     momentum: MomentumCoupling,
     /// `smoothingModel`.
-    smoothing: Option<crate::smoothing::SmoothingSettings>,
+    smoothing: Option<crate::smoothing::SmoothingModel>,
     /// `liggghtsCommandModels`' commands, in the list's order.
     commands: Vec<ScheduledCommand>,
     /// The position (from 0) in `liggghtsCommandModels` of the model being read: an

@@ -52,6 +52,22 @@ pub(super) fn exact(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
     props(r, g, s, Method::Exact)
 }
 
+/// `bigParticle` (CFDEM's): the common Props and CFDEM's `maxCellsPerParticle` (required, as
+/// CFDEM reads it; a positive whole number, which bounds nothing here:
+/// `voidage::Method::BigParticle`).
+pub(super) fn big_particle(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    let path = format!("{dict}/maxCellsPerParticle");
+    if !props.contains("maxCellsPerParticle") {
+        return Err(r.err(&path, "missing (bigParticle needs it)"));
+    }
+    let n = r.number(props, "maxCellsPerParticle", &path)?;
+    if !(n >= 1.0 && n.fract() == 0.0) {
+        return Err(r.err(&path, format!("{n} is not a positive whole number")));
+    }
+    props_with(r, g, s, Method::BigParticle, &["maxCellsPerParticle"])
+}
+
 /// The Props every voidage method reads: `alphaMin` (the ε floor, in [0, 1)), and CFDEM's
 /// `scaleUpVol`, `weight`, `porosity` (only 1) and `verbose`.
 fn props(
@@ -60,12 +76,21 @@ fn props(
     s: &mut Setup,
     method: Method,
 ) -> Result<(), CoupleError> {
+    props_with(r, g, s, method, &[])
+}
+
+/// [`props`] accepting also the keys `extra` (read by the method's constructor).
+fn props_with(
+    r: &mut Reader<'_>,
+    g: &Given<'_>,
+    s: &mut Setup,
+    method: Method,
+    extra: &[&str],
+) -> Result<(), CoupleError> {
     let (props, dict) = &g.props(r)?;
-    r.check_props(
-        props,
-        dict,
-        &["alphaMin", "scaleUpVol", "weight", "porosity", "verbose"],
-    )?;
+    let mut known = vec!["alphaMin", "scaleUpVol", "weight", "porosity", "verbose"];
+    known.extend_from_slice(extra);
+    r.check_props(props, dict, &known)?;
     let alpha_min = match props.contains("alphaMin") {
         true => {
             let key = format!("{dict}/alphaMin");

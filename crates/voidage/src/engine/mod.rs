@@ -23,6 +23,11 @@
 //! * `exact`: [`crate::sphere_grid_volumes`] over the particle's cell range (corner values shared
 //!   between the boxes around each grid node).
 //!
+//! # On every mesh
+//! * `bigParticle` (CFDEM's): equal shares to the cells whose centre is within the radius,
+//!   found by a walk over face neighbours from the centre's cell (`big`), the same on both
+//!   paths.
+//!
 //! # Methods on general meshes (any polyhedral cells)
 //! * `centre`: [`mesh::Locator`];
 //! * `divided`: the markers by [`mesh::Locator::locate_near`] from the centre's cell (each
@@ -72,13 +77,15 @@
 //! # Where the code is
 //! This module holds [`VoidageMesh`] (the prepared mesh) and the choice of one particle's
 //! computation by method and mesh kind; `particles` the input ([`ParticleSet`]), `shares` the
-//! results ([`Deposit`], [`CellShares`]), `field` the voidage ([`voidage_field`]); `deposit` the
+//! results ([`Deposit`], [`CellShares`]), `field` the voidage ([`voidage_field`]); `big` CFDEM's
+//! `bigParticle`; `deposit` the
 //! public deposits and the pipeline that adds the shares in particle order (and renews the
 //! memo), `batch` the parallel work items; `divided` the markers, with and without the memo;
 //! `grid` `exact`, `cube` and `corrected-cube` on axis-aligned grids; `general` those on
 //! general meshes (`candidates`, `cells`, `faces`, `exact`, `cube`).
 
 mod batch;
+mod big;
 mod deposit;
 mod divided;
 mod field;
@@ -139,6 +146,18 @@ struct Scratch {
     markers: Vec<(Label, u32)>,
     /// The particles of a work item: centre, radius, centre cell, index.
     gathered: Vec<(V3, f64, Option<Label>, u32)>,
+}
+
+impl Scratch {
+    /// Starts a walk over face neighbours from `c0`: no cell listed or visited but `c0`, which
+    /// is queued.
+    fn begin_walk(&mut self, c0: Label) {
+        self.candidates.clear();
+        self.visited.clear();
+        self.queue.clear();
+        self.queue.push(c0);
+        self.visited.insert(c0, ());
+    }
 }
 
 /// One particle being deposited: centre (m), radius (m, > 0), volume (m³), centre cell.
@@ -297,6 +316,16 @@ impl VoidageMesh {
         }
     }
 
+    /// The cell across internal face `f` from cell `c`.
+    #[inline]
+    fn across(&self, f: usize, c: Label) -> Label {
+        if self.owner[f] == c {
+            self.neighbour[f]
+        } else {
+            self.owner[f]
+        }
+    }
+
     /// Pushes the shares of one particle and returns its volume outside the mesh.
     fn particle(
         &self,
@@ -315,6 +344,7 @@ impl VoidageMesh {
                 None => b.v,
             },
             (Method::Divided, _) => self.divided(b, s, out),
+            (Method::BigParticle, _) => self.big_particle(b, s, out),
             (Method::Trilinear, _) => {
                 let g = self.locator.tets().axis_grid();
                 let g = g.expect("trilinear: the grid is checked before depositing");

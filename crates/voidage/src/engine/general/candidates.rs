@@ -135,19 +135,13 @@ impl VoidageMesh {
         let tets = self.locator.tets();
         let mut complete = start.is_some();
         if let Some(c0) = start {
-            s.queue.clear();
-            s.queue.push(c0);
-            s.visited.insert(c0, ());
+            s.begin_walk(c0);
             while let Some(c) = s.queue.pop() {
                 s.candidates.push(c);
                 for &f in tets.cell_faces(c) {
                     let f = f as usize;
                     if f < n_internal {
-                        let n = if self.owner[f] == c {
-                            self.neighbour[f]
-                        } else {
-                            self.owner[f]
-                        };
+                        let n = self.across(f, c);
                         if s.visited.insert(n, ()) && q.hits(&self.cell_bounds[n as usize]) {
                             s.queue.push(n);
                         }
