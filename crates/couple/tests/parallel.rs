@@ -342,7 +342,16 @@ fn pipeline_equals_forces_then_exchange_with_any_thread_count() {
         assert!(set.outside > 0 && ex.outside.particles == set.outside);
         for t in THREADS {
             let (set_t, ex_t) = in_pool(t, || {
-                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, Vec::new())
+                couplings_and_exchange(
+                    &ph,
+                    &p,
+                    &state(&fl),
+                    &eps,
+                    &particles,
+                    vols,
+                    Vec::new(),
+                    None,
+                )
             });
             assert!(set_t == set, "{m}, {t} threads: couplings");
             assert!(ex_t == ex, "{m}, {t} threads: exchange");
@@ -351,7 +360,7 @@ fn pipeline_equals_forces_then_exchange_with_any_thread_count() {
         for len in [100_000, 10] {
             let garbage = vec![set.particles[1]; len];
             let (set_r, ex_r) =
-                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, garbage);
+                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, garbage, None);
             assert!(set_r == set && ex_r == ex, "{m}: recycled {len}");
         }
     }
@@ -596,7 +605,7 @@ mod owned {
             sh.barrier.wait();
             if self.rank == 0 {
                 let n = self.n_cells;
-                let width = owner_sums_width(self.temperature.is_some());
+                let width = owner_sums_width(self.temperature.is_some(), false);
                 let mut tsource = vec![0.0; n];
                 let (mut eps, mut ksl) = (vec![1.0; n], vec![0.0; n]);
                 let (mut kus, mut f) = (vec![V3::zeros(); n], vec![V3::zeros(); n]);

@@ -672,7 +672,7 @@ mod tests {
             );
             assert_eq!(
                 sparse_sums_words(heat),
-                couple::ranks::owner_sums_width(heat)
+                couple::ranks::owner_sums_width(heat, false)
             );
         }
         // tag 23 with heat: time, then Σp|S|, Σ|S|, Σφ, Σφ T_b per patch, added over ranks

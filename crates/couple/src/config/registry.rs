@@ -228,16 +228,7 @@ pub const SMOOTHING: Family = Family {
 /// `averagingModel`: how Us is averaged over a cell's particles.
 pub const AVERAGING: Family = Family {
     key: "averagingModel",
-    models: &[
-        ("dense", SAME),
-        (
-            "dilute",
-            warn(
-                "foamgrain's Us is always the β-weighted average of the particle velocities \
-                 (dense)",
-            ),
-        ),
-    ],
+    models: &[("dense", SAME), ("dilute", acts(momentum::dilute))],
 };
 
 /// `dataExchangeModel`: how CFDEM talks to LIGGGHTS. foamgrain's `--dem` option chooses the
