@@ -290,8 +290,12 @@ pub const MOM_COUPLE: Family = Family {
         ("implicitCouple", acts(momentum::implicit)),
         ("explicitCouple", acts(momentum::explicit)),
         ("off", SAME),
-        ("noCouple", SAME),
-        ("explicitCoupleSource", refuse("use explicitCouple")),
+        // PFM's deactivateCouple hands the fluid zero Ksl and f, as noCouple
+        ("noCouple", SAME.aka(&["deactivateCouple"])),
+        (
+            "explicitCoupleSource",
+            refuse("no such model in CFDEMcoupling-PUBLIC or -PFM; use explicitCouple"),
+        ),
     ],
 };
 
@@ -317,8 +321,21 @@ pub const FORCES: Family = Family {
             "ShirgaonkarIB",
             refuse("immersed-boundary models are not implemented"),
         ),
-        ("DEMbasedDrag", refuse("use one of the drag laws")),
-        ("RongDrag", refuse("use one of the drag laws")),
+        (
+            "DEMbasedDrag",
+            refuse("not in CFDEMcoupling-PUBLIC or -PFM; use one of the drag laws"),
+        ),
+        (
+            "RongDrag",
+            refuse("not in CFDEMcoupling-PUBLIC or -PFM; use one of the drag laws"),
+        ),
+        (
+            "KochHillRWDrag",
+            refuse(
+                "PFM's random-walk dispersion needs a k-epsilon model's k and epsilon, which \
+                 foamgrain's laminar fluids lack; use KochHillDrag",
+            ),
+        ),
         ("totalMomentumExchange", refuse("not implemented")),
         ("fieldTimeAverage", refuse("not implemented")),
         ("fieldVolWeighted", refuse("not implemented")),
@@ -335,7 +352,7 @@ pub const ENERGY: Family = Family {
         ("off", SAME),
         (
             "heatTransferRanzMarshall",
-            refuse("not implemented; use heatTransferGunn"),
+            acts(heat::heat_transfer_ranz_marshall),
         ),
         (
             "heatTransferInterGrain",
@@ -442,6 +459,7 @@ mod tests {
         executeProps0 { command ( write_restart r ); runFirst on; }\n\
         LaEuScalarTempProps { tempFieldName \"T\"; lambda 0.0256; Cp 1007; }\n\
         heatTransferGunnProps { partTempName \"Temp\"; implicit false; }\n\
+        heatTransferRanzMarshallProps { partTempName \"Temp\"; implicit false; }\n\
         scalarGeneralExchangeProps { tempFieldName \"T\"; partTempName \"Temp\"; \
             partHeatFluxName \"convectiveHeatFlux\"; lambda 0.0256; Prandtl 0.7; \
             partSpeciesNames ( ); partSpeciesFluxNames ( ); partSpeciesTransCoeffNames ( ); \
