@@ -109,6 +109,7 @@ const STAGE: usize = 1 << 15;
 /// thus overlaps the force loop instead of re-reading 112 B per particle after it, and stays
 /// independent of the number of threads. `cfdem`: zero sums of CFDEM's Ksl form to gather
 /// too ([`crate::ksl`]; the exchange's `cfdem`), `None` with the conserving form.
+#[allow(clippy::too_many_arguments)]
 pub fn couplings_and_exchange(
     physics: &Physics,
     placement: &Placement,

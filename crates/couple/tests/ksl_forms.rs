@@ -133,10 +133,10 @@ fn one_cell_by_hand() {
     let mut mean = V3::zeros();
     let (mut sb, mut sbv) = (0.0, V3::zeros());
     for (b, v) in beta.iter().zip(&p.velocity) {
-        f = f + (u[0] - *v) * *b;
-        mean = mean + *v / 3.0;
+        f += (u[0] - *v) * *b;
+        mean += *v / 3.0;
         sb += b;
-        sbv = sbv + *v * *b;
+        sbv += *v * *b;
     }
     let ksl = f.norm() / (volume * (u[0] - mean).norm());
     let got = &cfdem.exchange;

@@ -862,7 +862,7 @@ mod owned {
                 differ += 1;
             }
         }
-        // (408 of the 1728 cells hold particles of different velocities)
+        // (408 of the 1728 cells differ here: those the cloud reaches)
         assert!(differ > 100, "{differ} cells differ");
     }
 
