@@ -613,7 +613,8 @@ mod tests {
                 pid: 1234,
                 n_patches: 3,
                 rank: 1,
-                heat: false
+                heat: false,
+                cfdem_ksl: false,
             })
         );
         assert!(Hello::parse(&[1, 1, 1, 1, 0])
@@ -633,7 +634,12 @@ mod tests {
     #[test]
     fn heat_adds_a_handshake_flag_a_tsource_block_and_a_t_block() {
         let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
-        assert!(hello.heat);
+        assert!(hello.heat && !hello.cfdem_ksl);
+        // CFDEM's Ksl form (issue 28): flag 2, alone or with heat
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_KSL_CFDEM]).unwrap();
+        assert!(!hello.heat && hello.cfdem_ksl);
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, 3]).unwrap();
+        assert!(hello.heat && hello.cfdem_ksl);
         assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
         assert!(Hello::parse(&[2, 10, 7, 1, 0, 4])
             .unwrap_err()
