@@ -74,7 +74,11 @@ fn main() {
         for (&c, r) in mine.iter().zip(reply.chunks_exact(reply_width)) {
             let c = c as usize;
             u[c] = V3::new(r[2], r[3], r[4]);
-            let k = if rank == 0 && c % 4 == 0 { 900.0 } else { k };
+            let k = if rank == 0 && c.is_multiple_of(4) {
+                900.0
+            } else {
+                k
+            };
             let f = (u[c] - v) * (k * g.cell_volumes[c]);
             sums.extend_from_slice(&[0.6, 123.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
             sums.extend_from_slice(&[f[0], f[1], f[2], w, w * v[0], w * v[1], w * v[2]]);
