@@ -192,3 +192,27 @@ fn the_forms_agree_when_a_cell_has_one_particle_velocity() {
         assert!((ua - ub).norm() <= 1e-14 * ub.norm().max(1.0), "cell {c}");
     }
 }
+
+/// `averagingModel dilute` with CFDEM's form: Us of the cell is the last particle's velocity
+/// (CFDEM's `dilute::setVectorAverage`), and Ksl = |Σ β (U − v)| / (V |U − v_last|).
+#[test]
+fn dilute_us_is_the_last_particles_velocity() {
+    let mesh = uniform_box(V3::zeros(), V3::new(0.1, 0.1, 0.1), [1, 1, 1]);
+    let u = [V3::new(0.5, 0.0, 0.2)];
+    let p = Particles::new(
+        vec![V3::new(0.02, 0.05, 0.05), V3::new(0.08, 0.03, 0.07)],
+        vec![V3::new(0.1, 0.0, 0.0), V3::new(-0.2, 0.1, 0.4)],
+    );
+    let dilute = KslForm::Cfdem(CfdemKsl {
+        averaging: couple::ksl::UsAveraging::Dilute,
+        ..CfdemKsl::default()
+    });
+    let s = exchange(&mesh, &u, &p, dilute);
+    assert_eq!(s.exchange.us[0], p.velocity[1]);
+    let mut f = V3::zeros();
+    for (c, v) in s.forces.particles.iter().zip(&p.velocity) {
+        f += (u[0] - *v) * c.beta_fluid;
+    }
+    let ksl = f.norm() / (1e-3 * (u[0] - p.velocity[1]).norm());
+    assert!((s.exchange.ksl[0] - ksl).abs() <= 1e-12 * ksl);
+}
