@@ -100,6 +100,7 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
     if let Some(s) = config.smoothing {
         coupler.set_smoothing(runner::smoothing::native(fluid.mesh(), s)?);
     }
+    coupler.set_ksl_form(config.momentum.ksl_form());
     let pieces = foam::decomposed::pieces(&case, fluid.mesh().n_cells)?;
     loop {
         let step = coupler.exchange(&replay.state(), &fluid.state())?;

@@ -44,6 +44,11 @@ pub enum Nusselt {
     /// instead of Pr^⅓ (0.4 % lower Nu at Pr = 0.7, 0.5 % higher at Pr = 2). PFM feeds it the
     /// superficial Re and floors ε at 0.01 ([`GUNN_PFM_VOIDAGE_FLOOR`]).
     GunnPfm,
+    /// Ranz & Marshall (1952), Chem. Eng. Prog. 48(3):141 (a single sphere): Nu = 2 +
+    /// 0.6 Re^½ Pr^⅓, as CFDEM-PFM's `heatTransferRanzMarshall` computes it with its default
+    /// `NusseltConstParameter` 0.6 (no ε dependence; PFM feeds it the superficial Re and floors
+    /// ε at 0.01, [`GUNN_PFM_VOIDAGE_FLOOR`]).
+    RanzMarshall,
 }
 
 /// The ε floor of CFDEM-PFM's `heatTransferGunn` (it clamps ε below 0.01 to 0.01).
@@ -78,6 +83,7 @@ impl Nusselt {
             Nusselt::Deen => "Deen",
             Nusselt::Gunn => "Gunn",
             Nusselt::GunnPfm => "Gunn (CFDEM-PFM heatTransferGunn)",
+            Nusselt::RanzMarshall => "Ranz-Marshall (CFDEM-PFM heatTransferRanzMarshall)",
         }
     }
 }
@@ -93,6 +99,7 @@ pub fn nusselt(law: Nusselt, re: f64, pr: f64, eps: f64) -> f64 {
         Nusselt::Deen => gunn_form(re, pr.cbrt(), eps, [7.0, 10.0, 5.0, 0.17, 1.33, 2.31, 1.16]),
         Nusselt::Gunn => gunn_form(re, pr.cbrt(), eps, GUNN),
         Nusselt::GunnPfm => gunn_form(re, pr.powf(0.33), eps, GUNN),
+        Nusselt::RanzMarshall => 2.0 + 0.6 * re.sqrt() * pr.cbrt(),
     }
 }
 
@@ -275,6 +282,25 @@ mod tests {
                 deen,
                 max_relative = 1e-13
             );
+        }
+    }
+
+    /// Ranz & Marshall (1952): Nu = 2 + 0.6 Re^½ Pr^⅓, evaluated independently (python:
+    /// `2 + 0.6*math.sqrt(re)*pr**(1/3)`); ε does not enter.
+    #[test]
+    fn ranz_marshall_by_hand() {
+        for (re, pr, nu) in [
+            (0.0, 0.7, 2.0),
+            (50.0, 0.7, 5.76705764404919),
+            (400.0, 2.0, 17.119052598738477),
+        ] {
+            for eps in [0.4, 1.0] {
+                assert_relative_eq!(
+                    nusselt(Nusselt::RanzMarshall, re, pr, eps),
+                    nu,
+                    max_relative = 1e-14
+                );
+            }
         }
     }
 

@@ -195,6 +195,7 @@ fn pipeline(bencher: divan::Bencher, name: &str, recycle: bool) {
             &particles(d),
             &vols,
             reuse,
+            None,
         )
     };
     let mut spare = run(Vec::new()).0.particles;

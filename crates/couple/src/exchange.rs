@@ -17,6 +17,7 @@
 //! alongside the force loop ([`crate::forces::couplings_and_exchange`]).
 
 use crate::interpolate::Placement;
+use crate::ksl::CfdemSums;
 use mesh::v3::V3;
 use rayon::prelude::*;
 
@@ -42,6 +43,9 @@ pub struct Exchange {
     pub f: Vec<V3>,
     /// What lay outside the mesh.
     pub outside: Outside,
+    /// The per-cell sums of CFDEM's Ksl form ([`crate::ksl`]), `None` with the conserving
+    /// form; `ksl` and `us` are CFDEM's once [`crate::ksl::form_cfdem`] has run.
+    pub cfdem: Option<CfdemSums>,
 }
 
 impl Exchange {
@@ -100,18 +104,19 @@ pub fn exchange_with(
     let mut sums = Sums::new(cell_volumes.len());
     for i in 0..placement.len() {
         let (b, v, fp) = particle(i);
-        sums.add(placement, i, b, v, fp);
+        sums.add(placement, i, b, v, fp, V3::zeros());
     }
     sums.finish(cell_volumes)
 }
 
 /// Running sums of the exchange fields over particles added in index order: Σ w β, Σ w β v and
-/// −Σ w F per cell, and what lay outside the mesh.
+/// −Σ w F per cell, and what lay outside the mesh; with CFDEM's Ksl form also its sums.
 pub(crate) struct Sums {
     sum_wb: Vec<f64>,
     sum_wbv: Vec<V3>,
     sum_wf: Vec<V3>,
     outside: Outside,
+    cfdem: Option<CfdemSums>,
 }
 
 impl Sums {
@@ -122,13 +127,23 @@ impl Sums {
             sum_wbv: vec![V3::zeros(); n_cells],
             sum_wf: vec![V3::zeros(); n_cells],
             outside: Outside::default(),
+            cfdem: None,
         }
     }
 
-    /// Adds particle `i` with drag coefficient `b` (kg/s), velocity `v` (m/s) and explicit
-    /// force `fp` (N) to its cells, or to [`Outside`] when it has no share.
+    /// As [`Sums::new`], also gathering `cfdem` (zero sums on the same cells), or not (`None`).
+    pub(crate) fn with_cfdem(n_cells: usize, cfdem: Option<CfdemSums>) -> Sums {
+        Sums {
+            cfdem,
+            ..Sums::new(n_cells)
+        }
+    }
+
+    /// Adds particle `i` with drag coefficient `b` (kg/s), velocity `v` (m/s), explicit
+    /// force `fp` (N) and fluid velocity at the particle `u` (m/s; read by CFDEM's Ksl form
+    /// only) to its cells, or to [`Outside`] when it has no share.
     #[inline]
-    pub(crate) fn add(&mut self, placement: &Placement, i: usize, b: f64, v: V3, fp: V3) {
+    pub(crate) fn add(&mut self, placement: &Placement, i: usize, b: f64, v: V3, fp: V3, u: V3) {
         if !placement.inside(i) {
             self.outside.particles += 1;
             self.outside.beta += b;
@@ -145,6 +160,9 @@ impl Sums {
                 self.sum_wbv[c][a] += wb * v[a];
                 self.sum_wf[c][a] -= w * fp[a];
             }
+            if let Some(k) = self.cfdem.as_mut() {
+                k.add(c, w, b, u, v);
+            }
         });
     }
 
@@ -156,6 +174,7 @@ impl Sums {
             sum_wbv: mut us,
             sum_wf: mut f,
             outside,
+            cfdem,
         } = self;
         ksl.par_iter_mut()
             .zip(us.par_iter_mut())
@@ -177,6 +196,7 @@ impl Sums {
             us,
             f,
             outside,
+            cfdem,
         }
     }
 }

@@ -18,6 +18,7 @@
 use crate::config::{DragSettings, Forces};
 use crate::exchange::{Exchange, Sums};
 use crate::interpolate::{Interpolation, Lerp, Placement};
+use crate::ksl::CfdemSums;
 use crate::sides::{FluidState, ParticleState};
 use closures::model::{particle_forces, FluidAtParticle, ModelType};
 use closures::DragInput;
@@ -106,7 +107,9 @@ const STAGE: usize = 1 << 15;
 /// over particles; each also copies its β_fluid and f_fluid to a small stage buffer), one of
 /// them adds stage k to the exchange sums in particle order from that buffer. The exchange
 /// thus overlaps the force loop instead of re-reading 112 B per particle after it, and stays
-/// independent of the number of threads.
+/// independent of the number of threads. `cfdem`: zero sums of CFDEM's Ksl form to gather
+/// too ([`crate::ksl`]; the exchange's `cfdem`), `None` with the conserving form.
+#[allow(clippy::too_many_arguments)]
 pub fn couplings_and_exchange(
     physics: &Physics,
     placement: &Placement,
@@ -115,6 +118,7 @@ pub fn couplings_and_exchange(
     particles: &ParticleState<'_>,
     cell_volumes: &[f64],
     reuse: Vec<ParticleCoupling>,
+    cfdem: Option<CfdemSums>,
 ) -> (ForceSet, Exchange) {
     let kernel = Kernel::new(physics, fluid, voidage);
     let n = placement.len();
@@ -122,8 +126,8 @@ pub fn couplings_and_exchange(
     let mut out = reuse;
     out.clear();
     out.reserve(n);
-    let mut sums = Sums::new(cell_volumes.len());
-    let mut buffers: [Vec<(f64, V3)>; 2] = [Vec::new(), Vec::new()];
+    let mut sums = Sums::with_cfdem(cell_volumes.len(), cfdem);
+    let mut buffers: [Vec<(f64, V3, V3)>; 2] = [Vec::new(), Vec::new()];
     for k in 0..=stages {
         let [even, odd] = &mut buffers;
         let (next, done) = if k % 2 == 0 {
@@ -139,7 +143,7 @@ pub fn couplings_and_exchange(
                     let mut both = (std::mem::take(&mut out), std::mem::take(next));
                     both.par_extend(range.into_par_iter().map(|i| {
                         let c = kernel.particle(placement, particles, i).unwrap_or_default();
-                        (c, (c.beta_fluid, c.f_fluid))
+                        (c, (c.beta_fluid, c.f_fluid, c.u_f))
                     }));
                     (out, *next) = both;
                 }
@@ -147,9 +151,9 @@ pub fn couplings_and_exchange(
             || {
                 if k > 0 {
                     let first = (k - 1) * STAGE;
-                    for (j, &(beta, f)) in done.iter().enumerate() {
+                    for (j, &(beta, f, u)) in done.iter().enumerate() {
                         let i = first + j;
-                        sums.add(placement, i, beta, particles.velocity[i], f);
+                        sums.add(placement, i, beta, particles.velocity[i], f, u);
                     }
                 }
             },

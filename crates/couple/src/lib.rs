@@ -11,6 +11,8 @@
 //!   between the DEM (F_ext, β, u_f) and the fluid; [`forces::couplings_and_exchange`] runs
 //!   the force loop and the exchange as one pipeline;
 //! * [`exchange`](mod@exchange): Ksl, Us, f per cell with the voidage kernel's shares (ADR 0004);
+//! * [`ksl`]: which Ksl the fluid gets: foamgrain's conserving form or CFDEM's
+//!   |Σ F| / (V |U − Us|) (`implicitCoupleProps/KslForm`);
 //! * [`heat`]: the convective heat per particle (Nusselt laws of closures) and the fluid's
 //!   `Tsource` with the same shares, and the heat account;
 //! * [`blend`]: linear time blending of ε and Us over a coupling interval;
@@ -49,6 +51,7 @@ pub mod forces;
 pub mod frozen;
 pub mod heat;
 pub mod interpolate;
+pub mod ksl;
 pub mod memory;
 pub mod monitor;
 pub mod output;

@@ -72,9 +72,19 @@ pub const fn owner_reply_width(heat: bool) -> usize {
 }
 
 /// Values per touched cell [`CellOwners::exchange`] takes: [`OWNER_SUMS_WIDTH`], plus
-/// [`OWNER_HEAT_WIDTH`] (the Tsource share) when `heat`.
-pub const fn owner_sums_width(heat: bool) -> usize {
-    OWNER_SUMS_WIDTH + if heat { OWNER_HEAT_WIDTH } else { 0 }
+/// [`OWNER_HEAT_WIDTH`] (the Tsource share) when `heat`, plus
+/// [`crate::ksl::CFDEM_SUMS_WIDTH`] when `cfdem_ksl` (CFDEM's Ksl form, [`crate::ksl`]: this
+/// rank's Σ w β (u_p − v) (3, N), Σ w, and Σ w v (3, m/s; with `dilute` the last particle's
+/// v) after the heat column; the owners sum them in rank order and form Ksl and Us with their
+/// U, ε and V as [`crate::ksl::form_cfdem`] does). Without either no record grows.
+pub const fn owner_sums_width(heat: bool, cfdem_ksl: bool) -> usize {
+    OWNER_SUMS_WIDTH
+        + if heat { OWNER_HEAT_WIDTH } else { 0 }
+        + if cfdem_ksl {
+            crate::ksl::CFDEM_SUMS_WIDTH
+        } else {
+            0
+        }
 }
 
 /// The fluid's cells held by other processes (grainPisoFoam's ranks), reached from every

@@ -33,6 +33,7 @@ use crate::heat::{
     HeatAccount, HeatFluid, HeatStep, ParticleHeat,
 };
 use crate::interpolate::Placement;
+use crate::ksl::{form_cfdem, CfdemSums, KslForm, UsAveraging, CFDEM_SUMS_WIDTH};
 use crate::periodic::PeriodicMesh;
 use crate::population::{Population, PopulationChange};
 use crate::ranks::{owner_reply_width, owner_sums_width, pick, CellOwners, Ranks, Serial};
@@ -106,6 +107,8 @@ pub struct Coupler {
     owners: Option<Box<dyn CellOwners>>,
     /// The smoothing of the ε handed to the fluid ([`Coupler::set_smoothing`]).
     smoothing: Option<crate::smoothing::Smoothing>,
+    /// The Ksl form handed to the fluid ([`Coupler::set_ksl_form`]).
+    ksl_form: KslForm,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -174,6 +177,7 @@ impl Coupler {
             remote: Remote::default(),
             owners: None,
             smoothing: None,
+            ksl_form: KslForm::Conserving,
         })
     }
 
@@ -184,6 +188,13 @@ impl Coupler {
     /// whole ε there): the next exchange is then an error.
     pub fn set_smoothing(&mut self, smoothing: crate::smoothing::Smoothing) {
         self.smoothing = Some(smoothing);
+    }
+
+    /// Hands the fluid Ksl and Us of `form` from now on ([`crate::ksl`]; the default is
+    /// [`KslForm::Conserving`]). CFDEM's form with `dilute` averaging needs one rank: the next
+    /// exchange on several ranks is then an error.
+    pub fn set_ksl_form(&mut self, form: KslForm) {
+        self.ksl_form = form;
     }
 
     /// Runs this coupler as one of several ranks ([`crate::ranks`]): from now on every
@@ -265,6 +276,7 @@ impl Coupler {
             }
             particle_temperatures(particles)?;
         }
+        self.check_ksl_form()?;
         let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
@@ -331,6 +343,11 @@ impl Coupler {
         };
         if parallel {
             self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
+        }
+        if let (Some(k), Some(sums)) = (self.ksl_form.cfdem(), &exchange.cfdem) {
+            let volumes = self.vm.cell_volumes();
+            let (ksl, us) = (&mut exchange.ksl, &mut exchange.us);
+            form_cfdem(&k, sums, fluid.u, &voidage.epsilon, volumes, ksl, us);
         }
         let heat = heat.map(|(p, w)| self.heat_finish(p, &w));
         if let Some(s) = &self.smoothing {
@@ -427,6 +444,8 @@ impl Coupler {
         let mut centre = std::mem::take(&mut self.spare.centre);
         centre.clone_from(&self.hints);
         let placement = Placement { centre, shares };
+        let n_cells = self.vm.n_cells();
+        let cfdem = (self.ksl_form.cfdem()).map(|k| CfdemSums::new(n_cells, k.averaging));
         let (forces, exchange) = couplings_and_exchange(
             &self.settings.physics,
             &placement,
@@ -435,6 +454,7 @@ impl Coupler {
             particles,
             self.vm.cell_volumes(),
             std::mem::take(&mut self.spare.couplings),
+            cfdem,
         );
         (placement, forces, exchange)
     }
@@ -633,12 +653,16 @@ impl Coupler {
             true => Some(self.heat_owned(&placement, &touched, particles)?),
             false => None,
         };
-        let mut sums = Vec::with_capacity(touched.len() * owner_sums_width(heat_on));
+        let cfdem_on = exchange.cfdem.is_some();
+        let mut sums = Vec::with_capacity(touched.len() * owner_sums_width(heat_on, cfdem_on));
         for (k, (&c, e)) in touched.iter().zip(&eps).enumerate() {
             let c = c as usize;
             let (b, u, f) = (exchange.ksl[c], exchange.us[c], exchange.f[c]);
             sums.extend_from_slice(&[*e, b, b * u[0], b * u[1], b * u[2], f[0], f[1], f[2]]);
             sums.extend(heat.as_ref().map(|h| h.1[k]));
+            if let Some(k) = &exchange.cfdem {
+                k.record(c, &mut sums);
+            }
         }
         let owners = self
             .owners
@@ -752,13 +776,17 @@ impl Coupler {
         exchange: &mut Exchange,
         mut heat_w: Option<&mut Vec<f64>>,
     ) {
-        let width = EXCHANGE_WIDTH + usize::from(heat_w.is_some());
+        let heat_width = EXCHANGE_WIDTH + usize::from(heat_w.is_some());
+        let width = heat_width + exchange.cfdem.as_ref().map_or(0, |_| CFDEM_SUMS_WIDTH);
         let mut values = Vec::with_capacity(touched.len() * width);
         for &c in touched {
             let c = c as usize;
             let (k, u, f) = (exchange.ksl[c], exchange.us[c], exchange.f[c]);
             values.extend_from_slice(&[k, k * u[0], k * u[1], k * u[2], f[0], f[1], f[2]]);
             values.extend(heat_w.as_ref().map(|w| w[c]));
+            if let Some(k) = &exchange.cfdem {
+                k.record(c, &mut values);
+            }
         }
         let root = self.ranks.rank() == 0;
         let mut sums = vec![0.0; if root { exchange.ksl.len() * width } else { 0 }];
@@ -775,9 +803,30 @@ impl Coupler {
                     V3::zeros()
                 };
                 exchange.f[c] = V3::new(s[4], s[5], s[6]);
+                if let Some(k) = exchange.cfdem.as_mut() {
+                    k.set(c, &s[heat_width..]);
+                }
             }
         }
         self.sum_outside(exchange);
+    }
+
+    /// CFDEM's Ksl form with `dilute` averaging on several ranks is an error: "the last
+    /// particle in the cell" depends on how the particles are spread over the ranks.
+    fn check_ksl_form(&self) -> Result<(), CoupleError> {
+        let dilute = self
+            .ksl_form
+            .cfdem()
+            .is_some_and(|k| k.averaging == UsAveraging::Dilute);
+        if dilute && (self.ranks.size() > 1 || self.owners.is_some()) {
+            return Err(CoupleError::Parameter(
+                "averagingModel dilute (Us = the last particle's velocity in each cell) on \
+                 several coupler ranks: which particle is last depends on the ranks; use \
+                 averagingModel dense, or one coupler rank"
+                    .into(),
+            ));
+        }
+        Ok(())
     }
 
     /// The exchange's outside-the-mesh accounting summed over ranks, on every rank.

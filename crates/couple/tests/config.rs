@@ -528,3 +528,40 @@ fn density_from_the_rho_field() {
     .unwrap();
     assert_eq!(read_transport(case).unwrap(), (7.0, 1e-5));
 }
+
+/// `implicitCoupleProps/KslForm` selects CFDEM's Ksl form with its `KslLimit`, `minAlphaP`
+/// and `averagingModel`; the conserving form is the default; unknown words are errors naming
+/// the file and key.
+#[test]
+fn ksl_form_is_selected_in_implicit_couple_props() {
+    use couple::ksl::{CfdemKsl, KslForm, UsAveraging};
+    assert_eq!(read(BASE).unwrap().momentum.ksl_form(), KslForm::Conserving);
+    let props = "implicitCoupleProps { KslForm CFDEM; KslLimit 1e4; minAlphaP 0.001; }\n";
+    let c = read(&format!("{BASE}{props}averagingModel dilute;\n")).unwrap();
+    assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+    assert_eq!(
+        c.momentum.ksl_form(),
+        KslForm::Cfdem(CfdemKsl {
+            limit: 1e4,
+            max_voidage: 0.999,
+            averaging: UsAveraging::Dilute,
+        })
+    );
+    let c = read(&format!("{BASE}implicitCoupleProps {{ KslForm CFDEM; }}\n")).unwrap();
+    assert_eq!(c.momentum.ksl_form(), KslForm::Cfdem(CfdemKsl::default()));
+    let c = read(&format!(
+        "{BASE}implicitCoupleProps {{ KslForm conserving; }}\n"
+    ))
+    .unwrap();
+    assert_eq!(c.momentum.ksl_form(), KslForm::Conserving);
+    let e = read(&format!("{BASE}implicitCoupleProps {{ KslForm cfdem; }}\n")).unwrap_err();
+    for x in [
+        "couplingProperties",
+        "implicitCoupleProps/KslForm",
+        "conserving, CFDEM",
+    ] {
+        assert!(e.contains(x), "`{x}` missing in: {e}");
+    }
+    let e = read(&format!("{BASE}implicitCoupleProps {{ minAlphaP 2; }}\n")).unwrap_err();
+    assert!(e.contains("implicitCoupleProps/minAlphaP"), "{e}");
+}

@@ -265,6 +265,32 @@ fn heat_transfer_gunn_reads_pfm_props_and_transport() {
     assert!(c.warnings[0].contains("thermCondModel SyamlalThermCond"));
 }
 
+/// PFM's heatTransferRanzMarshall: heatTransferGunn's Props and checks with Ranz & Marshall's
+/// Nusselt law; `NusseltConstParameter` other than 0.6 is an error naming the key.
+#[test]
+fn heat_transfer_ranz_marshall_reads_pfm_props() {
+    let text = GUNN
+        .replace("heatTransferGunn", "heatTransferRanzMarshall")
+        .replace("maxSource 1e5;", "NusseltConstParameter 0.6;");
+    let c = read_with(&text, GUNN_TRANSPORT).unwrap();
+    let h = c.heat.unwrap();
+    assert_eq!(h.model, HeatModel::HeatTransferRanzMarshall);
+    assert_eq!(h.nusselt, Nusselt::RanzMarshall);
+    assert_eq!(h.reynolds, ReynoldsVelocity::Superficial);
+    assert_eq!((h.voidage_floor, h.nusselt_scale), (0.01, 1.5));
+    let e = read_with(
+        &text.replace("NusseltConstParameter 0.6;", "NusseltConstParameter 1.2;"),
+        GUNN_TRANSPORT,
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("heatTransferRanzMarshallProps/NusseltConstParameter"),
+        "{e}"
+    );
+    let e = read_with(&text.replace("implicit false;", ""), GUNN_TRANSPORT).unwrap_err();
+    assert!(e.contains("heatTransferRanzMarshall is implicit"), "{e}");
+}
+
 #[test]
 fn heat_transfer_gunn_errors_name_the_key() {
     let fail = |text: &str, transport: &str, expect: &[&str]| {
@@ -305,9 +331,9 @@ fn heat_transfer_gunn_errors_name_the_key() {
         &["chemistryModels", "species", "not supported"],
     );
     fail(
-        &GUNN.replace("heatTransferGunn )", "heatTransferRanzMarshall )"),
+        &GUNN.replace("heatTransferGunn )", "wallHeatTransferYagi )"),
         GUNN_TRANSPORT,
-        &["energyModels", "heatTransferRanzMarshall", "not supported"],
+        &["energyModels", "wallHeatTransferYagi", "not supported"],
     );
 }
 

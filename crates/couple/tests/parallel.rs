@@ -158,6 +158,7 @@ fn serial_exchange(
         us,
         f: (0..n).map(|c| f[c].map(|x| x * (1.0 / vols[c]))).collect(),
         outside,
+        cfdem: None,
     }
 }
 
@@ -342,7 +343,16 @@ fn pipeline_equals_forces_then_exchange_with_any_thread_count() {
         assert!(set.outside > 0 && ex.outside.particles == set.outside);
         for t in THREADS {
             let (set_t, ex_t) = in_pool(t, || {
-                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, Vec::new())
+                couplings_and_exchange(
+                    &ph,
+                    &p,
+                    &state(&fl),
+                    &eps,
+                    &particles,
+                    vols,
+                    Vec::new(),
+                    None,
+                )
             });
             assert!(set_t == set, "{m}, {t} threads: couplings");
             assert!(ex_t == ex, "{m}, {t} threads: exchange");
@@ -351,7 +361,7 @@ fn pipeline_equals_forces_then_exchange_with_any_thread_count() {
         for len in [100_000, 10] {
             let garbage = vec![set.particles[1]; len];
             let (set_r, ex_r) =
-                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, garbage);
+                couplings_and_exchange(&ph, &p, &state(&fl), &eps, &particles, vols, garbage, None);
             assert!(set_r == set && ex_r == ex, "{m}: recycled {len}");
         }
     }
@@ -475,6 +485,7 @@ fn the_first_bad_particle_is_named() {
 /// heat also the same q per particle, Tsource per cell and heat account.
 mod owned {
     use super::*;
+    use couple::ksl::{form_cfdem, CfdemKsl, CfdemSums, KslForm, UsAveraging};
     use couple::ranks::{owner_reply_width, owner_sums_width, CellOwners, Ranks};
     use couple::SideError;
     use foam::Label;
@@ -555,6 +566,8 @@ mod owned {
         /// T per cell (K) with heat on.
         temperature: Option<Arc<Vec<f64>>>,
         n_cells: usize,
+        /// CFDEM's Ksl form: the records carry its sums, formed as grainPisoFoam does.
+        cfdem: Option<CfdemKsl>,
     }
 
     impl CellOwners for ThreadOwners {
@@ -596,7 +609,9 @@ mod owned {
             sh.barrier.wait();
             if self.rank == 0 {
                 let n = self.n_cells;
-                let width = owner_sums_width(self.temperature.is_some());
+                let heat_w = 8 + usize::from(self.temperature.is_some());
+                let width = owner_sums_width(self.temperature.is_some(), self.cfdem.is_some());
+                let mut cfdem = CfdemSums::new(n, UsAveraging::Dense);
                 let mut tsource = vec![0.0; n];
                 let (mut eps, mut ksl) = (vec![1.0; n], vec![0.0; n]);
                 let (mut kus, mut f) = (vec![V3::zeros(); n], vec![V3::zeros(); n]);
@@ -614,16 +629,35 @@ mod owned {
                         ksl[c] += s[1];
                         kus[c] += V3::new(s[2], s[3], s[4]);
                         f[c] += V3::new(s[5], s[6], s[7]);
-                        if width > 8 {
+                        if heat_w > 8 {
                             tsource[c] += s[8];
+                        }
+                        if self.cfdem.is_some() {
+                            let mut rec = Vec::new();
+                            cfdem.record(c, &mut rec);
+                            for (a, b) in rec.iter_mut().zip(&s[heat_w..]) {
+                                *a += b;
+                            }
+                            cfdem.set(c, &rec);
                         }
                     }
                 }
-                let us = kus
+                let mut us: Vec<V3> = kus
                     .iter()
                     .zip(&ksl)
                     .map(|(v, &k)| if k > 0.0 { v / k } else { V3::zeros() })
                     .collect();
+                if let Some(k) = &self.cfdem {
+                    let vols = VoidageMesh::new(&uniform_box(
+                        V3::repeat(0.0),
+                        V3::repeat(1.0),
+                        [12, 12, 12],
+                    ))
+                    .unwrap()
+                    .cell_volumes()
+                    .to_vec();
+                    form_cfdem(k, &cfdem, &self.fluid.u, &eps, &vols, &mut ksl, &mut us);
+                }
                 *sh.formed.lock().unwrap() = Some((eps, ksl, us, f, tsource));
             }
             sh.barrier.wait();
@@ -654,6 +688,7 @@ mod owned {
         fl: &Arc<Fluid>,
         settings: CouplerSettings,
         temps: Option<&Temperatures>,
+        form: KslForm,
     ) -> (Vec<couple::CouplingStep>, Formed) {
         let n_cells = grid.n_cells;
         let shared = Arc::new(Shared {
@@ -681,6 +716,7 @@ mod owned {
                     let temperature = temps.map(|t| t.fluid.clone());
                     s.spawn(move || {
                         let mut coupler = Coupler::new(grid, settings).unwrap();
+                        coupler.set_ksl_form(form);
                         coupler.set_ranks(Box::new(ThreadRanks {
                             rank: r,
                             shared: shared.clone(),
@@ -691,6 +727,7 @@ mod owned {
                             fluid: fl,
                             temperature,
                             n_cells,
+                            cfdem: form.cfdem(),
                         }));
                         let empty = Fluid {
                             u: Vec::new(),
@@ -738,7 +775,7 @@ mod owned {
             .unwrap();
         assert!(reference.voidage.clipped_cells > 0);
         let n_cells = grid.n_cells;
-        let (steps, formed) = owned_steps(&c, &grid, &fl, settings, None);
+        let (steps, formed) = owned_steps(&c, &grid, &fl, settings, None, KslForm::Conserving);
         for (r, step) in steps.iter().enumerate() {
             assert!(step.heat.is_none());
             for (j, &k) in pick_of(&c, r).iter().enumerate() {
@@ -793,6 +830,42 @@ mod owned {
         assert_eq!(steps[0].exchange.outside.particles, e.outside.particles);
     }
 
+    /// CFDEM's Ksl form (`couple::ksl`): the ranks' sums carry Σ w F, Σ w, Σ w v and the
+    /// owners form Ksl and Us from them (as grainPisoFoam does, here with the coupler's own
+    /// `form_cfdem`); equal to the one dense rank with CFDEM's form to 1e-12, and different from
+    /// the conserving form (the cloud's velocities differ within a cell).
+    #[test]
+    fn two_ranks_with_the_cells_elsewhere_and_cfdem_ksl_equal_one_dense_rank() {
+        let c = cloud(6000);
+        let grid = uniform_box(V3::repeat(0.0), V3::repeat(1.0), [12, 12, 12]);
+        let fl = Arc::new(fluid(&VoidageMesh::new(&grid).unwrap()));
+        let settings = owned_settings(None);
+        let form = KslForm::Cfdem(CfdemKsl::default());
+        let mut dense = Coupler::new(&grid, settings).unwrap();
+        dense.set_ksl_form(form);
+        let reference = dense.exchange(&c.state(), &state(&fl)).unwrap();
+        let conserving = Coupler::new(&grid, settings)
+            .unwrap()
+            .exchange(&c.state(), &state(&fl))
+            .unwrap();
+        let (_, formed) = owned_steps(&c, &grid, &fl, settings, None, form);
+        let (_, ksl, us, _, _) = formed;
+        let e = &reference.exchange;
+        let kmax = e.ksl.iter().cloned().fold(0.0, f64::max);
+        let mut differ = 0;
+        for cell in 0..grid.n_cells {
+            assert!(close(ksl[cell], e.ksl[cell], kmax), "Ksl of cell {cell}");
+            for d in 0..3 {
+                assert!(close(us[cell][d], e.us[cell][d], 1.0), "Us of cell {cell}");
+            }
+            if (e.ksl[cell] - conserving.exchange.ksl[cell]).abs() > 1e-6 * kmax {
+                differ += 1;
+            }
+        }
+        // (408 of the 1728 cells differ here: those the cloud reaches)
+        assert!(differ > 100, "{differ} cells differ");
+    }
+
     /// With heat (PFM's `heatTransferGunn`: Gunn's Nu of ε and the superficial Re, ε floored
     /// at 0.95 so that both branches of the floor occur; smooth interpolation of U, T and ε):
     /// each rank's q per particle, the Tsource the owners sum from the ranks' shares, and the
@@ -840,7 +913,8 @@ mod owned {
             .exchange(&all, &whole)
             .unwrap();
         let h = reference.heat.as_ref().unwrap();
-        let (steps, formed) = owned_steps(&c, &grid, &fl, settings, Some(&temps));
+        let (steps, formed) =
+            owned_steps(&c, &grid, &fl, settings, Some(&temps), KslForm::Conserving);
         let qmax = h.q.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         assert!(qmax > 0.0);
         for (r, step) in steps.iter().enumerate() {

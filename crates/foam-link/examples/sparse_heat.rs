@@ -43,7 +43,10 @@ fn main() {
         .filter(|&c| x(c) > 0.04 && x(c) < 0.06 && (rank == 0 || shared(c)))
         .map(|c| c as Label)
         .collect();
-    let heat = SpawnOptions { heat: true };
+    let heat = SpawnOptions {
+        heat: true,
+        cfdem_ksl: None,
+    };
     let (mut fluid, mut cells) =
         OpenFoamFluid::spawn_ranked_with(&world, &case, 2, &solver, heat).unwrap();
     let mut text = String::new();

@@ -33,18 +33,22 @@ pub fn shell_quote(text: &str) -> String {
 /// `mpi` coupling source), then execs the solver — the same process, so the pid and the MPI
 /// identity stay — with stdout and stderr in the rank's log.
 pub fn launch_script(solver: &Path, case: &Path, ranks: usize, wm_project_dir: &str) -> String {
-    launch_script_with(solver, case, ranks, wm_project_dir, false)
+    launch_script_with(solver, case, ranks, wm_project_dir, false, None)
 }
 
 /// As [`launch_script`]; with `heat` it also exports `FOAMGRAIN_HEAT=1`, which makes the
 /// solver read `0/T` and solve the temperature equation (the protocol's heat blocks,
-/// [`crate::protocol`]). Without `heat` the line is [`launch_script`]'s.
+/// [`crate::protocol`]). With `ksl` (CFDEM's Ksl form, [`couple::ksl`]) it exports
+/// `FOAMGRAIN_KSL='CFDEM <KslLimit> <maxAlpha>'`: the solver ranks form Ksl and Us of the
+/// sparse exchange as CFDEM does from the ranks' sums (the protocol's Ksl columns). Without
+/// either the line is [`launch_script`]'s.
 pub fn launch_script_with(
     solver: &Path,
     case: &Path,
     ranks: usize,
     wm_project_dir: &str,
     heat: bool,
+    ksl: Option<couple::ksl::CfdemKsl>,
 ) -> String {
     let q = |p: &Path| shell_quote(&p.to_string_lossy());
     let rank = "${OMPI_COMM_WORLD_RANK:-0}";
@@ -56,11 +60,18 @@ pub fn launch_script_with(
     let parallel = if ranks > 1 { " -parallel" } else { "" };
     format!(
         "echo $$ > {pid}.{rank}; export WM_PROJECT_DIR={wm}; export FOAMGRAIN_LINK=1; \
-         {heat}exec {solver}{parallel} -case {case} > {log} 2>&1",
+         {heat}{ksl}exec {solver}{parallel} -case {case} > {log} 2>&1",
         heat = if heat {
             "export FOAMGRAIN_HEAT=1; "
         } else {
             ""
+        },
+        ksl = match ksl {
+            Some(k) => format!(
+                "export FOAMGRAIN_KSL='CFDEM {:?} {:?}'; ",
+                k.limit, k.max_voidage
+            ),
+            None => String::new(),
         },
         pid = q(&case.join(".foam-link.pid")),
         wm = shell_quote(wm_project_dir),
@@ -240,8 +251,18 @@ mod tests {
              exec '/opt/bin/grainPisoFoam' -parallel -case '/tmp/it'\\''s a case' \
              > '/tmp/it'\\''s a case/log.grainPisoFoam'.${OMPI_COMM_WORLD_RANK:-0} 2>&1"
         );
-        let heat = launch_script_with(Path::new("/s"), Path::new("/c"), 1, "/w", true);
+        let heat = launch_script_with(Path::new("/s"), Path::new("/c"), 1, "/w", true, None);
         assert!(heat.contains("export FOAMGRAIN_LINK=1; export FOAMGRAIN_HEAT=1; exec '/s'"));
+        let ksl = couple::ksl::CfdemKsl {
+            limit: 1e4,
+            max_voidage: 0.999,
+            averaging: couple::ksl::UsAveraging::Dense,
+        };
+        let s = launch_script_with(Path::new("/s"), Path::new("/c"), 1, "/w", false, Some(ksl));
+        assert!(
+            s.contains("export FOAMGRAIN_LINK=1; export FOAMGRAIN_KSL='CFDEM 10000.0 0.999'; exec"),
+            "{s}"
+        );
         let serial = launch_script(Path::new("/s"), Path::new("/c"), 1, "/w");
         assert!(serial.ends_with("exec '/s' -case '/c' > '/c/log.grainPisoFoam' 2>&1"));
         assert_eq!(

@@ -36,7 +36,7 @@ pub struct PatchFlow {
 }
 
 /// How [`OpenFoamFluid::spawn_with`] starts the solver.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpawnOptions {
     /// Solve cfdemSolverPisoScalar's temperature equation (issue 27): the solver reads `0/T`
     /// (required), `0/Tsource` and `0/alphat` (optional) and `Pr` (and `Prt` with a turbulence
@@ -44,6 +44,12 @@ pub struct SpawnOptions {
     /// takes Tsource (K/s) with each exchange ([`ExchangeFields::heat_source`]) and returns T
     /// ([`FluidState::temperature`]). Off: the case runs exactly as without this option.
     pub heat: bool,
+    /// CFDEM's Ksl form ([`couple::ksl`]) in the sparse exchange of several coupler ranks
+    /// ([`OpenFoamFluid::spawn_ranked_with`]): the ranks' sums carry Σ w F, Σ w and Σ w v per
+    /// cell and the solver ranks form Ksl and Us as CFDEM does. `None`: the conserving form,
+    /// and every message exactly as without this option. (With one coupler rank the coupler
+    /// forms Ksl itself and this stays `None`.)
+    pub cfdem_ksl: Option<couple::ksl::CfdemKsl>,
 }
 
 /// What the exchange with the solver cost so far (coupler side, all ranks together).
@@ -91,6 +97,8 @@ pub struct OpenFoamFluid {
     pending: Option<Pending>,
     /// The solver solves the temperature equation ([`SpawnOptions::heat`]).
     heat: bool,
+    /// The solver ranks form CFDEM's Ksl in the sparse exchange ([`SpawnOptions::cfdem_ksl`]).
+    cfdem_ksl: bool,
     /// In a sparse run with heat: the last advance replied the patch sums only, so the cells'
     /// T is that of an earlier reply ([`OpenFoamFluid::temperature`] then says `None`).
     stale_temperature: bool,
@@ -147,7 +155,14 @@ impl OpenFoamFluid {
                 world.size()
             )));
         }
-        let fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options.heat)?;
+        if options.cfdem_ksl.is_some() {
+            return Err(LinkError::Parameter(
+                "SpawnOptions::cfdem_ksl is for the sparse exchange (spawn_ranked_with); with \
+                 one coupler rank the coupler forms CFDEM's Ksl itself"
+                    .into(),
+            ));
+        }
+        let fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options)?;
         Ok(fluid)
     }
 
@@ -180,14 +195,13 @@ impl OpenFoamFluid {
     ) -> Result<(Option<OpenFoamFluid>, SolverCells), LinkError> {
         let root = world.process_at_rank(0);
         if world.rank() == 0 {
-            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options.heat)?;
+            let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options)?;
             fluid.sparse = true;
             let mut words = share_words(&fluid.map, &fluid.tp().pids());
             let mut len = [words.len() as u64];
             root.broadcast_into(&mut len[..]);
             root.broadcast_into(&mut words[..]);
-            let cells =
-                SolverCells::new(0, fluid.transport.clone(), fluid.map.clone(), options.heat);
+            let cells = SolverCells::new(0, fluid.transport.clone(), fluid.map.clone(), options);
             return Ok((Some(fluid), cells));
         }
         // The program and count matter at the root only; Open MPI sizes its error codes by
@@ -211,7 +225,7 @@ impl OpenFoamFluid {
         let rank = world.rank() as usize;
         Ok((
             None,
-            SolverCells::new(rank, Rc::new(RefCell::new(transport)), map, options.heat),
+            SolverCells::new(rank, Rc::new(RefCell::new(transport)), map, options),
         ))
     }
 
@@ -222,8 +236,9 @@ impl OpenFoamFluid {
         case: &Path,
         np: usize,
         solver: &Path,
-        heat: bool,
+        options: SpawnOptions,
     ) -> Result<OpenFoamFluid, LinkError> {
+        let heat = options.heat;
         if np == 0 {
             return Err(LinkError::Parameter(
                 "grainPisoFoam needs at least 1 rank".into(),
@@ -254,7 +269,8 @@ impl OpenFoamFluid {
             }
         }
 
-        let script = launch_script_with(solver, &case, np, &case_setup::wm_project_dir(), heat);
+        let wm = case_setup::wm_project_dir();
+        let script = launch_script_with(solver, &case, np, &wm, heat, options.cfdem_ksl);
         let mut command = std::process::Command::new("/bin/sh");
         command.arg("-c").arg(script);
         let inter = world
@@ -273,6 +289,7 @@ impl OpenFoamFluid {
             held: None,
             pending: None,
             heat,
+            cfdem_ksl: options.cfdem_ksl.is_some(),
             stale_temperature: false,
             case,
             map: RankMap::serial(0),
@@ -322,6 +339,20 @@ impl OpenFoamFluid {
                      openfoam-cases/solver/build.sh)"
                 } else {
                     "answered with heat although the coupler did not ask for it"
+                };
+                return Err(self.protocol_error(rank, m.into()));
+            }
+            if hello.cfdem_ksl != self.cfdem_ksl {
+                let m = match self.cfdem_ksl {
+                    true => {
+                        "answered without CFDEM's Ksl form although FOAMGRAIN_KSL was set \
+                             (an older grainPisoFoam: rebuild it with \
+                             openfoam-cases/solver/build.sh)"
+                    }
+                    false => {
+                        "answered with CFDEM's Ksl form although the coupler did not ask \
+                              for it"
+                    }
                 };
                 return Err(self.protocol_error(rank, m.into()));
             }

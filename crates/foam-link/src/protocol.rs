@@ -48,6 +48,15 @@
 //! | 22 [`tag::SPARSE_REPLY`] | f64\[13k\]: per cell the twelve values above, then T (K) |
 //! | 14 [`tag::SPARSE_SUMS`] | f64\[9k\]: per cell the eight values above, then q's share of Tsource, −Σ_p w q_p/(ρ c_p V) (K/s; the rank adds the shares in coupler-rank order into Tsource, 0 in cells no coupler rank touches) |
 //!
+//! **CFDEM's Ksl form** (issue 28; [`crate::SpawnOptions::cfdem_ksl`], the launch line sets
+//! `FOAMGRAIN_KSL='CFDEM <KslLimit> <maxAlpha>'`): tag 1 has the sixth word with
+//! [`HELLO_FLAG_KSL_CFDEM`], and tag 14's records end (after the heat column, if any) with
+//! [`KSL_SUMS_WORDS`] more: Σ w β (u_p − v) (3, N), Σ w, Σ w v (3, m/s) of q's particles. The
+//! rank sums them in coupler-rank order and forms, per cell, Us = Σ w v / Σ w (0 where Σ w =
+//! 0) and Ksl = |Σ w F| / (V |U − Us|) where |U − Us| > 10⁻¹⁵ and ε < maxAlpha, else 0, capped
+//! at KslLimit (U of its last reply, ε the exchange's ε_new; [`couple::ksl`]) instead of
+//! Σ Ksl and Σ Ksl·Us / Σ Ksl. Without it every message is as above.
+//!
 //! ([`sparse_reply_words`], [`sparse_sums_words`]; the coupler's side is
 //! [`couple::ranks::owner_reply_width`] and [`couple::ranks::owner_sums_width`].)
 //!
@@ -100,6 +109,8 @@ pub const FIELD_WORDS_PER_CELL: usize = 9;
 pub const HEAT_WORDS_PER_CELL: usize = 1;
 /// Bit of the handshake's sixth word: the solver solves the temperature equation.
 pub const HELLO_FLAG_HEAT: i32 = 1;
+/// Bit of the handshake's sixth word: the solver forms CFDEM's Ksl in the sparse exchange.
+pub const HELLO_FLAG_KSL_CFDEM: i32 = 2;
 /// Doubles per cell in the reply (U, p, ∇p, ∇·τ).
 pub const STATE_WORDS_PER_CELL: usize = 10;
 /// Doubles per patch in the reply (Σ p|S|, Σ |S|, Σ φ).
@@ -115,10 +126,16 @@ pub const fn sparse_reply_words(heat: bool) -> usize {
     SPARSE_REPLY_WORDS + if heat { HEAT_WORDS_PER_CELL } else { 0 }
 }
 
-/// Doubles per cell of [`tag::SPARSE_SUMS`]: [`SPARSE_SUMS_WORDS`], and the Tsource share when
-/// `heat`.
-pub const fn sparse_sums_words(heat: bool) -> usize {
-    SPARSE_SUMS_WORDS + if heat { HEAT_WORDS_PER_CELL } else { 0 }
+/// Doubles per cell that CFDEM's Ksl form adds to [`tag::SPARSE_SUMS`] (after the heat
+/// column): Σ w β (u_p − v) (3, N), Σ w, Σ w v (3, m/s).
+pub const KSL_SUMS_WORDS: usize = 7;
+
+/// Doubles per cell of [`tag::SPARSE_SUMS`]: [`SPARSE_SUMS_WORDS`], the Tsource share when
+/// `heat`, and [`KSL_SUMS_WORDS`] when `cfdem_ksl`.
+pub const fn sparse_sums_words(heat: bool, cfdem_ksl: bool) -> usize {
+    SPARSE_SUMS_WORDS
+        + if heat { HEAT_WORDS_PER_CELL } else { 0 }
+        + if cfdem_ksl { KSL_SUMS_WORDS } else { 0 }
 }
 /// Doubles per cell that [`tag::WHOLE_STATE`] adds to [`tag::STATE`]'s message: ε, Ksl, Us
 /// (3), f (3).
@@ -200,6 +217,8 @@ pub struct Hello {
     pub rank: usize,
     /// The solver solves the temperature equation (a sixth word with [`HELLO_FLAG_HEAT`]).
     pub heat: bool,
+    /// The solver forms CFDEM's Ksl (a sixth word with [`HELLO_FLAG_KSL_CFDEM`]).
+    pub cfdem_ksl: bool,
 }
 
 impl Hello {
@@ -218,7 +237,7 @@ impl Hello {
         let &[version, n_cells, pid, n_patches, rank] = head else {
             return Err(wrong());
         };
-        if flags & !HELLO_FLAG_HEAT != 0 {
+        if flags & !(HELLO_FLAG_HEAT | HELLO_FLAG_KSL_CFDEM) != 0 {
             return Err(format!("unknown handshake flags {flags}"));
         }
         if version != PROTOCOL_VERSION {
@@ -237,6 +256,7 @@ impl Hello {
             n_patches: count(n_patches, "patch count")?,
             rank: count(rank, "rank")?,
             heat: flags & HELLO_FLAG_HEAT != 0,
+            cfdem_ksl: flags & HELLO_FLAG_KSL_CFDEM != 0,
         })
     }
 }
@@ -593,7 +613,8 @@ mod tests {
                 pid: 1234,
                 n_patches: 3,
                 rank: 1,
-                heat: false
+                heat: false,
+                cfdem_ksl: false,
             })
         );
         assert!(Hello::parse(&[1, 1, 1, 1, 0])
@@ -613,7 +634,12 @@ mod tests {
     #[test]
     fn heat_adds_a_handshake_flag_a_tsource_block_and_a_t_block() {
         let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
-        assert!(hello.heat);
+        assert!(hello.heat && !hello.cfdem_ksl);
+        // CFDEM's Ksl form (issue 28): flag 2, alone or with heat
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_KSL_CFDEM]).unwrap();
+        assert!(!hello.heat && hello.cfdem_ksl);
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, 3]).unwrap();
+        assert!(hello.heat && hello.cfdem_ksl);
         assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
         assert!(Hello::parse(&[2, 10, 7, 1, 0, 4])
             .unwrap_err()
@@ -664,15 +690,26 @@ mod tests {
             (sparse_reply_words(false), sparse_reply_words(true)),
             (12, 13)
         );
-        assert_eq!((sparse_sums_words(false), sparse_sums_words(true)), (8, 9));
+        assert_eq!(
+            (
+                sparse_sums_words(false, false),
+                sparse_sums_words(true, false)
+            ),
+            (8, 9)
+        );
         for heat in [false, true] {
             assert_eq!(
                 sparse_reply_words(heat),
                 couple::ranks::owner_reply_width(heat)
             );
             assert_eq!(
-                sparse_sums_words(heat),
-                couple::ranks::owner_sums_width(heat)
+                sparse_sums_words(heat, false),
+                couple::ranks::owner_sums_width(heat, false)
+            );
+            // CFDEM's Ksl form: seven more, after the heat column
+            assert_eq!(
+                sparse_sums_words(heat, true),
+                couple::ranks::owner_sums_width(heat, true)
             );
         }
         // tag 23 with heat: time, then Σp|S|, Σ|S|, Σφ, Σφ T_b per patch, added over ranks

@@ -7,7 +7,8 @@
 //! the local cells it touches there and its solid volume in each (two messages, empty when it
 //! touches none of that rank's cells), receives the summed volume and the fluid of those cells,
 //! and after its forces sends ε and its force sums. A coupler rank's bytes per step are 8·(1 +
-//! 1 + 12 + 8) = 176 per touched cell (192 with heat: T back, its Tsource share out) plus four
+//! 1 + 12 + 8) = 176 per touched cell (192 with heat: T back, its Tsource share out; 56 more
+//! with CFDEM's Ksl form: its seven sums out) plus four
 //! empty-or-not messages per solver rank: they scale with its particles, not with the mesh,
 //! and no coupler rank relays for another.
 
@@ -32,18 +33,20 @@ pub struct SolverCells {
     touched: usize,
     /// The solver solves heat: the records carry T and the Tsource share.
     heat: bool,
+    /// CFDEM's Ksl form: the sums carry its seven columns ([`couple::ksl::CfdemSums`]).
+    cfdem_ksl: bool,
     sent: u64,
     received: u64,
 }
 
 impl SolverCells {
-    /// The link of coupler rank `rank` over `transport`, with the solver's cell `map`; `heat`
-    /// when the solver was spawned with heat.
+    /// The link of coupler rank `rank` over `transport`, with the solver's cell `map`, for a
+    /// solver spawned with `options` (heat, CFDEM's Ksl form).
     pub(crate) fn new(
         rank: usize,
         transport: Rc<RefCell<Transport>>,
         map: RankMap,
-        heat: bool,
+        options: crate::SpawnOptions,
     ) -> SolverCells {
         let np = map.ranks();
         SolverCells {
@@ -52,7 +55,8 @@ impl SolverCells {
             map,
             groups: vec![Vec::new(); np],
             touched: 0,
-            heat,
+            heat: options.heat,
+            cfdem_ksl: options.cfdem_ksl.is_some(),
             sent: 0,
             received: 0,
         }
@@ -129,7 +133,7 @@ impl CellOwners for SolverCells {
     }
 
     fn exchange(&mut self, sums: &[f64]) -> Result<(), SideError> {
-        let width = sparse_sums_words(self.heat);
+        let width = sparse_sums_words(self.heat, self.cfdem_ksl);
         if sums.len() != self.touched * width {
             return Err(format!(
                 "{} exchange values for {} touched cells",

@@ -16,7 +16,10 @@ use foam_link::{protocol::FieldsIn, OpenFoamFluid, SpawnOptions};
 use foam_solver_tests::TestCase;
 use mesh::v3::V3;
 
-const HEAT: SpawnOptions = SpawnOptions { heat: true };
+const HEAT: SpawnOptions = SpawnOptions {
+    heat: true,
+    cfdem_ksl: None,
+};
 
 #[test]
 fn heat_through_the_link() {

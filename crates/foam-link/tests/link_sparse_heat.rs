@@ -81,7 +81,10 @@ fn two_coupler_ranks_with_heat_equal_one() {
     let channel = HeatChannel::new(&case);
     let block = &channel.block;
     let copy = case.duplicate();
-    let heat = SpawnOptions { heat: true };
+    let heat = SpawnOptions {
+        heat: true,
+        cfdem_ksl: None,
+    };
     let mut fluid = OpenFoamFluid::spawn_with(&world, &copy.dir, 2, &solver, heat).unwrap();
     let mut after_two = Vec::new();
     let mut outlet = Vec::new();

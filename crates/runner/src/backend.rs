@@ -432,6 +432,7 @@ mod mpi_pair {
         };
         let options = foam_link::SpawnOptions {
             heat: layout.coupling.heat.is_some(),
+            cfdem_ksl: None,
         };
         let fluid =
             foam_link::OpenFoamFluid::spawn_with(world, &layout.cfd, ranks, &solver, options)
@@ -465,6 +466,7 @@ mod mpi_pair {
             &solver,
             foam_link::SpawnOptions {
                 heat: layout.coupling.heat.is_some(),
+                cfdem_ksl: layout.coupling.momentum.ksl_form().cfdem(),
             },
         )
         .map_err(|e| backend_err("grainPisoFoam", e))?;

@@ -205,6 +205,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         if let Some(s) = plan.layout.coupling.smoothing {
             coupler.set_smoothing(crate::smoothing::native(mesh, s)?);
         }
+        coupler.set_ksl_form(plan.layout.coupling.momentum.ksl_form());
         let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
         // The voidage of the initial particles, so that the first coupling interval blends
         // from it (not from an empty domain, which would make ∂ε/∂t a spurious source).

@@ -51,6 +51,9 @@ pub enum HeatModel {
     LaEuScalarTemp,
     /// CFDEM-PFM's `heatTransferGunn` (explicit).
     HeatTransferGunn,
+    /// CFDEM-PFM's `heatTransferRanzMarshall` (explicit; its Props as `heatTransferGunn`'s,
+    /// plus `NusseltConstParameter`, 0.6 only).
+    HeatTransferRanzMarshall,
     /// CFDEM-PUBLIC's `scalarGeneralExchange`, its temperature part (explicit flux).
     ScalarGeneralExchange,
 }
@@ -306,11 +309,36 @@ const GUNN_OFF: [(&str, &str); 3] = [
 /// `heatTransferGunn` (CFDEM-PFM): `heatTransferGunnProps` (module docs), λ and c_p from
 /// `kf` and `Cp` of `constant/transportProperties` next to the `couplingProperties` read.
 pub(super) fn heat_transfer_gunn(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    pfm_heat(r, g, s, HeatModel::HeatTransferGunn)
+}
+
+/// `heatTransferRanzMarshall` (CFDEM-PFM): Ranz & Marshall's Nu = 2 + 0.6 Re^½ Pr^⅓
+/// ([`Nusselt::RanzMarshall`]) on the superficial Re with PFM's ε floor 0.01, and
+/// `heatTransferGunn`'s Props and checks; `NusseltConstParameter` (PFM: the 0.6, warned
+/// outside [0.6, 1.8]) must be 0.6.
+pub(super) fn heat_transfer_ranz_marshall(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    pfm_heat(r, g, s, HeatModel::HeatTransferRanzMarshall)
+}
+
+/// The PFM energy model `model` (`heatTransferGunn` or `heatTransferRanzMarshall`).
+fn pfm_heat(r: &mut Reader, g: &Given, s: &mut Setup, model: HeatModel) -> Built {
     let (props, dict) = &g.props(r)?;
+    let name = g.name;
+    if model == HeatModel::HeatTransferRanzMarshall && props.contains("NusseltConstParameter") {
+        let key = format!("{dict}/NusseltConstParameter");
+        let c = r.number(props, "NusseltConstParameter", &key)?;
+        if c != 0.6 {
+            return Err(r.err(
+                &key,
+                format!("{c}: only Ranz & Marshall's 0.6 is supported"),
+            ));
+        }
+    }
     r.check_props(
         props,
         dict,
         &[
+            "NusseltConstParameter",
             "partTempName",
             "partHeatFluxName",
             "tempFieldName",
@@ -351,9 +379,11 @@ pub(super) fn heat_transfer_gunn(r: &mut Reader, g: &Given, s: &mut Setup) -> Bu
     if implicit != Some(false) {
         return Err(r.err(
             &format!("{dict}/implicit"),
-            "heatTransferGunn is implicit unless `implicit false;` (PFM's default is true); \
-             foamgrain's fluid takes an explicit heat source only (q from T_f at the coupling \
-             time, held over the interval): set `implicit false;`",
+            format!(
+                "{name} is implicit unless `implicit false;` (PFM's default is true); \
+                 foamgrain's fluid takes an explicit heat source only (q from T_f at the \
+                 coupling time, held over the interval): set `implicit false;`"
+            ),
         ));
     }
     for (key, why) in GUNN_OFF {
@@ -382,8 +412,11 @@ pub(super) fn heat_transfer_gunn(r: &mut Reader, g: &Given, s: &mut Setup) -> Bu
     };
     let (lambda, cp) = transport_heat(r.file)?;
     let heat = HeatSettings {
-        model: HeatModel::HeatTransferGunn,
-        nusselt: Nusselt::GunnPfm,
+        model,
+        nusselt: match model {
+            HeatModel::HeatTransferRanzMarshall => Nusselt::RanzMarshall,
+            _ => Nusselt::GunnPfm,
+        },
         reynolds: ReynoldsVelocity::Superficial,
         voidage_floor: GUNN_PFM_VOIDAGE_FLOOR,
         nusselt_scale,

@@ -110,8 +110,32 @@ pub struct MomentumCoupling {
     pub implicit: bool,
     /// `explicitCouple`: f is handed to the fluid.
     pub explicit: bool,
-    /// `implicitCoupleProps/KslLimit`, kg/(m³·s), if given.
+    /// `implicitCoupleProps/KslLimit`, kg/(m³·s), if given (applied by CFDEM's Ksl form).
     pub ksl_limit: Option<f64>,
+    /// `implicitCoupleProps/KslForm CFDEM`: CFDEM's Ksl = |Σ F| / (V |U − Us|) instead of
+    /// foamgrain's conserving Σ w β / V ([`crate::ksl`]).
+    pub cfdem_ksl: bool,
+    /// `implicitCoupleProps/minAlphaP`, if given: CFDEM's form gives Ksl = 0 where
+    /// ε ≥ 1 − minAlphaP.
+    pub min_alpha_p: Option<f64>,
+    /// `averagingModel`: how CFDEM's form averages Us.
+    pub averaging: crate::ksl::UsAveraging,
+}
+
+impl MomentumCoupling {
+    /// The Ksl form these settings select (CFDEM's defaults for what is not given).
+    pub fn ksl_form(&self) -> crate::ksl::KslForm {
+        use crate::ksl::{CfdemKsl, KslForm};
+        if !self.cfdem_ksl {
+            return KslForm::Conserving;
+        }
+        let d = CfdemKsl::default();
+        KslForm::Cfdem(CfdemKsl {
+            limit: self.ksl_limit.unwrap_or(d.limit),
+            max_voidage: self.min_alpha_p.map_or(d.max_voidage, |m| 1.0 - m),
+            averaging: self.averaging,
+        })
+    }
 }
 
 /// The voidage model.
@@ -438,6 +462,7 @@ impl CouplingConfig {
                 r.apply(family, &Given { key, name, top }, &mut setup)?;
             }
         }
+        momentum::check_averaging(&mut r, &setup.momentum);
         let data_exchange = r
             .opt_word(top, "dataExchangeModel", "dataExchangeModel")?
             .unwrap_or("twoWayMPI")

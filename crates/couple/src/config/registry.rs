@@ -238,16 +238,7 @@ pub const SMOOTHING: Family = Family {
 /// `averagingModel`: how Us is averaged over a cell's particles.
 pub const AVERAGING: Family = Family {
     key: "averagingModel",
-    models: &[
-        ("dense", SAME),
-        (
-            "dilute",
-            warn(
-                "foamgrain's Us is always the β-weighted average of the particle velocities \
-                 (dense)",
-            ),
-        ),
-    ],
+    models: &[("dense", SAME), ("dilute", acts(momentum::dilute))],
 };
 
 /// `dataExchangeModel`: how CFDEM talks to LIGGGHTS. foamgrain's `--dem` option chooses the
@@ -300,8 +291,12 @@ pub const MOM_COUPLE: Family = Family {
         ("implicitCouple", acts(momentum::implicit)),
         ("explicitCouple", acts(momentum::explicit)),
         ("off", SAME),
-        ("noCouple", SAME),
-        ("explicitCoupleSource", refuse("use explicitCouple")),
+        // PFM's deactivateCouple hands the fluid zero Ksl and f, as noCouple
+        ("noCouple", SAME.aka(&["deactivateCouple"])),
+        (
+            "explicitCoupleSource",
+            refuse("no such model in CFDEMcoupling-PUBLIC or -PFM; use explicitCouple"),
+        ),
     ],
 };
 
@@ -327,8 +322,21 @@ pub const FORCES: Family = Family {
             "ShirgaonkarIB",
             refuse("immersed-boundary models are not implemented"),
         ),
-        ("DEMbasedDrag", refuse("use one of the drag laws")),
-        ("RongDrag", refuse("use one of the drag laws")),
+        (
+            "DEMbasedDrag",
+            refuse("not in CFDEMcoupling-PUBLIC or -PFM; use one of the drag laws"),
+        ),
+        (
+            "RongDrag",
+            refuse("not in CFDEMcoupling-PUBLIC or -PFM; use one of the drag laws"),
+        ),
+        (
+            "KochHillRWDrag",
+            refuse(
+                "PFM's random-walk dispersion needs a k-epsilon model's k and epsilon, which \
+                 foamgrain's laminar fluids lack; use KochHillDrag",
+            ),
+        ),
         (
             "totalMomentumExchange",
             acts(monitors::total_momentum_exchange),
@@ -362,7 +370,7 @@ pub const ENERGY: Family = Family {
         ("off", SAME),
         (
             "heatTransferRanzMarshall",
-            refuse("not implemented; use heatTransferGunn"),
+            acts(heat::heat_transfer_ranz_marshall),
         ),
         (
             "heatTransferInterGrain",
@@ -472,6 +480,7 @@ mod tests {
         setDEMGravityProps0 { startTime 0; endTime 1; timeInterval 1; }\n\
         LaEuScalarTempProps { tempFieldName \"T\"; lambda 0.0256; Cp 1007; }\n\
         heatTransferGunnProps { partTempName \"Temp\"; implicit false; }\n\
+        heatTransferRanzMarshallProps { partTempName \"Temp\"; implicit false; }\n\
         scalarGeneralExchangeProps { tempFieldName \"T\"; partTempName \"Temp\"; \
             partHeatFluxName \"convectiveHeatFlux\"; lambda 0.0256; Prandtl 0.7; \
             partSpeciesNames ( ); partSpeciesFluxNames ( ); partSpeciesTransCoeffNames ( ); \
