@@ -215,6 +215,8 @@ impl FluidSide for MemoryFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            vorticity: None,
+            ddt_u: None,
             temperature: self.temperature.as_deref(),
             u: &self.u,
             p: &self.p,

@@ -160,6 +160,8 @@ impl FluidSide for NativeFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            vorticity: None,
+            ddt_u: None,
             temperature: self.fluid.temperature(),
             u: self.fluid.u(),
             p: self.fluid.p(),
