@@ -97,6 +97,7 @@ pub fn run(a: &CoupleArgs) -> anyhow::Result<()> {
         .with_context(|| format!("frozen fluid of time {}", a.time))?;
     let fluid = FrozenFluid::new(f.mesh, f.u, f.p, f.grad_p, f.div_tau, f.time);
     let mut coupler = Coupler::new(fluid.mesh(), settings)?;
+    coupler.set_coupling_time_step(settings.coupling_interval as f64 * dem_dt);
     if let Some(s) = config.smoothing {
         coupler.set_smoothing(runner::smoothing::native(fluid.mesh(), s)?);
     }

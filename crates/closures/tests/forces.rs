@@ -226,3 +226,35 @@ fn model_names() {
     let err = ModelType::from_name("C").unwrap_err().to_string();
     assert!(err.contains("`C`") && err.contains("Bfull"), "{err}");
 }
+
+/// CFDEM's MeiLift: McLaughlin's asymptotes at both ends of J*, and Saffman's lift in the
+/// strong-shear limit ε ≫ 1 (Saffman 1965 with the 1968 erratum's 6.46).
+#[test]
+fn cfdem_mei_lift_tends_to_saffman_and_mclaughlin() {
+    use closures::forces::{cfdem_mei_lift, mclaughlin_j_star};
+    // McLaughlin (1991) eq. 3.26, J = 2.255 − 0.6463/ε², and 3.27, J = −32π² ε⁵ ln(1/ε²)
+    for eps in [25.0, 50.0, 400.0] {
+        let j = 2.255 - 0.6463 / (eps * eps);
+        assert_relative_eq!(mclaughlin_j_star(eps) * 2.255, j, max_relative = 2e-4);
+    }
+    for eps in [0.02f64, 0.05, 0.09] {
+        let pi2 = std::f64::consts::PI.powi(2);
+        let j = -32.0 * pi2 * eps.powi(5) * (1.0 / (eps * eps)).ln();
+        assert_relative_eq!(mclaughlin_j_star(eps) * 2.255, j, max_relative = 2e-3);
+    }
+    // Mei's fit meets the asymptotes: within 0.02 of J* at ε = 20 and 0.006 at ε = 0.1
+    assert!((mclaughlin_j_star(19.999) - mclaughlin_j_star(20.001)).abs() < 0.02);
+    assert!((mclaughlin_j_star(0.0999) - mclaughlin_j_star(0.1001)).abs() < 0.006);
+    // Saffman's limit: d = 100 µm, ν = 1e-6, ω = 1e4/s, |u_r| = 1e-3 m/s: ε = 100
+    let (d, rho, nu) = (1e-4, 1000.0, 1e-6);
+    let slip = V3::new(1e-3, 0.0, 0.0);
+    let w = V3::new(0.0, 0.0, -1e4);
+    let mei = cfdem_mei_lift(d, rho, nu, slip, w, false);
+    let saffman = saffman_lift(d, rho, rho * nu, slip, w);
+    assert!(mei[1] > 0.0 && mei[0] == 0.0 && mei[2] == 0.0);
+    assert_relative_eq!(mei[1], saffman[1], max_relative = 0.287e-4 + 1e-3);
+    assert_eq!(
+        cfdem_mei_lift(d, rho, nu, V3::zeros(), w, true),
+        V3::zeros()
+    );
+}

@@ -63,6 +63,8 @@ fn main() {
     let grad_p = vec![V3::new(0.0, 0.0, -8000.0); cells];
     let div_tau = vec![V3::zeros(); cells];
     let fluid = FluidState {
+        vorticity: None,
+        ddt_u: None,
         temperature: None,
         u: &u,
         p: &p,

@@ -101,6 +101,7 @@ fn physics() -> Physics {
             viscous: Some(Interpolation::Smooth),
             archimedes: true,
             no_drag: None,
+            ..Forces::default()
         },
         implicit_couple: true,
     }
@@ -119,6 +120,8 @@ fn particles(d: &Data) -> ParticleState<'_> {
 
 fn fluid(d: &Data) -> FluidState<'_> {
     FluidState {
+        vorticity: None,
+        ddt_u: None,
         temperature: None,
         u: &d.u,
         p: &d.p,

@@ -12,6 +12,19 @@
 //!
 //! With `noDrag` the fluid's share (and with `noDEMForce` the particle's) is zero.
 //!
+//! Added mass and lift ([`crate::config::Forces`]: `virtualMassForce`, `MeiLift`,
+//! `SaffmanLift`) are explicit forces: added to `f_ext` and, unless `treatForceDEM`, to the
+//! force whose reaction the fluid gets in `f` (foamgrain's f always reaches the fluid; CFDEM's
+//! only with `explicitCouple`). Model B divides the lift by ε, as CFDEM's `MeiLift` does.
+//! The added mass C ρ V a_rel ([`closures::forces::virtual_mass`]) takes the particle's
+//! acceleration from its velocity change since the previous coupling step ([`Previous`], by
+//! tag; a particle new since then gets no added mass): with `splitUrelCalculation` the fluid's
+//! part is DU/Dt at the particle ([`FluidState::ddt_u`]) and the particle's part that lagged
+//! difference (CFDEM leaves it to LIGGGHTS's integration, which Debian's LIGGGHTS does not
+//! do); without it, CFDEM-PFM's form, a_rel is the change of u_f − v over the step. Both lag
+//! the particle's acceleration one coupling step, stable for C ρ_f < ρ_p (checked by the
+//! coupler).
+//!
 //! A particle outside the mesh feels no fluid force and gives nothing to the fluid; it is
 //! counted. Units: SI, kinematic p (ADR 0004).
 
@@ -69,6 +82,25 @@ pub struct ForceSet {
     pub outside: usize,
 }
 
+/// A particle's state at the previous coupling step, for the added mass.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Before {
+    /// u_f − v with the added mass's interpolation, m/s.
+    pub u_rel: V3,
+    /// The particle's velocity v, m/s.
+    pub v: V3,
+}
+
+/// The previous coupling step as the added mass sees it: the time since it and each current
+/// particle's state then (`None` for a particle new since then).
+#[derive(Clone, Copy, Debug)]
+pub struct Previous<'a> {
+    /// The coupling interval Δt, s.
+    pub dt: f64,
+    /// One per particle of this step.
+    pub before: &'a [Option<Before>],
+}
+
 /// The forces on every particle (parallel over particles), with the voidage field `voidage`.
 pub fn particle_couplings(
     physics: &Physics,
@@ -77,7 +109,7 @@ pub fn particle_couplings(
     voidage: &[f64],
     particles: &ParticleState<'_>,
 ) -> ForceSet {
-    let kernel = Kernel::new(physics, fluid, voidage);
+    let kernel = Kernel::new(physics, fluid, voidage, None);
     let mut out = Vec::new();
     (0..placement.len())
         .into_par_iter()
@@ -120,7 +152,50 @@ pub fn couplings_and_exchange(
     reuse: Vec<ParticleCoupling>,
     cfdem: Option<CfdemSums>,
 ) -> (ForceSet, Exchange) {
-    let kernel = Kernel::new(physics, fluid, voidage);
+    let input = Input {
+        physics,
+        placement,
+        fluid,
+        voidage,
+        particles,
+        previous: None,
+    };
+    couplings_and_exchange_with(&input, cell_volumes, reuse, cfdem)
+}
+
+/// What [`couplings_and_exchange_with`] computes from.
+#[derive(Clone, Copy)]
+pub struct Input<'a> {
+    /// Fluid properties and force models.
+    pub physics: &'a Physics,
+    /// Where the particles are.
+    pub placement: &'a Placement,
+    /// The fluid per cell.
+    pub fluid: &'a FluidState<'a>,
+    /// ε per cell.
+    pub voidage: &'a [f64],
+    /// The particles.
+    pub particles: &'a ParticleState<'a>,
+    /// The previous coupling step, for `virtualMassForce` (`None`: no added mass acts yet).
+    pub previous: Option<Previous<'a>>,
+}
+
+/// [`couplings_and_exchange`] with the previous step's particle states (added mass).
+pub fn couplings_and_exchange_with(
+    input: &Input<'_>,
+    cell_volumes: &[f64],
+    reuse: Vec<ParticleCoupling>,
+    cfdem: Option<CfdemSums>,
+) -> (ForceSet, Exchange) {
+    let Input {
+        physics,
+        placement,
+        fluid,
+        voidage,
+        particles,
+        previous,
+    } = *input;
+    let kernel = Kernel::new(physics, fluid, voidage, previous);
     let n = placement.len();
     let stages = n.div_ceil(STAGE);
     let mut out = reuse;
@@ -195,11 +270,19 @@ pub(crate) struct Kernel<'a> {
     /// Rules for ∇p and ∇·τ, `None` when the force is off.
     grad_p_rule: Option<Interpolation>,
     viscous_rule: Option<Interpolation>,
+    /// The previous coupling step, for the added mass.
+    previous: Option<Previous<'a>>,
 }
 
 impl<'a> Kernel<'a> {
-    pub(crate) fn new(physics: &'a Physics, fluid: &'a FluidState<'a>, voidage: &'a [f64]) -> Self {
+    pub(crate) fn new(
+        physics: &'a Physics,
+        fluid: &'a FluidState<'a>,
+        voidage: &'a [f64],
+        previous: Option<Previous<'a>>,
+    ) -> Self {
         Kernel {
+            previous,
             physics,
             mu: physics.nu * physics.rho,
             gravity: if physics.forces.archimedes {
@@ -345,6 +428,10 @@ impl<'a> Kernel<'a> {
             beta_fluid,
             f_fluid: (f.explicit_coupled + drag_to_f),
         };
+        let (to_particle, to_fluid) = self.added_mass_and_lift(placement, p, i, at.voidage);
+        c.f_ext += to_particle;
+        c.total += to_particle;
+        c.f_fluid += to_fluid;
         if let Some(no_drag) = ph.forces.no_drag {
             // CFDEM's noDrag: the fluid loses the particles' reaction unless keepCFDForce, the
             // particles their fluid force with noDEMForce.
@@ -360,6 +447,81 @@ impl<'a> Kernel<'a> {
         }
         Some(c)
     }
+}
+
+impl Kernel<'_> {
+    /// The added mass and lift on particle `i` (inside the mesh; ε `eps` the drag's, floored)
+    /// and the part of them whose reaction the fluid gets, N (module docs).
+    #[inline]
+    fn added_mass_and_lift(
+        &self,
+        placement: &Placement,
+        p: &ParticleState<'_>,
+        i: usize,
+        eps: f64,
+    ) -> (V3, V3) {
+        let forces = &self.physics.forces;
+        let (mut particle, mut fluid) = (V3::zeros(), V3::zeros());
+        let mut add = |f: V3, dem_only: bool| {
+            particle += f;
+            if !dem_only {
+                fluid += f;
+            }
+        };
+        let (rho, nu) = (self.physics.rho, self.physics.nu);
+        let (r, v) = (p.radius[i], p.velocity[i]);
+        let at = |field: &[V3], rule| placement.value_at(field, i, rule).unwrap_or_default();
+        if let (Some(vm), Some(prev)) = (forces.virtual_mass, self.previous) {
+            if let Some(before) = prev.before[i] {
+                let a_particle = (v - before.v) / prev.dt;
+                let a_rel = match (vm.split, self.fluid.ddt_u) {
+                    (true, Some(ddt_u)) => at(ddt_u, vm.interpolation) - a_particle,
+                    (true, None) => V3::zeros(),
+                    (false, _) => {
+                        let u_rel = at(self.fluid.u, vm.interpolation) - v;
+                        (u_rel - before.u_rel) / prev.dt
+                    }
+                };
+                let f = closures::forces::virtual_mass(vm.c_add, ball(r), rho, a_rel, V3::zeros());
+                add(f, vm.dem_only);
+            }
+        }
+        let model_b = |f: V3| match self.physics.model {
+            closures::ModelType::B => f / eps,
+            _ => f,
+        };
+        let lifts = [(forces.mei_lift, true), (forces.saffman_lift, false)];
+        for (settings, mei) in lifts {
+            let (Some(l), Some(w)) = (settings, self.fluid.vorticity) else {
+                continue;
+            };
+            let slip = at(self.fluid.u, l.interpolation) - v;
+            let omega = at(w, l.interpolation);
+            let f = match mei {
+                true => {
+                    closures::forces::cfdem_mei_lift(2.0 * r, rho, nu, slip, omega, l.second_order)
+                }
+                false => closures::forces::saffman_lift(2.0 * r, rho, rho * nu, slip, omega),
+            };
+            add(model_b(f), l.dem_only);
+        }
+        (particle, fluid)
+    }
+}
+
+/// The added mass's record of particle `i` for the next step: u_f − v with its interpolation
+/// and v ([`Before`]); `None` outside the mesh or without `virtualMassForce`.
+pub fn before(
+    physics: &Physics,
+    placement: &Placement,
+    fluid: &FluidState<'_>,
+    particles: &ParticleState<'_>,
+    i: usize,
+) -> Option<Before> {
+    let vm = physics.forces.virtual_mass?;
+    let v = particles.velocity[i];
+    let u = placement.value_at(fluid.u, i, vm.interpolation)?;
+    Some(Before { u_rel: u - v, v })
 }
 
 /// Σ of the total fluid forces on the particles, N.

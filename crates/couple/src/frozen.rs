@@ -78,6 +78,8 @@ impl FluidSide for FrozenFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            vorticity: None,
+            ddt_u: None,
             temperature: None,
             u: &self.u,
             p: &self.p,

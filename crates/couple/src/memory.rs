@@ -173,6 +173,10 @@ pub struct MemoryFluid {
     pub time: f64,
     /// T per cell, K, if the fluid carries heat.
     pub temperature: Option<Vec<f64>>,
+    /// ∇ × U per cell, 1/s, if given ([`FluidState::vorticity`]).
+    pub vorticity: Option<Vec<V3>>,
+    /// DU/Dt per cell, m/s², if given ([`FluidState::ddt_u`]).
+    pub ddt_u: Option<Vec<V3>>,
 }
 
 impl MemoryFluid {
@@ -188,6 +192,8 @@ impl MemoryFluid {
             received: Vec::new(),
             time: 0.0,
             temperature: None,
+            vorticity: None,
+            ddt_u: None,
         }
     }
 }
@@ -215,6 +221,8 @@ impl FluidSide for MemoryFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            vorticity: self.vorticity.as_deref(),
+            ddt_u: self.ddt_u.as_deref(),
             temperature: self.temperature.as_deref(),
             u: &self.u,
             p: &self.p,

@@ -60,7 +60,7 @@ pub fn particle_probes(
     particles: &ParticleState<'_>,
     i: usize,
 ) -> Option<Vec<ModelProbe>> {
-    let kernel = Kernel::new(physics, fluid, voidage);
+    let kernel = Kernel::new(physics, fluid, voidage, None);
     let at = kernel.fluid_at(placement, i)?;
     let (r, v) = (particles.radius[i], particles.velocity[i]);
     let (beta, full) = kernel.drag_at(at.u, at.voidage, at.grad_p, at.div_tau, r, v);
@@ -127,6 +127,9 @@ mod tests {
                 viscous: Some(Interpolation::Cell),
                 archimedes: true,
                 no_drag: None,
+                virtual_mass: None,
+                mei_lift: None,
+                saffman_lift: None,
             },
             implicit_couple: true,
         };
@@ -140,6 +143,8 @@ mod tests {
             grad_p: &grad_p,
             div_tau: &div_tau,
             temperature: None,
+            vorticity: None,
+            ddt_u: None,
         };
         let eps = [0.45, 0.7];
         let placement = Placement {

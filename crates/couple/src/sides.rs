@@ -59,6 +59,14 @@ pub struct FluidState<'a> {
     /// Temperature T, K, when the fluid solves cfdemSolverPisoScalar's temperature equation
     /// (the case has `0/T`); `None` otherwise.
     pub temperature: Option<&'a [f64]>,
+    /// The vorticity ∇ × U, 1/s (OpenFOAM's `fvc::curl(U)`), when the coupling's force models
+    /// ask for it (`MeiLift`, `SaffmanLift`: [`crate::config::Forces::needs_vorticity`]);
+    /// `None` otherwise.
+    pub vorticity: Option<&'a [V3]>,
+    /// DU/Dt as CFDEM's `virtualMassForce` forms it, `fvc::ddt(U) + fvc::div(phi, U)`, m/s²,
+    /// when a force model asks for it ([`crate::config::Forces::needs_ddt_u`]); `None`
+    /// otherwise.
+    pub ddt_u: Option<&'a [V3]>,
 }
 
 /// What the fluid receives for the next coupling interval.

@@ -27,7 +27,9 @@
 
 use crate::error::CoupleError;
 use crate::exchange::Exchange;
-use crate::forces::{couplings_and_exchange, ForceSet, ParticleCoupling, Physics};
+use crate::forces::{
+    couplings_and_exchange_with, Before, ForceSet, Input, ParticleCoupling, Physics, Previous,
+};
 use crate::heat::{
     cell_heat, fluid_temperature, heat_source, particle_heat, particle_temperatures, CellFields,
     HeatAccount, HeatFluid, HeatStep, ParticleHeat,
@@ -109,6 +111,11 @@ pub struct Coupler {
     smoothing: Option<crate::smoothing::Smoothing>,
     /// The Ksl form handed to the fluid ([`Coupler::set_ksl_form`]).
     ksl_form: KslForm,
+    /// `virtualMassForce`'s record of the last exchange's particles ([`Before`]), by tag.
+    before: Vec<Option<Before>>,
+    before_ids: Vec<u64>,
+    /// The coupling interval Δt, s ([`Coupler::set_coupling_time_step`]).
+    coupling_dt: Option<f64>,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -178,6 +185,9 @@ impl Coupler {
             owners: None,
             smoothing: None,
             ksl_form: KslForm::Conserving,
+            before: Vec::new(),
+            before_ids: Vec::new(),
+            coupling_dt: None,
         })
     }
 
@@ -195,6 +205,13 @@ impl Coupler {
     /// exchange on several ranks is then an error.
     pub fn set_ksl_form(&mut self, form: KslForm) {
         self.ksl_form = form;
+    }
+
+    /// The length of a coupling interval, s: what `virtualMassForce` divides the velocity change
+    /// since the last exchange by. [`Coupler::hand_over`] sets it from the particle side's time
+    /// step; a caller of [`Coupler::exchange`] alone sets it here.
+    pub fn set_coupling_time_step(&mut self, dt: f64) {
+        self.coupling_dt = Some(dt);
     }
 
     /// Runs this coupler as one of several ranks ([`crate::ranks`]): from now on every
@@ -277,6 +294,7 @@ impl Coupler {
             particle_temperatures(particles)?;
         }
         self.check_ksl_form()?;
+        self.check_added_mass_and_lift(particles, fluid)?;
         let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
@@ -446,17 +464,105 @@ impl Coupler {
         let placement = Placement { centre, shares };
         let n_cells = self.vm.n_cells();
         let cfdem = (self.ksl_form.cfdem()).map(|k| CfdemSums::new(n_cells, k.averaging));
-        let (forces, exchange) = couplings_and_exchange(
-            &self.settings.physics,
-            &placement,
+        let physics = &self.settings.physics;
+        let added_mass = physics.forces.virtual_mass.is_some();
+        let before: Vec<Option<Before>> = match added_mass {
+            true => follow_tags(&self.before_ids, particles.ids)
+                .iter()
+                .map(|k| k.and_then(|k| self.before[k]))
+                .collect(),
+            false => Vec::new(),
+        };
+        let input = Input {
+            physics,
+            placement: &placement,
             fluid,
-            eps,
+            voidage: eps,
             particles,
+            previous: self.coupling_dt.filter(|_| added_mass).map(|dt| Previous {
+                dt,
+                before: &before,
+            }),
+        };
+        let (forces, exchange) = couplings_and_exchange_with(
+            &input,
             self.vm.cell_volumes(),
             std::mem::take(&mut self.spare.couplings),
             cfdem,
         );
+        if added_mass {
+            self.before = (0..particles.len())
+                .into_par_iter()
+                .map(|i| crate::forces::before(physics, &placement, fluid, particles, i))
+                .collect();
+            self.before_ids.clear();
+            self.before_ids.extend_from_slice(particles.ids);
+        }
         (placement, forces, exchange)
+    }
+
+    /// What added mass and lift need (module docs of [`crate::forces`]): the fluid's vorticity
+    /// or DU/Dt when a model asks for them (on one rank: the fields of other ranks' touched
+    /// cells do not carry them), the coupling interval, and C_add ρ_f < ρ_p for every particle
+    /// (the lagged particle acceleration diverges otherwise).
+    fn check_added_mass_and_lift(
+        &self,
+        particles: &ParticleState<'_>,
+        fluid: &FluidState<'_>,
+    ) -> Result<(), CoupleError> {
+        let physics = &self.settings.physics;
+        let forces = &physics.forces;
+        let several = self.ranks.size() > 1 || self.owners.is_some();
+        let fields = [
+            (
+                forces.needs_vorticity(),
+                fluid.vorticity.is_some(),
+                "MeiLift/SaffmanLift",
+                "vorticity ∇ × U",
+            ),
+            (
+                forces.needs_ddt_u(),
+                fluid.ddt_u.is_some(),
+                "virtualMassForce with splitUrelCalculation",
+                "DU/Dt",
+            ),
+        ];
+        for (needed, given, model, what) in fields {
+            if needed && several {
+                return Err(CoupleError::Parameter(format!(
+                    "{model} needs the fluid's {what}, which the exchange on several coupler \
+                     ranks does not carry: run one coupler rank"
+                )));
+            }
+            if needed && !given {
+                return Err(CoupleError::Parameter(format!(
+                    "{model} needs the fluid's {what}, which this fluid side does not give"
+                )));
+            }
+        }
+        let Some(vm) = forces.virtual_mass else {
+            return Ok(());
+        };
+        if self.coupling_dt.is_none() {
+            return Err(CoupleError::Parameter(
+                "virtualMassForce needs the coupling interval's length \
+                 (Coupler::set_coupling_time_step)"
+                    .into(),
+            ));
+        }
+        let limit = vm.c_add * physics.rho;
+        if let Some(i) = (0..particles.len()).find(|&i| particles.density[i] <= limit) {
+            return Err(CoupleError::Particle {
+                index: i,
+                id: Some(particles.ids[i]),
+                message: format!(
+                    "density {} ≤ Cadd·ρ_f = {limit}: the added mass's particle acceleration, \
+                     lagged one coupling step, would diverge",
+                    particles.density[i]
+                ),
+            });
+        }
+        Ok(())
     }
 
     /// Step 2's placement: each particle's cells and volume shares (centre cells in
@@ -580,6 +686,8 @@ impl Coupler {
             }
         }
         let fluid = FluidState {
+            vorticity: None,
+            ddt_u: None,
             temperature: None,
             u: &r.u,
             p: &r.p,
@@ -880,6 +988,7 @@ impl Coupler {
         fluid: &mut F,
     ) -> Result<(CouplingStep, f64), CoupleError> {
         let interval = self.settings.coupling_interval;
+        self.coupling_dt = Some(interval as f64 * particles.time_step());
         let old = self.voidage.clone();
         let step = self.exchange(&particles.state(), &fluid.state())?;
         let dt = interval as f64 * particles.time_step();

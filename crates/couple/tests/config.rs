@@ -190,8 +190,8 @@ fn errors_name_file_and_key() {
     );
     fails(
         "Archimedes );",
-        "MeiLift );",
-        &["forceModels", "MeiLift", "not supported"],
+        "ShirgaonkarIB );",
+        &["forceModels", "ShirgaonkarIB", "not supported"],
     );
     fails(
         "interpolation true;",
@@ -564,4 +564,59 @@ fn ksl_form_is_selected_in_implicit_couple_props() {
     }
     let e = read(&format!("{BASE}implicitCoupleProps {{ minAlphaP 2; }}\n")).unwrap_err();
     assert!(e.contains("implicitCoupleProps/minAlphaP"), "{e}");
+}
+
+/// virtualMassForce, MeiLift and SaffmanLift: CFDEM's keys read, foamgrain's limits named.
+#[test]
+fn added_mass_and_lift_keys() {
+    let with = |props: &str| {
+        BASE.replace(
+            "Archimedes );",
+            &format!("Archimedes virtualMassForce MeiLift SaffmanLift );\n{props}"),
+        )
+    };
+    let c = read(&with(
+        "virtualMassForceProps { velFieldName \"U\"; phiFieldName \"phi\"; \
+         splitUrelCalculation true; Cadd 0.4; treatForceDEM true; }\n\
+         MeiLiftProps { useSecondOrderTerms; interpolation true; verbose false; }\n",
+    ))
+    .unwrap();
+    let vm = c.forces.virtual_mass.unwrap();
+    assert!(vm.split && vm.dem_only && vm.c_add == 0.4);
+    assert!(c.forces.mei_lift.unwrap().second_order);
+    assert!(!c.forces.saffman_lift.unwrap().second_order);
+    assert!(c.forces.needs_vorticity() && c.forces.needs_ddt_u());
+    // defaults: CFDEM-PFM's unsplit form, Cadd 0.5
+    let c = read(&with("")).unwrap();
+    let vm = c.forces.virtual_mass.unwrap();
+    assert!(!vm.split && !vm.dem_only && vm.c_add == 0.5 && !c.forces.needs_ddt_u());
+    for (props, expect) in [
+        (
+            "virtualMassForceProps { Ccc 1; }",
+            "virtualMassForceProps/Ccc",
+        ),
+        (
+            "virtualMassForceProps { useFelderhof true; }",
+            "useFelderhof",
+        ),
+        (
+            "virtualMassForceProps { treatForceExplicit false; }",
+            "treatForceExplicit",
+        ),
+        (
+            "MeiLiftProps { useSecondOrderTerms false; }",
+            "remove the key",
+        ),
+        ("MeiLiftProps { useSpinInduced true; }", "spin"),
+        (
+            "SaffmanLiftProps { velFieldName \"V\"; }",
+            "SaffmanLiftProps/velFieldName",
+        ),
+    ] {
+        let e = read(&with(props)).unwrap_err();
+        assert!(
+            e.contains("couplingProperties") && e.contains(expect),
+            "{e}"
+        );
+    }
 }

@@ -44,6 +44,7 @@ fn physics(law: DragLaw, model: ModelType, implicit_dem: bool, explicit_fluid: b
             viscous: None,
             archimedes: true,
             no_drag: None,
+            ..Forces::default()
         },
         implicit_couple: true,
     }

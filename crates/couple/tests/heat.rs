@@ -153,6 +153,8 @@ fn fluid(mesh: &PolyMesh) -> Fluid {
 
 fn state(f: &Fluid) -> FluidState<'_> {
     FluidState {
+        vorticity: None,
+        ddt_u: None,
         u: &f.u,
         p: &f.p,
         grad_p: &f.zero,

@@ -36,6 +36,9 @@ fn settings() -> CouplerSettings {
                 viscous: None,
                 archimedes: false,
                 no_drag: None,
+                virtual_mass: None,
+                mei_lift: None,
+                saffman_lift: None,
             },
             implicit_couple: true,
         },
@@ -92,6 +95,8 @@ fn exchange(
         grad_p: &zero,
         div_tau: &zero,
         temperature: None,
+        vorticity: None,
+        ddt_u: None,
     };
     coupler.exchange(&particles.state(), &fluid).unwrap()
 }

@@ -219,6 +219,7 @@ fn physics(rules: [Interpolation; 3], model: ModelType, law: DragLaw) -> Physics
             viscous: Some(rules[2]),
             archimedes: true,
             no_drag: None,
+            ..Forces::default()
         },
         implicit_couple: true,
     }
@@ -249,6 +250,8 @@ fn fluid(vm: &VoidageMesh) -> Fluid {
 
 fn state(f: &Fluid) -> FluidState<'_> {
     FluidState {
+        vorticity: None,
+        ddt_u: None,
         temperature: None,
         u: &f.u,
         p: &f.p,

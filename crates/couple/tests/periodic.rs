@@ -47,6 +47,7 @@ fn settings(method: Method) -> CouplerSettings {
                 viscous: Some(Interpolation::Cell),
                 archimedes: true,
                 no_drag: None,
+                ..Forces::default()
             },
             implicit_couple: true,
         },
@@ -66,6 +67,8 @@ fn a_centre_beyond_a_cyclic_face_is_coupled_at_its_image() {
         .collect();
     let (p, grad_p, div_tau) = (vec![0.0; n], vec![V3::zeros(); n], vec![V3::zeros(); n]);
     let fluid = FluidState {
+        vorticity: None,
+        ddt_u: None,
         temperature: None,
         u: &u,
         p: &p,

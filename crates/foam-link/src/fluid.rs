@@ -819,6 +819,8 @@ impl FluidSide for OpenFoamFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
+            vorticity: None,
+            ddt_u: None,
             temperature: self.temperature(),
             u: &self.state.u,
             p: &self.state.p,

@@ -425,3 +425,30 @@ pub fn surface_integrate<T: Value>(g: &FvGeometry, flux: &[T]) -> Vec<T> {
         })
         .collect()
 }
+
+/// The curl ∇ × U of a vector field (1/s for a velocity in m/s): OpenFOAM's `fvc::curl(U)`,
+/// 2·*skew(∇U), from the Gauss linear gradient with the boundary face values ([`grad_vector`],
+/// `G_ij = ∂U_j/∂x_i`): ω = (G_yz − G_zy, G_zx − G_xz, G_xy − G_yx). Exact for a linear field
+/// whose boundary values are the field's at the face centres (the Gauss sum of a linear field
+/// is exact on any closed cell).
+pub fn curl(g: &FvGeometry, cells: &[V3], boundary: &[V3]) -> Vec<V3> {
+    grad_vector(g, cells, boundary)
+        .into_par_iter()
+        .map(|t| {
+            V3::new(
+                t[(1, 2)] - t[(2, 1)],
+                t[(2, 0)] - t[(0, 2)],
+                t[(0, 1)] - t[(1, 0)],
+            )
+        })
+        .collect()
+}
+
+/// The convective term (1/V_c) Σ_f φ_f U_f of OpenFOAM's `fvc::div(phi, U)` (m/s² for φ in
+/// m³/s and U in m/s), with linearly interpolated face values ([`interpolate`]; OpenFOAM uses
+/// the `div(phi,U)` scheme of fvSchemes) and the boundary values on boundary faces.
+pub fn div_flux_linear(g: &FvGeometry, phi: &[f64], cells: &[V3], boundary: &[V3]) -> Vec<V3> {
+    let faces = interpolate(g, Field::new(cells, boundary));
+    let flux: Vec<V3> = faces.iter().zip(phi).map(|(u, f)| *u * *f).collect();
+    surface_integrate(g, &flux)
+}

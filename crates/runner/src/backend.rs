@@ -224,10 +224,11 @@ fn native_dem(
 }
 
 /// The native fluid of the run's case with the coupling's settings (`modelType`,
-/// `useDDTvoidfraction`, `solveFlow`, the coupling's ρ).
+/// `useDDTvoidfraction`, `solveFlow`, the coupling's ρ, the fields added mass and lift ask
+/// for).
 fn open_native_fluid(plan: &RunPlan) -> Result<NativeFluid, RunError> {
     let config = &plan.layout.coupling;
-    NativeFluid::open(
+    let mut fluid = NativeFluid::open(
         &plan.layout.cfd,
         plan.fluid.clone(),
         plan.fluid_model(),
@@ -235,7 +236,30 @@ fn open_native_fluid(plan: &RunPlan) -> Result<NativeFluid, RunError> {
         config.solve_flow,
         plan.settings.physics.rho,
     )
-    .map_err(RunError::Fluid)
+    .map_err(RunError::Fluid)?;
+    let forces = &config.forces;
+    if forces.needs_vorticity() || forces.needs_ddt_u() {
+        fluid.request(forces.needs_vorticity(), forces.needs_ddt_u());
+    }
+    Ok(fluid)
+}
+
+/// What grainPisoFoam cannot carry yet: the vorticity ∇ × U (`MeiLift`, `SaffmanLift`) and
+/// DU/Dt (`virtualMassForce` with `splitUrelCalculation`) are not in its replies, so those
+/// models are refused before a solver is spawned.
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+fn foam_can_carry(layout: &crate::layout::CaseLayout) -> Result<(), RunError> {
+    let forces = &layout.coupling.forces;
+    let missing = match (forces.needs_vorticity(), forces.needs_ddt_u()) {
+        (true, _) => "MeiLift/SaffmanLift need the fluid's vorticity ∇ × U",
+        (false, true) => "virtualMassForce with splitUrelCalculation needs the fluid's DU/Dt",
+        (false, false) => return Ok(()),
+    };
+    Err(RunError::Backend(format!(
+        "{}: {missing}, which grainPisoFoam does not send: run --fluid native (or, for \
+         virtualMassForce, splitUrelCalculation false, which needs only U)",
+        layout.coupling.file.display()
+    )))
 }
 
 /// Runs stage 2 on the chosen pair of sides.
@@ -423,6 +447,7 @@ mod mpi_pair {
         layout: &crate::layout::CaseLayout,
         ranks: usize,
     ) -> Result<crate::foam_fluid::FoamFluid, RunError> {
+        foam_can_carry(layout)?;
         let solver = solver_path()?;
         let ranks = match ranks {
             0 => foam_link::case_setup::decomposed_ranks(&layout.cfd)
@@ -448,6 +473,7 @@ mod mpi_pair {
         layout: &crate::layout::CaseLayout,
         ranks: usize,
     ) -> Result<(Option<crate::foam_fluid::FoamFluid>, foam_link::SolverCells), RunError> {
+        foam_can_carry(layout)?;
         let solver = if mpi::topology::Communicator::rank(world) == 0 {
             solver_path()?
         } else {

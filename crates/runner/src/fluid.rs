@@ -151,6 +151,8 @@ impl FluidSide for StandInFluid {
 
     fn state(&self) -> couple::FluidState<'_> {
         couple::FluidState {
+            vorticity: None,
+            ddt_u: None,
             temperature: None,
             u: &self.u,
             p: &self.p,

@@ -34,6 +34,12 @@ pub struct NativeFluid {
     steps_done: u64,
     /// `solveFlow`: false holds U and p while the clock moves.
     solve_flow: bool,
+    /// The fluid fields added mass and lift ask for ([`NativeFluid::request`]), `None` unless
+    /// asked.
+    vorticity: Option<Vec<V3>>,
+    ddt_u: Option<Vec<V3>>,
+    /// U before the last PISO step and that step's length (for ∂U/∂t), when DU/Dt is asked.
+    u_before: Option<(Vec<V3>, f64)>,
 }
 
 impl NativeFluid {
@@ -90,6 +96,9 @@ impl NativeFluid {
             eps_last: vec![1.0; n],
             steps_done: 0,
             solve_flow,
+            vorticity: None,
+            ddt_u: None,
+            u_before: None,
         })
     }
 
@@ -144,6 +153,9 @@ impl FluidSide for NativeFluid {
             };
             blend_scalar(&self.eps_old, &self.eps_new, alpha, &mut eps);
             self.fluid.set_voidage(&eps, &self.eps_last)?;
+            if k == n && self.ddt_u.is_some() {
+                self.u_before = Some((self.fluid.u().to_vec(), h));
+            }
             if self.solve_flow {
                 self.fluid.advance(h)?;
             } else {
@@ -155,6 +167,7 @@ impl FluidSide for NativeFluid {
             self.steps_done += 1;
         }
         self.div_tau = self.fluid.div_tau();
+        self.update_requested();
         Ok(())
     }
 
@@ -165,6 +178,39 @@ impl FluidSide for NativeFluid {
             p: self.fluid.p(),
             grad_p: self.fluid.grad_p(),
             div_tau: &self.div_tau,
+            vorticity: self.vorticity.as_deref(),
+            ddt_u: self.ddt_u.as_deref(),
+        }
+    }
+}
+
+impl NativeFluid {
+    /// Computes, from now on after every advance, the fields added mass and lift ask for
+    /// ([`couple::config::Forces::needs_vorticity`], `needs_ddt_u`): the vorticity ∇ × U
+    /// ([`fv::fvc::curl`], OpenFOAM's `fvc::curl(U)`) and CFDEM's DU/Dt = ∂U/∂t + ∇·(φU)
+    /// (Euler ∂U/∂t over the last PISO step, zero before the first; [`fv::fvc::div_flux_linear`]
+    /// with the solver's φ = (εU)_f·S, as CFDEM's `fvc::div(phi, U)`).
+    pub fn request(&mut self, vorticity: bool, ddt_u: bool) {
+        self.vorticity = vorticity.then(Vec::new);
+        self.ddt_u = ddt_u.then(Vec::new);
+        self.update_requested();
+    }
+
+    /// The requested fields of the fluid now.
+    fn update_requested(&mut self) {
+        let g = self.fluid.geometry();
+        let (u, u_b) = (self.fluid.u(), self.fluid.u_boundary());
+        if let Some(w) = self.vorticity.as_mut() {
+            *w = fv::fvc::curl(g, u, u_b);
+        }
+        if let Some(d) = self.ddt_u.as_mut() {
+            let mut a = fv::fvc::div_flux_linear(g, self.fluid.phi(), u, u_b);
+            if let Some((before, dt)) = &self.u_before {
+                for ((a, u), b) in a.iter_mut().zip(u).zip(before) {
+                    *a += (*u - *b) / *dt;
+                }
+            }
+            *d = a;
         }
     }
 }

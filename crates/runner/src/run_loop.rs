@@ -196,6 +196,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         }
         let schedule = Schedule::of(plan, opts, dem.time_step(), fluid.inner.time())?;
         let mut coupler = Coupler::new(mesh, plan.settings)?;
+        coupler.set_coupling_time_step(plan.settings.coupling_interval as f64 * dem.time_step());
         if let Some(ranks) = ranks {
             coupler.set_ranks(ranks);
         }

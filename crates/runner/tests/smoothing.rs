@@ -30,6 +30,7 @@ fn physics() -> Physics {
             viscous: None,
             archimedes: true,
             no_drag: None,
+            ..Forces::default()
         },
         implicit_couple: true,
     }

@@ -7,7 +7,7 @@
 //! of the forces (the observers' are in [`super::monitors`]).
 
 use super::registry::{DRAG_LAWS, FORCES};
-use super::{Built, DragSettings, Given, NoDrag, Reader, Setup};
+use super::{Built, DragSettings, Given, LiftSettings, NoDrag, Reader, Setup, VirtualMassSettings};
 use crate::error::CoupleError;
 use crate::interpolate::Interpolation;
 use closures::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR};
@@ -191,6 +191,198 @@ pub(super) fn drag(
         implicit_dem: flag("implForceDEM")?,
         explicit_fluid: flag("treatForceExplicit")?,
         dem_only: flag("treatForceDEM")?,
+    });
+    Ok(())
+}
+
+/// Props keys the added-mass and lift models accept without effect: CFDEM's probe switch and
+/// interpolation-type names (foamgrain's `interpolation true` is its own smooth rule, the same
+/// for every field).
+const KEYS_WITHOUT_EFFECT: [&str; 5] = [
+    "suppressProbe",
+    "UInterpolationType",
+    "DDtUInterpolationType",
+    "vorticityInterpolationType",
+    "UrelOldName",
+];
+
+/// A switch that must keep the value `expected` in foamgrain, `why` saying why otherwise.
+fn fixed_switch(
+    r: &Reader<'_>,
+    props: &Dict,
+    dict: &str,
+    key: &str,
+    expected: bool,
+    why: &str,
+) -> Result<(), CoupleError> {
+    let path = format!("{dict}/{key}");
+    match r.opt_switch(props, key, &path)? {
+        Some(v) if v != expected => Err(r.err(&path, format!("`{v}` is not supported: {why}"))),
+        _ => Ok(()),
+    }
+}
+
+/// `treatForceExplicit`: foamgrain applies added mass and lift explicitly (CFDEM's default
+/// for them); `false` would fold them into Ksl along the slip velocity.
+fn explicit_only(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<(), CoupleError> {
+    fixed_switch(
+        r,
+        props,
+        dict,
+        "treatForceExplicit",
+        true,
+        "foamgrain applies this force explicitly (CFDEM's default), its reaction in f",
+    )
+}
+
+/// `virtualMassForce` (CFDEM-PUBLIC's keys and CFDEM-PFM's): `Cadd` (default 0.5),
+/// `splitUrelCalculation` (default false, CFDEM-PFM's unsplit form; CFDEM-PUBLIC stops on
+/// false), `interpolation`, `treatForceDEM`, `treatForceExplicit` (true only), `verbose`, the
+/// field names `velFieldName`, `phiFieldName`, `voidfractionFieldName`,
+/// `granVelFieldName`/`UsFieldName` (standard names only), PFM's `useUs` and `useFelderhof`
+/// (false only), `smoothingModel` (`off` only), and [`KEYS_WITHOUT_EFFECT`].
+pub(super) fn virtual_mass(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    not_after_no_drag(r, g, s)?;
+    let (props, dict) = &g.props(r)?;
+    let mut known = vec![
+        "Cadd",
+        "splitUrelCalculation",
+        "interpolation",
+        "treatForceDEM",
+        "treatForceExplicit",
+        "verbose",
+        "useUs",
+        "useFelderhof",
+        "smoothingModel",
+    ];
+    known.extend(KEYS_WITHOUT_EFFECT);
+    r.check_props(props, dict, &known)?;
+    explicit_only(r, props, dict)?;
+    for key in ["useUs", "useFelderhof"] {
+        fixed_switch(
+            r,
+            props,
+            dict,
+            key,
+            false,
+            "CFDEM-PFM's variant is not implemented",
+        )?;
+    }
+    if let Some(w) = r.opt_word(props, "smoothingModel", &format!("{dict}/smoothingModel"))? {
+        if w != "off" && w != "noSmoothing" {
+            return Err(r.err(
+                &format!("{dict}/smoothingModel"),
+                format!("`{w}`: the DU/Dt field is not smoothed in foamgrain (use off)"),
+            ));
+        }
+    }
+    let c_add = match props.contains("Cadd") {
+        true => {
+            let key = format!("{dict}/Cadd");
+            let c = r.number(props, "Cadd", &key)?;
+            if c < 0.0 {
+                return Err(r.err(&key, format!("{c} is not ≥ 0")));
+            }
+            c
+        }
+        false => closures::forces::SPHERE_VIRTUAL_MASS_COEFFICIENT,
+    };
+    let flag = |key: &str| -> Result<bool, CoupleError> {
+        Ok(r.opt_switch(props, key, &format!("{dict}/{key}"))?
+            .unwrap_or(false))
+    };
+    s.forces.virtual_mass = Some(VirtualMassSettings {
+        c_add,
+        split: flag("splitUrelCalculation")?,
+        interpolation: r.interpolation(props, dict)?,
+        dem_only: flag("treatForceDEM")?,
+    });
+    Ok(())
+}
+
+/// The keys both lift models read: `velFieldName` (standard name only), `interpolation`,
+/// `treatForceExplicit` (true only), `verbose`, [`KEYS_WITHOUT_EFFECT`], and `extra`.
+fn lift(
+    r: &Reader<'_>,
+    g: &Given<'_>,
+    s: &Setup,
+    extra: &[&str],
+) -> Result<(Dict, String), CoupleError> {
+    not_after_no_drag(r, g, s)?;
+    let (props, dict) = g.props(r)?;
+    let mut known = vec!["interpolation", "treatForceExplicit", "verbose"];
+    known.extend(KEYS_WITHOUT_EFFECT);
+    known.extend(extra);
+    r.check_props(&props, &dict, &known)?;
+    explicit_only(r, &props, &dict)?;
+    Ok((props, dict))
+}
+
+/// `MeiLift`: CFDEM-PUBLIC's keys (`useSecondOrderTerms`, which CFDEM switches on by the key
+/// alone — here the key alone or `true`; `false` is an error, since CFDEM would switch the
+/// terms on —, `scalarViscosity` false only) and CFDEM-PFM's (`useShearInduced` true only,
+/// `useSpinInduced` and `combineShearSpin` false only: foamgrain's particle sides give no spin),
+/// with the keys of [`lift`].
+pub(super) fn mei_lift(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let extra = [
+        "useSecondOrderTerms",
+        "scalarViscosity",
+        "useShearInduced",
+        "useSpinInduced",
+        "combineShearSpin",
+    ];
+    let (props, dict) = &lift(r, g, s, &extra)?;
+    fixed_switch(
+        r,
+        props,
+        dict,
+        "scalarViscosity",
+        false,
+        "the fluid's ν is used",
+    )?;
+    fixed_switch(
+        r,
+        props,
+        dict,
+        "useShearInduced",
+        true,
+        "it is the lift MeiLift computes",
+    )?;
+    let spin = "the particles' spin is not exchanged (CFDEM-PFM's getParticleAngVels)";
+    fixed_switch(r, props, dict, "useSpinInduced", false, spin)?;
+    fixed_switch(r, props, dict, "combineShearSpin", false, spin)?;
+    let second_order = match props.stream("useSecondOrderTerms") {
+        Err(_) => false,
+        Ok([]) => true,
+        Ok(_) => {
+            let key = format!("{dict}/useSecondOrderTerms");
+            if !r.switch(props, "useSecondOrderTerms", &key)? {
+                return Err(r.err(
+                    &key,
+                    "`false`: CFDEM switches the second-order terms on whenever the key is \
+                     present; remove the key to leave them off",
+                ));
+            }
+            true
+        }
+    };
+    s.forces.mei_lift = Some(LiftSettings {
+        interpolation: r.interpolation(props, dict)?,
+        second_order,
+        dem_only: false,
+    });
+    Ok(())
+}
+
+/// `SaffmanLift` (in neither CFDEM-PUBLIC nor CFDEM-PFM: Saffman's 1965 lift, with the 1968
+/// erratum's coefficient), with the keys of [`lift`] and `treatForceDEM`.
+pub(super) fn saffman_lift(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &lift(r, g, s, &["treatForceDEM"])?;
+    let key = format!("{dict}/treatForceDEM");
+    s.forces.saffman_lift = Some(LiftSettings {
+        interpolation: r.interpolation(props, dict)?,
+        second_order: false,
+        dem_only: r.opt_switch(props, "treatForceDEM", &key)?.unwrap_or(false),
     });
     Ok(())
 }

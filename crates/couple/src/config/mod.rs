@@ -13,6 +13,7 @@
 //! | `modelType` `A`, `B`, `Bfull` | [`closures::model::ModelType`] |
 //! | `couplingInterval` (integer ≥ 1) | DEM steps per coupling step |
 //! | `voidFractionModel` `centre`, `divided`, `trilinear`, and our `cube`, `correctedCube`, `exact` (with the other spellings of [`voidage::Method::names`], [`registry::VOIDAGE`]) | [`voidage::Method`]; `<name>Props/alphaMin` the ε floor (CFDEM's default 0.1 for its models, none for ours) |
+//! | `forceModels` `virtualMassForce`, `MeiLift`, `SaffmanLift` (`forces.rs` has their keys) | [`Forces::virtual_mass`], [`Forces::mei_lift`], [`Forces::saffman_lift`] |
 //! | `forceModels` (one drag law of [`registry::DRAG_LAWS`], closures' list, and [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
 //! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
@@ -48,6 +49,7 @@ mod transport;
 mod void_fraction;
 
 pub use commands::LiggghtsCommands;
+
 pub use heat::{HeatModel, HeatSettings, MaxSource};
 pub use monitors::Monitors;
 pub use transport::{read_gravity, read_transport};
@@ -102,6 +104,52 @@ pub struct Forces {
     pub archimedes: bool,
     /// `noDrag`, if listed.
     pub no_drag: Option<NoDrag>,
+    /// `virtualMassForce`: the added mass, if listed ([`crate::forces`] applies it).
+    pub virtual_mass: Option<VirtualMassSettings>,
+    /// `MeiLift`: CFDEM's shear lift ([`closures::forces::cfdem_mei_lift`]), if listed.
+    pub mei_lift: Option<LiftSettings>,
+    /// `SaffmanLift`: Saffman's (1965) lift ([`closures::forces::saffman_lift`]), if listed.
+    pub saffman_lift: Option<LiftSettings>,
+}
+
+impl Forces {
+    /// Whether a force model needs the fluid's vorticity ∇ × U ([`crate::FluidState::vorticity`]).
+    pub fn needs_vorticity(&self) -> bool {
+        self.mei_lift.is_some() || self.saffman_lift.is_some()
+    }
+
+    /// Whether a force model needs the fluid's DU/Dt = ∂U/∂t + ∇·(φU)
+    /// ([`crate::FluidState::ddt_u`]): `virtualMassForce` with `splitUrelCalculation`.
+    pub fn needs_ddt_u(&self) -> bool {
+        self.virtual_mass.is_some_and(|v| v.split)
+    }
+}
+
+/// `virtualMassForce` (CFDEM-PUBLIC and CFDEM-PFM): F = C_add ρ V_p a_rel on the particle,
+/// explicit, its reaction in `f` unless `treatForceDEM` ([`crate::forces`] has the two forms).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VirtualMassSettings {
+    /// `Cadd`, the added-mass coefficient (default 0.5, a sphere's).
+    pub c_add: f64,
+    /// `splitUrelCalculation`: the fluid part is the fluid's DU/Dt at the particle (default
+    /// false, CFDEM-PFM's: the change of u_f − v since the last coupling step).
+    pub split: bool,
+    /// How U (and DU/Dt) are evaluated at the particle.
+    pub interpolation: Interpolation,
+    /// `treatForceDEM`: the particle only, no reaction on the fluid.
+    pub dem_only: bool,
+}
+
+/// `MeiLift` and `SaffmanLift`: an explicit lift force, its reaction in `f` unless
+/// `treatForceDEM`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LiftSettings {
+    /// How U and ∇ × U are evaluated at the particle.
+    pub interpolation: Interpolation,
+    /// `MeiLift`'s `useSecondOrderTerms` (CFDEM-PUBLIC): Loth & Dorgan's spin term.
+    pub second_order: bool,
+    /// `treatForceDEM`: the particle only, no reaction on the fluid.
+    pub dem_only: bool,
 }
 /// `momCoupleModels`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]

@@ -311,9 +311,9 @@ pub const FORCES: Family = Family {
         ("fieldStore", acts(monitors::field_store)),
         ("particleCellVolume", acts(monitors::particle_cell_volume)),
         ("volWeightedAverage", acts(monitors::vol_weighted_average)),
-        ("virtualMassForce", refuse("not implemented")),
-        ("MeiLift", refuse("not implemented")),
-        ("SaffmanLift", refuse("not implemented")),
+        ("virtualMassForce", acts(forces::virtual_mass)),
+        ("MeiLift", acts(forces::mei_lift)),
+        ("SaffmanLift", acts(forces::saffman_lift)),
         (
             "ArchimedesIB",
             refuse("immersed-boundary models are not implemented"),
