@@ -50,6 +50,7 @@ pub mod interpolate;
 pub mod memory;
 pub mod monitor;
 pub mod output;
+pub mod parcels;
 pub mod periodic;
 pub mod population;
 pub mod ranks;
