@@ -200,8 +200,9 @@ fn errors_name_file_and_key() {
     );
     fails(
         "interpolation true;",
-        "interpolation true; scaleDrag 2;",
-        &["GidaspowDragProps/scaleDrag", "unknown"],
+        // (scaleDrag was this example until coarse graining made it a key that acts)
+        "interpolation true; dragScale 2;",
+        &["GidaspowDragProps/dragScale", "unknown"],
     );
     fails(
         "switchingVoidfraction 0.7;",

@@ -322,7 +322,9 @@ pub fn refuse_coarse_graining(
         (
             cg.line,
             format!(
-                "`coarsegraining {}` is LIGGGHTS-PFM's command: Debian's LIGGGHTS 3.8.0 has no                  coarse graining (it would stop here). Run this deck on the native DEM                  (`--dem native`), which scales the parcels as LIGGGHTS-PFM does",
+                "`coarsegraining {}` is LIGGGHTS-PFM's command: Debian's LIGGGHTS 3.8.0 has no \
+                 coarse graining (it would stop here). Run this deck on the native DEM \
+                 (`--dem native`), which scales the parcels as LIGGGHTS-PFM does",
                 cg.factor
             ),
         )
@@ -620,6 +622,8 @@ mod tests {
             (GOOD.replace("fix cfd all couple/cfd couple_every 50 mpi\n", ""), 4, "before"),
             (format!("{GOOD}include more.in\n"), 10, "include"),
             (format!("{GOOD}fix c all couple/cfd mpi\n"), 10, "second"),
+            // LIGGGHTS-PFM's command (ErgunTestCG): Debian's LIGGGHTS has no coarse graining
+            (format!("coarsegraining 2\n{GOOD}"), 1, "Debian's LIGGGHTS 3.8.0 has no coarse"),
         ];
         for (src, line, what) in cases {
             let e = deck(&src).unwrap_err();

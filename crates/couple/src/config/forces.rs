@@ -80,7 +80,7 @@ pub(super) fn read_forces(
 /// `coarsegraining`, as PFM's `scaleDia_ > 1` test does) and `scaleDrag` (> 0) of a drag law's
 /// Props ([`closures::Parcel`]).
 fn parcel(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<Parcel, CoupleError> {
-    let mut factor = |key: &str| -> Result<f64, CoupleError> {
+    let factor = |key: &str| -> Result<f64, CoupleError> {
         match props.contains(key) {
             true => r.number(props, key, &format!("{dict}/{key}")),
             false => Ok(1.0),
