@@ -21,7 +21,7 @@ pub mod input;
 pub mod model;
 pub mod timestep;
 
-pub use drag::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR, DRAG_LAW_NAMES};
+pub use drag::{DragClosure, DragLaw, Parcel, DEFAULT_VOIDAGE_FLOOR, DRAG_LAW_NAMES};
 pub use error::ClosureError;
 pub use heat::{nusselt, Nusselt};
 pub use input::{sphere_volume, DragInput};

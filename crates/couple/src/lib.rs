@@ -55,6 +55,7 @@ pub mod ksl;
 pub mod memory;
 pub mod monitor;
 pub mod output;
+pub mod parcels;
 pub mod periodic;
 pub mod population;
 pub mod probe;

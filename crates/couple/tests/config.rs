@@ -200,8 +200,9 @@ fn errors_name_file_and_key() {
     );
     fails(
         "interpolation true;",
-        "interpolation true; scaleDrag 2;",
-        &["GidaspowDragProps/scaleDrag", "unknown"],
+        // (scaleDrag was this example until coarse graining made it a key that acts)
+        "interpolation true; dragScale 2;",
+        &["GidaspowDragProps/dragScale", "unknown"],
     );
     fails(
         "switchingVoidfraction 0.7;",
@@ -619,4 +620,47 @@ fn added_mass_and_lift_keys() {
             "{e}"
         );
     }
+}
+
+/// CFDEM-PFM's `scale` in a drag law's Props: the parcel of diameter d is CG³ particles of
+/// d/CG. Hand-computed with PFM's KochHillDrag.C (β = V_s·betaP with betaP at ds/scale, V_s
+/// the parcel's volume): the particle of `cfdem_drag_clamps_the_interpolated_voidage` (d = 1 mm,
+/// β = 2.12131699739e-4 kg/s) as a parcel of 2 mm with scale 2 has β = 8 × that; `scaleDrag 3`
+/// triples it. `implDEM_` (ErgunTestCG's) is a warning: PFM reads no such key.
+#[test]
+fn pfm_scale_makes_the_drag_a_parcels() {
+    let with = |props: &str| {
+        let text = BASE
+            .replace("GidaspowDrag Archimedes", "KochHillDrag Archimedes")
+            .replace(
+                "GidaspowDragProps { switchingVoidfraction 0.7; interpolation true; }",
+                &format!("KochHillDragProps {{ interpolation true; {props} }}"),
+            );
+        read(&text)
+    };
+    let x = closures::DragInput::new(0.3, 2e-3, 0.01, 10.0, 1.5e-4 * 10.0);
+    let c = with("scale 2;").unwrap();
+    let beta = c.forces.drag.unwrap().closure.beta(&x);
+    assert!(
+        (beta / (8.0 * 2.121_316_997_393_3e-4) - 1.0).abs() < 1e-12,
+        "β = {beta}"
+    );
+    let c = with("scale 2; scaleDrag 3; implDEM_;").unwrap();
+    let beta = c.forces.drag.unwrap().closure.beta(&x);
+    assert!(
+        (beta / (24.0 * 2.121_316_997_393_3e-4) - 1.0).abs() < 1e-12,
+        "β = {beta}"
+    );
+    assert!(
+        c.warnings.iter().any(|w| w.contains("implDEM_")),
+        "{:?}",
+        c.warnings
+    );
+    let e = with("scale 0.5;").unwrap_err();
+    assert!(
+        e.contains("KochHillDragProps/scale") && e.contains("≥ 1"),
+        "{e}"
+    );
+    let e = with("scaleDrag -1;").unwrap_err();
+    assert!(e.contains("KochHillDragProps/scaleDrag"), "{e}");
 }

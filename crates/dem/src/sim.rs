@@ -520,6 +520,11 @@ impl Simulation {
         self.coupling = Coupling::default();
     }
 
+    /// The neighbour skin (m): `neighbor SKIN`, with `coarsegraining CG` CG × SKIN.
+    pub fn skin(&self) -> f64 {
+        self.pairs.skin
+    }
+
     /// Marks the stored forces stale (after editing positions or velocities directly).
     pub fn invalidate_forces(&mut self) {
         self.forces_valid = false;

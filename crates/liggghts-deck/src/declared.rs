@@ -2,8 +2,8 @@
 //! accessors that every crate uses instead of interpreting commands itself — the DEM time step,
 //! the files the deck reads and writes, the `processors` grid, CFDEM's coupling fixes
 //! (`couple/cfd`, `couple/cfd/force[/implicit]`, and `couple/cfd/convection`, which makes the
-//! DEM take a convective heat flow per particle) and the material values the time-step advice
-//! reads.
+//! DEM take a convective heat flow per particle), LIGGGHTS-PFM's `coarsegraining` factor and the
+//! material values the time-step advice reads.
 //!
 //! Executing a command stays the executor's business (`dem`), and the checks LIGGGHTS needs
 //! before it sees a coupled deck stay `liggghts`'s; what a command *says* is read here, once.
@@ -139,6 +139,74 @@ pub struct Materials {
     pub thermal_capacity: Option<f64>,
     /// `thermalConductivity peratomtype` (first type), W/(m K).
     pub thermal_conductivity: Option<f64>,
+}
+
+/// What LIGGGHTS-PFM does with a model that coarse graining does not scale consistently
+/// (`coarsegraining CG model_check error|warn`; its `doc/coarsegraining.txt`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelCheck {
+    /// Such a model is an error (PFM's default).
+    Error,
+    /// Such a model is a warning; it runs unscaled.
+    Warn,
+}
+
+/// `coarsegraining CG [model_check error|warn]` (LIGGGHTS-PFM, not Debian's LIGGGHTS 3.8.0):
+/// each particle is a parcel standing for CG³ particles of radius r/CG. PFM multiplies the
+/// radii of `particletemplate/sphere … radius constant` and of `set … diameter`, and the
+/// neighbour skin and bin size, by CG; CFDEM-PFM's drag laws evaluate a particle of diameter
+/// d/CG and multiply its drag by CG³.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoarseGraining {
+    /// 1-based line of the command.
+    pub line: usize,
+    /// The factor CG ≥ 1 (dimensionless).
+    pub factor: f64,
+    /// `model_check` (default `error`).
+    pub model_check: ModelCheck,
+}
+
+impl CoarseGraining {
+    /// The arguments of a `coarsegraining` command, with LIGGGHTS-PFM's checks
+    /// (`src/coarsegraining.cpp`): a number ≥ 1, then only `model_check error|warn`. The
+    /// error is the message without the location ([`Deck::coarse_graining`] adds it).
+    pub fn parse(c: &Command) -> Result<CoarseGraining, String> {
+        let w = &c.words;
+        let factor = w
+            .get(1)
+            .and_then(|s| s.parse::<f64>().ok())
+            .filter(|x| x.is_finite())
+            .ok_or("coarsegraining: expected the factor CG (a number)")?;
+        if factor < 1.0 {
+            return Err(format!(
+                "coarsegraining {factor}: the factor must be ≥ 1 (LIGGGHTS-PFM: cg > 1 expected)"
+            ));
+        }
+        let mut model_check = ModelCheck::Error;
+        let mut k = 2;
+        while k < w.len() {
+            model_check = match (w[k].as_str(), w.get(k + 1).map(String::as_str)) {
+                ("model_check", Some("error")) => ModelCheck::Error,
+                ("model_check", Some("warn")) => ModelCheck::Warn,
+                ("model_check", _) => {
+                    return Err(
+                        "coarsegraining: expected `error` or `warn` after `model_check`".into(),
+                    )
+                }
+                (other, _) => {
+                    return Err(format!(
+                        "coarsegraining: unknown keyword `{other}` (model_check)"
+                    ))
+                }
+            };
+            k += 2;
+        }
+        Ok(CoarseGraining {
+            line: c.line,
+            factor,
+            model_check,
+        })
+    }
 }
 
 impl Materials {
@@ -292,7 +360,21 @@ impl Deck {
         Ok(out)
     }
 
+    /// The deck's `coarsegraining` command (the last one), `None` without one: the one
+    /// reader of the factor ([`CoarseGraining::parse`]), for the coupler's drag and for the
+    /// checks of a deck Debian's LIGGGHTS would run. An ill-formed one is an error naming its
+    /// line.
+    pub fn coarse_graining(&self) -> Result<Option<CoarseGraining>, DeckError> {
+        let mut out = None;
+        for c in self.named("coarsegraining") {
+            out = Some(CoarseGraining::parse(c).map_err(|m| self.syntax(c, m))?);
+        }
+        Ok(out)
+    }
+
     /// The material values for the time-step advice (later commands override earlier ones).
+    /// Radii are the particles' as the deck makes them: with `coarsegraining CG` the parcels'
+    /// (CG × the written radius, as LIGGGHTS-PFM scales them).
     pub fn materials(&self) -> Materials {
         let mut s = Materials {
             timestep: self.time_step(),
@@ -340,6 +422,9 @@ impl Deck {
                 }
                 _ => {}
             }
+        }
+        if let Ok(Some(cg)) = self.coarse_graining() {
+            s.radius = s.radius.map(|r| r * cg.factor);
         }
         s
     }
@@ -590,5 +675,38 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("in.t:3:") && e.contains("rank count"), "{e}");
+    }
+
+    /// ErgunTestCG's way of writing it: the factor through an `equal` variable; the parcels'
+    /// radius in the time-step advice is CG × the written one.
+    #[test]
+    fn coarse_graining_is_read_once_with_pfms_checks() {
+        let d = deck(
+            "variable cg equal 2\natom_style granular\ncoarsegraining ${cg}\n\
+             fix pts all particletemplate/sphere 1 atom_type 1 density constant 7000 &\n\
+             radius constant 0.00025\n",
+        );
+        let cg = d.coarse_graining().unwrap().unwrap();
+        assert_eq!(
+            (cg.line, cg.factor, cg.model_check),
+            (3, 2.0, ModelCheck::Error)
+        );
+        assert_eq!(d.materials().radius, Some(0.0005));
+        let warn = deck("coarsegraining 3 model_check warn\n");
+        let cg = warn.coarse_graining().unwrap().unwrap();
+        assert_eq!((cg.factor, cg.model_check), (3.0, ModelCheck::Warn));
+        assert_eq!(deck("run 1\n").coarse_graining().unwrap(), None);
+        for (src, says) in [
+            ("x\ncoarsegraining 0.5\n", "must be ≥ 1"),
+            ("x\ncoarsegraining\n", "expected the factor"),
+            (
+                "x\ncoarsegraining 2 model_check maybe\n",
+                "`error` or `warn`",
+            ),
+            ("x\ncoarsegraining 2 skin 3\n", "unknown keyword `skin`"),
+        ] {
+            let e = deck(src).coarse_graining().unwrap_err().to_string();
+            assert!(e.starts_with("in.t:2:") && e.contains(says), "{e}");
+        }
     }
 }

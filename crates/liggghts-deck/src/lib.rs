@@ -29,8 +29,8 @@ pub mod format;
 pub mod lines;
 
 pub use declared::{
-    CfdFix, ConvectionFix, CoupleFix, CoupledDeck, DataCoupling, DeckFile, ForceFix,
-    ForceLawOption, Materials, Processors,
+    CfdFix, CoarseGraining, ConvectionFix, CoupleFix, CoupledDeck, DataCoupling, DeckFile,
+    ForceFix, ForceLawOption, Materials, ModelCheck, Processors,
 };
 
 use std::collections::HashMap;

@@ -12,6 +12,7 @@
 //! - trailing `run` commands are skipped (the coupler issues its own runs) and reported; a `run`
 //!   after `couple/cfd` that is followed by other commands cannot be replaced and is an error;
 //! - `include`, `jump`, `label` and `next` are refused (the checks could not see through them);
+//! - `coarsegraining` (LIGGGHTS-PFM's) is refused: Debian's LIGGGHTS has no coarse graining;
 //! - files named by `read_data` and `read_restart` exist in the working directory;
 //! - a `processors Px Py Pz` grid matches the ranks LIGGGHTS gets ([`CouplingDeck::check_ranks`]).
 //!
@@ -87,6 +88,7 @@ impl CouplingDeck {
             message,
         };
         refuse_hidden_commands(&deck).map_err(|(l, m)| err(l, m))?;
+        refuse_coarse_graining(&deck)?.map_or(Ok(()), |(l, m)| Err(err(l, m)))?;
         let (couple, force) = coupling_fixes(deck.cfd_fixes()?).map_err(|(l, m)| err(l, m))?;
         let map = deck
             .named("atom_modify")
@@ -308,6 +310,25 @@ fn physical_span(lines: &[&str], line: usize) -> Range<usize> {
         end += 1;
     }
     start..(end + 1).min(lines.len())
+}
+
+/// `coarsegraining` (LIGGGHTS-PFM's command, `Deck::coarse_graining`) is refused: Debian's
+/// LIGGGHTS 3.8.0 has no coarse graining and would stop at it. `Some((line, message))` when
+/// the deck has one; an ill-formed one is the deck's syntax error.
+pub fn refuse_coarse_graining(
+    deck: &Deck,
+) -> Result<Option<(usize, String)>, liggghts_deck::DeckError> {
+    Ok(deck.coarse_graining()?.map(|cg| {
+        (
+            cg.line,
+            format!(
+                "`coarsegraining {}` is LIGGGHTS-PFM's command: Debian's LIGGGHTS 3.8.0 has no \
+                 coarse graining (it would stop here). Run this deck on the native DEM \
+                 (`--dem native`), which scales the parcels as LIGGGHTS-PFM does",
+                cg.factor
+            ),
+        )
+    }))
 }
 
 /// `include`, `jump`, `label` and `next` are refused: the checks could not see through them.
@@ -601,6 +622,8 @@ mod tests {
             (GOOD.replace("fix cfd all couple/cfd couple_every 50 mpi\n", ""), 4, "before"),
             (format!("{GOOD}include more.in\n"), 10, "include"),
             (format!("{GOOD}fix c all couple/cfd mpi\n"), 10, "second"),
+            // LIGGGHTS-PFM's command (ErgunTestCG): Debian's LIGGGHTS has no coarse graining
+            (format!("coarsegraining 2\n{GOOD}"), 1, "Debian's LIGGGHTS 3.8.0 has no coarse"),
         ];
         for (src, line, what) in cases {
             let e = deck(&src).unwrap_err();

@@ -115,6 +115,16 @@ pub fn run_deck(
             deck.display()
         )));
     }
+    let refused = crate::deck::refuse_coarse_graining(&liggghts_deck::Deck::read_with_vars(
+        &deck_abs, vars,
+    )?)?;
+    if let Some((line, message)) = refused {
+        return Err(LiggghtsError::Deck {
+            file: deck.to_path_buf(),
+            line,
+            message,
+        });
+    }
     let workdir = absolute(workdir)?;
     let log = workdir.join(format!("log.{name}"));
     let screen = workdir.join(format!("screen.{name}"));

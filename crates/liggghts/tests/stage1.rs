@@ -57,6 +57,29 @@ fn a_failing_deck_reports_the_tail_of_its_log() {
     assert!(e.contains("log.bad"), "{e}");
 }
 
+/// A stage-1 deck with LIGGGHTS-PFM's `coarsegraining` (ErgunTestCG's init deck) is refused
+/// before the binary starts, with a message saying Debian's LIGGGHTS has no coarse graining
+/// (it would stop with "Unknown command"). No binary is needed for the refusal.
+#[test]
+fn a_coarse_grained_deck_is_refused_before_liggghts_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("in.cg");
+    std::fs::write(
+        &deck,
+        "variable cg equal 2\natom_style granular\ncoarsegraining ${cg}\nunits si\n",
+    )
+    .unwrap();
+    let e = liggghts::run_deck(&deck, dir.path(), &[], "cg")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("in.cg") && e.contains(":3"), "{e}");
+    assert!(
+        e.contains("Debian's LIGGGHTS 3.8.0 has no coarse graining"),
+        "{e}"
+    );
+    assert!(!dir.path().join("log.cg").exists());
+}
+
 /// Seeds Debian's LIGGGHTS 3.8.0 refuses by default (not prime, as CFDEM-PFM's
 /// bubblingFluidizedBed gives) are only a warning with foamgrain's `-seedtolerant`: the deck
 /// packs its spheres and writes its data file.

@@ -129,6 +129,8 @@ fn ergun(
 ) -> Result<Vec<Check>, RunError> {
     let ph = &settings.physics;
     let mu = ph.nu * ph.rho;
+    // Ergun's law is the real particles': a parcel of diameter d stands for CG³ of d/CG
+    let cg = settings.coarse_graining();
     let mut checks = Vec::new();
     let Some(first) = samples.first() else {
         return Ok(vec![Check::new("samples recorded", 0.0, 1.0, "", 0.0)]);
@@ -138,7 +140,7 @@ fn ergun(
     let (l0, e0, d0) = (
         v(first.bed_height),
         v(first.bed_voidage),
-        v(first.sauter_diameter),
+        v(first.sauter_diameter) / cg,
     );
     let weight = v(first.weight_per_area);
     let u_mf = ergun_velocity_for(weight, l0, e0, d0, mu, ph.rho);
@@ -150,7 +152,7 @@ fn ergun(
         if u <= 0.8 * u_mf {
             below += 1;
             let reference =
-                ergun_pressure_gradient(u, voidage, v(s.sauter_diameter), mu, ph.rho) * height;
+                ergun_pressure_gradient(u, voidage, v(s.sauter_diameter) / cg, mu, ph.rho) * height;
             checks.push(Check::new(
                 &format!(
                     "pressure drop at u = {u:.4} m/s vs Ergun (L = {height:.5} m, ε = {voidage:.4})"

@@ -136,6 +136,15 @@ impl RunPlan {
                 .map_err(|e| RunError::Fluid(Box::new(e)))?;
         }
         let run_deck = Deck::read(&layout.run_deck)?;
+        // parcels (LIGGGHTS-PFM's `coarsegraining`): the drag at the real particles' diameter
+        let settings = match run_deck.coarse_graining()? {
+            Some(cg) => settings.with_coarse_graining(
+                cg.factor,
+                &format!("{}:{}", layout.run_deck.display(), cg.line),
+                &layout.coupling.file,
+            )?,
+            None => settings.with_coarse_graining(1.0, "", &layout.coupling.file)?,
+        };
         if let (None, Some(c)) = (
             settings.heat,
             run_deck.fixes("couple/cfd/convection").next(),

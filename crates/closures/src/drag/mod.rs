@@ -11,11 +11,13 @@ pub mod di_felice;
 pub mod ergun;
 pub mod gidaspow;
 pub mod koch_hill;
+pub mod parcel;
 pub mod schiller_naumann;
 pub mod wen_yu;
 
 use crate::error::ClosureError;
 use crate::input::DragInput;
+pub use parcel::Parcel;
 
 /// Default lower bound on ε applied by [`DragLaw::beta`] (the laws with 1/ε or ε^−n terms
 /// blow up at ε → 0; a cell full of particle volume is a voidage-model artefact). 0.1 is
@@ -173,13 +175,17 @@ impl DragLaw {
     }
 }
 
-/// A configured drag closure: a law and the voidage floor applied before evaluating it.
+/// A configured drag closure: a law, the voidage floor applied before evaluating it, and the
+/// coarse graining of the particles it acts on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DragClosure {
     /// The law.
     pub law: DragLaw,
     /// ε is clamped to [`voidage_floor`, 1] before the law sees it; in (0, 1].
     pub voidage_floor: f64,
+    /// The parcels' coarse graining ([`parcel`]); [`Parcel::REAL`] unless set with
+    /// [`DragClosure::with_parcel`].
+    pub parcel: Parcel,
 }
 
 impl DragClosure {
@@ -194,13 +200,28 @@ impl DragClosure {
                 reason: "must be in (0, 1]",
             });
         }
-        Ok(DragClosure { law, voidage_floor })
+        Ok(DragClosure {
+            law,
+            voidage_floor,
+            parcel: Parcel::REAL,
+        })
     }
 
-    /// β (kg/s) of the law at ε clamped to [`voidage_floor`, 1].
+    /// The same closure acting on parcels `parcel` ([`parcel`]).
+    pub fn with_parcel(self, parcel: Parcel) -> Self {
+        DragClosure { parcel, ..self }
+    }
+
+    /// β (kg/s) of the law at ε clamped to [`voidage_floor`, 1]; for parcels, the law at the
+    /// real particles' diameter times scaleDrag·CG³ ([`Parcel`]).
     #[inline]
     pub fn beta(&self, x: &DragInput) -> f64 {
-        self.law.beta_floored(x, self.voidage_floor)
+        if self.parcel.is_real() {
+            return self.law.beta_floored(x, self.voidage_floor);
+        }
+        let real = self.parcel.real_particle(x);
+        self.parcel
+            .scale(self.law.beta_floored(&real, self.voidage_floor))
     }
 }
 
@@ -209,6 +230,7 @@ impl From<DragLaw> for DragClosure {
         DragClosure {
             law,
             voidage_floor: DEFAULT_VOIDAGE_FLOOR,
+            parcel: Parcel::REAL,
         }
     }
 }

@@ -10,7 +10,7 @@ use super::registry::{DRAG_LAWS, FORCES};
 use super::{Built, DragSettings, Given, LiftSettings, NoDrag, Reader, Setup, VirtualMassSettings};
 use crate::error::CoupleError;
 use crate::interpolate::Interpolation;
-use closures::{DragClosure, DragLaw, DEFAULT_VOIDAGE_FLOOR};
+use closures::{DragClosure, DragLaw, Parcel, DEFAULT_VOIDAGE_FLOOR};
 use foam::Dict;
 
 /// Props keys of a drag law that act, by law.
@@ -21,6 +21,8 @@ pub(super) fn drag_keys(law: DragLaw) -> Vec<&'static str> {
         "treatForceExplicit",
         "treatForceDEM",
         "verbose",
+        "scale",
+        "scaleDrag",
     ];
     if matches!(law, DragLaw::Gidaspow { .. }) {
         known.extend(["switchingVoidfraction", "phi"]);
@@ -29,7 +31,7 @@ pub(super) fn drag_keys(law: DragLaw) -> Vec<&'static str> {
 }
 
 /// Props keys of drag laws that CFDEM reads but that change nothing here, with why.
-const DRAG_KEYS_WITHOUT_EFFECT: [(&str, &str); 2] = [
+const DRAG_KEYS_WITHOUT_EFFECT: [(&str, &str); 3] = [
     (
         "rhoParticle",
         "the particle densities come from the DEM (CFDEM-PFM's BeetstraDrag does not read it either)",
@@ -37,6 +39,11 @@ const DRAG_KEYS_WITHOUT_EFFECT: [(&str, &str); 2] = [
     (
         "implForceDEMaccumulated",
         "foamgrain's implicit DEM drag is applied every DEM step already",
+    ),
+    (
+        "implDEM_",
+        "CFDEM-PFM reads no key of that name (its switch is implForceDEM; PFM's ErgunTestCG \
+         writes it)",
     ),
 ];
 
@@ -67,6 +74,23 @@ pub(super) fn read_forces(
         }
     }
     Ok(())
+}
+
+/// CFDEM-PFM's `scale` (the parcels' coarse-graining factor, ≥ 1; 1 leaves it to the DEM's
+/// `coarsegraining`, as PFM's `scaleDia_ > 1` test does) and `scaleDrag` (> 0) of a drag law's
+/// Props ([`closures::Parcel`]).
+fn parcel(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<Parcel, CoupleError> {
+    let factor = |key: &str| -> Result<f64, CoupleError> {
+        match props.contains(key) {
+            true => r.number(props, key, &format!("{dict}/{key}")),
+            false => Ok(1.0),
+        }
+    };
+    let (cg, scale_drag) = (factor("scale")?, factor("scaleDrag")?);
+    Parcel::new(cg, scale_drag).map_err(|e| {
+        let key = if cg >= 1.0 { "scaleDrag" } else { "scale" };
+        r.err(&format!("{dict}/{key}"), e.to_string())
+    })
 }
 
 /// noDrag removes the forces of the models listed before it (CFDEM's order); foamgrain
@@ -180,7 +204,9 @@ pub(super) fn drag(
         Interpolation::Smooth => law.cfdem_interpolated_floor(),
         Interpolation::Cell => DEFAULT_VOIDAGE_FLOOR,
     };
-    let closure = DragClosure::new(law, floor).map_err(|e| r.err(dict, e.to_string()))?;
+    let closure = DragClosure::new(law, floor)
+        .map_err(|e| r.err(dict, e.to_string()))?
+        .with_parcel(parcel(r, props, dict)?);
     let flag = |key: &str| -> Result<bool, CoupleError> {
         Ok(r.opt_switch(props, key, &format!("{dict}/{key}"))?
             .unwrap_or(false))

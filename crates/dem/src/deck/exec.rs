@@ -75,6 +75,7 @@ use commands::Action;
 use liggghts_deck::{Command, Deck, Variables};
 
 mod args;
+mod coarse_graining;
 mod commands;
 mod fixes;
 
@@ -190,6 +191,10 @@ pub struct Session<'a> {
     /// Temperatures and heat flows (by particle id) of the last `read_restart`, taken up by the
     /// first heat fix (LIGGGHTS's `Temp` and `heatFlux` restart blocks).
     restart_heat: Option<HashMap<u64, (f64, Option<f64>)>>,
+    /// `coarsegraining` ([`coarse_graining`]), if given.
+    coarse_graining: Option<liggghts_deck::CoarseGraining>,
+    /// How many `fix` commands were executed (`coarsegraining` must come before any).
+    fixes_defined: usize,
 }
 
 impl Simulation {
@@ -235,6 +240,8 @@ impl<'a> Session<'a> {
             build_warnings: Vec::new(),
             continuation: None,
             restart_heat: None,
+            coarse_graining: None,
+            fixes_defined: 0,
         }
     }
 

@@ -7,7 +7,7 @@
 
 use liggghts_deck::Command;
 
-use super::{fixes, Failure, Session};
+use super::{coarse_graining, fixes, Failure, Session};
 
 mod atoms;
 mod output;
@@ -39,6 +39,7 @@ static COMMANDS: &[CommandStyle] = &[
     row(&["atom_style"], setup::atom_style),
     row(&["atom_modify"], setup::atom_modify),
     row(&["units"], setup::units),
+    row(&["coarsegraining"], coarse_graining::coarsegraining),
     CommandStyle {
         names: &[
             "newton",

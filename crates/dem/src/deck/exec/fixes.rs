@@ -94,6 +94,7 @@ pub(super) fn fix(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
     let Some(row) = FIXES.iter().find(|f| f.names.contains(&style)) else {
         return Err(format!("fix style `{style}` is not supported by the native DEM").into());
     };
+    session.fixes_defined += 1;
     (row.handler)(
         session,
         Fix {

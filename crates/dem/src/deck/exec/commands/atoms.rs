@@ -12,6 +12,7 @@ use super::super::{Failure, Session};
 
 pub(super) fn create_atoms(session: &mut Session<'_>, c: &Command) -> Result<(), Failure> {
     let w = &c.words;
+    session.coarse_graining_check("create_atoms")?;
     let t = int(w, 1, "atom type")? as u32;
     if word(w, 2, "style")? != "single" {
         return Err("only `create_atoms T single x y z [units box]` is supported".into());
@@ -78,7 +79,10 @@ pub(super) fn set(session: &mut Session<'_>, c: &Command) -> Result<(), Failure>
     let mut k = 3;
     while k < w.len() {
         match w[k].as_str() {
-            "diameter" => radius = Some(0.5 * num(w, k + 1, "diameter")?),
+            // LIGGGHTS-PFM: the parcels' diameter is CG × the written one
+            "diameter" => {
+                radius = Some(0.5 * session.coarse_grained() * num(w, k + 1, "diameter")?)
+            }
             "density" => density = Some(num(w, k + 1, "density")?),
             o => return Err(format!("set keyword `{o}` is not supported").into()),
         }

@@ -254,7 +254,8 @@ pub(super) fn neighbor(session: &mut Session<'_>, c: &Command) -> Result<(), Fai
     if s < 0.0 {
         return Err("skin must be ≥ 0".into());
     }
-    session.pending.skin = Some(s);
+    // LIGGGHTS-PFM scales the skin with the parcels
+    session.pending.skin = Some(session.coarse_grained() * s);
     Ok(())
 }
 
@@ -306,6 +307,7 @@ pub(super) fn pair_style(session: &mut Session<'_>, c: &Command) -> Result<(), F
     if k != w.len() {
         return Err(format!("unexpected `{}` in pair_style", w[k]).into());
     }
+    session.coarse_graining_contact(&m)?;
     session.pending.pair_model = Some(m);
     Ok(())
 }

@@ -36,6 +36,7 @@ pub(in crate::deck::exec) enum HeatFix {
 /// [area_correction yes|no] [store_contact_data no]` (LIGGGHTS's keywords; others refused).
 pub(super) fn heat_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), Failure> {
     let w = fix.words;
+    session.coarse_graining_check(fix.style)?;
     if word(w, 4, "`initial_temperature`")? != "initial_temperature" {
         return Err(format!("{}: expecting keyword `initial_temperature`", fix.style).into());
     }

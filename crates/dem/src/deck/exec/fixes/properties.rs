@@ -78,7 +78,8 @@ pub(super) fn particletemplate_sphere(
                 k += 3;
             }
             "radius" => {
-                t.radius = constant(k, "radius")?;
+                // LIGGGHTS-PFM: the parcels' radius is CG × the written one
+                t.radius = session.coarse_grained() * constant(k, "radius")?;
                 k += 3;
             }
             o => return Err(format!("particletemplate keyword `{o}` is not supported").into()),

@@ -15,6 +15,7 @@ pub(super) fn wall_gran(session: &mut Session<'_>, fix: Fix<'_>) -> Result<(), F
     let w = fix.words;
     let id = fix.id;
     let (model, mut k) = contact_model(w, 4)?;
+    session.coarse_graining_contact(&model)?;
     if word(w, k, "`primitive` or `mesh`")? == "mesh" {
         let wall = mesh_wall(session, &id, model, &w[k + 1..])?;
         match &mut session.sim {
