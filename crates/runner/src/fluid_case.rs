@@ -99,9 +99,13 @@ pub fn run_fluid(
     let control = read_control(case)?;
     check_application(&control)?;
     check_function_objects(&control)?;
-    let mut fluid = Fluid::from_case(case).map_err(fluid_error)?;
+    // the controlDict and the mesh are read once, here, and handed to the fluid
+    let foam_case = foam::case::Case::open(case)?;
+    let settings = fv::settings::Settings::read_with_control(&foam_case, &control.body)
+        .map_err(fluid_error)?;
+    let mesh = foam_case.read_mesh()?;
+    let mut fluid = Fluid::from_case_with(foam_case, settings, &mesh).map_err(fluid_error)?;
     let cells = fluid.geometry().n_cells;
-    let mesh = foam::case::Case::open(case)?.read_mesh()?;
     let geometry = mesh::geometry::MeshGeometry::new(&mesh).map_err(|e| RunError::Setup {
         file: case.join("constant/polyMesh"),
         message: e.to_string(),
