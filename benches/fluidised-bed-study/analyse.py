@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Issue 31: one fluidised-bed run's figures over an averaging window.
 
-usage: analyse.py RUN_DIR [t0 t1]   (default window 0.55 ... 1.0 s)
+usage: analyse.py RUN_DIR [t0 t1 [block]]   (default window 0.55 ... 1.0 s; block: the length of
+the blocks whose means give the standard errors, default 0.5 s)
 
 From postProcessing/integrals.csv (the run's own per-step samples): the mean surface height
 (runner::Bed::height: mean over 2d bins of the highest particle top), its standard deviation,
@@ -16,6 +17,7 @@ import csv, glob, math, os, sys
 
 run = sys.argv[1]
 t0, t1 = (float(sys.argv[2]), float(sys.argv[3])) if len(sys.argv) > 3 else (0.55, 1.0)
+block = float(sys.argv[4]) if len(sys.argv) > 4 else 0.5
 W, T = 0.0432, 0.01
 A = W * T
 
@@ -29,9 +31,23 @@ h_init = float(rows[0]["bed_height"])
 mean = lambda v: sum(v) / len(v)
 hm = mean(h)
 hs = math.sqrt(mean([(x - hm) ** 2 for x in h]))
+def block_se(pairs):
+    """Standard error of the mean from the means of consecutive blocks of `block` s."""
+    nb = int((t1 - t0) / block + 1e-9)
+    if nb < 2:
+        return float("nan")
+    means = []
+    for b in range(nb):
+        v = [x for t, x in pairs if t0 + b * block < t <= t0 + (b + 1) * block]
+        if v:
+            means.append(sum(v) / len(v))
+    m = sum(means) / len(means)
+    return math.sqrt(sum((x - m) ** 2 for x in means) / (len(means) - 1) / len(means))
+h_pairs = [(float(r["time"]), float(r["bed_height"])) for r in rows
+           if r["bed_height"] != "" and t0 <= float(r["time"]) <= t1]
 out = {
     "window": f"{t0}-{t1}", "samples": len(h), "h_initial": h_init, "h_mean": hm, "h_std": hs,
-    "expansion": hm / h_init, "dp_over_weight": mean(dp) / mean(wt), "particles": rows[-1]["particles"],
+    "h_mean_stderr(blocks)": block_se(h_pairs), "expansion": hm / h_init, "dp_over_weight": mean(dp) / mean(wt), "particles": rows[-1]["particles"],
 }
 
 def slab_volume(r, zc, a, b):
@@ -51,6 +67,7 @@ dt_dem = 2.5e-6
 tops99, h01, hhalf = [], [], []
 phi_sum = [0.0] * 125
 prof = {0.0164: [0.0] * 22, 0.0312: [0.0] * 22}
+inner_series = {0.0164: [], 0.0312: []}   # (t, width mean of the inner 20 bins) per dump
 nd = 0
 for step, f, lines in dumps:
     t = step * dt_dem
@@ -74,10 +91,13 @@ for step, f, lines in dumps:
     hhalf.append(next(((k + 0.5) * 0.001 for k in range(nz) if k > 5 and phi[k] < dense / 2), float("nan")))
     for zc in prof:
         a, b = zc - 0.001, zc + 0.001
+        one = [0.0] * 22
         for x, z, r in zip(xs, zs, rs):
             if z + r > a and z - r < b:
                 j = min(21, max(0, int(x / (W / 22))))
-                prof[zc][j] += slab_volume(r, z, a, b) / ((W / 22) * T * 0.002)
+                one[j] += slab_volume(r, z, a, b) / ((W / 22) * T * 0.002)
+        prof[zc] = [p + o for p, o in zip(prof[zc], one)]
+        inner_series[zc].append((t, 1 - mean(one[1:21])))
     nd += 1
 if nd:
     out.update({"dumps": nd, "h_top99": mean(tops99), "h_phi0.1": mean(h01), "h_half_phi": mean(hhalf)})
@@ -93,5 +113,7 @@ if nd:
         eps = [1 - v / nd for v in p]
         out[f"eps_mean@{zc*1000:.1f}mm"] = mean(eps)
         out[f"eps_wall/centre@{zc*1000:.1f}mm"] = f"{(eps[0]+eps[-1])/2:.3f}/{max(eps):.3f}"
+        out[f"eps_inner20@{zc*1000:.1f}mm"] = mean(eps[1:21])
+        out[f"eps_inner20@{zc*1000:.1f}mm stderr(blocks)"] = block_se(inner_series[zc])
 for k, v in out.items():
     print(f"{k:24s} {v:.5g}" if isinstance(v, float) else f"{k:24s} {v}")

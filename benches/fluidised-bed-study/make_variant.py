@@ -64,9 +64,11 @@ elif name == "ci50":   # coupling every 50 DEM steps: the CFD step halves with i
     sub(cp, "couplingInterval    100;", "couplingInterval    50; ")
     sub(deck, "couple_every 100", "couple_every 50")
     sub(f"{dst}/CFD/system/controlDict", "deltaT          0.00025;", "deltaT          0.000125;")
-elif name in ("long3", "yfric3"):   # the averaging window: to 3 s (window 1.0 ... 3.0 s)
+elif name in ("long3", "yfric3", "u06long3", "u06yfric3"):   # the averaging window: to 3 s (window 1.0 ... 3.0 s)
     sub(f"{dst}/CFD/system/controlDict", "endTime         1.0;", "endTime         3.0;")
-    if name == "yfric3":
+    if name in ("u06long3", "u06yfric3"):
+        inlet(0.6)
+    if name in ("yfric3", "u06yfric3"):
         sub(deck, "coefficientFriction peratomtypepair 2 0.1 0.0 0.0 0.0", "coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1")
 elif name == "count":   # the experiment's 0.03 m settled bed: drop the highest particles
     p = f"{dst}/DEM/post/packed.data"

@@ -38,6 +38,7 @@ pub fn evaluate(
     settings: &CouplerSettings,
     samples: &[Sample],
     profiles: &crate::heating_run::Profiles,
+    slabs: &crate::slab_profile::Record,
     post: &Path,
     dt_c: f64,
     notes: &mut Vec<String>,
@@ -69,6 +70,7 @@ pub fn evaluate(
             averaging_time,
             ..
         } => crate::fluidised::checks(
+            slabs,
             settings,
             samples,
             crate::fluidised::Targets {

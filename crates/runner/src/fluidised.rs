@@ -157,6 +157,7 @@ fn packed_bed(
 /// The checks of a fluidised bed from `samples` (coupling steps of `dt_c` seconds); notes for
 /// the log go to `notes`, plots into `post`.
 pub fn checks(
+    slabs: &crate::slab_profile::Record,
     settings: &CouplerSettings,
     samples: &[Sample],
     targets: Targets,
@@ -208,6 +209,7 @@ pub fn checks(
             "m",
             targets.bed_height_tolerance,
         ));
+        checks.extend(slabs.checks((t0, t1), notes));
     } else {
         notes.push(format!(
             "fluidised bed: Δp and bed height are not checked: the averaging window (the second \
@@ -360,6 +362,7 @@ mod tests {
         let mut notes = vec![];
         // no voidage in these samples: no packed-bed check
         let c = checks(
+            &crate::slab_profile::Record::default(),
             &settings(),
             &run(40),
             targets(),
@@ -376,6 +379,7 @@ mod tests {
         // A window shorter than averagingTime checks neither, and says so.
         let mut notes = vec![];
         let c = checks(
+            &crate::slab_profile::Record::default(),
             &settings(),
             &run(20),
             targets(),

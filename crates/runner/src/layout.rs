@@ -73,6 +73,9 @@ pub enum ValidationSpec {
         /// Shortest averaging window for the fluidised checks, s (a bubbling bed's surface
         /// rises and falls with each bubble; a shorter window is not a time average).
         averaging_time: f64,
+        /// `voidageProfiles { … }`: time-averaged voidage across the width at fixed heights
+        /// against a measurement ([`crate::slab_profile`]).
+        profiles: Option<crate::slab_profile::ProfileSpec>,
     },
     /// `type pneumaticConveying;`: Madden's (2020) reduced conveyor ([`crate::conveyor`]): the
     /// mean outlet air velocity against the seed's incompressible and compressible results, the
@@ -138,6 +141,11 @@ impl ValidationSpec {
                 pressure_drop_tolerance: tolerance(&d, path, "pressureDropTolerance")?,
                 packed_bed_tolerance: tolerance(&d, path, "packedBedTolerance")?,
                 averaging_time: tolerance(&d, path, "averagingTime")?,
+                profiles: d
+                    .opt_dict("voidageProfiles")
+                    .map(crate::slab_profile::ProfileSpec::read)
+                    .transpose()
+                    .map_err(|e| entry_err(path, e))?,
             }),
             "pneumaticConveying" => Ok(ValidationSpec::PneumaticConveying(
                 crate::conveyor::ConveyorSpec {
@@ -285,10 +293,14 @@ mod tests {
                 inlet,
                 outlet,
                 expanded_bed_height,
+                profiles,
                 ..
             } => {
                 assert_eq!((inlet.as_str(), outlet.as_str()), ("inlet", "outlet"));
                 assert_eq!(expanded_bed_height, 0.05);
+                let p = profiles.expect("voidageProfiles");
+                assert_eq!(p.heights, [0.0164, 0.0312]);
+                assert_eq!((p.bins, p.wall_bins), (22, 1));
             }
             v => panic!("{v:?}"),
         }

@@ -34,6 +34,7 @@ pub mod run;
 mod run_loop;
 pub mod sample;
 pub mod schumann;
+pub mod slab_profile;
 pub mod smoothing;
 mod stage1;
 pub mod surface_values;

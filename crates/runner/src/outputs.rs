@@ -52,6 +52,8 @@ pub(crate) struct Observer {
     pub(crate) outlet_cells: Vec<(usize, f64)>,
     /// A packed-bed heating case: the bins of its temperature profiles.
     pub(crate) heating: Option<crate::heating_run::Profiler>,
+    /// A fluidised bed's voidage profiles across the width (`voidageProfiles`).
+    pub(crate) slabs: Option<crate::slab_profile::Profiler>,
 }
 
 impl Observer {
@@ -241,6 +243,8 @@ pub(crate) struct Open {
     pub(crate) solid: Option<crate::heating::Profile>,
     /// `particleVolume`: the volume of the particles inside the mesh, m³ (over all ranks).
     pub(crate) located_volume: Option<f64>,
+    /// A fluidised bed's slab solid fractions (over all ranks).
+    pub(crate) slabs: Option<Vec<f64>>,
 }
 
 /// What the run writes as its steps close: samples, monitors, time directories, particles.
@@ -278,6 +282,8 @@ pub(crate) struct Outputs<'a> {
     pub(crate) n_ranks: usize,
     /// A heating case's profiles at its sample times (rank 0).
     pub(crate) profiles: crate::heating_run::Profiles,
+    /// A fluidised bed's slab profiles, one row per step (rank 0).
+    pub(crate) slabs: crate::slab_profile::Record,
 }
 
 impl Outputs<'_> {
@@ -299,6 +305,7 @@ impl Outputs<'_> {
             write_now,
             solid,
             located_volume,
+            slabs,
         } = o;
         if let Some(h) = fluid.inner.held_exchange() {
             // the cells' owners formed the whole fields (rank 0 holds only its own particles')
@@ -321,6 +328,9 @@ impl Outputs<'_> {
             });
         }
         self.samples.push(sample);
+        if let Some(phi) = slabs {
+            self.slabs.rows.push((time, phi));
+        }
         let rank = self.rank;
         if !self.monitors.is_empty() && rank == 0 {
             let eps = &step.voidage.epsilon;
@@ -383,6 +393,8 @@ impl Outputs<'_> {
             )?;
             if rank == 0 {
                 write_csv(&self.csv, &self.kept_rows, &self.samples).map_err(io_err(&self.csv))?;
+                let file = self.csv.with_file_name("voidage_profiles.csv");
+                self.slabs.write_csv(&file)?;
             }
             if !self.monitors.is_empty() && rank == 0 {
                 let fields = StepFields::new(&step, &self.ddt_eps, fluid.inner.state(), self.rho);

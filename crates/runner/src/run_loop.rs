@@ -121,12 +121,14 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
         samples,
         output_seconds,
         profiles,
+        slabs,
         ..
     } = out;
     let end = End {
         monitors,
         samples,
         profiles,
+        slabs,
         output_seconds,
         t_loop,
         stopped,
@@ -162,6 +164,7 @@ struct End {
     monitors: RunMonitors,
     samples: Vec<crate::sample::Sample>,
     profiles: crate::heating_run::Profiles,
+    slabs: crate::slab_profile::Record,
     output_seconds: f64,
     t_loop: Instant,
     stopped: bool,
@@ -349,9 +352,22 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             )),
             _ => None,
         };
+        let slabs = match spec {
+            Some(ValidationSpec::FluidisedBed {
+                profiles: Some(p), ..
+            }) => Some(crate::slab_profile::Profiler::new(
+                p,
+                &self.mesh.points,
+                column.axis,
+                column.floor,
+                column.area,
+            )),
+            _ => None,
+        };
         Observer {
             outlet_cells,
             heating,
+            slabs,
             column,
             rho: physics.rho,
             g: physics.gravity.dot(&physics.gravity).sqrt(),
@@ -438,6 +454,10 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                     .as_ref()
                     .map_or(f64::NAN, |p| p.cell_size()),
                 particle_capacity: plan.run_deck.materials().thermal_capacity,
+            },
+            slabs: crate::slab_profile::Record {
+                profiler: observer.slabs.clone(),
+                rows: Vec::new(),
             },
         })
     }
@@ -547,6 +567,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 .as_ref()
                 .filter(|p| p.due(dem.time()))
                 .and_then(|p| p.solid(&dem.state(), coupler.ranks()));
+            // a fluidised bed's voidage profiles (collective on N ranks)
+            let slabs = observer.slabs.as_ref().map(|p| {
+                let ps = dem.state();
+                p.measure(ps.position, ps.radius, coupler.ranks())
+            });
             // every rank stops at the same step (a signal reaches the ranks at different steps)
             let stop_now = {
                 let mut s = [f64::from(u8::from(self.stop.load(Ordering::SeqCst)))];
@@ -564,6 +589,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 write_now,
                 solid,
                 located_volume,
+                slabs,
             };
             // writes and liggghtsCommands need the particles of step k and the fluid's clock
             let at_once = !self.overlap
@@ -599,6 +625,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             monitors,
             samples,
             profiles,
+            slabs,
             output_seconds,
             t_loop,
             stopped,
@@ -649,7 +676,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }
         }
         let checks = match !stopped && rank == 0 {
-            true => self.checks(&samples, &profiles, events)?,
+            true => self.checks(&samples, &profiles, &slabs, events)?,
             false => Vec::new(),
         };
         Ok(RunReport {
@@ -704,6 +731,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         &self,
         samples: &[crate::sample::Sample],
         profiles: &crate::heating_run::Profiles,
+        slabs: &crate::slab_profile::Record,
         events: &mut dyn FnMut(Event),
     ) -> Result<Vec<crate::validation::Check>, RunError> {
         let post: PathBuf = self.plan.layout.post_processing();
@@ -722,6 +750,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             &self.plan.settings,
             samples,
             profiles,
+            slabs,
             &post,
             self.schedule.dt_c,
             &mut notes,
