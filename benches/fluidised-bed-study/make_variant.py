@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Makes one variant of openfoam-cases/fluidised-bed in the working directory (issue 31: one
-change at a time). usage: make_variant.py NAME (see the branches below for the names)."""
+change at a time from the case as committed: until commit 2718228 at 0.66 m/s with frictionless
+front and back walls, since then at 0.6 m/s with friction 0.1 on every wall). usage: make_variant.py NAME (see the branches below for the names)."""
 import os, re, shutil, subprocess, sys
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 name = sys.argv[1]
@@ -36,8 +37,13 @@ def drag(law, extra=""):
 # denser particle dumps (every 0.01 s) for time-averaged voidage profiles; no effect on results
 sub(deck, "dump            dmp all custom 20000", "dump            dmp all custom 4000")
 def inlet(u):
-    sub(f"{dst}/CFD/0/U", "(0.1 (0 0 0.66))", f"(0.1 (0 0 {u}))")
-    sub(f"{dst}/CFD/0/U", "(0.0 (0 0 0.0066))", f"(0.0 (0 0 {u/100}))")
+    """The plateau's superficial velocity u (the ramp from u/100 over 0.1 s)."""
+    path = f"{dst}/CFD/0/U"
+    s = open(path).read()
+    s, n1 = re.subn(r"\(0\.1 \(0 0 [0-9.]+\)\)", f"(0.1 (0 0 {u}))", s)
+    s, n0 = re.subn(r"\(0\.0 \(0 0 [0-9.]+\)\)", f"(0.0 (0 0 {u/100}))", s)
+    assert n1 == 1 and n0 == 1, path
+    open(path, "w").write(s)
 if name == "base":
     pass
 elif name == "u06":
@@ -50,6 +56,8 @@ elif name == "depth5":
     mesh(5)
 elif name == "yfric":   # front/back walls (type 2) with the particles' friction 0.1
     sub(deck, "coefficientFriction peratomtypepair 2 0.1 0.0 0.0 0.0", "coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1")
+elif name == "rest09":   # restitution 0.9 (particles and walls) instead of 0.986
+    sub(deck, "coefficientRestitution peratomtypepair 2 0.986 0.986 0.986 0.986", "coefficientRestitution peratomtypepair 2 0.9 0.9 0.9 0.9")
 elif name == "gidaspow":
     drag("GidaspowDrag", "    implForceDEM            true;\n")
 elif name == "kochhill":
