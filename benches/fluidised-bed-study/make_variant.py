@@ -24,8 +24,8 @@ def sub(path, a, b, count=1):
     assert n >= 1, (path, a)
     s = s.replace(a, b) if count == 0 else s.replace(a, b, count)
     open(path, "w").write(s)
-def mesh(ny):
-    sub(f"{dst}/CFD/system/blockMeshDict", "(12 1 26)", f"(12 {ny} 26)")
+def mesh(ny, nx=12, nz=26):
+    sub(f"{dst}/CFD/system/blockMeshDict", "(12 1 26)", f"({nx} {ny} {nz})")
     shutil.rmtree(f"{dst}/CFD/constant/polyMesh")
     env = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
     subprocess.check_call(["bash", "-c", "source /usr/share/openfoam/etc/bashrc 2>/dev/null; blockMesh -case CFD > log.blockMesh 2>&1"], cwd=dst, env=env)
@@ -54,6 +54,8 @@ elif name == "depth3":
     mesh(3)
 elif name == "depth5":
     mesh(5)
+elif name == "fine":   # cells halved across the width and along the height (24 x 1 x 52)
+    mesh(1, 24, 52)
 elif name == "yfric":   # front/back walls (type 2) with the particles' friction 0.1
     sub(deck, "coefficientFriction peratomtypepair 2 0.1 0.0 0.0 0.0", "coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1")
 elif name == "rest09":   # restitution 0.9 (particles and walls) instead of 0.986
