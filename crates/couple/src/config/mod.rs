@@ -38,6 +38,7 @@
 //! Settings that are accepted but change nothing in foamgrain are listed, one sentence each,
 //! in [`CouplingConfig::warnings`].
 
+pub mod bed_heat;
 pub mod commands;
 mod forces;
 pub mod heat;
@@ -50,6 +51,7 @@ mod void_fraction;
 
 pub use commands::LiggghtsCommands;
 
+pub use bed_heat::BedConductivity;
 pub use heat::{HeatModel, HeatSettings, MaxSource};
 pub use monitors::Monitors;
 pub use transport::{read_gravity, read_transport};
@@ -225,6 +227,9 @@ pub struct CouplingConfig {
     pub ddt_voidage: bool,
     /// The heat transfer (`LaEuScalarTemp` or `heatTransferGunn`), `None` without one.
     pub heat: Option<HeatSettings>,
+    /// CFDEM-PFM's `thermCondModel` (`SyamlalThermCond`, `ZehnerSchluenderThermCond`): the
+    /// fluid's bed conductivity ([`bed_heat`]); `None` for `noTherm` or without the key.
+    pub bed_conduction: Option<BedConductivity>,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
     /// `<dataExchangeModel>Props/liggghtsPath`: the coupled LIGGGHTS deck, relative to the
@@ -275,6 +280,8 @@ struct Setup {
     position: usize,
     /// The heat transfer model.
     heat: Option<HeatSettings>,
+    /// `thermCondModel`.
+    bed: Option<BedConductivity>,
 }
 
 /// What a constructor returns: its setting is set in the [`Setup`], or the error.
@@ -511,6 +518,13 @@ impl CouplingConfig {
             }
         }
         momentum::check_averaging(&mut r, &setup.momentum);
+        if let (Some(bed), None) = (setup.bed, setup.heat) {
+            r.warn(format!(
+                "thermCondModel {}: no heat transfer model is selected, so the fluid solves no \
+                 temperature and the bed conductivity has no effect",
+                bed.name()
+            ));
+        }
         let data_exchange = r
             .opt_word(top, "dataExchangeModel", "dataExchangeModel")?
             .unwrap_or("twoWayMPI")
@@ -590,6 +604,7 @@ impl CouplingConfig {
             ddt_voidage,
             smoothing: setup.smoothing,
             heat: setup.heat,
+            bed_conduction: setup.bed,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,
