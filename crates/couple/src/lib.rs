@@ -65,6 +65,7 @@ pub mod sides;
 pub mod smoothing;
 pub mod step;
 pub mod timestep;
+pub mod wall_heat;
 
 pub use config::{CouplingConfig, HeatSettings};
 pub use error::{CoupleError, SideError};

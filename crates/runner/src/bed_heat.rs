@@ -15,3 +15,28 @@ pub fn fluid_bed(bed: BedConductivity, lambda: f64) -> BedConduction {
         },
     }
 }
+
+/// `wallHeatTransferYagi`'s walls for the run of `plan` on `mesh`, read from the start time's
+/// wall temperature and T fields ([`couple::wall_heat::WallHeat::read`]); `None` without it.
+pub fn wall_heat(
+    plan: &crate::plan::RunPlan,
+    mesh: &foam::PolyMesh,
+) -> Result<Option<couple::wall_heat::WallHeat>, crate::error::RunError> {
+    let Some(w) = &plan.layout.coupling.wall_heat else {
+        return Ok(None);
+    };
+    let case = foam::Case::open(&plan.layout.cfd)?;
+    let start = plan.fluid.start_time;
+    let dir = case
+        .times()?
+        .into_iter()
+        .find(|t| (t.value - start).abs() <= 1e-12 * start.abs().max(1.0))
+        .map(|t| t.path)
+        .ok_or_else(|| crate::error::RunError::Setup {
+            file: plan.layout.cfd.join("system/controlDict"),
+            message: format!("there is no time directory for the start time {start}"),
+        })?;
+    let wall =
+        couple::wall_heat::WallHeat::read(&dir, &w.wall_temp_name, mesh, w.eps_max, w.max_source)?;
+    Ok(Some(wall))
+}

@@ -134,6 +134,9 @@ impl RunPlan {
             fluid
                 .enable_temperature(&case)
                 .map_err(|e| RunError::Fluid(Box::new(e)))?;
+            if config.wall_heat.is_some() {
+                refuse_on_openfoam(opts, &config.file, "energyModels", "wallHeatTransferYagi")?;
+            }
             if let Some(bed) = config.bed_conduction {
                 refuse_on_openfoam(opts, &config.file, "thermCondModel", bed.name())?;
                 let t = fluid.temperature.as_mut().expect("enabled");

@@ -94,3 +94,72 @@ fn conductivities(r: &Reader, props: &Dict, dict: &str) -> Result<f64, super::Co
         )),
     }
 }
+
+/// `wallHeatTransferYagi` (CFDEM-PFM `energyModels`): the walls' heat into the fluid
+/// ([`crate::wall_heat`]); the faces are read with the start time's fields
+/// ([`crate::wall_heat::WallHeat::read`]), λ and c_p are the heat model's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WallHeatSettings {
+    /// `wallTempName`: the wall temperature field of the start time.
+    pub wall_temp_name: String,
+    /// `voidfractionMax`: ε above which the wall transfers nothing.
+    pub eps_max: f64,
+    /// `maxSource`, W/m³, if given.
+    pub max_source: Option<f64>,
+}
+
+/// `wallHeatTransferYagiProps` keys (PFM's constructor).
+const YAGI_KEYS: [&str; 8] = [
+    "verbose",
+    "implicit",
+    "QWallFluidName",
+    "QWallFluidCoeffName",
+    "wallTempName",
+    "tempFieldName",
+    "voidfractionMax",
+    "maxSource",
+];
+
+/// `wallHeatTransferYagi` (CFDEM-PFM): `wallTempName` and `voidfractionMax` required,
+/// `implicit false` required (PFM's default is implicit), `maxSource` (W/m³, > 0).
+pub(super) fn wall_heat_transfer_yagi(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    let at = |key: &str| format!("{dict}/{key}");
+    r.check_props(props, dict, &YAGI_KEYS)?;
+    if r.opt_switch(props, "implicit", &at("implicit"))? != Some(false) {
+        return Err(r.err(
+            &at("implicit"),
+            "wallHeatTransferYagi is implicit unless `implicit false;` (PFM's default is \
+             true); foamgrain hands the fluid an explicit source (the wall heat from T at the \
+             coupling time, held over the interval): set `implicit false;`",
+        ));
+    }
+    if let Some(t) = r.opt_word(props, "tempFieldName", &at("tempFieldName"))? {
+        if t != super::heat::TEMPERATURE_FIELD {
+            return Err(r.err(
+                &at("tempFieldName"),
+                format!("foamgrain heats `T`, not `{t}`"),
+            ));
+        }
+    }
+    let wall_temp_name = r
+        .word(props, "wallTempName", &at("wallTempName"))?
+        .to_string();
+    let eps_max = r.number(props, "voidfractionMax", &at("voidfractionMax"))?;
+    let max_source = match props.contains("maxSource") {
+        true => match r.number(props, "maxSource", &at("maxSource"))? {
+            x if x > 0.0 => Some(x),
+            x => return Err(r.err(&at("maxSource"), format!("{x} is not > 0"))),
+        },
+        false => None,
+    };
+    if s.wall.is_some() {
+        return Err(r.err(g.key, "`wallHeatTransferYagi` twice"));
+    }
+    s.wall = Some(WallHeatSettings {
+        wall_temp_name,
+        eps_max,
+        max_source,
+    });
+    Ok(())
+}

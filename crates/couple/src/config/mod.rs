@@ -51,7 +51,7 @@ mod void_fraction;
 
 pub use commands::LiggghtsCommands;
 
-pub use bed_heat::BedConductivity;
+pub use bed_heat::{BedConductivity, WallHeatSettings};
 pub use heat::{HeatModel, HeatSettings, MaxSource};
 pub use monitors::Monitors;
 pub use transport::{read_gravity, read_transport};
@@ -230,6 +230,9 @@ pub struct CouplingConfig {
     /// CFDEM-PFM's `thermCondModel` (`SyamlalThermCond`, `ZehnerSchluenderThermCond`): the
     /// fluid's bed conductivity ([`bed_heat`]); `None` for `noTherm` or without the key.
     pub bed_conduction: Option<BedConductivity>,
+    /// CFDEM-PFM's `wallHeatTransferYagi` (an `energyModels` entry beside the heat transfer
+    /// model), `None` without it.
+    pub wall_heat: Option<WallHeatSettings>,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
     /// `<dataExchangeModel>Props/liggghtsPath`: the coupled LIGGGHTS deck, relative to the
@@ -282,6 +285,8 @@ struct Setup {
     heat: Option<HeatSettings>,
     /// `thermCondModel`.
     bed: Option<BedConductivity>,
+    /// `wallHeatTransferYagi`.
+    wall: Option<WallHeatSettings>,
 }
 
 /// What a constructor returns: its setting is set in the [`Setup`], or the error.
@@ -518,6 +523,14 @@ impl CouplingConfig {
             }
         }
         momentum::check_averaging(&mut r, &setup.momentum);
+        if setup.wall.is_some() && setup.heat.is_none() {
+            return Err(r.err(
+                "energyModels",
+                "wallHeatTransferYagi needs a heat transfer model beside it \
+                 (heatTransferGunn, LaEuScalarTemp…): without one the fluid solves no \
+                 temperature, and its λ and c_p are the wall law's",
+            ));
+        }
         if let (Some(bed), None) = (setup.bed, setup.heat) {
             r.warn(format!(
                 "thermCondModel {}: no heat transfer model is selected, so the fluid solves no \
@@ -605,6 +618,7 @@ impl CouplingConfig {
             smoothing: setup.smoothing,
             heat: setup.heat,
             bed_conduction: setup.bed,
+            wall_heat: setup.wall,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,

@@ -378,7 +378,10 @@ pub const ENERGY: Family = Family {
             refuse("not implemented (conduction between particles is the DEM's)"),
         ),
         ("reactionHeat", refuse("chemistry is not implemented")),
-        ("wallHeatTransferYagi", refuse("not implemented")),
+        (
+            "wallHeatTransferYagi",
+            acts(bed_heat::wall_heat_transfer_yagi),
+        ),
     ],
 };
 
@@ -479,7 +482,9 @@ mod tests {
             partHeatFluxName \"convectiveHeatFlux\"; lambda 0.0256; Prandtl 0.7; \
             partSpeciesNames ( ); partSpeciesFluxNames ( ); partSpeciesTransCoeffNames ( ); \
             partSpeciesFluidNames ( ); DMolecular ( ); }\n\
-        ZehnerSchluenderThermCondProps { thermalConductivities ( 1.2 ); }\n";
+        ZehnerSchluenderThermCondProps { thermalConductivities ( 1.2 ); }\n\
+        wallHeatTransferYagiProps { wallTempName \"Twall\"; voidfractionMax 0.9; \
+            implicit false; }\n";
 
     /// A case's `constant/` with a `transportProperties` holding ρ, ν and PFM's `kf` and `Cp`
     /// and a `scalarTransportProperties` (the heat models read them next to the
