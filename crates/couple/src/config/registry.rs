@@ -375,9 +375,24 @@ pub const ENERGY: Family = Family {
         ),
         (
             "heatTransferInterGrain",
-            refuse("not implemented (conduction between particles is the DEM's)"),
+            refuse(
+                "not implemented: PFM's model is the particles' conduction as a continuum, \
+                 Q = ∇·(k_eff ∇T_p) with k_eff = ½(3(1 − ε) − 1) k_s on the cell-averaged \
+                 particle temperature `partTemp` (computed by heatTransferGunn only with \
+                 calcPartTempField true), handed to each particle as V_p Q/(1 − ε) through \
+                 LIGGGHTS-PFM's `conductiveHeatFlux`; foamgrain's DEM conducts between \
+                 touching particles itself (`fix heat/gran`)"
+            ),
         ),
-        ("reactionHeat", refuse("chemistry is not implemented")),
+        (
+            "reactionHeat",
+            refuse(
+                "it reads the per-particle heat of reaction `reactionHeat` that LIGGGHTS-PFM's \
+                 `fix couple/cfd/chemistry` (with `fix chem/shrink/core`) writes; neither \
+                 Debian's LIGGGHTS 3.8 nor foamgrain's DEM has those fixes, and chemistry is \
+                 not implemented"
+            ),
+        ),
         (
             "wallHeatTransferYagi",
             acts(bed_heat::wall_heat_transfer_yagi),
