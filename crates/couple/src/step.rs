@@ -116,8 +116,8 @@ pub struct Coupler {
     before_ids: Vec<u64>,
     /// The coupling interval Δt, s ([`Coupler::set_coupling_time_step`]).
     coupling_dt: Option<f64>,
-    /// `wallHeatTransferYagi`'s walls ([`Coupler::set_wall_heat`]).
-    wall_heat: Option<crate::wall_heat::WallHeat>,
+    /// PFM's wall heat and inter-grain conduction ([`Coupler::set_bed_heat`]).
+    bed_heat: crate::bed_heat::BedHeat,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -190,7 +190,7 @@ impl Coupler {
             before: Vec::new(),
             before_ids: Vec::new(),
             coupling_dt: None,
-            wall_heat: None,
+            bed_heat: Default::default(),
         })
     }
 
@@ -217,12 +217,10 @@ impl Coupler {
         self.coupling_dt = Some(dt);
     }
 
-    /// Heats the fluid through the walls from now on (`wallHeatTransferYagi`,
-    /// [`crate::wall_heat`]): each exchange with heat adds the walls' heat to Tsource and to
-    /// the account's `from_wall`. One coupler rank only (the cells' particle diameters and
-    /// Tsource are whole there): an exchange on several is then an error.
-    pub fn set_wall_heat(&mut self, wall: crate::wall_heat::WallHeat) {
-        self.wall_heat = Some(wall);
+    /// PFM's bed heat models from now on ([`crate::bed_heat`]): each exchange with heat adds
+    /// them to its heat step. One coupler rank only: an exchange on several is an error.
+    pub fn set_bed_heat(&mut self, models: crate::bed_heat::BedHeat) {
+        self.bed_heat = models;
     }
 
     /// Runs this coupler as one of several ranks ([`crate::ranks`]): from now on every
@@ -306,13 +304,8 @@ impl Coupler {
         }
         self.check_ksl_form()?;
         self.check_added_mass_and_lift(particles, fluid)?;
-        if self.wall_heat.is_some() && (self.ranks.size() > 1 || self.owners.is_some()) {
-            return Err(CoupleError::Parameter(
-                "wallHeatTransferYagi runs on one coupler rank (its cells' mean particle \
-                 diameter and Tsource are summed there); run one coupler rank"
-                    .into(),
-            ));
-        }
+        let several = self.ranks.size() > 1 || self.owners.is_some();
+        self.bed_heat.check_ranks(several)?;
         let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
@@ -386,26 +379,16 @@ impl Coupler {
             form_cfdem(&k, sums, fluid.u, &voidage.epsilon, volumes, ksl, us);
         }
         let mut heat = heat.map(|(p, w)| self.heat_finish(p, &w));
-        if let (Some(wall), Some(h), Some(t)) = (&self.wall_heat, heat.as_mut(), t_fluid) {
+        if let (Some(h), Some(t)) = (heat.as_mut(), t_fluid) {
             let cells = CellFields {
                 eps: &voidage.epsilon,
                 u: fluid.u,
                 t,
             };
-            let props = self.settings.heat.as_ref().map(|s| (s.lambda, s.cp));
-            let (lambda, cp) = props.expect("heat is on");
-            let (rho, nu) = (self.settings.physics.rho, self.settings.physics.nu);
-            let props = crate::wall_heat::WallProperties {
-                rho,
-                nu,
-                lambda,
-                cp,
-            };
-            let at = crate::wall_heat::At {
-                placement: &placement,
-                radius: particles.radius,
-            };
-            wall.add_to(h, at, cells, self.vm.cell_volumes(), props)?;
+            let volumes = self.vm.cell_volumes();
+            let at = (&placement, particles);
+            self.bed_heat
+                .add_to(h, at, cells, volumes, &self.settings)?;
         }
         if let Some(s) = &self.smoothing {
             // after the forces: the drag uses each particle's unsmoothed ε (module docs of

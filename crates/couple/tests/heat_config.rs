@@ -3,7 +3,9 @@
 //! unsupported heat entry is an error naming the file and the key; cases without heat have none.
 
 use closures::heat::{Nusselt, ReynoldsVelocity};
-use couple::config::{BedConductivity, HeatModel, HeatSettings, MaxSource};
+use couple::config::{
+    BedConductivity, HeatModel, HeatSettings, InterGrainSettings, MaxSource, WallHeatSettings,
+};
 use couple::{CouplingConfig, Interpolation};
 
 /// The keys and values of CFDEMcoupling-PUBLIC's `tutorials/cfdemSolverPisoScalar/
@@ -372,9 +374,14 @@ fn heat_transfer_gunn_errors_name_the_key() {
         &["chemistryModels", "species", "not supported"],
     );
     fail(
-        &GUNN.replace("heatTransferGunn )", "wallHeatTransferYagi )"),
+        &GUNN.replace("heatTransferGunn )", "heatTransferGunn reactionHeat )"),
         GUNN_TRANSPORT,
-        &["energyModels", "wallHeatTransferYagi", "not supported"],
+        &[
+            "energyModels",
+            "reactionHeat",
+            "not supported",
+            "fix couple/cfd/chemistry",
+        ],
     );
 }
 
@@ -486,4 +493,69 @@ fn scalar_general_exchange_refuses_species_and_implicit_coupling() {
         STM_SCALARS,
         &[&format!("{p}useGeneralCorrelation")],
     );
+}
+
+/// PFM's `wallHeatTransferYagi` and `heatTransferInterGrain` beside heatTransferGunn: their
+/// Props read; each needs a heat transfer model, Yagi `implicit false`, InterGrain one k_s and
+/// neither its implicit solve nor radiation (errors naming the key).
+#[test]
+fn wall_and_inter_grain_models_are_read() {
+    let text = GUNN.replace(
+        "energyModels ( heatTransferGunn );",
+        "energyModels ( heatTransferGunn wallHeatTransferYagi heatTransferInterGrain );\n\
+         wallHeatTransferYagiProps { wallTempName \"Twall\"; voidfractionMax 0.8; \
+         implicit false; maxSource 1e6; }\n\
+         heatTransferInterGrainProps { thermalConductivities ( 3 ); kMax 10; }",
+    );
+    let c = read_with(&text, GUNN_TRANSPORT).unwrap();
+    assert_eq!(
+        c.wall_heat,
+        Some(WallHeatSettings {
+            wall_temp_name: "Twall".into(),
+            eps_max: 0.8,
+            max_source: Some(1e6),
+        })
+    );
+    assert_eq!(
+        c.inter_grain,
+        Some(InterGrainSettings {
+            ks: 3.0,
+            k_max: Some(10.0)
+        })
+    );
+    for (from, to, expect) in [
+        (
+            "implicit false; maxSource",
+            "maxSource",
+            "wallHeatTransferYagiProps/implicit",
+        ),
+        (
+            "voidfractionMax 0.8;",
+            "",
+            "wallHeatTransferYagiProps/voidfractionMax",
+        ),
+        (
+            "kMax 10;",
+            "implicit true;",
+            "heatTransferInterGrainProps/implicit",
+        ),
+        (
+            "kMax 10;",
+            "radiativeHeatTransfer true;",
+            "heatTransferInterGrainProps/radiativeHeatTransfer",
+        ),
+        (
+            "( 3 )",
+            "( 3 4 )",
+            "heatTransferInterGrainProps/thermalConductivities",
+        ),
+        (
+            "heatTransferGunn wallHeatTransferYagi",
+            "wallHeatTransferYagi",
+            "need a heat transfer model",
+        ),
+    ] {
+        let e = read_with(&text.replace(from, to), GUNN_TRANSPORT).unwrap_err();
+        assert!(e.contains(expect), "`{expect}` not in {e}");
+    }
 }

@@ -191,7 +191,10 @@ fn the_walls_heat_is_in_tsource_and_the_account() {
         temperature: Some(&t),
     };
     let mut c = Coupler::new(&mesh, settings()).unwrap();
-    c.set_wall_heat(w.clone());
+    c.set_bed_heat(couple::bed_heat::BedHeat {
+        wall: Some(w.clone()),
+        inter_grain: None,
+    });
     let step = c.exchange(&particles, &fluid).unwrap();
     let h = step.heat.as_ref().unwrap();
     let given: f64 = h

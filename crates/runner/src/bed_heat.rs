@@ -16,14 +16,24 @@ pub fn fluid_bed(bed: BedConductivity, lambda: f64) -> BedConduction {
     }
 }
 
-/// `wallHeatTransferYagi`'s walls for the run of `plan` on `mesh`, read from the start time's
-/// wall temperature and T fields ([`couple::wall_heat::WallHeat::read`]); `None` without it.
-pub fn wall_heat(
+/// The coupler's bed heat models for the run of `plan` on `mesh`
+/// ([`couple::bed_heat::BedHeat`]): `wallHeatTransferYagi`'s walls, read from the start
+/// time's wall temperature and T fields ([`couple::wall_heat::WallHeat::read`]), and
+/// `heatTransferInterGrain` on the mesh's faces.
+pub fn bed_heat(
     plan: &crate::plan::RunPlan,
     mesh: &foam::PolyMesh,
-) -> Result<Option<couple::wall_heat::WallHeat>, crate::error::RunError> {
-    let Some(w) = &plan.layout.coupling.wall_heat else {
-        return Ok(None);
+) -> Result<couple::bed_heat::BedHeat, crate::error::RunError> {
+    let config = &plan.layout.coupling;
+    let inter_grain = match config.inter_grain {
+        Some(g) => Some(couple::inter_grain::InterGrain::new(mesh, g.ks, g.k_max)?),
+        None => None,
+    };
+    let Some(w) = &config.wall_heat else {
+        return Ok(couple::bed_heat::BedHeat {
+            wall: None,
+            inter_grain,
+        });
     };
     let case = foam::Case::open(&plan.layout.cfd)?;
     let start = plan.fluid.start_time;
@@ -38,5 +48,8 @@ pub fn wall_heat(
         })?;
     let wall =
         couple::wall_heat::WallHeat::read(&dir, &w.wall_temp_name, mesh, w.eps_max, w.max_source)?;
-    Ok(Some(wall))
+    Ok(couple::bed_heat::BedHeat {
+        wall: Some(wall),
+        inter_grain,
+    })
 }

@@ -207,9 +207,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             coupler.set_smoothing(crate::smoothing::native(mesh, s)?);
         }
         coupler.set_ksl_form(plan.layout.coupling.momentum.ksl_form());
-        if let Some(wall) = crate::bed_heat::wall_heat(plan, mesh)? {
-            coupler.set_wall_heat(wall);
-        }
+        coupler.set_bed_heat(crate::bed_heat::bed_heat(plan, mesh)?);
         let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
         // The voidage of the initial particles, so that the first coupling interval blends
         // from it (not from an empty domain, which would make ∂ε/∂t a spurious source).

@@ -163,3 +163,85 @@ pub(super) fn wall_heat_transfer_yagi(r: &mut Reader, g: &Given, s: &mut Setup) 
     });
     Ok(())
 }
+
+/// `heatTransferInterGrain` (CFDEM-PFM `energyModels`): the particles' continuum conduction
+/// ([`crate::inter_grain`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InterGrainSettings {
+    /// The particles' conductivity k_s, W/(m·K) (`thermalConductivities`, one type).
+    pub ks: f64,
+    /// `kMax`, W/(m·K), if given (> 0).
+    pub k_max: Option<f64>,
+}
+
+/// `heatTransferInterGrainProps` keys (PFM's constructor).
+const INTER_GRAIN_KEYS: [&str; 12] = [
+    "verbose",
+    "implicit",
+    "calcTotalHeatFlux",
+    "radiativeHeatTransfer",
+    "QPartPartName",
+    "partHeatFluxName",
+    "prescribedVoidfractionFieldName",
+    "thermalConductivities",
+    "thermalCapacities",
+    "thermalEmissivities",
+    "coarseGrainingFactors",
+    "kMax",
+];
+
+/// `heatTransferInterGrain` (CFDEM-PFM): `thermalConductivities (k_s)` required (one type),
+/// `kMax`; the implicit particle-temperature solve, radiation and coarse graining refused.
+pub(super) fn heat_transfer_inter_grain(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    let at = |key: &str| format!("{dict}/{key}");
+    r.check_props(props, dict, &INTER_GRAIN_KEYS)?;
+    for (key, why) in [
+        (
+            "implicit",
+            "the implicit particle-temperature solve is not implemented",
+        ),
+        (
+            "radiativeHeatTransfer",
+            "radiation between particles is not implemented",
+        ),
+    ] {
+        if r.opt_switch(props, key, &at(key))? == Some(true) {
+            return Err(r.err(&at(key), format!("`true` is not supported: {why}")));
+        }
+    }
+    for key in ["thermalEmissivities", "coarseGrainingFactors"] {
+        if props.contains(key) {
+            return Err(r.err(
+                &at(key),
+                "not supported (radiation and coarse graining of heatTransferInterGrain)",
+            ));
+        }
+    }
+    if let Some(name) = r.opt_word(
+        props,
+        "prescribedVoidfractionFieldName",
+        &at("prescribedVoidfractionFieldName"),
+    )? {
+        if name != "voidfraction" {
+            return Err(r.err(
+                &at("prescribedVoidfractionFieldName"),
+                format!("foamgrain uses the coupling's `voidfraction`, not `{name}`"),
+            ));
+        }
+    }
+    let ks = conductivities(r, props, dict)?;
+    let k_max = match props.contains("kMax") {
+        true => match r.number(props, "kMax", &at("kMax"))? {
+            x if x > 0.0 => Some(x),
+            // PFM: kMax ≤ 0 is no cap
+            _ => None,
+        },
+        false => None,
+    };
+    if s.inter_grain.is_some() {
+        return Err(r.err(g.key, "`heatTransferInterGrain` twice"));
+    }
+    s.inter_grain = Some(InterGrainSettings { ks, k_max });
+    Ok(())
+}

@@ -51,7 +51,7 @@ mod void_fraction;
 
 pub use commands::LiggghtsCommands;
 
-pub use bed_heat::{BedConductivity, WallHeatSettings};
+pub use bed_heat::{BedConductivity, InterGrainSettings, WallHeatSettings};
 pub use heat::{HeatModel, HeatSettings, MaxSource};
 pub use monitors::Monitors;
 pub use transport::{read_gravity, read_transport};
@@ -233,6 +233,9 @@ pub struct CouplingConfig {
     /// CFDEM-PFM's `wallHeatTransferYagi` (an `energyModels` entry beside the heat transfer
     /// model), `None` without it.
     pub wall_heat: Option<WallHeatSettings>,
+    /// CFDEM-PFM's `heatTransferInterGrain` (an `energyModels` entry beside the heat transfer
+    /// model), `None` without it.
+    pub inter_grain: Option<InterGrainSettings>,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
     /// `<dataExchangeModel>Props/liggghtsPath`: the coupled LIGGGHTS deck, relative to the
@@ -287,6 +290,8 @@ struct Setup {
     bed: Option<BedConductivity>,
     /// `wallHeatTransferYagi`.
     wall: Option<WallHeatSettings>,
+    /// `heatTransferInterGrain`.
+    inter_grain: Option<InterGrainSettings>,
 }
 
 /// What a constructor returns: its setting is set in the [`Setup`], or the error.
@@ -523,12 +528,13 @@ impl CouplingConfig {
             }
         }
         momentum::check_averaging(&mut r, &setup.momentum);
-        if setup.wall.is_some() && setup.heat.is_none() {
+        if (setup.wall.is_some() || setup.inter_grain.is_some()) && setup.heat.is_none() {
             return Err(r.err(
                 "energyModels",
-                "wallHeatTransferYagi needs a heat transfer model beside it \
-                 (heatTransferGunn, LaEuScalarTemp…): without one the fluid solves no \
-                 temperature, and its λ and c_p are the wall law's",
+                "wallHeatTransferYagi and heatTransferInterGrain need a heat transfer model \
+                 beside them (heatTransferGunn, LaEuScalarTemp…): without one there are no \
+                 fluid and particle temperatures to couple, and its λ and c_p are the wall \
+                 law's",
             ));
         }
         if let (Some(bed), None) = (setup.bed, setup.heat) {
@@ -619,6 +625,7 @@ impl CouplingConfig {
             heat: setup.heat,
             bed_conduction: setup.bed,
             wall_heat: setup.wall,
+            inter_grain: setup.inter_grain,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,

@@ -375,14 +375,7 @@ pub const ENERGY: Family = Family {
         ),
         (
             "heatTransferInterGrain",
-            refuse(
-                "not implemented: PFM's model is the particles' conduction as a continuum, \
-                 Q = ∇·(k_eff ∇T_p) with k_eff = ½(3(1 − ε) − 1) k_s on the cell-averaged \
-                 particle temperature `partTemp` (computed by heatTransferGunn only with \
-                 calcPartTempField true), handed to each particle as V_p Q/(1 − ε) through \
-                 LIGGGHTS-PFM's `conductiveHeatFlux`; foamgrain's DEM conducts between \
-                 touching particles itself (`fix heat/gran`)"
-            ),
+            acts(bed_heat::heat_transfer_inter_grain),
         ),
         (
             "reactionHeat",
@@ -390,7 +383,7 @@ pub const ENERGY: Family = Family {
                 "it reads the per-particle heat of reaction `reactionHeat` that LIGGGHTS-PFM's \
                  `fix couple/cfd/chemistry` (with `fix chem/shrink/core`) writes; neither \
                  Debian's LIGGGHTS 3.8 nor foamgrain's DEM has those fixes, and chemistry is \
-                 not implemented"
+                 not implemented",
             ),
         ),
         (
@@ -498,6 +491,7 @@ mod tests {
             partSpeciesNames ( ); partSpeciesFluxNames ( ); partSpeciesTransCoeffNames ( ); \
             partSpeciesFluidNames ( ); DMolecular ( ); }\n\
         ZehnerSchluenderThermCondProps { thermalConductivities ( 1.2 ); }\n\
+        heatTransferInterGrainProps { thermalConductivities ( 1.2 ); }\n\
         wallHeatTransferYagiProps { wallTempName \"Twall\"; voidfractionMax 0.9; \
             implicit false; }\n";
 
