@@ -179,7 +179,7 @@ impl WallHeat {
             if patch_type(entry) != Some("fixedValue") {
                 continue;
             }
-            let n = p.n_faces as usize;
+            let n = p.n_faces;
             let values = patch_values(entry, n).ok_or_else(|| {
                 err(
                     &path,
@@ -200,7 +200,7 @@ impl WallHeat {
                 ));
             }
             for (k, t_wall) in values.into_iter().enumerate() {
-                let face = p.start_face as usize + k;
+                let face = p.start_face + k;
                 faces.push(WallFace {
                     cell: mesh.owner[face] as usize,
                     area: geometry.face_areas[face].norm(),
