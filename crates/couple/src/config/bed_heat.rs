@@ -146,13 +146,7 @@ pub(super) fn wall_heat_transfer_yagi(r: &mut Reader, g: &Given, s: &mut Setup) 
         .word(props, "wallTempName", &at("wallTempName"))?
         .to_string();
     let eps_max = r.number(props, "voidfractionMax", &at("voidfractionMax"))?;
-    let max_source = match props.contains("maxSource") {
-        true => match r.number(props, "maxSource", &at("maxSource"))? {
-            x if x > 0.0 => Some(x),
-            x => return Err(r.err(&at("maxSource"), format!("{x} is not > 0"))),
-        },
-        false => None,
-    };
+    let max_source = super::heat::max_source(r, props, dict)?;
     if s.wall.is_some() {
         return Err(r.err(g.key, "`wallHeatTransferYagi` twice"));
     }
