@@ -8,12 +8,10 @@
 //! * the particles' conduction sums to zero (the bed's boundary is insulated), counted in the
 //!   account; a bed below α = 0.334 conducts nothing.
 
-use closures::heat::{Nusselt, ReynoldsVelocity};
-use closures::model::ModelType;
+mod common;
 use couple::bed_heat::BedHeat;
-use couple::config::{Forces, HeatModel, HeatSettings};
 use couple::inter_grain::{effective_conductivity, InterGrain};
-use couple::{Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics};
+use couple::{Coupler, CouplerSettings, FluidState, ParticleState};
 use mesh::build::uniform_box;
 use mesh::v3::V3;
 use voidage::Method;
@@ -22,31 +20,7 @@ const KS: f64 = 2.0;
 const H: f64 = 0.01;
 
 fn settings() -> CouplerSettings {
-    CouplerSettings {
-        method: Method::Exact,
-        alpha_min: None,
-        coupling_interval: 1,
-        physics: Physics {
-            rho: 1.2,
-            nu: 1e-5,
-            gravity: V3::zeros(),
-            model: ModelType::A,
-            forces: Forces::default(),
-            implicit_couple: true,
-        },
-        heat: Some(HeatSettings {
-            model: HeatModel::HeatTransferGunn,
-            nusselt: Nusselt::GunnPfm,
-            reynolds: ReynoldsVelocity::Superficial,
-            voidage_floor: 0.01,
-            nusselt_scale: 1.0,
-            lambda: 0.0256,
-            cp: 1007.0,
-            prandtl: None,
-            max_source: None,
-            interpolation: Interpolation::Cell,
-        }),
-    }
+    common::gunn_settings(Method::Exact)
 }
 
 /// 5 × 5 × 5 spheres of diameter `d` per 1 cm cell (centres 1, 3, …, 9 mm into the cell),

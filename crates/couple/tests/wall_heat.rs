@@ -7,20 +7,15 @@
 //! * bad input (no wall temperature file, T not zeroGradient on a heated wall, a value that is
 //!   not one temperature per face) is an error naming the file and the patch.
 
-use closures::heat::{Nusselt, ReynoldsVelocity};
-use closures::model::ModelType;
-use couple::config::{Forces, HeatModel, HeatSettings};
+mod common;
 use couple::wall_heat::{WallFluid, WallHeat, WallProperties};
-use couple::{Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics};
+use couple::{Coupler, CouplerSettings, FluidState, ParticleState};
 use mesh::build::uniform_box;
 use mesh::v3::V3;
 use std::path::Path;
 use voidage::Method;
 
-const RHO: f64 = 1.2;
-const NU: f64 = 1e-5;
-const LAMBDA: f64 = 0.0256;
-const CP: f64 = 1007.0;
+use common::{CP, LAMBDA, NU, RHO};
 const PATCHES: [&str; 6] = ["xMin", "xMax", "yMin", "yMax", "zMin", "zMax"];
 
 /// A volScalarField file `name` in `dir`: internal value `internal`, `xMin` as `wall`, the
@@ -111,31 +106,7 @@ fn a_uniform_state_gets_yagis_heat_flux() {
 }
 
 fn settings() -> CouplerSettings {
-    CouplerSettings {
-        method: Method::Divided,
-        alpha_min: None,
-        coupling_interval: 1,
-        physics: Physics {
-            rho: RHO,
-            nu: NU,
-            gravity: V3::zeros(),
-            model: ModelType::A,
-            forces: Forces::default(),
-            implicit_couple: true,
-        },
-        heat: Some(HeatSettings {
-            model: HeatModel::HeatTransferGunn,
-            nusselt: Nusselt::GunnPfm,
-            reynolds: ReynoldsVelocity::Superficial,
-            voidage_floor: 0.01,
-            nusselt_scale: 1.0,
-            lambda: LAMBDA,
-            cp: CP,
-            prandtl: None,
-            max_source: None,
-            interpolation: Interpolation::Cell,
-        }),
-    }
+    common::gunn_settings(Method::Divided)
 }
 
 /// A dense random bed in the box, the fluid streaming at 0.5 m/s with T varying in space;
