@@ -44,6 +44,14 @@ pub struct HeatAccount {
     pub imbalance: f64,
     /// Particles outside the mesh (q = 0).
     pub particles_outside: usize,
+    /// Heat the walls give the fluid (`wallHeatTransferYagi`, [`crate::wall_heat`]), in
+    /// Tsource besides the particles' part, W; 0 without it.
+    pub from_wall: f64,
+    /// Wall heat `maxSource` kept out of the fluid, W.
+    pub wall_clipped: f64,
+    /// Σ_p of the conduction between particles (`heatTransferInterGrain`,
+    /// [`crate::inter_grain`]), included in `q` but not in `to_particles`: 0 to round-off, W.
+    pub between_particles: f64,
 }
 
 /// The heat of one coupling step.

@@ -43,6 +43,7 @@
 // Loops over the three vector components index several arrays at once on purpose.
 #![allow(clippy::needless_range_loop)]
 
+pub mod bed_heat;
 pub mod blend;
 pub mod config;
 pub mod error;
@@ -50,6 +51,7 @@ pub mod exchange;
 pub mod forces;
 pub mod frozen;
 pub mod heat;
+pub mod inter_grain;
 pub mod interpolate;
 pub mod ksl;
 pub mod memory;
@@ -65,6 +67,7 @@ pub mod sides;
 pub mod smoothing;
 pub mod step;
 pub mod timestep;
+pub mod wall_heat;
 
 pub use config::{CouplingConfig, HeatSettings};
 pub use error::{CoupleError, SideError};

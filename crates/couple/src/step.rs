@@ -116,6 +116,8 @@ pub struct Coupler {
     before_ids: Vec<u64>,
     /// The coupling interval Δt, s ([`Coupler::set_coupling_time_step`]).
     coupling_dt: Option<f64>,
+    /// PFM's wall heat and inter-grain conduction ([`Coupler::set_bed_heat`]).
+    bed_heat: crate::bed_heat::BedHeat,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -188,6 +190,7 @@ impl Coupler {
             before: Vec::new(),
             before_ids: Vec::new(),
             coupling_dt: None,
+            bed_heat: Default::default(),
         })
     }
 
@@ -212,6 +215,12 @@ impl Coupler {
     /// step; a caller of [`Coupler::exchange`] alone sets it here.
     pub fn set_coupling_time_step(&mut self, dt: f64) {
         self.coupling_dt = Some(dt);
+    }
+
+    /// PFM's bed heat models from now on ([`crate::bed_heat`]): each exchange with heat adds
+    /// them to its heat step. One coupler rank only: an exchange on several is an error.
+    pub fn set_bed_heat(&mut self, models: crate::bed_heat::BedHeat) {
+        self.bed_heat = models;
     }
 
     /// Runs this coupler as one of several ranks ([`crate::ranks`]): from now on every
@@ -295,6 +304,8 @@ impl Coupler {
         }
         self.check_ksl_form()?;
         self.check_added_mass_and_lift(particles, fluid)?;
+        let several = self.ranks.size() > 1 || self.owners.is_some();
+        self.bed_heat.check_ranks(several)?;
         let population = self.population.update(particles, self.ranks.as_ref());
         let n_cells = self.vm.n_cells();
         if self.owners.is_some() {
@@ -367,7 +378,18 @@ impl Coupler {
             let (ksl, us) = (&mut exchange.ksl, &mut exchange.us);
             form_cfdem(&k, sums, fluid.u, &voidage.epsilon, volumes, ksl, us);
         }
-        let heat = heat.map(|(p, w)| self.heat_finish(p, &w));
+        let mut heat = heat.map(|(p, w)| self.heat_finish(p, &w));
+        if let (Some(h), Some(t)) = (heat.as_mut(), t_fluid) {
+            let cells = CellFields {
+                eps: &voidage.epsilon,
+                u: fluid.u,
+                t,
+            };
+            let volumes = self.vm.cell_volumes();
+            let at = (&placement, particles);
+            self.bed_heat
+                .add_to(h, at, cells, volumes, &self.settings)?;
+        }
         if let Some(s) = &self.smoothing {
             // after the forces: the drag uses each particle's unsmoothed ε (module docs of
             // `smoothing`); the fluid gets the smoothed field

@@ -3,7 +3,9 @@
 //! unsupported heat entry is an error naming the file and the key; cases without heat have none.
 
 use closures::heat::{Nusselt, ReynoldsVelocity};
-use couple::config::{HeatModel, HeatSettings, MaxSource};
+use couple::config::{
+    BedConductivity, HeatModel, HeatSettings, InterGrainSettings, MaxSource, WallHeatSettings,
+};
 use couple::{CouplingConfig, Interpolation};
 
 /// The keys and values of CFDEMcoupling-PUBLIC's `tutorials/cfdemSolverPisoScalar/
@@ -261,8 +263,49 @@ fn heat_transfer_gunn_reads_pfm_props_and_transport() {
             interpolation: Interpolation::Smooth,
         })
     );
-    assert_eq!(c.warnings.len(), 1, "{:?}", c.warnings);
-    assert!(c.warnings[0].contains("thermCondModel SyamlalThermCond"));
+    assert!(c.warnings.is_empty(), "{:?}", c.warnings);
+    assert_eq!(c.bed_conduction, Some(BedConductivity::Syamlal));
+}
+
+/// PFM's `thermCondModel`s act (the fluid's bed conductivity): `ZehnerSchluenderThermCond`
+/// reads its one k_s; several particle types, a missing or non-positive k_s and another
+/// `partKsFieldName` are errors naming the key; `noTherm` and no key leave the fluid's own.
+#[test]
+fn therm_cond_models_are_read() {
+    let zs = GUNN.replace(
+        "thermCondModel SyamlalThermCond;",
+        "thermCondModel ZehnerSchluenderThermCond;\n\
+         ZehnerSchluenderThermCondProps { thermalConductivities ( 2.5 ); }",
+    );
+    let c = read_with(&zs, GUNN_TRANSPORT).unwrap();
+    assert_eq!(
+        c.bed_conduction,
+        Some(BedConductivity::ZehnerSchluender { ks: 2.5 })
+    );
+    for (from, to, expect) in [
+        ("( 2.5 )", "( 2.5 1.0 )", "2 particle types"),
+        ("( 2.5 )", "( 0 )", "not a positive conductivity"),
+        ("thermalConductivities ( 2.5 );", "", "missing"),
+        (
+            "( 2.5 );",
+            "( 2.5 ); partKsFieldName ks;",
+            "partKsFieldName",
+        ),
+    ] {
+        let e = read_with(&zs.replace(from, to), GUNN_TRANSPORT).unwrap_err();
+        assert!(e.contains("ZehnerSchluenderThermCondProps/"), "{e}");
+        assert!(e.contains(expect), "`{expect}` not in {e}");
+    }
+    let none = GUNN.replace("SyamlalThermCond;", "noTherm;");
+    assert_eq!(
+        read_with(&none, GUNN_TRANSPORT).unwrap().bed_conduction,
+        None
+    );
+    let without = GUNN.replace("thermCondModel SyamlalThermCond;", "");
+    assert_eq!(
+        read_with(&without, GUNN_TRANSPORT).unwrap().bed_conduction,
+        None
+    );
 }
 
 /// PFM's heatTransferRanzMarshall: heatTransferGunn's Props and checks with Ranz & Marshall's
@@ -331,9 +374,14 @@ fn heat_transfer_gunn_errors_name_the_key() {
         &["chemistryModels", "species", "not supported"],
     );
     fail(
-        &GUNN.replace("heatTransferGunn )", "wallHeatTransferYagi )"),
+        &GUNN.replace("heatTransferGunn )", "heatTransferGunn reactionHeat )"),
         GUNN_TRANSPORT,
-        &["energyModels", "wallHeatTransferYagi", "not supported"],
+        &[
+            "energyModels",
+            "reactionHeat",
+            "not supported",
+            "fix couple/cfd/chemistry",
+        ],
     );
 }
 
@@ -445,4 +493,69 @@ fn scalar_general_exchange_refuses_species_and_implicit_coupling() {
         STM_SCALARS,
         &[&format!("{p}useGeneralCorrelation")],
     );
+}
+
+/// PFM's `wallHeatTransferYagi` and `heatTransferInterGrain` beside heatTransferGunn: their
+/// Props read; each needs a heat transfer model, Yagi `implicit false`, InterGrain one k_s and
+/// neither its implicit solve nor radiation (errors naming the key).
+#[test]
+fn wall_and_inter_grain_models_are_read() {
+    let text = GUNN.replace(
+        "energyModels ( heatTransferGunn );",
+        "energyModels ( heatTransferGunn wallHeatTransferYagi heatTransferInterGrain );\n\
+         wallHeatTransferYagiProps { wallTempName \"Twall\"; voidfractionMax 0.8; \
+         implicit false; maxSource 1e6; }\n\
+         heatTransferInterGrainProps { thermalConductivities ( 3 ); kMax 10; }",
+    );
+    let c = read_with(&text, GUNN_TRANSPORT).unwrap();
+    assert_eq!(
+        c.wall_heat,
+        Some(WallHeatSettings {
+            wall_temp_name: "Twall".into(),
+            eps_max: 0.8,
+            max_source: Some(1e6),
+        })
+    );
+    assert_eq!(
+        c.inter_grain,
+        Some(InterGrainSettings {
+            ks: 3.0,
+            k_max: Some(10.0)
+        })
+    );
+    for (from, to, expect) in [
+        (
+            "implicit false; maxSource",
+            "maxSource",
+            "wallHeatTransferYagiProps/implicit",
+        ),
+        (
+            "voidfractionMax 0.8;",
+            "",
+            "wallHeatTransferYagiProps/voidfractionMax",
+        ),
+        (
+            "kMax 10;",
+            "implicit true;",
+            "heatTransferInterGrainProps/implicit",
+        ),
+        (
+            "kMax 10;",
+            "radiativeHeatTransfer true;",
+            "heatTransferInterGrainProps/radiativeHeatTransfer",
+        ),
+        (
+            "( 3 )",
+            "( 3 4 )",
+            "heatTransferInterGrainProps/thermalConductivities",
+        ),
+        (
+            "heatTransferGunn wallHeatTransferYagi",
+            "wallHeatTransferYagi",
+            "need a heat transfer model",
+        ),
+    ] {
+        let e = read_with(&text.replace(from, to), GUNN_TRANSPORT).unwrap_err();
+        assert!(e.contains(expect), "`{expect}` not in {e}");
+    }
 }

@@ -197,6 +197,7 @@ impl Observer {
             heat_to_particles: step.heat.as_ref().map(|h| h.account.to_particles),
             heat_from_fluid: step.heat.as_ref().map(|h| h.account.from_fluid),
             heat_clipped: step.heat.as_ref().map(|h| h.account.clipped),
+            heat_from_wall: None,
             particle_temperature: particle_temperature.filter(|t| t.is_finite()),
             outlet_temperature: None,
         }

@@ -129,11 +129,19 @@ impl RunPlan {
         }
         let mut fluid = fv::settings::Settings::read_with_control(&case, &control.body)
             .map_err(|e| RunError::Fluid(Box::new(e)))?;
-        if settings.heat.is_some() {
+        if let Some(heat) = settings.heat {
             // cfdemSolverPisoScalar's temperature equation: 0/T, Pr, Prt, the T solver
             fluid
                 .enable_temperature(&case)
                 .map_err(|e| RunError::Fluid(Box::new(e)))?;
+            if config.wall_heat.is_some() {
+                refuse_on_openfoam(opts, &config.file, "energyModels", "wallHeatTransferYagi")?;
+            }
+            if let Some(bed) = config.bed_conduction {
+                refuse_on_openfoam(opts, &config.file, "thermCondModel", bed.name())?;
+                let t = fluid.temperature.as_mut().expect("enabled");
+                t.bed = Some(crate::bed_heat::fluid_bed(bed, heat.lambda));
+            }
         }
         let run_deck = Deck::read(&layout.run_deck)?;
         // parcels (LIGGGHTS-PFM's `coarsegraining`): the drag at the real particles' diameter
@@ -277,5 +285,27 @@ fn control_dict_warnings(control: &ControlDict) -> Vec<String> {
             path.display(),
             others.join(" ")
         )],
+    }
+}
+
+/// The error that the CFDEM-PFM model `name` (of `key` in `file`) acts with the native fluid
+/// only, when `opts` runs grainPisoFoam: raised while the plan is read, before anything is
+/// spawned.
+fn refuse_on_openfoam(
+    opts: &RunOptions,
+    file: &Path,
+    key: &str,
+    name: &str,
+) -> Result<(), RunError> {
+    match opts.fluid {
+        FluidBackend::OpenFoam => Err(RunError::Setup {
+            file: file.to_path_buf(),
+            message: format!(
+                "{key} {name}: acts with the native fluid only (grainPisoFoam's temperature \
+                 equation has no per-cell conductivity or wall source from the coupler); run \
+                 with `--fluid native`"
+            ),
+        }),
+        FluidBackend::Native => Ok(()),
     }
 }

@@ -210,6 +210,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             coupler.set_smoothing(crate::smoothing::native(mesh, s)?);
         }
         coupler.set_ksl_form(plan.layout.coupling.momentum.ksl_form());
+        coupler.set_bed_heat(crate::bed_heat::bed_heat(plan, mesh)?);
         let (rank, n_ranks) = (coupler.ranks().rank(), coupler.ranks().size());
         // The voidage of the initial particles, so that the first coupling interval blends
         // from it (not from an empty domain, which would make ∂ε/∂t a spurious source).
@@ -560,7 +561,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }
             fluid.start_advance(dt).map_err(RunError::Fluid)?;
             held_max = held_max.max(dem.state().len());
-            let sample = observer.sample(&*dem, &step, coupler.ranks(), evacuation.as_mut());
+            let mut sample = observer.sample(&*dem, &step, coupler.ranks(), evacuation.as_mut());
+            if self.plan.layout.coupling.wall_heat.is_some() {
+                // wallHeatTransferYagi: the walls' heat into the fluid (its own column)
+                sample.heat_from_wall = step.heat.as_ref().map(|h| h.account.from_wall);
+            }
             // a heating case's solid profile at its sample times (collective on N ranks)
             let solid = observer
                 .heating

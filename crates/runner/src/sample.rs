@@ -82,6 +82,9 @@ pub struct Sample {
     pub heat_from_fluid: Option<f64>,
     /// Heat removed from the source field by `maxSource`, W.
     pub heat_clipped: Option<f64>,
+    /// Heat the walls gave the fluid (`wallHeatTransferYagi`, [`couple::wall_heat`]), W, after
+    /// its `maxSource` cut; its column is written only in runs with it.
+    pub heat_from_wall: Option<f64>,
     /// Mass-weighted mean particle temperature Σ m T / Σ m, K.
     pub particle_temperature: Option<f64>,
     /// Mean gas temperature on the outlet patch (area-weighted over the patch's cells: the
@@ -91,6 +94,9 @@ pub struct Sample {
 
 const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles,bed_particles,bed_never_left,annulus_returned,heat_to_particles,heat_from_fluid,heat_clipped,particle_temperature,outlet_temperature";
 
+/// The column a run with wall heat adds after [`HEADER`]'s.
+const WALL_COLUMN: &str = ",heat_from_wall";
+
 /// The rows of an earlier run's CSV at `path` up to time `start` (s; to a relative 10⁻⁹),
 /// as text: what a run restarted at `start` keeps (none when there is no such file or its
 /// header is another one).
@@ -99,8 +105,9 @@ pub fn rows_until(path: &Path, start: f64) -> Vec<String> {
         return Vec::new();
     };
     let mut lines = text.lines();
-    if lines.next() != Some(HEADER) {
-        return Vec::new();
+    match lines.next() {
+        Some(h) if h == HEADER || h.strip_suffix(WALL_COLUMN) == Some(HEADER) => {}
+        _ => return Vec::new(),
     }
     let until = start + 1e-9 * start.abs().max(1e-300);
     lines
@@ -122,7 +129,9 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
     }
     atomic_write::write_atomically(path, |w| {
         use std::io::Write;
-        writeln!(w, "{HEADER}")?;
+        let wall = samples.iter().any(|s| s.heat_from_wall.is_some());
+        let wall_column = if wall { WALL_COLUMN } else { "" };
+        writeln!(w, "{HEADER}{wall_column}")?;
         for row in kept {
             writeln!(w, "{row}")?;
         }
@@ -130,7 +139,7 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
         let o = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:?}"));
         let n = |x: Option<usize>| x.map_or(String::new(), |x| x.to_string());
         for s in samples {
-            writeln!(
+            write!(
                 w,
                 "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 s.time,
@@ -175,6 +184,10 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
                 o(s.particle_temperature),
                 o(s.outlet_temperature)
             )?;
+            match wall {
+                true => writeln!(w, ",{}", o(s.heat_from_wall))?,
+                false => writeln!(w)?,
+            }
         }
         Ok(())
     })

@@ -190,7 +190,11 @@ fn standard_names(
 }
 
 /// `maxSource` (> 0) of `props`, if given.
-fn max_source(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<Option<f64>, CoupleError> {
+pub(super) fn max_source(
+    r: &Reader<'_>,
+    props: &Dict,
+    dict: &str,
+) -> Result<Option<f64>, CoupleError> {
     if !props.contains("maxSource") {
         return Ok(None);
     }

@@ -38,6 +38,7 @@
 //! Settings that are accepted but change nothing in foamgrain are listed, one sentence each,
 //! in [`CouplingConfig::warnings`].
 
+pub mod bed_heat;
 pub mod commands;
 mod forces;
 pub mod heat;
@@ -50,6 +51,7 @@ mod void_fraction;
 
 pub use commands::LiggghtsCommands;
 
+pub use bed_heat::{BedConductivity, InterGrainSettings, WallHeatSettings};
 pub use heat::{HeatModel, HeatSettings, MaxSource};
 pub use monitors::Monitors;
 pub use transport::{read_gravity, read_transport};
@@ -225,6 +227,15 @@ pub struct CouplingConfig {
     pub ddt_voidage: bool,
     /// The heat transfer (`LaEuScalarTemp` or `heatTransferGunn`), `None` without one.
     pub heat: Option<HeatSettings>,
+    /// CFDEM-PFM's `thermCondModel` (`SyamlalThermCond`, `ZehnerSchluenderThermCond`): the
+    /// fluid's bed conductivity ([`bed_heat`]); `None` for `noTherm` or without the key.
+    pub bed_conduction: Option<BedConductivity>,
+    /// CFDEM-PFM's `wallHeatTransferYagi` (an `energyModels` entry beside the heat transfer
+    /// model), `None` without it.
+    pub wall_heat: Option<WallHeatSettings>,
+    /// CFDEM-PFM's `heatTransferInterGrain` (an `energyModels` entry beside the heat transfer
+    /// model), `None` without it.
+    pub inter_grain: Option<InterGrainSettings>,
     /// `dataExchangeModel`, as written.
     pub data_exchange: String,
     /// `<dataExchangeModel>Props/liggghtsPath`: the coupled LIGGGHTS deck, relative to the
@@ -275,6 +286,12 @@ struct Setup {
     position: usize,
     /// The heat transfer model.
     heat: Option<HeatSettings>,
+    /// `thermCondModel`.
+    bed: Option<BedConductivity>,
+    /// `wallHeatTransferYagi`.
+    wall: Option<WallHeatSettings>,
+    /// `heatTransferInterGrain`.
+    inter_grain: Option<InterGrainSettings>,
 }
 
 /// What a constructor returns: its setting is set in the [`Setup`], or the error.
@@ -511,6 +528,22 @@ impl CouplingConfig {
             }
         }
         momentum::check_averaging(&mut r, &setup.momentum);
+        if (setup.wall.is_some() || setup.inter_grain.is_some()) && setup.heat.is_none() {
+            return Err(r.err(
+                "energyModels",
+                "wallHeatTransferYagi and heatTransferInterGrain need a heat transfer model \
+                 beside them (heatTransferGunn, LaEuScalarTemp…): without one there are no \
+                 fluid and particle temperatures to couple, and its λ and c_p are the wall \
+                 law's",
+            ));
+        }
+        if let (Some(bed), None) = (setup.bed, setup.heat) {
+            r.warn(format!(
+                "thermCondModel {}: no heat transfer model is selected, so the fluid solves no \
+                 temperature and the bed conductivity has no effect",
+                bed.name()
+            ));
+        }
         let data_exchange = r
             .opt_word(top, "dataExchangeModel", "dataExchangeModel")?
             .unwrap_or("twoWayMPI")
@@ -590,6 +623,9 @@ impl CouplingConfig {
             ddt_voidage,
             smoothing: setup.smoothing,
             heat: setup.heat,
+            bed_conduction: setup.bed,
+            wall_heat: setup.wall,
+            inter_grain: setup.inter_grain,
             data_exchange,
             liggghts_path,
             warnings: r.warnings,

@@ -15,7 +15,9 @@
 //! so the time term is ε° (T − T°)/Δt; Gauss convection with `div(phi,T)`'s weights
 //! ([`crate::convection`]) minus (∇·φ) T implicit: with a uniform T the convection and the
 //! time terms vanish whatever φ and ε do, and the equation is the non-conservative
-//! ε ∂T/∂t + φ·∇T = ∇·(α_eff ε ∇T) + Tsource; Gauss linear Laplacian with the face
+//! ε ∂T/∂t + φ·∇T = ∇·(α_eff ε ∇T) + Tsource (with a PFM `thermCondModel`,
+//! [`TemperatureSettings::bed`], the laminar ε ν/Pr is (k_bed/k_f) ν/Pr, [`conduction`]);
+//! Gauss linear Laplacian with the face
 //! diffusivity interpolated from the cells' α_eff ε (boundary faces: α_eff,b ε_b, ε_b the
 //! `voidfraction` condition's) and the fluid's delta coefficients and non-orthogonal
 //! correction. The matrix is [`ScalarEqn::transport`], the solver fvSolution's `T` entry.
@@ -54,8 +56,10 @@
 //! which cfdemSolverPisoScalar still solves.
 
 pub mod bc;
+pub mod conduction;
 pub mod settings;
 
+pub use conduction::BedConduction;
 pub use settings::TemperatureSettings;
 
 use crate::error::{FvError, Result};
@@ -302,12 +306,28 @@ impl Temperature {
             at_c.clone_from(&a.cells);
             at_b.clone_from(&a.boundary);
         }
-        let cells: Vec<f64> = (0..g.n_cells)
-            .map(|c| (alpha + at_c[c]) * flow.eps[c])
-            .collect();
-        let b: Vec<f64> = (0..g.n_boundary())
-            .map(|i| (alpha + at_b[i]) * flow.ef[g.n_internal + i])
-            .collect();
+        let (mut cells, mut b): (Vec<f64>, Vec<f64>) = (
+            (0..g.n_cells)
+                .map(|c| (alpha + at_c[c]) * flow.eps[c])
+                .collect(),
+            (0..g.n_boundary())
+                .map(|i| (alpha + at_b[i]) * flow.ef[g.n_internal + i])
+                .collect(),
+        );
+        if let Some(bed) = self.settings.bed {
+            // ε k_f → k_bed(ε) in the laminar part; boundary faces ε_b k_bed(ε_o)/ε_o
+            // (PFM's zeroGradient thCond)
+            let ratio: Vec<f64> = flow.eps.iter().map(|&e| bed.ratio(e)).collect();
+            for (c, d) in cells.iter_mut().enumerate() {
+                *d = alpha * ratio[c] + at_c[c] * flow.eps[c];
+            }
+            for (i, d) in b.iter_mut().enumerate() {
+                let f = g.n_internal + i;
+                let o = g.owner[f] as usize;
+                let per_eps = ratio[o] / flow.eps[o];
+                *d = (alpha * per_eps + at_b[i]) * flow.ef[f];
+            }
+        }
         fvc::interpolate(g, Field::new(&cells, &b))
     }
 

@@ -38,6 +38,10 @@ pub struct TemperatureSettings {
     pub prt: f64,
     /// `div(phi,T)`, the `T` solver (`crank_nicolson` is always `None`: Euler).
     pub scheme: ScalarScheme,
+    /// CFDEM-PFM's bed conductivity model (`thermCondModel`), set by the coupling; `None`
+    /// (what [`TemperatureSettings::read`] gives): the fluid's own, ε ν/Pr
+    /// ([`crate::temperature::conduction`]).
+    pub bed: Option<crate::temperature::conduction::BedConduction>,
 }
 
 /// The term OpenFOAM names the T equation's Laplacian by (`fvm::laplacian(alphaEff*voidfraction, T)`).
@@ -107,6 +111,7 @@ impl TemperatureSettings {
                 solver,
                 crank_nicolson: None,
             },
+            bed: None,
         })
     }
 }
