@@ -173,10 +173,10 @@ enum Victim {
     Solver(usize),
 }
 
-/// Starts `case`, kills `victim` once the first write is complete and the run has gone on,
-/// waits for every process to end; returns the run's output and the seconds from the kill to
+/// Starts `case`, kills `victim` once the first write is complete and the run has gone on
+/// (`during_write`: while the second write is under way), waits for every process to end; returns the run's output and the seconds from the kill to
 /// the last process's end.
-fn kill_mid_run(case: &Path, stack: Stack, victim: Victim) -> (String, f64) {
+fn kill_mid_run(case: &Path, stack: Stack, victim: Victim, during_write: bool) -> (String, f64) {
     let mut child = start(case, stack);
     let waited = Instant::now();
     let pid = loop {
@@ -202,8 +202,25 @@ fn kill_mid_run(case: &Path, stack: Stack, victim: Victim) -> (String, f64) {
             _ => std::thread::sleep(Duration::from_millis(20)),
         }
     };
-    // a little into the next interval, so that the kill falls inside a step
-    std::thread::sleep(Duration::from_millis(30));
+    if during_write {
+        // the second write under way (the journal says `writing`); a write missed between two
+        // polls is killed after instead (the test then says so)
+        let second = "0.02";
+        loop {
+            match journal(case) {
+                Some((t, false)) if t == second => break,
+                Some((t, true)) if t == second => {
+                    eprintln!("{victim:?}: the write of {second} was missed; killed after it");
+                    break;
+                }
+                _ if child.try_wait().unwrap().is_some() => panic!("the run ended first"),
+                _ => std::thread::sleep(Duration::from_micros(200)),
+            }
+        }
+    } else {
+        // a little into the next interval, so that the kill falls inside a step
+        std::thread::sleep(Duration::from_millis(30));
+    }
     let killed = Instant::now();
     unsafe {
         libc::kill(pid as i32, libc::SIGKILL);
@@ -337,7 +354,7 @@ fn native_run_killed_and_started_again_is_the_uninterrupted_run() {
     let whole = fixture(dir.path(), "whole", Bed::Landing);
     run(&whole, Stack::Native);
     let killed = fixture(dir.path(), "killed", Bed::Landing);
-    kill_mid_run(&killed, Stack::Native, Victim::Native);
+    kill_mid_run(&killed, Stack::Native, Victim::Native, false);
     no_half_written(&killed, &whole);
     let log = restart(&killed, Stack::Native);
     eprintln!(
@@ -435,12 +452,19 @@ mod cosim {
     /// Kills `victim` of a 4-rank co-simulation of `killed` (a copy of the fixture that `whole`
     /// ran uninterrupted), checks the end and the files, starts the run again and compares it
     /// with the uninterrupted one; `cause` is what the survivors' output must say.
-    fn killed_and_started_again(whole: &Path, killed: &Path, victim: Victim, cause: &[&str]) {
+    fn killed_and_started_again(
+        whole: &Path,
+        killed: &Path,
+        victim: Victim,
+        cause: &[&str],
+        during_write: bool,
+    ) {
         // the same packed bed (stage 1 ran in the first run only)
         let packed = "DEM/post/restart/liggghts.restart";
         std::fs::create_dir_all(killed.join(packed).parent().unwrap()).unwrap();
         std::fs::copy(whole.join(packed), killed.join(packed)).unwrap();
-        let (log, seconds) = kill_mid_run(killed, Stack::CoSim, victim);
+        let (log, seconds) = kill_mid_run(killed, Stack::CoSim, victim, during_write);
+        let half = journal(killed).and_then(|(t, done)| (!done).then_some(t));
         assert!(seconds <= BOUND.as_secs_f64());
         // each entry must be said; `a|b`: a or b
         let said: Vec<&str> = log
@@ -460,7 +484,19 @@ mod cosim {
             );
         }
         no_half_written(killed, whole);
-        restart(killed, Stack::CoSim);
+        let again = restart(killed, Stack::CoSim);
+        if let Some(t) = half {
+            // the write under way was moved aside and the run continued from the one before
+            assert!(
+                again.contains(&format!("/{t} was being written when the run ended")),
+                "{again}"
+            );
+            let aside = |d: &str| killed.join(format!("CFD/{d}{t}.incomplete")).is_dir();
+            assert!(aside("") || aside("processor0/"));
+            eprintln!(
+                "{victim:?}: killed while {t} was being written; restarted from the write before"
+            );
+        }
         let (d, at) = largest_difference(whole, killed);
         eprintln!(
             "{victim:?}: restarted against uninterrupted: largest difference {d:.2e} of the \
@@ -496,7 +532,9 @@ mod cosim {
         ];
         for (n, (victim, cause)) in deaths.into_iter().enumerate() {
             let killed = fixture(tmp.path(), &format!("killed{n}"), Bed::Suspended);
-            killed_and_started_again(&whole, &killed, victim, cause);
+            // rank 0 is killed while the second write is under way
+            let during_write = n == 2;
+            killed_and_started_again(&whole, &killed, victim, cause, during_write);
         }
     }
 }
