@@ -1,10 +1,12 @@
 //! Full tier: a rank killed (SIGKILL) in the middle of a run, as a node lost or the OOM killer
 //! would, and the run started again.
 //!
-//! The case is the restart fixture (`testkit::restart`: the settling box with 18 spheres,
+//! The case is the restart fixture (`testkit::restart`: the settling box with 18 spheres —
+//! landing on each other on the native stack, suspended in a 0.1 Pa·s liquid in the
+//! co-simulation —
 //! CFDEM's `writeLiggghts` at every write time, a deck that reads what it wrote), run to
-//! [`END`] writing every [`WRITE`]. Each test kills one process once the first write is
-//! complete, then checks:
+//! [`END`] writing every [`WRITE`]. Each death kills one process once the first write is
+//! complete (coupler rank 0: while the second write is under way), then checks:
 //!
 //! * every process of the run ends within [`BOUND`] of the kill (measured and printed), and
 //!   the survivors' output names the cause;
