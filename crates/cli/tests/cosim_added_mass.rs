@@ -10,6 +10,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+
 fn run(case: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_foamgrain"))
         .arg("run")
@@ -24,25 +26,6 @@ fn run(case: &Path) -> Output {
         .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
         .output()
         .unwrap()
-}
-
-fn ready() -> bool {
-    for tool in ["mpirun", "liggghts"] {
-        if !testkit::tool(tool) {
-            return false;
-        }
-    }
-    let solver = runner::backend::solver_path().map(|p| p.is_file());
-    if !matches!(solver, Ok(true)) {
-        assert!(
-            !testkit::full_tier(),
-            "FOAMGRAIN_FULL=1 but grainPisoFoam is not built ({solver:?}; \
-             openfoam-cases/solver/build.sh)"
-        );
-        eprintln!("note: grainPisoFoam not built: skipping");
-        return false;
-    }
-    true
 }
 
 /// The settling case with `models` added to `forceModels` and `props` after the list.
@@ -63,7 +46,7 @@ fn settling(models: &str, props: &str) -> (tempfile::TempDir, PathBuf) {
 
 #[test]
 fn settling_with_added_mass_on_grainpisofoam_and_liggghts() {
-    if !ready() {
+    if !common::cosim_ready(&["mpirun", "liggghts"]) {
         return;
     }
     let (_dir, case) = settling(
@@ -86,7 +69,7 @@ fn settling_with_added_mass_on_grainpisofoam_and_liggghts() {
 
 #[test]
 fn mei_lift_on_grainpisofoam_is_refused_before_the_spawn() {
-    if !ready() {
+    if !common::cosim_ready(&["mpirun", "liggghts"]) {
         return;
     }
     let (_dir, case) = settling("    MeiLift", "MeiLiftProps\n{\n    velFieldName \"U\";\n}");

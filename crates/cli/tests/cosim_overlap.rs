@@ -13,6 +13,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+
 /// Runs `foamgrain run CASE ARGS…` with Debian's OpenFOAM environment; panics with its output
 /// when it fails for another reason than its checks.
 fn run(case: &Path, args: &[&str]) {
@@ -128,33 +130,16 @@ fn same_both_ways(case: &str, args: &[&str], init: Option<&Path>) {
     }
 }
 
-fn ready() -> bool {
-    if !testkit::tool("mpirun") {
-        return false;
-    }
-    let solver = runner::backend::solver_path().map(|p| p.is_file());
-    if !matches!(solver, Ok(true)) {
-        assert!(
-            !testkit::full_tier(),
-            "FOAMGRAIN_FULL=1 but grainPisoFoam is not built ({solver:?}; \
-             openfoam-cases/solver/build.sh)"
-        );
-        eprintln!("note: grainPisoFoam not built: skipping");
-        return false;
-    }
-    true
-}
-
 #[test]
 fn settling_overlapped_equals_sequential() {
-    if ready() {
+    if common::cosim_ready(&["mpirun"]) {
         same_both_ways("settling", &["--end-time", "0.06"], None);
     }
 }
 
 #[test]
 fn ergun_overlapped_equals_sequential() {
-    if ready() {
+    if common::cosim_ready(&["mpirun"]) {
         same_both_ways(
             "ergun",
             &[

@@ -16,7 +16,10 @@
 //! Timing: runs after the first are `run N pre no post no`, so the first half kick of an
 //! interval still uses the force of the previous interval's last step; new forces act from
 //! the first force evaluation on (the native DEM does the same: `set_coupling` keeps its stored
-//! forces). Tested in `tests/link_explicit.rs` to 1e-12.
+//! forces). Tested in `tests/link_explicit.rs` to 1e-12. After a `write_restart` (CFDEM's
+//! `writeLiggghts`) the next run is a plain `run N` again: a run restarted from that file
+//! begins with LIGGGHTS's setup, which computes the forces with the exchange's new fields, and
+//! the run that wrote it does the same, so the two continue alike (`cli/tests/dying_rank.rs`).
 
 use mesh::v3::V3;
 

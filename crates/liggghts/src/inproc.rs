@@ -464,6 +464,13 @@ impl ParticleSide for LiggghtsDem {
 
     fn command(&mut self, cmd: &str) -> Result<(), SideError> {
         LiggghtsDem::command(self, cmd)?;
+        if cmd.split_whitespace().next() == Some("write_restart") {
+            // the next interval begins as a run continued from this file begins (`run N`
+            // with LIGGGHTS's setup: its first half kick uses the forces of the exchange just
+            // made, not the previous interval's last ones, which no restart file holds), so
+            // that a run restarted from here continues this one (crate::forces)
+            self.ran = false;
+        }
         // a command may change the particles (CFDEM's `set … property/atom Temp`, `run`)
         self.refresh()?;
         Ok(())

@@ -181,7 +181,7 @@ impl ValidationSpec {
 
 /// `path` with `.` and `dir/..` pairs removed, without touching the file system
 /// (`CASE/CFD/../DEM/in.liggghts_run` → `CASE/DEM/in.liggghts_run`).
-fn lexically_normal(path: &Path) -> PathBuf {
+pub(crate) fn lexically_normal(path: &Path) -> PathBuf {
     use std::path::Component;
     let mut out = PathBuf::new();
     for c in path.components() {

@@ -17,6 +17,7 @@ pub mod foam_fluid;
 pub mod heat_plot;
 pub mod heating;
 pub mod heating_run;
+pub mod journal;
 pub mod layout;
 mod monitors;
 pub mod native;

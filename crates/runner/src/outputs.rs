@@ -290,13 +290,15 @@ pub(crate) struct Outputs<'a> {
 impl Outputs<'_> {
     /// Closes step `o` once the fluid has advanced its interval: the fluid's part of the
     /// sample, the monitors, and at a write step (then `dem` still holds the step's particles)
-    /// liggghtsCommands and the outputs. Returns the step for [`Coupler::recycle`]. Not
-    /// collective on N ranks (only the particle files are written per rank).
+    /// liggghtsCommands and the outputs, as one unit of [`crate::journal`]. Returns the step
+    /// for [`Coupler::recycle`]. Collective on N ranks at write steps only (every rank's
+    /// particle piece is written before the write is complete).
     pub(crate) fn close<P: ParticleSide, F: RunFluid>(
         &mut self,
         o: Open,
         dem: &mut Timed<P>,
         fluid: &mut Timed<F>,
+        ranks: &dyn couple::Ranks,
         events: &mut dyn FnMut(Event),
     ) -> Result<CouplingStep, RunError> {
         let Open {
@@ -370,18 +372,40 @@ impl Outputs<'_> {
             writes: self.writes,
         };
         self.command_runs.resize(self.commands.commands.len(), 0);
+        let mut due = Vec::new();
         for (c, runs) in self.commands.commands.iter().zip(&mut self.command_runs) {
             if let Some(cmd) = c.due_after(now, *runs) {
-                run_command(dem, &cmd, self.layout, events)?;
+                due.push(cmd);
                 *runs += 1;
             }
         }
+        let name = couple::output::time_name(self.start + k as f64 * self.dt_c);
+        // a write time is one unit (crate::journal): a restart file goes to a temporary name
+        let mut renames = Vec::new();
         if write_now {
+            for cmd in &mut due {
+                if let Some((staged, rename)) =
+                    crate::journal::staged_restart(cmd, &self.layout.dem)
+                {
+                    *cmd = staged;
+                    renames.push(rename);
+                }
+            }
+        }
+        let journal = write_now
+            .then(|| {
+                crate::journal::WriteJournal::begin(&self.layout.cfd, &name, renames, rank == 0)
+            })
+            .transpose()?;
+        for cmd in &due {
+            run_command(dem, cmd, self.layout, events)?;
+        }
+        if let Some(journal) = journal {
             let t = Instant::now();
             let pieces = Pieces {
                 rank,
                 ranks: self.n_ranks,
-                name: couple::output::time_name(self.start + k as f64 * self.dt_c),
+                name,
             };
             let name = write_time(
                 self.layout,
@@ -405,6 +429,9 @@ impl Outputs<'_> {
                 self.monitors
                     .write_time(&dir, &name, self.mesh, &fields, particles)?;
             }
+            // every rank's part is written (the solver replied to its write before)
+            ranks.all_max(&mut [0.0]);
+            journal.commit(rank == 0)?;
             self.output_seconds += t.elapsed().as_secs_f64();
         }
         events(Event::Step {

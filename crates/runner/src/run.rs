@@ -58,7 +58,25 @@ fn run_launched(
     launch: &Launch,
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
+    // what a run killed during a write left (crate::journal), before the case is read
+    let recovered = match launch.rank() {
+        0 => crate::journal::recover(&case.join("CFD")),
+        _ => Ok(Vec::new()),
+    };
+    if !launch.all_ok(recovered.is_ok()) {
+        return Err(recovered.err().unwrap_or_else(|| {
+            RunError::Backend("rank 0 could not recover the case's last write".into())
+        }));
+    }
+    for line in recovered? {
+        events(Event::Message(line));
+    }
     let plan = RunPlan::read(case, opts)?;
+    if plan.fluid.start_time > 0.0 {
+        if let Some((file, _)) = plan.start_file() {
+            crate::journal::check_start(&plan.layout.cfd, plan.fluid.start_time, &file)?;
+        }
+    }
     for w in &plan.warnings {
         events(Event::Message(format!("warning: {w}")));
     }

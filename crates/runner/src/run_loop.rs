@@ -544,7 +544,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             coupler.advance_particles(dem)?;
             if let Some(o) = open.take() {
                 fluid.finish_advance().map_err(RunError::Fluid)?;
-                let step = out.close(o, dem, fluid, events)?;
+                let step = out.close(o, dem, fluid, coupler.ranks(), events)?;
                 coupler.recycle(step);
             }
             let (step, dt) = coupler.hand_over(dem, fluid)?;
@@ -608,7 +608,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 continue;
             }
             fluid.finish_advance().map_err(RunError::Fluid)?;
-            let step = out.close(o, dem, fluid, events)?;
+            let step = out.close(o, dem, fluid, coupler.ranks(), events)?;
             coupler.recycle(step);
             if stop_now && k < steps {
                 events(Event::Message(format!(

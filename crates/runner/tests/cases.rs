@@ -4,6 +4,7 @@
 use runner::run::{run, Event, RunOptions};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
+use testkit::restart::{restart_case, set_control, use_restart_deck, WRITE_LIGGGHTS};
 
 /// A copy of a reference case's inputs (what git tracks): a packed bed or time directories that
 /// a user's run of the main job left in `openfoam-cases/` are not copied.
@@ -144,13 +145,6 @@ fn a_deck_whose_coupling_interval_disagrees_warns_or_is_refused() {
         "{err}"
     );
 }
-
-/// CFDEM's `liggghtsCommands` of ErgunTestMPI_restart's first run: a LIGGGHTS restart file
-/// at every write time, overwritten (`DEM/post/restart/liggghts.restartCFDEM`).
-const WRITE_LIGGGHTS: &str =
-    "FoamFile { version 2.0; format ascii; class dictionary; object liggghtsCommands; }\n\
-     liggghtsCommandModels ( runLiggghts writeLiggghts );\n\
-     writeLiggghtsProps { writeLastOnly off; writeName \"post/restart/liggghts.restartCFDEM\"; overwrite on; }\n";
 
 /// CFDEM's liggghtsCommands: writeLiggghts writes a LIGGGHTS restart file of the particles at
 /// the write times (here the one step a stop request leaves), which the native DEM reads back.
@@ -349,120 +343,6 @@ fn a_packed_bed_whose_density_is_in_0_rho_keeps_erguns_pressure_drop() {
     );
 }
 
-/// The particles of the restart fixture: two layers of 9 spheres (d = 1.5 mm, 2000 kg/m³)
-/// over the settling case's box, the upper layer landing on the lower one.
-const RESTART_SETUP: &str = "\
-atom_style      granular
-atom_modify     map array
-communicate     single vel yes
-boundary        f f f
-newton          off
-units           si
-";
-
-/// Materials, contacts, gravity and the six walls of the restart fixture's decks.
-const RESTART_PHYSICS: &str = "\
-neighbor        0.0002 bin
-neigh_modify    delay 0
-fix             m1 all property/global youngsModulus peratomtype 5.e6
-fix             m2 all property/global poissonsRatio peratomtype 0.45
-fix             m3 all property/global coefficientRestitution peratomtypepair 1 0.3
-fix             m4 all property/global coefficientFriction peratomtypepair 1 0.5
-pair_style      gran model hertz tangential history
-pair_coeff      * *
-timestep        0.00001
-fix             gravi all gravity 9.81 vector 0.0 -1.0 0.0
-fix             ywall1 all wall/gran model hertz tangential history primitive type 1 yplane 0.0
-fix             ywall2 all wall/gran model hertz tangential history primitive type 1 yplane 0.05
-fix             xwall1 all wall/gran model hertz tangential history primitive type 1 xplane 0.0
-fix             xwall2 all wall/gran model hertz tangential history primitive type 1 xplane 0.01
-fix             zwall1 all wall/gran model hertz tangential history primitive type 1 zplane 0.0
-fix             zwall2 all wall/gran model hertz tangential history primitive type 1 zplane 0.01
-";
-
-/// The settling case turned into a small restart case in the layout of CFDEM's
-/// ErgunTestMPI_restart: `in.liggghts_init` packs 18 spheres and writes
-/// `post/restart/liggghts.restart`, `in.liggghts_run` reads it, `in.liggghts_restart` reads
-/// what `writeLiggghts` writes (`post/restart/liggghts.restartCFDEM`, overwritten at every
-/// write time), with the tutorial's model A and forces (KochHillDrag, gradPForce, viscForce,
-/// Archimedes, implicit drag). The coupled decks issue no `run` (see the restart test).
-fn restart_case() -> (tempfile::TempDir, PathBuf) {
-    let (tmp, case) = case_copy("settling");
-    std::fs::remove_file(case.join("validationDict")).unwrap();
-    let mut init = format!(
-        "{RESTART_SETUP}region reg block 0 0.01 0 0.05 0 0.01 units box\ncreate_box 1 reg\n"
-    );
-    // the upper layer shifted by 0.4 mm so that its spheres land on the lower ones' sides
-    for (y, shift) in [(0.004, 0.0), (0.007, 0.0004)] {
-        for x in [0.0025, 0.005, 0.0075] {
-            for z in [0.0025, 0.005, 0.0075] {
-                let x = x + shift;
-                init.push_str(&format!("create_atoms 1 single {x} {y} {z} units box\n"));
-            }
-        }
-    }
-    init.push_str("set group all diameter 0.0015 density 2000\n");
-    init.push_str(RESTART_PHYSICS);
-    init.push_str(
-        "fix integr all nve/sphere\nrun 4000\nwrite_restart post/restart/liggghts.restart\n",
-    );
-    std::fs::write(case.join("DEM/in.liggghts_init"), init).unwrap();
-    for (deck, file) in [
-        ("in.liggghts_run", "liggghts.restart"),
-        ("in.liggghts_restart", "liggghts.restartCFDEM"),
-    ] {
-        std::fs::write(
-            case.join("DEM").join(deck),
-            format!(
-                "{RESTART_SETUP}read_restart ../DEM/post/restart/{file}\n{RESTART_PHYSICS}\
-                 fix cfd all couple/cfd couple_every 100 mpi\n\
-                 fix cfd2 all couple/cfd/force/implicit\n\
-                 fix integr all nve/sphere\n"
-            ),
-        )
-        .unwrap();
-    }
-    let cp = case.join("CFD/constant/couplingProperties");
-    let text = std::fs::read_to_string(&cp)
-        .unwrap()
-        .replace("\"B\"", "\"A\"")
-        .replace(
-            "    DiFeliceDrag\n    Archimedes\n",
-            "    KochHillDrag\n    gradPForce\n    viscForce\n    Archimedes\n",
-        );
-    std::fs::write(
-        &cp,
-        format!(
-            "{text}\nKochHillDragProps {{ }}\ngradPForceProps {{ }}\nviscForceProps {{ }}\n\
-             twoWayMPIProps {{ liggghtsPath \"../DEM/in.liggghts_run\"; }}\n"
-        ),
-    )
-    .unwrap();
-    std::fs::write(case.join("CFD/constant/liggghtsCommands"), WRITE_LIGGGHTS).unwrap();
-    set_control(&case, "startTime", "0.01", "0.005");
-    (tmp, case)
-}
-
-/// Rewrites `CFD/system/controlDict`: `startFrom`, `endTime` and `writeInterval`.
-fn set_control(case: &std::path::Path, start_from: &str, end: &str, write: &str) {
-    let path = case.join("CFD/system/controlDict");
-    let text: String = std::fs::read_to_string(&path)
-        .unwrap()
-        .lines()
-        .map(|l| {
-            let key = l.split_whitespace().next().unwrap_or("");
-            match key {
-                "startFrom" => format!("startFrom       {start_from};"),
-                "endTime" => format!("endTime         {end};"),
-                "writeInterval" => format!("writeInterval   {write};"),
-                _ => l.to_owned(),
-            }
-        })
-        .map(|l| l + "\n")
-        .collect();
-    std::fs::write(path, text).unwrap();
-}
-
 /// CFDEM's ErgunTestMPI_restart on the native stack: a coupled run to 0.01 s, against the
 /// same case run to 0.005 s and restarted with `startFrom latestTime` (the fluid from
 /// `CFD/0.005`: U, p, phi, grad(p), the voidage boundary) and the coupled deck that reads the
@@ -474,22 +354,20 @@ fn set_control(case: &std::path::Path, start_from: &str, end: &str, write: &str)
 #[test]
 fn a_run_restarted_from_its_write_time_is_the_uninterrupted_run() {
     let stop = AtomicBool::new(false);
-    let (_a, whole) = restart_case();
+    let (_a, whole) = case_copy("settling");
+    restart_case(&whole);
     set_control(&whole, "startTime", "0.01", "0.005");
     let (report, log) = run_logged(&whole, &stop);
     assert_eq!(report.steps, 10, "{log:?}");
     assert_eq!(report.particles, 18);
 
-    let (_b, split) = restart_case();
+    let (_b, split) = case_copy("settling");
+    restart_case(&split);
     set_control(&split, "startTime", "0.005", "0.005");
     let (first, _) = run_logged(&split, &stop);
     assert_eq!(first.steps, 5);
     // the tutorial's second half: the restart deck and startFrom latestTime
-    let cp = split.join("CFD/constant/couplingProperties");
-    let text = std::fs::read_to_string(&cp)
-        .unwrap()
-        .replace("in.liggghts_run", "in.liggghts_restart");
-    std::fs::write(&cp, text).unwrap();
+    use_restart_deck(&split);
     set_control(&split, "latestTime", "0.01", "0.005");
     let (second, log) = run_logged(&split, &stop);
     assert_eq!(second.steps, 5, "{log:?}");

@@ -15,6 +15,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+pub mod restart;
+
 /// The repository root.
 pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -143,7 +145,7 @@ fn list_files(root: &Path, rel: &Path, out: &mut Vec<PathBuf>) {
 /// Whether `rel` (relative to a CFDEM-layout case or one of its `CFD/`, `DEM/` folders) is
 /// something a run writes rather than an input: `postProcessing/…`, `DEM/post/…` (but its
 /// `.keep`), a time directory other than `0`, `processorN/…`, `clockData/…` (CFDEM's
-/// `standardClock` table), or a `log.*` file.
+/// `standardClock` table), the write journal `foamgrain.write`, or a `log.*` file.
 pub fn is_run_output(rel: &Path) -> bool {
     let parts: Vec<String> = rel
         .components()
@@ -152,7 +154,7 @@ pub fn is_run_output(rel: &Path) -> bool {
     let Some(name) = parts.last() else {
         return false;
     };
-    if name.starts_with("log.") {
+    if name.starts_with("log.") || name == "foamgrain.write" {
         return true;
     }
     parts.iter().enumerate().any(|(k, p)| {

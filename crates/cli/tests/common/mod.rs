@@ -1,0 +1,23 @@
+//! What the co-simulation tests share (`mod common;` in each).
+
+/// Whether a co-simulation test can run: the programs `tools` and grainPisoFoam
+/// (`openfoam-cases/solver/build.sh`). Without them the test is skipped with a note, but under
+/// `FOAMGRAIN_FULL=1` a missing one fails it (`testkit::tool`).
+pub fn cosim_ready(tools: &[&str]) -> bool {
+    for tool in tools {
+        if !testkit::tool(tool) {
+            return false;
+        }
+    }
+    let solver = runner::backend::solver_path().map(|p| p.is_file());
+    if !matches!(solver, Ok(true)) {
+        assert!(
+            !testkit::full_tier(),
+            "FOAMGRAIN_FULL=1 but grainPisoFoam is not built ({solver:?}; \
+             openfoam-cases/solver/build.sh)"
+        );
+        eprintln!("note: grainPisoFoam not built: skipping");
+        return false;
+    }
+    true
+}
