@@ -5,6 +5,7 @@
 //! references computed from the case's own parameters and its measured bed.
 pub mod backend;
 pub mod bed;
+pub mod branch;
 pub mod checks;
 pub mod conveyor;
 pub mod error;
