@@ -3,7 +3,10 @@
 //!
 //! The observables ([`Zones::measure`]) split the particles by their coordinate h along the
 //! column axis (against gravity): h ≥ `tubeFrom` is the outlet tube, h < `chamberTop` the
-//! chamber (annulus and plenum), h < `annulusTop` the annulus alone. The checks ([`checks`]),
+//! chamber (annulus and plenum), h < `annulusTop` the annulus alone. In the full system
+//! (validationDict keys `branchAxis`, `tubeTo`, `branchFrom`, `ventFrom`, `secondaryFrom`) the
+//! tube is the downstream tube up to `tubeTo`, and [`crate::branch`] adds its observables and
+//! checks. The checks ([`checks`]),
 //! each against the seed's numbers (J. R. Madden, "Coupled CFD-DEM Model for a Pneumatic
 //! Conveying System", USC ASTE 499, 2020; `../shared/seeds/002_317464ee9f894a3e.txt`):
 //!
@@ -67,6 +70,9 @@ pub struct ConveyorSpec {
     pub emptying_time: f64,
     /// Largest fraction of the chamber's particles that may remain.
     pub emptied_tolerance: f64,
+    /// The full system's downstream parts (`openfoam-cases/pneumatic-conveying-full`): the
+    /// tube then ends at its `tubeTo` ([`crate::branch`]); `None` for the reduced conveyor.
+    pub branch: Option<crate::branch::BranchSpec>,
 }
 
 /// The conveyor's particle observables of one coupling step.
@@ -89,7 +95,13 @@ impl Zones {
         let mut z = Zones::default();
         for (x, v) in positions.iter().zip(velocities) {
             let h = x.dot(&axis);
-            if h >= spec.tube_from {
+            let in_tube = match &spec.branch {
+                None => h >= spec.tube_from,
+                Some(b) => {
+                    b.region(spec.tube_from, h, x.dot(&b.axis)) == crate::branch::Region::Tube
+                }
+            };
+            if in_tube {
                 z.tube += 1;
                 z.tube_axial_sum += v.dot(&axis);
             }
@@ -312,6 +324,14 @@ pub fn checks(
         )),
     }
     plots(spec, samples, post, [initial, initial_annulus])?;
+    if spec.branch.is_some() {
+        checks.extend(crate::branch::checks(
+            samples,
+            spec.averaging_from,
+            post,
+            notes,
+        )?);
+    }
     Ok(checks)
 }
 
@@ -438,6 +458,7 @@ mod tests {
             particle_velocity_tolerance: 0.5 / 5.5,
             emptying_time: 0.1,
             emptied_tolerance: 0.1,
+            branch: None,
         }
     }
 

@@ -98,6 +98,27 @@ fn word(d: &Dict, path: &Path, key: &str) -> Result<String, LayoutError> {
     Ok(d.word(key).map_err(|e| entry_err(path, e))?.to_owned())
 }
 
+/// The full conveyor's keys ([`crate::branch::BranchSpec`]): all of them, or none (the
+/// reduced conveyor).
+fn branch(d: &Dict, path: &Path) -> Result<Option<crate::branch::BranchSpec>, LayoutError> {
+    if !d.contains("branchAxis") {
+        return Ok(None);
+    }
+    let a = d.vector("branchAxis").map_err(|e| entry_err(path, e))?;
+    let axis = mesh::v3::V3::new(a[0], a[1], a[2]);
+    let n = axis.norm();
+    if !(n.is_finite() && n > 0.0) {
+        return Err(entry_err(path, "branchAxis must be a non-zero vector"));
+    }
+    Ok(Some(crate::branch::BranchSpec {
+        axis: axis / n,
+        tube_to: tolerance(d, path, "tubeTo")?,
+        branch_from: tolerance(d, path, "branchFrom")?,
+        vent_from: tolerance(d, path, "ventFrom")?,
+        secondary_from: tolerance(d, path, "secondaryFrom")?,
+    }))
+}
+
 fn tolerance(d: &Dict, path: &Path, key: &str) -> Result<f64, LayoutError> {
     let t = d.f64(key).map_err(|e| entry_err(path, e))?;
     if !(t.is_finite() && t > 0.0) {
@@ -163,6 +184,7 @@ impl ValidationSpec {
                     particle_velocity_tolerance: tolerance(&d, path, "particleVelocityTolerance")?,
                     emptying_time: tolerance(&d, path, "emptyingTime")?,
                     emptied_tolerance: tolerance(&d, path, "emptiedTolerance")?,
+                    branch: branch(&d, path)?,
                 },
             )),
             "packedBedHeating" => Ok(ValidationSpec::PackedBedHeating(
@@ -346,6 +368,47 @@ mod tests {
         assert_eq!(l.run_deck, case.join("DEM/in.resume"));
     }
 
+    /// The reduced conveyor has no branch; the full one's branch keys agree with the numbers
+    /// its geometry script builds the mesh from (`geometry.py`'s Z_SQ, Z_J0, HALF, X_LEG).
+    #[test]
+    fn the_conveyors_open_with_their_geometry() {
+        let spec = |case: &str| match CaseLayout::open(&repo().join(case)).unwrap().validation {
+            Some(ValidationSpec::PneumaticConveying(c)) => c,
+            v => panic!("{v:?}"),
+        };
+        assert_eq!(spec("openfoam-cases/pneumatic-conveying").branch, None);
+        let full = spec("openfoam-cases/pneumatic-conveying-full");
+        let b = full.branch.unwrap();
+        let geo =
+            std::fs::read_to_string(repo().join("openfoam-cases/pneumatic-conveying/geometry.py"))
+                .unwrap();
+        let value = |name: &str| -> f64 {
+            let line = geo
+                .lines()
+                .find(|l| l.starts_with(&format!("{name} = ")))
+                .unwrap_or_else(|| panic!("{name} not in geometry.py"));
+            line.split('=')
+                .nth(1)
+                .unwrap()
+                .split('#')
+                .next()
+                .unwrap()
+                .trim()
+                .parse()
+                .unwrap()
+        };
+        let (z_out, z_sq, z_j0, half) =
+            (value("Z_OUT"), value("Z_SQ"), value("Z_J0"), value("HALF"));
+        assert!(geo.contains("X_LEG = -HALF - 0.020"));
+        assert_eq!(b.axis, mesh::v3::V3::x());
+        assert_eq!(
+            (full.tube_from, b.tube_to, b.branch_from),
+            (z_out, z_sq, z_j0)
+        );
+        assert_eq!(b.vent_from, half);
+        assert!((b.secondary_from - (half + 0.020)).abs() < 1e-15);
+    }
+
     #[test]
     fn bad_validation_dicts_name_the_key() {
         let dir = tempfile::tempdir().unwrap();
@@ -366,6 +429,17 @@ mod tests {
         .unwrap();
         let err = ValidationSpec::read(&p).unwrap_err().to_string();
         assert!(err.contains("bedHeightTolerance"), "{err}");
+        // the full conveyor's keys come all together
+        let reduced = std::fs::read_to_string(
+            repo().join("openfoam-cases/pneumatic-conveying/validationDict"),
+        )
+        .unwrap();
+        std::fs::write(&p, format!("{reduced}\nbranchAxis (1 0 0);\n")).unwrap();
+        let err = ValidationSpec::read(&p).unwrap_err().to_string();
+        assert!(
+            err.contains("tubeTo") && err.contains("validationDict"),
+            "{err}"
+        );
         std::fs::write(&p, "type ergunPackedBed;\naxis (0 0 0);\n").unwrap();
         let err = ValidationSpec::read(&p).unwrap_err().to_string();
         assert!(err.contains("axis"), "{err}");

@@ -6,6 +6,7 @@
 pub mod backend;
 pub mod bed;
 pub mod bed_heat;
+pub mod branch;
 pub mod checks;
 pub mod conveyor;
 pub mod error;

@@ -48,6 +48,8 @@ pub(crate) struct Observer {
     pub(crate) outlet: Option<String>,
     /// A conveyor case: its zones and the outlet whose outflow is sampled.
     pub(crate) conveyor: Option<crate::conveyor::ConveyorSpec>,
+    /// The full conveyor's cells whose air velocity is sampled ([`crate::branch`]).
+    pub(crate) air_cells: Option<crate::branch::AirCells>,
     /// The outlet patch's cells and face areas (m²), for the outlet gas temperature.
     pub(crate) outlet_cells: Vec<(usize, f64)>,
     /// A packed-bed heating case: the bins of its temperature profiles.
@@ -144,6 +146,13 @@ impl Observer {
             ranks.all_sum(&mut sums);
             sums
         });
+        let branched = self.conveyor.as_ref().and_then(|spec| {
+            let b = spec.branch.as_ref()?;
+            let z = crate::branch::BranchZones::measure(b, spec.tube_from, ax, ps.position);
+            let mut sums = [z.past as f64, z.vent as f64, z.secondary as f64];
+            ranks.all_sum(&mut sums);
+            Some(sums.map(|c| c as usize))
+        });
         let evacuated = match (&self.conveyor, evacuation) {
             (Some(spec), Some(ev)) => {
                 let ids = crate::conveyor::annulus_ids(spec, ax, ps.position, ps.ids);
@@ -200,6 +209,13 @@ impl Observer {
             heat_from_wall: None,
             particle_temperature: particle_temperature.filter(|t| t.is_finite()),
             outlet_temperature: None,
+            branch_particles: branched.map(|b| b[0]),
+            vent_leg_particles: branched.map(|b| b[1]),
+            secondary_particles: branched.map(|b| b[2]),
+            tube_air_velocity: None,
+            tube_air_peak: None,
+            vent_air_velocity: None,
+            vent_air_peak: None,
         }
     }
 
@@ -218,6 +234,15 @@ impl Observer {
             .as_ref()
             .and_then(|spec| fluid.inflow_velocity(&spec.outlet))
             .map(|u| -u);
+        let air = self
+            .conveyor
+            .as_ref()
+            .and_then(|c| Some((c.branch.as_ref()?, self.air_cells.as_ref()?)))
+            .and_then(|(b, cells)| cells.measure(b, self.column.axis, fluid.state().u));
+        sample.tube_air_velocity = air.map(|a| a.tube_mean);
+        sample.tube_air_peak = air.map(|a| a.tube_peak);
+        sample.vent_air_velocity = air.map(|a| a.vent_mean);
+        sample.vent_air_peak = air.map(|a| a.vent_peak);
         sample.outlet_temperature = fluid.state().temperature.and_then(|t| {
             let area: f64 = self.outlet_cells.iter().map(|&(_, a)| a).sum();
             let sum: f64 = self.outlet_cells.iter().map(|&(c, a)| a * t[c]).sum();

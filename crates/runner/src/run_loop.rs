@@ -343,6 +343,19 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             })
             .unwrap_or_default();
         let column = Column::of(self.mesh, volume, axis);
+        let air_cells = match spec {
+            Some(ValidationSpec::PneumaticConveying(c)) => c.branch.as_ref().map(|b| {
+                let g = self.coupler.voidage_mesh().geometry();
+                crate::branch::AirCells::select(
+                    b,
+                    c.tube_from,
+                    axis,
+                    &g.cell_centres,
+                    &g.cell_volumes,
+                )
+            }),
+            _ => None,
+        };
         let heating = match spec {
             Some(ValidationSpec::PackedBedHeating(c)) => Some(crate::heating_run::Profiler::new(
                 c,
@@ -366,6 +379,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             _ => None,
         };
         Observer {
+            air_cells,
             outlet_cells,
             heating,
             slabs,

@@ -90,9 +90,24 @@ pub struct Sample {
     /// Mean gas temperature on the outlet patch (area-weighted over the patch's cells: the
     /// patch value of a zeroGradient outlet), K.
     pub outlet_temperature: Option<f64>,
+    /// The full conveyor ([`crate::branch`]): particles past the branch's floor (the branch,
+    /// both legs, the secondary chamber).
+    pub branch_particles: Option<usize>,
+    /// Particles in its vented leg.
+    pub vent_leg_particles: Option<usize>,
+    /// Particles in its secondary chamber.
+    pub secondary_particles: Option<usize>,
+    /// Volume-weighted mean axial air velocity in its downstream tube, m/s.
+    pub tube_air_velocity: Option<f64>,
+    /// Largest axial air velocity there, m/s.
+    pub tube_air_peak: Option<f64>,
+    /// Volume-weighted mean air velocity along its vented leg, m/s.
+    pub vent_air_velocity: Option<f64>,
+    /// Largest air velocity along it, m/s.
+    pub vent_air_peak: Option<f64>,
 }
 
-const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles,bed_particles,bed_never_left,annulus_returned,heat_to_particles,heat_from_fluid,heat_clipped,particle_temperature,outlet_temperature";
+const HEADER: &str = "time,inlet_velocity,pressure_drop,bed_height,bed_voidage,kinetic_energy,mean_axial_velocity,first_axial_velocity,fluid_force_axial,particle_volume,deposited_volume,outside_volume,clipped_volume,min_voidage,particles,sauter_diameter,mean_density,weight_per_area,particles_in,particles_out,volume_in,volume_out,momentum_in_x,momentum_in_y,momentum_in_z,momentum_out_x,momentum_out_y,momentum_out_z,outlet_velocity,tube_particles,tube_axial_velocity,chamber_particles,annulus_particles,bed_particles,bed_never_left,annulus_returned,heat_to_particles,heat_from_fluid,heat_clipped,particle_temperature,outlet_temperature,branch_particles,vent_leg_particles,secondary_particles,tube_air_velocity,tube_air_peak,vent_air_velocity,vent_air_peak";
 
 /// The column a run with wall heat adds after [`HEADER`]'s.
 const WALL_COLUMN: &str = ",heat_from_wall";
@@ -141,7 +156,7 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
         for s in samples {
             write!(
                 w,
-                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{:?},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 s.time,
                 o(s.inlet_velocity),
                 o(s.pressure_drop),
@@ -182,7 +197,14 @@ pub fn write_csv(path: &Path, kept: &[String], samples: &[Sample]) -> std::io::R
                 o(s.heat_from_fluid),
                 o(s.heat_clipped),
                 o(s.particle_temperature),
-                o(s.outlet_temperature)
+                o(s.outlet_temperature),
+                n(s.branch_particles),
+                n(s.vent_leg_particles),
+                n(s.secondary_particles),
+                o(s.tube_air_velocity),
+                o(s.tube_air_peak),
+                o(s.vent_air_velocity),
+                o(s.vent_air_peak)
             )?;
             match wall {
                 true => writeln!(w, ",{}", o(s.heat_from_wall))?,

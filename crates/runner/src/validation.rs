@@ -46,6 +46,26 @@ impl Check {
             pass,
         }
     }
+
+    /// A one-sided check: `simulated` must be at least `bound` (`reference`); its error is the
+    /// shortfall relative to |bound| (0 when met), its tolerance 0.
+    pub fn at_least(name: &str, simulated: f64, bound: f64, unit: &str) -> Check {
+        let short = (bound - simulated).max(0.0);
+        let rel_error = if bound != 0.0 {
+            short / bound.abs()
+        } else {
+            short
+        };
+        Check {
+            name: format!("{name} (at least)"),
+            simulated,
+            reference: bound,
+            unit: unit.to_owned(),
+            rel_error,
+            tolerance: 0.0,
+            pass: simulated.is_finite() && bound.is_finite() && simulated >= bound,
+        }
+    }
 }
 
 /// Writes the checks as pretty JSON (non-finite numbers become `null`), atomically.
@@ -93,6 +113,16 @@ mod tests {
         assert!(!Check::new("dp", f64::NAN, 23.0, "Pa", 0.05).pass);
         assert!(!Check::new("x", 1.0, 0.0, "m", 0.05).pass);
         assert!(Check::new("x", 0.0, 0.0, "m", 0.0).pass);
+    }
+
+    #[test]
+    fn at_least_is_one_sided() {
+        assert!(Check::at_least("n", 3.0, 1.0, "").pass);
+        assert!(Check::at_least("n", 1.0, 1.0, "").pass);
+        let c = Check::at_least("n", 0.0, 1.0, "");
+        assert!(!c.pass);
+        assert_eq!(c.rel_error, 1.0);
+        assert!(!Check::at_least("n", f64::NAN, 1.0, "").pass);
     }
 
     #[test]
