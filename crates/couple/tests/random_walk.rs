@@ -113,7 +113,8 @@ fn without_turbulent_energy_it_is_koch_hill() {
     let mut c = Coupler::new(&mesh, settings(Some(RandomWalkSettings::default()))).unwrap();
     c.set_coupling_time_step(1e-3);
     let zero = [V3::zeros()];
-    let laminar = fluid(&[u], &zero, None);
+    let us = [u];
+    let laminar = fluid(&us, &zero, None);
     let e = c.exchange(&p.state(), &laminar).unwrap_err().to_string();
     assert!(e.contains("KochHillRWDrag") && e.contains("epsilon"), "{e}");
 }
