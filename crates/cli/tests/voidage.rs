@@ -223,7 +223,7 @@ fn bad_input_is_reported() {
         "--dump",
         dump,
         "--method",
-        "GaussVoidFraction",
+        "IBVoidFraction",
     ]);
     // bad usage is an error (exit 1); 2 is kept for a run whose check failed
     assert_eq!(o.status.code(), Some(1));

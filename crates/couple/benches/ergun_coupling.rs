@@ -65,6 +65,7 @@ fn main() {
     let fluid = FluidState {
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
         temperature: None,
         u: &u,
         p: &p,

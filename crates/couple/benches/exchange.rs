@@ -122,6 +122,7 @@ fn fluid(d: &Data) -> FluidState<'_> {
     FluidState {
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
         temperature: None,
         u: &d.u,
         p: &d.p,

@@ -159,6 +159,7 @@ pub fn couplings_and_exchange(
         voidage,
         particles,
         previous: None,
+        fluctuation: None,
     };
     couplings_and_exchange_with(&input, cell_volumes, reuse, cfdem)
 }
@@ -178,6 +179,9 @@ pub struct Input<'a> {
     pub particles: &'a ParticleState<'a>,
     /// The previous coupling step, for `virtualMassForce` (`None`: no added mass acts yet).
     pub previous: Option<Previous<'a>>,
+    /// `KochHillRWDrag`'s turbulent fluctuation u′ per particle, m/s ([`crate::random_walk`]):
+    /// the drag sees u_f + u′ (`None`: no random walk).
+    pub fluctuation: Option<&'a [V3]>,
 }
 
 /// [`couplings_and_exchange`] with the previous step's particle states (added mass).
@@ -194,8 +198,10 @@ pub fn couplings_and_exchange_with(
         voidage,
         particles,
         previous,
+        fluctuation,
     } = *input;
-    let kernel = Kernel::new(physics, fluid, voidage, previous);
+    let mut kernel = Kernel::new(physics, fluid, voidage, previous);
+    kernel.fluctuation = fluctuation;
     let n = placement.len();
     let stages = n.div_ceil(STAGE);
     let mut out = reuse;
@@ -272,6 +278,8 @@ pub(crate) struct Kernel<'a> {
     viscous_rule: Option<Interpolation>,
     /// The previous coupling step, for the added mass.
     previous: Option<Previous<'a>>,
+    /// The random walk's u′ per particle (`KochHillRWDrag`), m/s.
+    fluctuation: Option<&'a [V3]>,
 }
 
 impl<'a> Kernel<'a> {
@@ -283,6 +291,7 @@ impl<'a> Kernel<'a> {
     ) -> Self {
         Kernel {
             previous,
+            fluctuation: None,
             physics,
             mu: physics.nu * physics.rho,
             gravity: if physics.forces.archimedes {
@@ -400,14 +409,23 @@ impl<'a> Kernel<'a> {
         } = self.fluid_at(placement, i)?;
         let r = p.radius[i];
         let v = p.velocity[i];
-        let (beta, at) = self.drag_at(u_f, eps, grad_p, div_tau, r, v);
+        // KochHillRWDrag: the drag sees the fluctuation too (crate::random_walk)
+        let u_turb = self.fluctuation.map_or(V3::zeros(), |u| u[i]);
+        let (beta, at) = match self.fluctuation {
+            Some(_) => self.drag_at(u_f + u_turb, eps, grad_p, div_tau, r, v),
+            None => self.drag_at(u_f, eps, grad_p, div_tau, r, v),
+        };
         let f = particle_forces(ph.model, beta, ball(r), &at, v, self.gravity);
         let settings = ph.forces.drag;
         let implicit_dem = settings.is_some_and(|d| d.implicit_dem);
         let explicit_fluid = settings.is_some_and(|d| d.explicit_fluid);
         let dem_only = settings.is_some_and(|d| d.dem_only);
         let (beta_dem, f_ext) = if implicit_dem {
-            (f.beta, f.explicit)
+            match self.fluctuation {
+                // β (u_f − v) each DEM step on the mean u_f, and β u′ held
+                Some(_) => (f.beta, f.explicit + u_turb * f.beta),
+                None => (f.beta, f.explicit),
+            }
         } else {
             (0.0, (f.explicit + f.drag))
         };
@@ -428,6 +446,11 @@ impl<'a> Kernel<'a> {
             beta_fluid,
             f_fluid: (f.explicit_coupled + drag_to_f),
         };
+        if self.fluctuation.is_some() && beta_fluid != 0.0 {
+            // the fluid's implicit part is β (U − Us) on its mean velocity: the fluctuation's
+            // β u′ reaches it explicitly, so it loses what the particle gains
+            c.f_fluid += u_turb * beta_fluid;
+        }
         let (to_particle, to_fluid) = self.added_mass_and_lift(placement, p, i, at.voidage);
         c.f_ext += to_particle;
         c.total += to_particle;

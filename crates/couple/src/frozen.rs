@@ -80,6 +80,7 @@ impl FluidSide for FrozenFluid {
         FluidState {
             vorticity: None,
             ddt_u: None,
+            turbulence: None,
             temperature: None,
             u: &self.u,
             p: &self.p,

@@ -19,9 +19,12 @@
 //! * [`sides`]: the two traits and the data they exchange; [`memory`]: in-memory test doubles;
 //! * [`replay`]: a particle side replaying LIGGGHTS dumps (one-way coupling);
 //! * [`frozen`]: a fluid side holding U and p read from a case time directory;
+//! * [`random_walk`]: `KochHillRWDrag`'s turbulent fluctuation (eddy-interaction model in the
+//!   fluid's k–ε fields);
 //! * [`population`]: the particles that entered and left between exchanges (by tag);
 //! * [`ranks`]: the coupler on several ranks, each with the particles its DEM rank owns;
-//! * [`timestep`]: DEM/CFD time-step and coupling-interval advice;
+//! * [`timestep`]: DEM/CFD time-step and coupling-interval advice; [`interval_check`]: CFDEM's
+//!   `checkCouplingInterval` during a run;
 //! * [`monitor`]: the values of CFDEM's observing models (`particleCellVolume`,
 //!   `volWeightedAverage`, `fieldTimeAverage`, `particleVolume`, `totalMomentumExchange`);
 //!   [`probe`]: each force model's force on a particle (`particleProbe`); [`output`]: cell
@@ -53,6 +56,7 @@ pub mod frozen;
 pub mod heat;
 pub mod inter_grain;
 pub mod interpolate;
+pub mod interval_check;
 pub mod ksl;
 pub mod memory;
 pub mod monitor;
@@ -61,6 +65,7 @@ pub mod parcels;
 pub mod periodic;
 pub mod population;
 pub mod probe;
+pub mod random_walk;
 pub mod ranks;
 pub mod replay;
 pub mod sides;
@@ -77,5 +82,5 @@ pub use heat::{HeatAccount, HeatStep};
 pub use interpolate::{Interpolation, Placement};
 pub use population::PopulationChange;
 pub use ranks::{Ranks, Serial};
-pub use sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
+pub use sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState, Turbulence};
 pub use step::{Coupler, CouplerSettings, CouplingStep};

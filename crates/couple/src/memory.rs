@@ -177,6 +177,8 @@ pub struct MemoryFluid {
     pub vorticity: Option<Vec<V3>>,
     /// DU/Dt per cell, m/s², if given ([`FluidState::ddt_u`]).
     pub ddt_u: Option<Vec<V3>>,
+    /// k (m²/s²) and ε (m²/s³) per cell, if given ([`FluidState::turbulence`]).
+    pub k_epsilon: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl MemoryFluid {
@@ -194,6 +196,7 @@ impl MemoryFluid {
             temperature: None,
             vorticity: None,
             ddt_u: None,
+            k_epsilon: None,
         }
     }
 }
@@ -223,6 +226,10 @@ impl FluidSide for MemoryFluid {
         FluidState {
             vorticity: self.vorticity.as_deref(),
             ddt_u: self.ddt_u.as_deref(),
+            turbulence: self
+                .k_epsilon
+                .as_ref()
+                .map(|(k, epsilon)| crate::sides::Turbulence { k, epsilon }),
             temperature: self.temperature.as_deref(),
             u: &self.u,
             p: &self.p,

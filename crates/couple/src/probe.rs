@@ -130,6 +130,7 @@ mod tests {
                 virtual_mass: None,
                 mei_lift: None,
                 saffman_lift: None,
+                random_walk: None,
             },
             implicit_couple: true,
         };
@@ -145,6 +146,7 @@ mod tests {
             temperature: None,
             vorticity: None,
             ddt_u: None,
+            turbulence: None,
         };
         let eps = [0.45, 0.7];
         let placement = Placement {

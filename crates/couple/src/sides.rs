@@ -67,6 +67,18 @@ pub struct FluidState<'a> {
     /// when a force model asks for it ([`crate::config::Forces::needs_ddt_u`]); `None`
     /// otherwise.
     pub ddt_u: Option<&'a [V3]>,
+    /// The k–ε model's k and ε per cell, when a force model asks for them (`KochHillRWDrag`:
+    /// [`crate::config::Forces::needs_turbulence`]) and the fluid solves k–ε; `None` otherwise.
+    pub turbulence: Option<Turbulence<'a>>,
+}
+
+/// The k–ε fields of a turbulent fluid, per cell.
+#[derive(Clone, Copy, Debug)]
+pub struct Turbulence<'a> {
+    /// Turbulent kinetic energy k, m²/s².
+    pub k: &'a [f64],
+    /// Its dissipation rate ε, m²/s³.
+    pub epsilon: &'a [f64],
 }
 
 /// What the fluid receives for the next coupling interval.

@@ -37,6 +37,25 @@
 //!
 //!   so a step change relaxes as (1/(1+γ))ⁿ: PFM's "time scale Δt/γ".
 //!
+//! * `localPSizeDiffSmoothing`: named by CFDEM-PUBLIC's and PFM's tutorials (ErgunTestMPI,
+//!   ErgunTestCG, the multiphase cases) with its Props `lowerLimit`, `upperLimit`,
+//!   `dSmoothingLength`, `Csmoothing`, but its source is in neither repository (nor in their
+//!   histories). foamgrain makes it what its name and Props say: `constDiffSmoothing`'s implicit
+//!   step with a smoothing length that follows the local particle size,
+//!
+//!     V_c ε_c − Σ_f L_f² |S_f| δ_f (ε_N − ε_c) = V_c ε₀,c,   L_f² = (L_o² + L_n²)/2,
+//!
+//!   L_c = `Csmoothing` · d̄_c in a cell holding particle volume, d̄_c the particle diameter
+//!   averaged over the particle volume in the cell (Σ_p w_pc d_p / Σ_p w_pc with the voidage
+//!   shares w_pc), and L_c = `dSmoothingLength` in a cell holding none. The face value is the
+//!   mean of the two cells' L², so the operator stays symmetric and conserves Σ V ε exactly as
+//!   the constant one does (zero flux through the walls); with one particle size everywhere
+//!   (and `dSmoothingLength` = `Csmoothing` · d) it is `constDiffSmoothing` of that length.
+//!   Why this reading: "localPSize" is the local particle size, "Diff" the diffusion of
+//!   `constDiffSmoothing` (whose Props it shares but for the length), `Csmoothing` a factor on
+//!   that size and `dSmoothingLength` (1.5 mm in every tutorial, the `smoothingLength` of the
+//!   `constDiffSmoothingProps` next to it) the length where there is no particle to measure.
+//!
 //! The relaxation's history (the last smoothed ε) starts at ε = 1, the coupler's first ε (and
 //! the `voidfraction` of CFDEM's tutorials at t = 0). The relaxation conserves the particle
 //! volume only as much as it is stationary: Σ V(1 − ε) after it is the weighted mean of this
@@ -119,6 +138,14 @@ pub enum SmoothingModel {
         /// `smoothingStrength`.
         gamma: f64,
     },
+    /// `localPSizeDiffSmoothing` (foamgrain's reading, module docs): the length `Csmoothing` ·
+    /// d̄_c where particles are, `spatial.length` (`dSmoothingLength`) elsewhere.
+    LocalPSizeDiff {
+        /// `dSmoothingLength`, `lowerLimit`, `upperLimit`.
+        spatial: SmoothingSettings,
+        /// `Csmoothing` (> 0): the length per particle diameter.
+        c: f64,
+    },
 }
 
 impl From<SmoothingSettings> for SmoothingModel {
@@ -134,14 +161,17 @@ impl SmoothingModel {
             SmoothingModel::ConstDiff(_) => "constDiffSmoothing",
             SmoothingModel::Temporal { .. } => "temporalSmoothing",
             SmoothingModel::ConstDiffAndTemporal { .. } => "constDiffAndTemporalSmoothing",
+            SmoothingModel::LocalPSizeDiff { .. } => "localPSizeDiffSmoothing",
         }
     }
 
-    /// The diffusion length L (m); 0 for `temporalSmoothing` (no spatial step).
+    /// The diffusion length L (m; `localPSizeDiffSmoothing`'s where no particle is); 0 for
+    /// `temporalSmoothing` (no spatial step).
     pub fn length(&self) -> f64 {
         match self {
             SmoothingModel::ConstDiff(s)
-            | SmoothingModel::ConstDiffAndTemporal { spatial: s, .. } => s.length,
+            | SmoothingModel::ConstDiffAndTemporal { spatial: s, .. }
+            | SmoothingModel::LocalPSizeDiff { spatial: s, .. } => s.length,
             SmoothingModel::Temporal { .. } => 0.0,
         }
     }
@@ -150,7 +180,8 @@ impl SmoothingModel {
     pub fn bounds(&self) -> (f64, f64) {
         match *self {
             SmoothingModel::ConstDiff(s)
-            | SmoothingModel::ConstDiffAndTemporal { spatial: s, .. } => (s.lower, s.upper),
+            | SmoothingModel::ConstDiffAndTemporal { spatial: s, .. }
+            | SmoothingModel::LocalPSizeDiff { spatial: s, .. } => (s.lower, s.upper),
             SmoothingModel::Temporal { lower, upper, .. } => (lower, upper),
         }
     }
@@ -171,13 +202,26 @@ impl SmoothingModel {
             SmoothingModel::ConstDiffAndTemporal { spatial, gamma } => {
                 gamma_problem("smoothingStrength", gamma).or_else(|| spatial.problem())
             }
+            SmoothingModel::LocalPSizeDiff { spatial, c } => match c.is_finite() && c > 0.0 {
+                true => spatial.problem(),
+                false => Some(("Csmoothing", format!("{c} is not a positive number"))),
+            },
+        }
+    }
+
+    /// `Csmoothing` of `localPSizeDiffSmoothing`: the smoothing length per particle diameter
+    /// of the cells holding particles; `None` for the models of one length.
+    pub fn size_factor(&self) -> Option<f64> {
+        match *self {
+            SmoothingModel::LocalPSizeDiff { c, .. } => Some(c),
+            _ => None,
         }
     }
 
     /// The relaxation's weights (of the history, of this exchange's field): `None` without one.
     fn relaxation(&self) -> Option<(f64, f64)> {
         match *self {
-            SmoothingModel::ConstDiff(_) => None,
+            SmoothingModel::ConstDiff(_) | SmoothingModel::LocalPSizeDiff { .. } => None,
             // ε = (ε₀ + γ ε_ref)/(1 + γ)
             SmoothingModel::Temporal { gamma, .. } => {
                 Some((gamma / (1.0 + gamma), 1.0 / (1.0 + gamma)))
@@ -196,6 +240,35 @@ pub trait Diffusion: std::fmt::Debug + Send + Sync {
     fn volumes(&self) -> &[f64];
     /// ε₀ → ε in place: the linear solver's iterations, or what failed.
     fn diffuse(&self, eps: &mut [f64]) -> Result<usize, String>;
+    /// ε₀ → ε in place with the length L_c² (m², one per cell) instead of the step's own, the
+    /// face's L² the mean of its two cells' (`localPSizeDiffSmoothing`, module docs).
+    fn diffuse_local(&self, eps: &mut [f64], l2: &[f64]) -> Result<usize, String>;
+}
+
+/// The particle diameter averaged over the particle volume in each cell, Σ_p w_pc d_p /
+/// Σ_p w_pc (m; 0 in a cell holding no particle volume), from the voidage shares w_pc and the
+/// particle radii (`localPSizeDiffSmoothing`, module docs).
+pub fn cell_mean_diameters(
+    shares: &voidage::CellShares,
+    radius: &[f64],
+    n_cells: usize,
+) -> Vec<f64> {
+    let mut wd = vec![0.0; n_cells];
+    let mut w = vec![0.0; n_cells];
+    for (i, r) in radius.iter().enumerate().take(shares.particles()) {
+        let range = shares.offsets[i]..shares.offsets[i + 1];
+        for (&c, &v) in shares.cells[range.clone()]
+            .iter()
+            .zip(&shares.volumes[range])
+        {
+            wd[c as usize] += v * 2.0 * r;
+            w[c as usize] += v;
+        }
+    }
+    wd.iter()
+        .zip(&w)
+        .map(|(a, b)| if *b > 0.0 { a / b } else { 0.0 })
+        .collect()
 }
 
 /// The smoothing operator on one mesh: the model, its diffusion step and the relaxation's
@@ -269,8 +342,48 @@ impl Smoothing {
     }
 
     /// Smooths `eps` (one value per cell) in place and bounds it (module docs); the result is
-    /// the history of the next call.
+    /// the history of the next call. `localPSizeDiffSmoothing` needs the cells' particle
+    /// sizes: [`Smoothing::smooth_sized`].
     pub fn smooth(&self, eps: &mut [f64]) -> Result<SmoothingReport, CoupleError> {
+        self.smooth_sized(eps, None)
+    }
+
+    /// [`Smoothing::smooth`] of an exchange's ε with the particles' voidage shares in
+    /// `placement` (`localPSizeDiffSmoothing` takes the cells' mean diameters from them; on
+    /// `several_ranks` no rank holds them all: an error).
+    pub fn smooth_exchange(
+        &self,
+        eps: &mut [f64],
+        placement: &crate::interpolate::Placement,
+        particles: &crate::sides::ParticleState<'_>,
+        several_ranks: bool,
+    ) -> Result<SmoothingReport, CoupleError> {
+        let diameters = match self.model.size_factor() {
+            Some(_) if several_ranks => {
+                return Err(CoupleError::Parameter(
+                    "smoothingModel localPSizeDiffSmoothing needs the particle sizes of every \
+                     cell on one rank; run one coupler rank"
+                        .into(),
+                ))
+            }
+            Some(_) => Some(cell_mean_diameters(
+                &placement.shares,
+                particles.radius,
+                eps.len(),
+            )),
+            None => None,
+        };
+        self.smooth_sized(eps, diameters.as_deref())
+    }
+
+    /// [`Smoothing::smooth`] with each cell's mean particle diameter (m, 0 where none;
+    /// [`cell_mean_diameters`]), which `localPSizeDiffSmoothing` requires and the other models
+    /// ignore.
+    pub fn smooth_sized(
+        &self,
+        eps: &mut [f64],
+        diameters: Option<&[f64]>,
+    ) -> Result<SmoothingReport, CoupleError> {
         let name = self.model.name();
         let volumes = self.diffusion.volumes();
         if eps.len() != volumes.len() {
@@ -281,11 +394,25 @@ impl Smoothing {
             )));
         }
         let mut report = SmoothingReport::default();
-        if self.model.length() > 0.0 {
-            report.iterations = self
-                .diffusion
-                .diffuse(eps)
-                .map_err(|e| CoupleError::Parameter(format!("{name}: {e}")))?;
+        let solved = match (self.model.size_factor(), diameters) {
+            (Some(c), Some(d)) if d.len() == eps.len() => {
+                let l0 = self.model.length();
+                let l2: Vec<f64> = d
+                    .iter()
+                    .map(|&d| if d > 0.0 { (c * d).powi(2) } else { l0 * l0 })
+                    .collect();
+                Some(self.diffusion.diffuse_local(eps, &l2))
+            }
+            (Some(_), _) => {
+                return Err(CoupleError::Parameter(format!(
+                    "{name}: the cells' particle diameters are missing or of the wrong length"
+                )))
+            }
+            (None, _) => (self.model.length() > 0.0).then(|| self.diffusion.diffuse(eps)),
+        };
+        if let Some(solved) = solved {
+            report.iterations =
+                solved.map_err(|e| CoupleError::Parameter(format!("{name}: {e}")))?;
         }
         let mut previous = self
             .previous

@@ -118,6 +118,8 @@ pub struct Coupler {
     coupling_dt: Option<f64>,
     /// PFM's wall heat and inter-grain conduction ([`Coupler::set_bed_heat`]).
     bed_heat: crate::bed_heat::BedHeat,
+    /// `KochHillRWDrag`'s eddies by tag ([`crate::random_walk`]).
+    random_walk: Option<crate::random_walk::RandomWalk>,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -169,6 +171,11 @@ impl Coupler {
         }
         let vm = VoidageMesh::new(mesh)?;
         let periodic = PeriodicMesh::new(mesh, vm.geometry())?;
+        let settings_random_walk = settings
+            .physics
+            .forces
+            .random_walk
+            .map(crate::random_walk::RandomWalk::new);
         let n = vm.n_cells();
         Ok(Coupler {
             vm,
@@ -191,6 +198,7 @@ impl Coupler {
             before_ids: Vec::new(),
             coupling_dt: None,
             bed_heat: Default::default(),
+            random_walk: settings_random_walk,
         })
     }
 
@@ -393,7 +401,7 @@ impl Coupler {
         if let Some(s) = &self.smoothing {
             // after the forces: the drag uses each particle's unsmoothed ε (module docs of
             // `smoothing`); the fluid gets the smoothed field
-            let r = s.smooth(&mut voidage.epsilon)?;
+            let r = s.smooth_exchange(&mut voidage.epsilon, &placement, particles, parallel)?;
             voidage.clipped_volume += r.bounded_volume + r.lagged_volume;
             voidage.clipped_cells += r.bounded_cells;
         }
@@ -495,6 +503,9 @@ impl Coupler {
                 .collect(),
             false => Vec::new(),
         };
+        let t = self.steps as f64 * self.coupling_dt.unwrap_or(0.0);
+        let fluctuation = (self.random_walk.as_mut())
+            .map(|w| w.at_exchange(t, physics, &placement, fluid, particles));
         let input = Input {
             physics,
             placement: &placement,
@@ -505,6 +516,7 @@ impl Coupler {
                 dt,
                 before: &before,
             }),
+            fluctuation: fluctuation.as_deref(),
         };
         let (forces, exchange) = couplings_and_exchange_with(
             &input,
@@ -548,6 +560,12 @@ impl Coupler {
                 "virtualMassForce with splitUrelCalculation",
                 "DU/Dt",
             ),
+            (
+                forces.needs_turbulence(),
+                fluid.turbulence.is_some(),
+                "KochHillRWDrag",
+                "k and epsilon (a k-epsilon model)",
+            ),
         ];
         for (needed, given, model, what) in fields {
             if needed && several {
@@ -561,6 +579,13 @@ impl Coupler {
                     "{model} needs the fluid's {what}, which this fluid side does not give"
                 )));
             }
+        }
+        if forces.needs_turbulence() && self.coupling_dt.is_none() {
+            return Err(CoupleError::Parameter(
+                "KochHillRWDrag needs the coupling interval's length (its eddies' lifetimes; \
+                 Coupler::set_coupling_time_step)"
+                    .into(),
+            ));
         }
         let Some(vm) = forces.virtual_mass else {
             return Ok(());
@@ -710,6 +735,7 @@ impl Coupler {
         let fluid = FluidState {
             vorticity: None,
             ddt_u: None,
+            turbulence: None,
             temperature: None,
             u: &r.u,
             p: &r.p,

@@ -175,7 +175,7 @@ fn errors_name_file_and_key() {
     fails("couplingInterval 10;", "", &["couplingInterval", "missing"]);
     fails(
         "voidFractionModel exact;",
-        "voidFractionModel GaussVoidFraction;",
+        "voidFractionModel IBVoidFraction;",
         &["voidFractionModel", "not supported", "use exact"],
     );
     fails(
@@ -217,11 +217,7 @@ fn errors_name_file_and_key() {
     fails(
         "locateModel engine;",
         "smoothingModel localPSizeDiffSmoothing;",
-        &[
-            "smoothingModel",
-            "localPSizeDiffSmoothing",
-            "constDiffSmoothing",
-        ],
+        &["localPSizeDiffSmoothingProps/dSmoothingLength", "missing"],
     );
     fails(
         "locateModel engine;",

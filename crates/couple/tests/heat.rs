@@ -155,6 +155,7 @@ fn state(f: &Fluid) -> FluidState<'_> {
     FluidState {
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
         u: &f.u,
         p: &f.p,
         grad_p: &f.zero,

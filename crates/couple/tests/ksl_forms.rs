@@ -5,11 +5,14 @@
 //! * many cells whose particles share one velocity per cell, centre interpolation (u_p = U of
 //!   the cell): the two forms give the same Ksl (to round-off) and the same Us.
 
+mod common;
+
 use closures::model::ModelType;
 use closures::{DragClosure, DragLaw};
+use common::Particles;
 use couple::config::{DragSettings, Forces};
 use couple::ksl::{CfdemKsl, KslForm};
-use couple::{Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics};
+use couple::{Coupler, CouplerSettings, FluidState, Interpolation, Physics};
 use mesh::build::uniform_box;
 use mesh::v3::V3;
 use voidage::Method;
@@ -39,42 +42,11 @@ fn settings() -> CouplerSettings {
                 virtual_mass: None,
                 mei_lift: None,
                 saffman_lift: None,
+                random_walk: None,
             },
             implicit_couple: true,
         },
         heat: None,
-    }
-}
-
-struct Particles {
-    ids: Vec<u64>,
-    position: Vec<V3>,
-    velocity: Vec<V3>,
-    radius: Vec<f64>,
-    density: Vec<f64>,
-}
-
-impl Particles {
-    fn new(position: Vec<V3>, velocity: Vec<V3>) -> Particles {
-        let n = position.len();
-        Particles {
-            ids: (1..=n as u64).collect(),
-            position,
-            velocity,
-            radius: vec![1e-3; n],
-            density: vec![2500.0; n],
-        }
-    }
-
-    fn state(&self) -> ParticleState<'_> {
-        ParticleState {
-            ids: &self.ids,
-            position: &self.position,
-            velocity: &self.velocity,
-            radius: &self.radius,
-            density: &self.density,
-            temperature: None,
-        }
     }
 }
 
@@ -97,6 +69,7 @@ fn exchange(
         temperature: None,
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
     };
     coupler.exchange(&particles.state(), &fluid).unwrap()
 }

@@ -252,6 +252,7 @@ fn state(f: &Fluid) -> FluidState<'_> {
     FluidState {
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
         temperature: None,
         u: &f.u,
         p: &f.p,

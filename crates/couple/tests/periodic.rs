@@ -69,6 +69,7 @@ fn a_centre_beyond_a_cyclic_face_is_coupled_at_its_image() {
     let fluid = FluidState {
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
         temperature: None,
         u: &u,
         p: &p,

@@ -821,6 +821,7 @@ impl FluidSide for OpenFoamFluid {
         FluidState {
             vorticity: None,
             ddt_u: None,
+            turbulence: None,
             temperature: self.temperature(),
             u: &self.state.u,
             p: &self.state.p,

@@ -9,7 +9,9 @@
 //! out (zero on orthogonal meshes). The matrix is assembled once per mesh and solved by PCG
 //! with DIC to 1e-14 of the normalised residual. CFDEM-PFM's `constDiffSmoothing` of the
 //! voidage is this step (`couple::smoothing`, on the native discretisation through
-//! `runner::native::smoothing`).
+//! `runner::native::smoothing`). [`DiffusionStep::solve_local`] solves the same step with a
+//! length per cell, L_f² = (L_o² + L_n²)/2 on each face (symmetric, so Σ V x is conserved as
+//! well), assembled for that call (`localPSizeDiffSmoothing`).
 
 use crate::error::Result;
 use crate::geometry::FvGeometry;
@@ -28,16 +30,8 @@ impl DiffusionStep {
     /// The operator on `mesh` for the length `length` (m).
     pub fn new(mesh: &PolyMesh, length: f64) -> Result<Self> {
         let g = FvGeometry::new(mesh)?;
-        let mut a = Ldu::zeros(&g);
-        a.diag.clone_from(&g.v);
         let l2 = length * length;
-        for f in 0..g.n_internal {
-            let c = l2 * g.mag_sf[f] * g.delta_coeff[f];
-            a.upper[f] = -c;
-            a.lower[f] = -c;
-            a.diag[g.owner[f] as usize] += c;
-            a.diag[g.neighbour[f] as usize] += c;
-        }
+        let a = assemble(&g, |_| l2);
         Ok(DiffusionStep { g, a })
     }
 
@@ -49,14 +43,42 @@ impl DiffusionStep {
 
     /// x₀ → x in place (module docs); `what` names the field in the solver's errors.
     pub fn solve(&self, x: &mut [f64], what: &str) -> Result<SolveStats> {
-        let g = &self.g;
-        let b: Vec<f64> = x.iter().zip(&g.v).map(|(e, v)| e * v).collect();
-        let controls = SolverControls {
-            tolerance: 1e-14,
-            rel_tol: 0.0,
-            max_iter: 1000,
-            min_iter: 0,
-        };
-        pcg(&self.a, g, &b, x, Preconditioner::Dic, &controls, what)
+        solve(&self.g, &self.a, x, what)
     }
+
+    /// x₀ → x in place with the length L_c² (m², `l2`, one per cell) instead of the step's
+    /// own (module docs).
+    pub fn solve_local(&self, x: &mut [f64], l2: &[f64], what: &str) -> Result<SolveStats> {
+        let g = &self.g;
+        let a = assemble(g, |f| {
+            0.5 * (l2[g.owner[f] as usize] + l2[g.neighbour[f] as usize])
+        });
+        solve(g, &a, x, what)
+    }
+}
+
+/// V + Σ_f L_f² |S_f| δ_f (−∇²) with `l2(f)` the L² of internal face f.
+fn assemble(g: &FvGeometry, l2: impl Fn(usize) -> f64) -> Ldu {
+    let mut a = Ldu::zeros(g);
+    a.diag.clone_from(&g.v);
+    for f in 0..g.n_internal {
+        let c = l2(f) * g.mag_sf[f] * g.delta_coeff[f];
+        a.upper[f] = -c;
+        a.lower[f] = -c;
+        a.diag[g.owner[f] as usize] += c;
+        a.diag[g.neighbour[f] as usize] += c;
+    }
+    a
+}
+
+/// x₀ → x for the operator `a` (PCG/DIC to 1e-14).
+fn solve(g: &FvGeometry, a: &Ldu, x: &mut [f64], what: &str) -> Result<SolveStats> {
+    let b: Vec<f64> = x.iter().zip(&g.v).map(|(e, v)| e * v).collect();
+    let controls = SolverControls {
+        tolerance: 1e-14,
+        rel_tol: 0.0,
+        max_iter: 1000,
+        min_iter: 0,
+    };
+    pcg(a, g, &b, x, Preconditioner::Dic, &controls, what)
 }

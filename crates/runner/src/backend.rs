@@ -241,16 +241,22 @@ fn open_native_fluid(plan: &RunPlan) -> Result<NativeFluid, RunError> {
     if forces.needs_vorticity() || forces.needs_ddt_u() {
         fluid.request(forces.needs_vorticity(), forces.needs_ddt_u());
     }
+    if forces.needs_turbulence() {
+        fluid
+            .request_turbulence()
+            .map_err(|e| RunError::Backend(format!("{}: {e}", config.file.display())))?;
+    }
     Ok(fluid)
 }
 
-/// What grainPisoFoam cannot carry yet: the vorticity ∇ × U (`MeiLift`, `SaffmanLift`) and
-/// DU/Dt (`virtualMassForce` with `splitUrelCalculation`) are not in its replies, so those
-/// models are refused before a solver is spawned.
+/// What grainPisoFoam cannot carry yet: the vorticity ∇ × U (`MeiLift`, `SaffmanLift`),
+/// DU/Dt (`virtualMassForce` with `splitUrelCalculation`) and k, ε (`KochHillRWDrag`) are not
+/// in its replies, so those models are refused before a solver is spawned.
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
 fn foam_can_carry(layout: &crate::layout::CaseLayout) -> Result<(), RunError> {
     let forces = &layout.coupling.forces;
     let missing = match (forces.needs_vorticity(), forces.needs_ddt_u()) {
+        _ if forces.needs_turbulence() => "KochHillRWDrag needs the fluid's k and epsilon per cell",
         (true, _) => "MeiLift/SaffmanLift need the fluid's vorticity ∇ × U",
         (false, true) => "virtualMassForce with splitUrelCalculation needs the fluid's DU/Dt",
         (false, false) => return Ok(()),

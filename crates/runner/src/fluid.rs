@@ -153,6 +153,7 @@ impl FluidSide for StandInFluid {
         couple::FluidState {
             vorticity: None,
             ddt_u: None,
+            turbulence: None,
             temperature: None,
             u: &self.u,
             p: &self.p,

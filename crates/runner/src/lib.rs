@@ -18,6 +18,7 @@ pub mod foam_fluid;
 pub mod heat_plot;
 pub mod heating;
 pub mod heating_run;
+mod interval_check;
 pub mod journal;
 pub mod layout;
 mod monitors;

@@ -7,6 +7,11 @@
 //! * `volWeightedAverage`: each coupling step, the volume-weighted average of each named field,
 //!   in the log and `postProcessing/volWeightedAverage/<start>/volWeightedAverage.txt`; the
 //!   uniform fields `volAverage_<name>` at write times;
+//! * `fieldVolWeighted` (its CFDEM source was never published; what foamgrain chose is in
+//!   `couple::config::monitors`): each coupling step from `startTime`, the volume-weighted
+//!   average of each named field over every cell, in
+//!   `postProcessing/fieldVolWeighted/<start>/fieldVolWeighted.txt` (volWeightedAverage's
+//!   layout);
 //! * `fieldStore`: `stored_<name>` copies of the named fields at write times;
 //! * `fieldTimeAverage`: `timeAverage_<name>` at write times, the mean of the field over the
 //!   coupling steps from `startTime` (CFDEM: the fields' `AUTO_WRITE`);
@@ -166,11 +171,61 @@ enum Mean {
     Vector(Vec<V3>),
 }
 
+/// The averages of `volWeightedAverage` (or `fieldVolWeighted`, `model`) of one step: the
+/// text of the file's row after the time, and each field's value; the values go to `lines`
+/// with `verbose`.
+fn averages(
+    m: &VolWeightedAverage,
+    model: &str,
+    volumes: &[f64],
+    f: &StepFields<'_>,
+    lines: &mut Vec<String>,
+) -> (String, Vec<(String, Option<FieldValuesOne>)>) {
+    let weights = m.use_volume_fraction.then_some(f.eps);
+    let mut row = String::new();
+    let mut last = Vec::new();
+    for name in m.scalar_fields.iter().chain(&m.vector_fields) {
+        let (text, value) = match f.get(name) {
+            Field::Scalar(phi) => {
+                let a = vol_weighted_scalar(&phi, volumes, weights, m.lower, m.upper);
+                (opt(a.average), a.average.map(FieldValuesOne::Scalar))
+            }
+            Field::Vector(phi) => {
+                let a = vol_weighted_vector(phi, volumes, weights, m.lower, m.upper);
+                let text = a.average.map_or("(NaN NaN NaN)".into(), |v| {
+                    format!("({} {} {})", v.x, v.y, v.z)
+                });
+                (text, a.average.map(FieldValuesOne::Vector))
+            }
+        };
+        if m.verbose {
+            lines.push(match m.lower.is_finite() || m.upper.is_finite() {
+                true => format!(
+                    "{model}: {name} = {text} over the cells with {} < {name} < {}",
+                    m.lower, m.upper
+                ),
+                false => format!("{model}: {name} = {text} over all cells"),
+            });
+        }
+        let _ = write!(row, " {text}");
+        last.push((name.clone(), value));
+    }
+    (row, last)
+}
+
+/// Appends the row `<time><row>` to `log`, if it is kept.
+fn push_row(log: &mut Option<TextLog>, time: f64, row: &str) {
+    if let Some(log) = log {
+        let _ = writeln!(log.text, "{}{row}", couple::output::time_name(time));
+    }
+}
+
 /// The observing models of one run.
 pub(crate) struct RunMonitors {
     cfg: Monitors,
     pcv_log: Option<TextLog>,
     vwa_log: Option<TextLog>,
+    fvw_log: Option<TextLog>,
     pv_log: Option<TextLog>,
     tme_log: Option<TextLog>,
     /// `fieldTimeAverage`'s means by field name, and the samples in them.
@@ -209,22 +264,24 @@ impl RunMonitors {
                      max(voidfraction)\n",
                 )
             });
+        let averages_log = |m: &VolWeightedAverage, name: &str| {
+            let names: Vec<&str> = m
+                .scalar_fields
+                .iter()
+                .chain(&m.vector_fields)
+                .map(String::as_str)
+                .collect();
+            log(name, &format!("# time | {}\n", names.join(" | ")))
+        };
         let vwa_log = cfg
             .vol_weighted_average
             .as_ref()
             .filter(|m| m.write_to_file)
-            .map(|m| {
-                let names: Vec<&str> = m
-                    .scalar_fields
-                    .iter()
-                    .chain(&m.vector_fields)
-                    .map(String::as_str)
-                    .collect();
-                log(
-                    "volWeightedAverage",
-                    &format!("# time | {}\n", names.join(" | ")),
-                )
-            });
+            .map(|m| averages_log(m, "volWeightedAverage"));
+        let fvw_log = cfg
+            .field_vol_weighted
+            .as_ref()
+            .map(|m| averages_log(m, "fieldVolWeighted"));
         let pv_log = cfg
             .particle_volume
             .as_ref()
@@ -248,6 +305,10 @@ impl RunMonitors {
                 .iter()
                 .any(|s| observed(&s.scalar_fields))
             || cfg
+                .field_vol_weighted
+                .iter()
+                .any(|s| observed(&s.scalar_fields))
+            || cfg
                 .field_time_average
                 .iter()
                 .any(|s| observed(&s.scalar_fields));
@@ -255,6 +316,7 @@ impl RunMonitors {
             cfg: cfg.clone(),
             pcv_log,
             vwa_log,
+            fvw_log,
             pv_log,
             tme_log,
             means: Vec::new(),
@@ -273,6 +335,7 @@ impl RunMonitors {
             && c.total_momentum_exchange.is_none()
             && c.particle_cell_volume.is_none()
             && c.vol_weighted_average.is_none()
+            && c.field_vol_weighted.is_none()
             && !c.clock
             && !c.basic_io
     }
@@ -315,7 +378,17 @@ impl RunMonitors {
             self.cell_volume(&m, time, volumes, f, &mut lines);
         }
         if let Some(m) = self.cfg.vol_weighted_average.clone() {
-            self.averages(&m, time, volumes, f, &mut lines);
+            if time >= m.start_time {
+                let (row, last) = averages(&m, "volWeightedAverage", volumes, f, &mut lines);
+                self.last.averages = last;
+                push_row(&mut self.vwa_log, time, &row);
+            }
+        }
+        if let Some(m) = &self.cfg.field_vol_weighted {
+            if time >= m.start_time {
+                let (row, _) = averages(m, "fieldVolWeighted", volumes, f, &mut lines);
+                push_row(&mut self.fvw_log, time, &row);
+            }
         }
         lines
     }
@@ -422,49 +495,6 @@ impl RunMonitors {
         }
     }
 
-    fn averages(
-        &mut self,
-        m: &VolWeightedAverage,
-        time: f64,
-        volumes: &[f64],
-        f: &StepFields<'_>,
-        lines: &mut Vec<String>,
-    ) {
-        if time < m.start_time {
-            return;
-        }
-        let weights = m.use_volume_fraction.then_some(f.eps);
-        let mut row = couple::output::time_name(time);
-        self.last.averages.clear();
-        for name in m.scalar_fields.iter().chain(&m.vector_fields) {
-            let (text, value) = match f.get(name) {
-                Field::Scalar(phi) => {
-                    let a = vol_weighted_scalar(&phi, volumes, weights, m.lower, m.upper);
-                    (opt(a.average), a.average.map(FieldValuesOne::Scalar))
-                }
-                Field::Vector(phi) => {
-                    let a = vol_weighted_vector(phi, volumes, weights, m.lower, m.upper);
-                    let text = a.average.map_or("(NaN NaN NaN)".into(), |v| {
-                        format!("({} {} {})", v.x, v.y, v.z)
-                    });
-                    (text, a.average.map(FieldValuesOne::Vector))
-                }
-            };
-            if m.verbose {
-                lines.push(format!(
-                    "volWeightedAverage: {name} = {text} over the cells with {} < {name} < {}",
-                    m.lower, m.upper
-                ));
-            }
-            let _ = write!(row, " {text}");
-            self.last.averages.push((name.clone(), value));
-        }
-        if let Some(log) = &mut self.vwa_log {
-            log.text.push_str(&row);
-            log.text.push('\n');
-        }
-    }
-
     /// Writes the monitors' fields into the time directory `dir` (named `time`), the
     /// particles (`basicIO`; `None` on N ranks, where rank 0 does not hold them: the run
     /// warns), and rewrites the text files.
@@ -531,9 +561,15 @@ impl RunMonitors {
 
     /// Rewrites the text files.
     pub(crate) fn write_logs(&self) -> Result<(), RunError> {
-        for log in [&self.pcv_log, &self.vwa_log, &self.pv_log, &self.tme_log]
-            .into_iter()
-            .flatten()
+        for log in [
+            &self.pcv_log,
+            &self.vwa_log,
+            &self.fvw_log,
+            &self.pv_log,
+            &self.tme_log,
+        ]
+        .into_iter()
+        .flatten()
         {
             log.write()?;
         }

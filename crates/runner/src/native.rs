@@ -40,6 +40,9 @@ pub struct NativeFluid {
     ddt_u: Option<Vec<V3>>,
     /// U before the last PISO step and that step's length (for ∂U/∂t), when DU/Dt is asked.
     u_before: Option<(Vec<V3>, f64)>,
+    /// Whether the k–ε fields go into the state (`KochHillRWDrag`,
+    /// [`NativeFluid::request_turbulence`]).
+    turbulence: bool,
 }
 
 impl NativeFluid {
@@ -99,6 +102,7 @@ impl NativeFluid {
             vorticity: None,
             ddt_u: None,
             u_before: None,
+            turbulence: false,
         })
     }
 
@@ -180,6 +184,13 @@ impl FluidSide for NativeFluid {
             div_tau: &self.div_tau,
             vorticity: self.vorticity.as_deref(),
             ddt_u: self.ddt_u.as_deref(),
+            turbulence: match self.turbulence {
+                true => self.fluid.turbulence().map(|t| couple::Turbulence {
+                    k: t.k(),
+                    epsilon: t.epsilon(),
+                }),
+                false => None,
+            },
         }
     }
 }
@@ -194,6 +205,22 @@ impl NativeFluid {
         self.vorticity = vorticity.then(Vec::new);
         self.ddt_u = ddt_u.then(Vec::new);
         self.update_requested();
+    }
+
+    /// Hands the k–ε model's k and ε to the coupling from now on (`KochHillRWDrag`); an error
+    /// when the case's fluid is laminar.
+    pub fn request_turbulence(&mut self) -> Result<(), String> {
+        match self.fluid.turbulence() {
+            Some(_) => {
+                self.turbulence = true;
+                Ok(())
+            }
+            None => Err(
+                "KochHillRWDrag needs the fluid's k and epsilon: the case's \
+                 constant/turbulenceProperties must select RAS kEpsilon"
+                    .into(),
+            ),
+        }
     }
 
     /// The requested fields of the fluid now.

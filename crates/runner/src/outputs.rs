@@ -278,6 +278,8 @@ pub(crate) struct Outputs<'a> {
     pub(crate) layout: &'a CaseLayout,
     pub(crate) observer: &'a Observer,
     pub(crate) monitors: RunMonitors,
+    /// `checkCouplingInterval` (at the exchange, collective over the ranks).
+    pub(crate) interval_checks: Option<crate::interval_check::IntervalChecks>,
     /// `probeModel particleProbe` (one rank; sampled at the exchange).
     pub(crate) particle_probes: Option<crate::particle_probe::ParticleProbes>,
     /// The controlDict's `probes` on the native fluid (grainPisoFoam runs OpenFOAM's own).

@@ -440,6 +440,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             layout,
             observer,
             monitors: RunMonitors::new(&layout.coupling.monitors, &layout.cfd, &start_name),
+            interval_checks: crate::interval_check::IntervalChecks::new(
+                layout.coupling.monitors.interval_check,
+                s.dt_c,
+                s.dt_c / s.fluid_steps,
+            ),
             particle_probes: self.particle_probes(&start_name)?,
             probes,
             surface,
@@ -562,6 +567,12 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 coupler.recycle(step);
             }
             let (step, dt) = coupler.hand_over(dem, fluid)?;
+            if let Some(c) = &out.interval_checks {
+                let state = fluid.inner.state();
+                if let Some(lines) = c.check(k, coupler, &step, &dem.state(), &state, dt_c)? {
+                    lines.into_iter().for_each(|l| events(Event::Message(l)));
+                }
+            }
             if let Some(p) = &mut out.particle_probes {
                 // the exchange's values, before the fluid advances
                 let physics = &coupler.settings().physics;

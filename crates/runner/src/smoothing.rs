@@ -22,6 +22,16 @@ impl Diffusion for FvDiffusion {
             .map(|stats| stats.iterations)
             .map_err(|e| e.to_string())
     }
+
+    fn diffuse_local(&self, eps: &mut [f64], l2: &[f64]) -> Result<usize, String> {
+        if l2.len() != eps.len() {
+            return Err(format!("{} lengths for {} cells", l2.len(), eps.len()));
+        }
+        self.0
+            .solve_local(eps, l2, "smoothed ε")
+            .map(|stats| stats.iterations)
+            .map_err(|e| e.to_string())
+    }
 }
 
 /// The smoothing `model` (or `constDiffSmoothing` with its settings) on `mesh`, diffused by

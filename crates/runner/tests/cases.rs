@@ -864,3 +864,88 @@ fn cfdem_monitors_probe_and_track_the_settling_sphere() {
     let id = std::fs::read_to_string(cloud.join("id")).unwrap();
     assert!(id.contains("\n1\n(\n1\n)\n"), "{id}");
 }
+
+/// The settling sphere (d = 0.1 mm, ρ_p = 3000 kg/m³, ρ = 10 kg/m³, ν = 1e-5 m²/s) with issue
+/// 28's models switched on together: `GaussVoidFraction` (normalised), `localPSizeDiffSmoothing`,
+/// `fieldVolWeighted` and `checkCouplingInterval`. The run goes through; the average of the
+/// smoothed ε over every cell (`fieldVolWeighted.txt`, volWeightedAverage's layout) times the
+/// mesh volume (`particleCellVolume`'s cell volume over all cells) leaves the sphere's volume
+/// π d³/6 on every row (voidage and smoothing conserve it); and `checkCouplingInterval` reports
+/// the relaxation time ρ_p d²/(18 ρ ν) = 3000·1e-8/(18·1e-4) = 0.01666… s by hand, and the
+/// acceleration number Δt_c/τ_p = 1e-3/0.01666… = 0.06 (above CFDEM's 0.005: a warning).
+#[test]
+fn issue_28_models_run_together_and_conserve_the_sphere() {
+    let (_tmp, case) = case_copy("settling");
+    let props = case.join("CFD/constant/couplingProperties");
+    let text = std::fs::read_to_string(&props)
+        .unwrap()
+        .replace(
+            "voidFractionModel   divided;",
+            "voidFractionModel   GaussVoidFraction;",
+        )
+        .replace(
+            "smoothingModel      off;",
+            "smoothingModel      localPSizeDiffSmoothing;\n\
+             localPSizeDiffSmoothingProps { lowerLimit 0.1; upperLimit 1e10; \
+             dSmoothingLength 1e-3; Csmoothing 10; }",
+        )
+        .replace(
+            "    Archimedes\n);",
+            "    Archimedes\n    particleCellVolume\n    fieldVolWeighted\n    checkCouplingInterval\n);\n\
+             particleCellVolumeProps { upperThreshold 1.01; lowerThreshold -0.01; writeToFile true; }\n\
+             fieldVolWeightedProps { startTime 0; scalarFieldNames ( voidfraction ); \
+             vectorFieldNames ( U ); useVolumeFraction false; volumeFractionName \"voidfraction\"; }\n\
+             checkCouplingIntervalProps { timeInterval 0.01; }",
+        );
+    std::fs::write(&props, text).unwrap();
+    let opts = RunOptions {
+        end_time: Some(0.02),
+        ..RunOptions::default()
+    };
+    let (_, log) = run_logged_with(&case, &opts, &AtomicBool::new(false));
+    let read = |name: &str| {
+        std::fs::read_to_string(case.join(format!("CFD/postProcessing/{name}/0/{name}.txt")))
+            .unwrap()
+    };
+    let fvw = read("fieldVolWeighted");
+    assert!(fvw.starts_with("# time | voidfraction | U\n"), "{fvw}");
+    let rows: Vec<Vec<&str>> = fvw
+        .lines()
+        .skip(1)
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    let pcv: Vec<Vec<f64>> = read("particleCellVolume")
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 20);
+    let d: f64 = 1e-4;
+    let sphere = std::f64::consts::PI * d.powi(3) / 6.0;
+    for (r, p) in rows.iter().zip(&pcv) {
+        // time, ε, (Ux Uy Uz)
+        assert_eq!(r.len(), 5, "{r:?}");
+        let eps: f64 = r[1].parse().unwrap();
+        let solid = (1.0 - eps) * p[2];
+        assert!(
+            (solid - sphere).abs() < 1e-6 * sphere,
+            "{solid} vs {sphere}"
+        );
+    }
+    let tau = 3000.0 * d * d / (18.0 * 10.0 * 1e-5);
+    let reported: Vec<f64> = log
+        .iter()
+        .filter_map(|l| l.strip_prefix("min. occurring particle relaxation time [s]: "))
+        .map(|x| x.parse().unwrap())
+        .collect();
+    // steps 1 and 11 of 20 (timeInterval 0.01 s = 10 coupling steps)
+    assert_eq!(reported.len(), 2, "{log:?}");
+    for t in reported {
+        assert!((t - tau).abs() < 1e-12 * tau, "{t} vs {tau}");
+    }
+    assert!(
+        log.iter()
+            .any(|l| l.starts_with("warning: The max. acceleration nr") && l.contains("0.06")),
+        "{log:?}"
+    );
+}

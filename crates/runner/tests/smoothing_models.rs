@@ -26,6 +26,26 @@ fn solid(eps: &[f64], v: f64) -> f64 {
     eps.iter().map(|e| (1.0 - e) * v).sum()
 }
 
+/// Asserts that `eps` around the source `source` in cell `mid` is the resolvent kernel of
+/// length `l` on cells of size `h` within the tolerance of
+/// [`one_step_on_a_point_source_is_the_resolvent_kernel`], out to 50 cells, symmetric; returns
+/// the largest relative difference.
+fn assert_resolvent_kernel(eps: &[f64], mid: usize, source: f64, h: f64, l: f64) -> f64 {
+    let hl = h / l;
+    let mut worst: f64 = 0.0;
+    for i in 0..=50 {
+        let x = i as f64 * h;
+        let kernel = source * h * (-x / l).exp() / (2.0 * l);
+        let rel = ((1.0 - eps[mid + i]) - kernel).abs() / kernel;
+        let tol = (x / l) * hl * hl / 24.0 + hl * hl / 8.0 + 1e-10;
+        assert!(rel <= tol, "x = {i} h: {rel:e} > {tol:e}");
+        // symmetric
+        assert!((eps[mid + i] - eps[mid - i]).abs() < 1e-14);
+        worst = worst.max(rel);
+    }
+    worst
+}
+
 /// One step of length L on a point source: the solid fraction φ = 1 − ε at distance x is
 /// s·h·e^(−|x|/L)/(2L), the 1-D kernel of (1 − L²∇²)⁻¹ (the Green's function of
 /// φ − L² φ'' = s h δ). The three-point scheme on cells of size h has the exact discrete solution
@@ -48,17 +68,7 @@ fn one_step_on_a_point_source_is_the_resolvent_kernel() {
     // the integral: zero flux through the walls (solver tolerance 1e-14 of the residual)
     assert!((solid(&eps, v) - before).abs() <= 1e-12 * before);
     let hl = h / l;
-    let mut worst: f64 = 0.0;
-    for i in 0..=50 {
-        let x = i as f64 * h;
-        let kernel = source * h * (-x / l).exp() / (2.0 * l);
-        let rel = ((1.0 - eps[mid + i]) - kernel).abs() / kernel;
-        let tol = (x / l) * hl * hl / 24.0 + hl * hl / 8.0 + 1e-10;
-        assert!(rel <= tol, "x = {i} h: {rel:e} > {tol:e}");
-        // symmetric
-        assert!((eps[mid + i] - eps[mid - i]).abs() < 1e-14);
-        worst = worst.max(rel);
-    }
+    let worst = assert_resolvent_kernel(&eps, mid, source, h, l);
     // the bound is not loose by orders of magnitude (the check can fail)
     assert!(
         worst > 0.3 * (5.0 * hl * hl / 24.0 + hl * hl / 8.0),
@@ -201,7 +211,7 @@ fn every_model_conserves_the_particle_volume() {
         let s = native(&mesh, m).unwrap();
         // the weight the history keeps per exchange
         let keep = match m {
-            SmoothingModel::ConstDiff(_) => 0.0,
+            SmoothingModel::ConstDiff(_) | SmoothingModel::LocalPSizeDiff { .. } => 0.0,
             SmoothingModel::Temporal { .. } => gamma / (1.0 + gamma),
             SmoothingModel::ConstDiffAndTemporal { .. } => 1.0 / (1.0 + gamma),
         };
@@ -314,5 +324,76 @@ fn the_coupler_hands_the_fluid_the_relaxed_voidage_and_reports_the_lag() {
             "exchange {k}: {}",
             clipped[k]
         );
+    }
+}
+
+/// `localPSizeDiffSmoothing` with Csmoothing c and dSmoothingLength L₀.
+fn local(c: f64, l0: f64) -> SmoothingModel {
+    SmoothingModel::LocalPSizeDiff {
+        spatial: spatial(l0),
+        c,
+    }
+}
+
+/// `localPSizeDiffSmoothing` with one particle size d everywhere is one implicit step of length
+/// L = c·d: on a point source the same resolvent kernel s·h·e^(−|x|/L)/(2L) as
+/// [`one_step_on_a_point_source_is_the_resolvent_kernel`], with its discrete tolerance; and
+/// dSmoothingLength (here 3 L, in no cell) changes nothing.
+#[test]
+fn local_size_smoothing_of_one_size_is_the_resolvent_kernel() {
+    let (n, h, d, c) = (401, 1e-3, 4e-3, 2.5);
+    let l = c * d;
+    let s = native(&row(n, h), local(c, 3.0 * l)).unwrap();
+    let mid = n / 2;
+    let source = 0.5;
+    let mut eps = vec![1.0; n];
+    eps[mid] = 1.0 - source;
+    let v = h * h * h;
+    let before = solid(&eps, v);
+    let diameters = vec![d; n];
+    let r = s.smooth_sized(&mut eps, Some(&diameters)).unwrap();
+    assert_eq!((r.bounded_cells, r.lagged_volume), (0, 0.0));
+    assert!((solid(&eps, v) - before).abs() <= 1e-12 * before);
+    assert_resolvent_kernel(&eps, mid, source, h, l);
+    // without the sizes the model refuses (it never falls back silently)
+    assert!(s.smooth(&mut eps).is_err());
+}
+
+/// The length follows the local size: particles of d₁ on the left half (L₁ = c d₁ = 3h) and on
+/// the right half either particles of d₂ = d₁/2 (L₂ = 1.5h) or none (dSmoothingLength L₀ =
+/// 1.5h), a source in the two cells between them. Each side decays away from the source by
+/// its own discrete root r_i < 1 of k_i r² − (1 + 2k_i) r + k_i = 0, k_i = (L_i/h)² (the
+/// three-point recurrence of constant coefficients within a side; the walls, 100 cells away,
+/// reflect r^200), to the solver's tolerance; the particle volume is conserved.
+#[test]
+fn local_size_smoothing_follows_the_local_size_and_conserves() {
+    let (n, h, c) = (300, 1e-3, 2.0);
+    let d1 = 1.5e-3;
+    let root = |l: f64| {
+        let k = (l / h).powi(2);
+        ((1.0 + 2.0 * k) - ((1.0 + 2.0 * k).powi(2) - 4.0 * k * k).sqrt()) / (2.0 * k)
+    };
+    let (l1, l_right) = (c * d1, 1.5e-3);
+    assert!((root(l1) - root(l_right)).abs() > 0.15);
+    for right in [d1 / 2.0, 0.0] {
+        let s = native(&row(n, h), local(c, l_right)).unwrap();
+        let diameters: Vec<f64> = (0..n).map(|i| if i < 150 { d1 } else { right }).collect();
+        let mut eps = vec![1.0; n];
+        eps[149] = 0.4;
+        eps[150] = 0.4;
+        let v = h * h * h;
+        let before = solid(&eps, v);
+        let r = s.smooth_sized(&mut eps, Some(&diameters)).unwrap();
+        assert_eq!(r.bounded_cells, 0);
+        assert!((solid(&eps, v) - before).abs() <= 1e-12 * before);
+        let phi = |i: usize| 1.0 - eps[i];
+        for i in 130..148 {
+            let ratio = phi(i - 1) / phi(i);
+            assert!((ratio - root(l1)).abs() < 1e-8, "left {i}: {ratio}");
+        }
+        for i in 152..162 {
+            let ratio = phi(i + 1) / phi(i);
+            assert!((ratio - root(l_right)).abs() < 1e-7, "right {i}: {ratio}");
+        }
     }
 }

@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use mesh::build::{hex_grid, uniform_box};
+use mesh::build::uniform_box;
 use mesh::v3::V3;
 use voidage::*;
 
@@ -23,20 +23,7 @@ fn every_particle_volume_is_in_a_cell_or_counted_outside() {
     let pos: Vec<V3> = (0..n).map(|_| rng.point([-0.2; 3], [1.2; 3])).collect();
     let rad: Vec<f64> = (0..n).map(|_| rng.uniform(0.01, 0.6)).collect();
     let vol: f64 = rad.iter().map(|&r| ball_volume(r)).sum();
-    let graded = hex_grid(
-        &[0.0, 0.1, 0.3, 0.6, 1.0],
-        &[0.0, 0.25, 0.5, 0.75, 1.0],
-        &[0.0, 0.5, 0.7, 0.9, 1.0],
-    );
-    let uniform = uniform_box([0.0; 3], [1.0; 3], [8, 8, 8]);
-    for (name, vm) in [
-        ("grid", VoidageMesh::new(&uniform).unwrap()),
-        (
-            "general",
-            VoidageMesh::with_options(&uniform, NO_GRID).unwrap(),
-        ),
-        ("graded", VoidageMesh::new(&graded).unwrap()),
-    ] {
+    for (name, vm) in grid_general_graded() {
         let (shares, d) = vm
             .shares(Method::BigParticle, &ParticleSet::new(&pos, &rad))
             .unwrap();

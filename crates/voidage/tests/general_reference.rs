@@ -143,7 +143,9 @@ fn reference(vm: &VoidageMesh, method: Method, c: V3, r: f64) -> BTreeMap<Label,
             }
         }
         Method::Trilinear => unreachable!("not defined on general meshes"),
-        Method::BigParticle => unreachable!("not in Method::ANY_MESH (tests/big_particle.rs)"),
+        Method::BigParticle | Method::Gauss => {
+            unreachable!("not in Method::ANY_MESH (tests/big_particle.rs, tests/gauss.rs)")
+        }
     }
     out
 }

@@ -56,14 +56,12 @@ fn method_names() {
     assert!(!Method::ANY_MESH.contains(&Method::Trilinear));
     assert_eq!(Method::Exact.cfdem_name(), None);
     assert_eq!("bigParticle".parse::<Method>(), Ok(Method::BigParticle));
-    let e = "GaussVoidFraction"
-        .parse::<Method>()
-        .unwrap_err()
-        .to_string();
+    assert_eq!("GaussVoidFraction".parse::<Method>(), Ok(Method::Gauss));
+    let e = "IBVoidFraction".parse::<Method>().unwrap_err().to_string();
     for m in Method::ALL {
         assert!(e.contains(m.name()), "{e}");
     }
-    assert!(e.contains("GaussVoidFraction"));
+    assert!(e.contains("IBVoidFraction"));
 }
 
 #[test]
@@ -401,8 +399,9 @@ fn continuity_across_a_face() {
                         let k = across / (v / 29.0);
                         assert!(k > 0.5 && (k - k.round()).abs() < 1e-9, "{k}");
                     }
-                    // cells enter and leave as their centres do (tests/big_particle.rs)
-                    Method::BigParticle => {}
+                    // cells enter and leave as their centres do (tests/big_particle.rs,
+                    // tests/gauss.rs)
+                    Method::BigParticle | Method::Gauss => {}
                     _ => assert!(across < 1e-7 * v, "{method} r={r}: {across:e}"),
                 }
                 // The sphere's edge crossing a face (x = 1 − r, when inside the mesh).

@@ -165,6 +165,46 @@ pub(super) fn drag(
     law: DragLaw,
     s: &mut Setup,
 ) -> Result<(), CoupleError> {
+    drag_with(r, g, law, s, &[])
+}
+
+/// `KochHillRWDrag` (CFDEM-PFM): `KochHillDrag` with a random-walk turbulent fluctuation
+/// ([`crate::random_walk`]); its Props are the drag's and `cl` (C_L, > 0, default 0.15),
+/// `rhoP` (kg/m³, > 0; default each particle's density), `randomTauE` (a key that switches on
+/// when present, as PFM reads it); PFM's `velFieldName`, `voidfractionFieldName`,
+/// `granVelFieldName` are the standard names.
+pub(super) fn koch_hill_rw(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    use crate::random_walk::RandomWalkSettings;
+    drag_with(r, g, DragLaw::KochHill, s, &["cl", "rhoP", "randomTauE"])?;
+    let (props, dict) = &g.props(r)?;
+    let positive = |key: &str| -> Result<Option<f64>, CoupleError> {
+        if !props.contains(key) {
+            return Ok(None);
+        }
+        let path = format!("{dict}/{key}");
+        match r.number(props, key, &path)? {
+            x if x.is_finite() && x > 0.0 => Ok(Some(x)),
+            x => Err(r.err(&path, format!("{x} is not positive"))),
+        }
+    };
+    let d = RandomWalkSettings::default();
+    s.forces.random_walk = Some(RandomWalkSettings {
+        cl: positive("cl")?.unwrap_or(d.cl),
+        rho_p: positive("rhoP")?,
+        random_tau_e: props.contains("randomTauE"),
+        seed: d.seed,
+    });
+    Ok(())
+}
+
+/// [`drag`] accepting also the keys `extra` (read by the caller).
+fn drag_with(
+    r: &mut Reader<'_>,
+    g: &Given<'_>,
+    law: DragLaw,
+    s: &mut Setup,
+    extra: &[&str],
+) -> Result<(), CoupleError> {
     let name = g.name;
     if s.forces.drag.is_some() {
         return Err(r.err(g.key, format!("a second drag law `{name}`")));
@@ -173,6 +213,7 @@ pub(super) fn drag(
     let (props, dict) = &g.props(r)?;
     let mut known = drag_keys(law);
     known.extend(DRAG_KEYS_WITHOUT_EFFECT.iter().map(|(k, _)| *k));
+    known.extend_from_slice(extra);
     r.check_props(props, dict, &known)?;
     for (key, why) in DRAG_KEYS_WITHOUT_EFFECT {
         if props.contains(key) {

@@ -17,7 +17,7 @@
 //! | `forceModels` (one drag law of [`registry::DRAG_LAWS`], closures' list, and [`registry::FORCES`]) | [`Forces`], and the observers of [`Monitors`] |
 //! | `momCoupleModels` ([`registry::MOM_COUPLE`]) | [`MomentumCoupling`] |
 //! | `locateModel`, `meshMotionModel`, `regionModel`, `smoothingModel`, `averagingModel`, `dataExchangeModel`, `IOModel`, `probeModel` ([`registry::SINGLE_NAME`]) | checked; `IOModel basicIO` writes particles ([`Monitors::basic_io`]); `<dataExchangeModel>Props/liggghtsPath` names the coupled deck ([`CouplingConfig::liggghts_path`]) |
-//! | `smoothingModel` `constDiffSmoothing` (`<name>Props`: `smoothingLength`, `lowerLimit`, `upperLimit`), `temporalSmoothing` (`gamma`, `refField voidfraction`, the limits), `constDiffAndTemporalSmoothing` (`smoothingLength`, `smoothingStrength`, the limits) | [`CouplingConfig::smoothing`], [`crate::smoothing`]; `localPSizeDiffSmoothing` is refused |
+//! | `smoothingModel` `constDiffSmoothing` (`<name>Props`: `smoothingLength`, `lowerLimit`, `upperLimit`), `temporalSmoothing` (`gamma`, `refField voidfraction`, the limits), `constDiffAndTemporalSmoothing` (`smoothingLength`, `smoothingStrength`, the limits) | [`CouplingConfig::smoothing`], [`crate::smoothing`]; `localPSizeDiffSmoothing` (`dSmoothingLength`, `Csmoothing`, the limits) as foamgrain reads it (its source is not public) |
 //! | `clockModel` `off`, `standardClock` | [`Monitors::clock`] |
 //! | `solveFlow` (switch, default on) | [`CouplingConfig::solve_flow`] |
 //! | `useDDTvoidfraction` `b` (∂ε/∂t), `off` (CFDEM's default, also foamgrain's); the key alone (`useDDTvoidfraction;`) is `b`, as CFDEM-PFM reads it | [`CouplingConfig::ddt_voidage`]; `a` (∇·(Us (1 − ε))) is refused |
@@ -112,6 +112,9 @@ pub struct Forces {
     pub mei_lift: Option<LiftSettings>,
     /// `SaffmanLift`: Saffman's (1965) lift ([`closures::forces::saffman_lift`]), if listed.
     pub saffman_lift: Option<LiftSettings>,
+    /// `KochHillRWDrag`: the drag (Koch–Hill, in `drag`) sees a random-walk fluctuation in
+    /// the fluid's k–ε fields ([`crate::random_walk`]).
+    pub random_walk: Option<crate::random_walk::RandomWalkSettings>,
 }
 
 impl Forces {
@@ -124,6 +127,12 @@ impl Forces {
     /// ([`crate::FluidState::ddt_u`]): `virtualMassForce` with `splitUrelCalculation`.
     pub fn needs_ddt_u(&self) -> bool {
         self.virtual_mass.is_some_and(|v| v.split)
+    }
+
+    /// Whether a force model needs the fluid's k and ε ([`crate::FluidState::turbulence`]):
+    /// `KochHillRWDrag`.
+    pub fn needs_turbulence(&self) -> bool {
+        self.random_walk.is_some()
     }
 }
 

@@ -153,6 +153,12 @@ pub struct Monitors {
     pub particle_probe: Option<ParticleProbe>,
     /// `volWeightedAverage`.
     pub vol_weighted_average: Option<VolWeightedAverage>,
+    /// `fieldVolWeighted` (ErgunTestMPI 2016; its source was never published): the
+    /// volume-weighted average over every cell, in `volWeightedAverage`'s file layout
+    /// ([`field_vol_weighted`] says what was chosen).
+    pub field_vol_weighted: Option<VolWeightedAverage>,
+    /// `checkCouplingInterval` ([`crate::interval_check`]).
+    pub interval_check: Option<crate::interval_check::IntervalCheckSettings>,
     /// `clockModel standardClock`: the timing table at the end (log and `clockData/timeEval.txt`).
     pub clock: bool,
     /// `IOModel basicIO` (or `sophIO`/`trackIO`): particle positions, velocities and radii
@@ -170,6 +176,7 @@ impl Monitors {
             || self.total_momentum_exchange.is_some()
             || self.particle_cell_volume.is_some()
             || self.vol_weighted_average.is_some()
+            || self.field_vol_weighted.is_some()
     }
 }
 
@@ -355,6 +362,66 @@ pub(super) fn vol_weighted_average(r: &mut Reader, g: &Given, s: &mut Setup) -> 
             "writeToFile",
         ],
     )?;
+    let bounds = (
+        r.number(props, "lowerThreshold", &format!("{dict}/lowerThreshold"))?,
+        r.number(props, "upperThreshold", &format!("{dict}/upperThreshold"))?,
+    );
+    let write_to_file = switch_or(r, props, dict, "writeToFile")?;
+    s.monitors.vol_weighted_average = Some(vol_weighted(r, props, dict, bounds, write_to_file)?);
+    Ok(())
+}
+
+/// The settings of `volWeightedAverage` and `fieldVolWeighted` but for the thresholds
+/// `bounds` and `write_to_file`.
+fn vol_weighted(
+    r: &Reader<'_>,
+    props: &Dict,
+    dict: &str,
+    (lower, upper): (f64, f64),
+    write_to_file: bool,
+) -> Result<VolWeightedAverage, CoupleError> {
+    volume_fraction_name(r, props, dict)?;
+    Ok(VolWeightedAverage {
+        scalar_fields: field_names(r, props, dict, "scalarFieldNames", &SCALAR_FIELDS)?,
+        vector_fields: field_names(r, props, dict, "vectorFieldNames", &VECTOR_FIELDS)?,
+        lower,
+        upper,
+        use_volume_fraction: switch_or(r, props, dict, "useVolumeFraction")?,
+        start_time: number_or(r, props, dict, "startTime", 0.0)?,
+        verbose: switch_or(r, props, dict, "verbose")?,
+        write_to_file,
+    })
+}
+
+/// `fieldVolWeighted` of `forceModels`: CFDEM's source of this model was never published;
+/// only its Props in the ErgunTestMPI tutorial of 2016 (`startTime`, `scalarFieldNames`,
+/// `vectorFieldNames`, `useVolumeFraction`, `volumeFractionName`). foamgrain reads those keys
+/// and makes it what its name and keys say: the volume-weighted average Σ φ V (ε) / Σ V of each
+/// named field over **every** cell (it has no thresholds, unlike `volWeightedAverage`), each
+/// coupling step from `startTime`, written to `postProcessing/fieldVolWeighted/<start>/
+/// fieldVolWeighted.txt` in `volWeightedAverage`'s layout (`# time | name …`, one row per
+/// step). `verbose` puts the values in the log too; no fields are written.
+pub(super) fn field_vol_weighted(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "scalarFieldNames",
+            "vectorFieldNames",
+            "useVolumeFraction",
+            "volumeFractionName",
+            "startTime",
+            "verbose",
+        ],
+    )?;
+    let all = (f64::NEG_INFINITY, f64::INFINITY);
+    s.monitors.field_vol_weighted = Some(vol_weighted(r, props, dict, all, true)?);
+    Ok(())
+}
+
+/// `volumeFractionName`, if given, must be the field foamgrain holds.
+fn volume_fraction_name(r: &Reader<'_>, props: &Dict, dict: &str) -> Result<(), CoupleError> {
     if props.contains("volumeFractionName") {
         let path = format!("{dict}/volumeFractionName");
         let name = r.word(props, "volumeFractionName", &path)?;
@@ -362,16 +429,68 @@ pub(super) fn vol_weighted_average(r: &mut Reader, g: &Given, s: &mut Setup) -> 
             return Err(r.err(&path, format!("only `voidfraction` is held, not `{name}`")));
         }
     }
-    s.monitors.vol_weighted_average = Some(VolWeightedAverage {
-        scalar_fields: field_names(r, props, dict, "scalarFieldNames", &SCALAR_FIELDS)?,
-        vector_fields: field_names(r, props, dict, "vectorFieldNames", &VECTOR_FIELDS)?,
-        lower: r.number(props, "lowerThreshold", &format!("{dict}/lowerThreshold"))?,
-        upper: r.number(props, "upperThreshold", &format!("{dict}/upperThreshold"))?,
-        use_volume_fraction: switch_or(r, props, dict, "useVolumeFraction")?,
-        start_time: number_or(r, props, dict, "startTime", 0.0)?,
-        verbose: switch_or(r, props, dict, "verbose")?,
-        write_to_file: switch_or(r, props, dict, "writeToFile")?,
-    });
+    Ok(())
+}
+
+/// `checkCouplingInterval` of `forceModels` ([`crate::interval_check`] has what it reports).
+/// CFDEM-PUBLIC requires `rhoP` and `UmaxExpected`; foamgrain takes each particle's own
+/// density without `rhoP` and leaves the expected CFL out without `UmaxExpected`.
+/// `maxRelVelChange` is read but its check (|∇U| along a particle's path) is not made: a
+/// warning says so.
+pub(super) fn check_coupling_interval(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    use crate::interval_check::IntervalCheckSettings;
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "warnOnly",
+            "velocityFieldName",
+            "rhoP",
+            "maxCFL",
+            "maxPCFL",
+            "maxAccNr",
+            "maxRelVelChange",
+            "UmaxExpected",
+            "minAllowedVcellByVparcel",
+            "largeVcellByVparcel",
+            "timeInterval",
+            "verbose",
+        ],
+    )?;
+    let d = IntervalCheckSettings::default();
+    let positive = |key: &str, default: f64| -> Result<f64, CoupleError> {
+        let x = number_or(r, props, dict, key, default)?;
+        match x.is_finite() && x > 0.0 {
+            true => Ok(x),
+            false => Err(r.err(&format!("{dict}/{key}"), format!("{x} is not positive"))),
+        }
+    };
+    let optional = |key: &str| -> Result<Option<f64>, CoupleError> {
+        match props.contains(key) {
+            true => positive(key, 0.0).map(Some),
+            false => Ok(None),
+        }
+    };
+    let settings = IntervalCheckSettings {
+        rho_p: optional("rhoP")?,
+        warn_only: r
+            .opt_switch(props, "warnOnly", &format!("{dict}/warnOnly"))?
+            .unwrap_or(true),
+        max_cfl: positive("maxCFL", d.max_cfl)?,
+        max_pcfl: positive("maxPCFL", d.max_pcfl)?,
+        max_acc_nr: positive("maxAccNr", d.max_acc_nr)?,
+        u_max_expected: optional("UmaxExpected")?,
+        min_vcell_by_vparcel: positive("minAllowedVcellByVparcel", d.min_vcell_by_vparcel)?,
+        large_vcell_by_vparcel: positive("largeVcellByVparcel", d.large_vcell_by_vparcel)?,
+        time_interval: optional("timeInterval")?,
+    };
+    if props.contains("maxRelVelChange") {
+        r.warn(format!(
+            "{dict}/maxRelVelChange: the change of the fluid velocity along a particle's path              (|grad U| max|v| couplingTime) is not checked"
+        ));
+    }
+    s.monitors.interval_check = Some(settings);
     Ok(())
 }
 

@@ -168,17 +168,14 @@ pub const VOIDAGE: Family = Family {
         method(Method::CorrectedCube, void_fraction::corrected_cube),
         method(Method::Exact, void_fraction::exact),
         method(Method::BigParticle, void_fraction::big_particle),
-        (
-            "GaussVoidFraction",
-            refuse(
-                "CFDEM itself stops on it (\"does not yet work properly\": its Gaussian weights \
-                 add up to about 8 times the particle volume); use exact",
-            ),
-        ),
+        method(Method::Gauss, void_fraction::gauss),
         ("IBVoidFraction", refuse("use exact")),
         (
             "dividedSmooth",
-            refuse("no such model in CFDEMcoupling-PUBLIC or -PFM; use divided or exact"),
+            refuse(
+                "no such model in CFDEMcoupling-PUBLIC or -PFM (sources, tutorials, documentation \
+                 and their git histories); use divided or exact",
+            ),
         ),
     ],
 };
@@ -222,11 +219,7 @@ pub const SMOOTHING: Family = Family {
         ("constDiffSmoothing", acts(smoothing::const_diff)),
         (
             "localPSizeDiffSmoothing",
-            refuse(
-                "its code is not public (CFDEMcoupling-PUBLIC and -PFM ship only its name and \
-                 Props); use `constDiffSmoothing` with a smoothingLength of the order of the \
-                 particle diameter, or `off`",
-            ),
+            acts(smoothing::local_p_size_diff),
         ),
         ("temporalSmoothing", acts(smoothing::temporal)),
         (
@@ -296,10 +289,19 @@ pub const MOM_COUPLE: Family = Family {
         ("noCouple", SAME.aka(&["deactivateCouple"])),
         (
             "explicitCoupleSource",
-            refuse("no such model in CFDEMcoupling-PUBLIC or -PFM; use explicitCouple"),
+            refuse(
+                "only named in CFDEMcoupling-PUBLIC's periodicPressure documentation; its source \
+                 is in neither CFDEMcoupling-PUBLIC nor -PFM (nor their git histories); use \
+                 explicitCouple",
+            ),
         ),
     ],
 };
+
+/// Why `DEMbasedDrag` and `RongDrag` are refused.
+const UNPUBLISHED_DRAG: &str = "named in CFDEM's tutorials (ErgunTestMPI, PFM's multiphase \
+    cases) with empty Props, but its source is in neither CFDEMcoupling-PUBLIC nor -PFM (nor \
+    their git histories); use one of the drag laws";
 
 /// `forceModels` other than the drag laws (those are [`closures::DRAG_LAW_NAMES`], all acting).
 pub const FORCES: Family = Family {
@@ -323,40 +325,19 @@ pub const FORCES: Family = Family {
             "ShirgaonkarIB",
             refuse("immersed-boundary models are not implemented"),
         ),
-        (
-            "DEMbasedDrag",
-            refuse("not in CFDEMcoupling-PUBLIC or -PFM; use one of the drag laws"),
-        ),
-        (
-            "RongDrag",
-            refuse("not in CFDEMcoupling-PUBLIC or -PFM; use one of the drag laws"),
-        ),
-        (
-            "KochHillRWDrag",
-            refuse(
-                "PFM's random-walk dispersion needs a k-epsilon model's k and epsilon, which \
-                 foamgrain's laminar fluids lack; use KochHillDrag",
-            ),
-        ),
+        ("DEMbasedDrag", refuse(UNPUBLISHED_DRAG)),
+        ("RongDrag", refuse(UNPUBLISHED_DRAG)),
+        ("KochHillRWDrag", acts(forces::koch_hill_rw)),
         (
             "totalMomentumExchange",
             acts(monitors::total_momentum_exchange),
         ),
         ("fieldTimeAverage", acts(monitors::field_time_average)),
         ("particleVolume", acts(monitors::particle_volume)),
-        (
-            "fieldVolWeighted",
-            refuse(
-                "CFDEM's source of it was never published (only its Props in ErgunTestMPI of \
-                 2016), so its output cannot be reproduced; use volWeightedAverage",
-            ),
-        ),
+        ("fieldVolWeighted", acts(monitors::field_vol_weighted)),
         (
             "checkCouplingInterval",
-            refuse(
-                "not implemented; `foamgrain timestep` reports the Courant number and the \
-                 coupling interval's criteria",
-            ),
+            acts(monitors::check_coupling_interval),
         ),
         ("LaEuScalarTemp", acts(heat::la_eu_scalar_temp)),
         ("scalarGeneralExchange", acts(heat::scalar_general_exchange)),
@@ -474,8 +455,11 @@ mod tests {
         temporalSmoothingProps { lowerLimit 0; upperLimit 1; refField voidfraction; gamma 0.1; }\n\
         constDiffAndTemporalSmoothingProps { lowerLimit 0; upperLimit 1; smoothingLength 0.01; \
             smoothingStrength 0.1; }\n\
+        localPSizeDiffSmoothingProps { lowerLimit 0.1; upperLimit 1e10; dSmoothingLength 1.5e-3; \
+            Csmoothing 1.0; }\n\
         fieldStoreProps { scalarFieldNames ( ); vectorFieldNames ( U ); }\n\
         fieldTimeAverageProps { scalarFieldNames ( voidfraction ); vectorFieldNames ( ); }\n\
+        fieldVolWeightedProps { scalarFieldNames ( ); vectorFieldNames ( U ); }\n\
         volWeightedAverageProps { lowerThreshold 0; upperThreshold 1; \
             scalarFieldNames ( ); vectorFieldNames ( ); }\n\
         executeProps0 { command ( write_restart r ); runFirst on; }\n\
@@ -558,7 +542,15 @@ mod tests {
                         Acts(_) => {
                             assert_eq!(result, Ok(true), "{at}");
                             assert_ne!(setup, Setup::default(), "{at}: nothing set");
-                            assert!(warnings.is_empty(), "{at}: {warnings:?}");
+                            // GaussVoidFraction says how it differs from CFDEM's
+                            let said = match spelling.parse::<Method>() {
+                                Ok(Method::Gauss) if f.key == VOIDAGE.key => {
+                                    vec![void_fraction::GAUSS_WARNING.to_owned()]
+                                }
+                                _ => Vec::new(),
+                            };
+                            assert_eq!(warnings.len(), said.len(), "{at}: {warnings:?}");
+                            assert!(warnings.iter().zip(&said).all(|(w, s)| w.ends_with(s)));
                         }
                         Same => {
                             assert_eq!(result, Ok(false), "{at}");
@@ -660,6 +652,7 @@ mod tests {
             names.contains("exact") && !names.contains("IBVoidFraction"),
             "{names}"
         );
+        assert!(names.contains("GaussVoidFraction"), "{names}");
         assert_eq!(
             VOIDAGE
                 .support("IBVoidFraction")
@@ -667,5 +660,36 @@ mod tests {
             Some(true)
         );
         assert_eq!(LOCATE.support("nowhere"), None);
+        // of the momentum coupling's families, only the immersed-boundary models and the
+        // names whose source CFDEM never published are refused
+        let unpublished = [
+            "DEMbasedDrag",
+            "RongDrag",
+            "explicitCoupleSource",
+            "dividedSmooth",
+        ];
+        for f in [VOIDAGE, FORCES, SMOOTHING, MOM_COUPLE, AVERAGING, IO, PROBE] {
+            for (name, model) in f.models {
+                if let Refuse(why) = model.support {
+                    let ib = name.ends_with("IB") || name.starts_with("IB");
+                    assert!(ib || unpublished.contains(name), "{} {name}", f.key);
+                    if !ib {
+                        assert!(why.contains("neither") || why.contains("no such"), "{why}");
+                    }
+                }
+            }
+        }
+        for name in [
+            "checkCouplingInterval",
+            "KochHillRWDrag",
+            "fieldVolWeighted",
+            "localPSizeDiffSmoothing",
+            "GaussVoidFraction",
+        ] {
+            let support = [FORCES, SMOOTHING, VOIDAGE]
+                .iter()
+                .find_map(|f| f.support(name));
+            assert!(matches!(support, Some(Acts(_))), "{name}");
+        }
     }
 }

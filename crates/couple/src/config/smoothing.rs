@@ -1,6 +1,7 @@
 //! `smoothingModel`: CFDEM-PFM's smoothing of the ε the fluid gets ([`crate::smoothing`]). The
 //! names are the rows of [`super::registry::SMOOTHING`]; `constDiffSmoothing`,
-//! `temporalSmoothing` and `constDiffAndTemporalSmoothing` act.
+//! `temporalSmoothing`, `constDiffAndTemporalSmoothing` and `localPSizeDiffSmoothing` (whose
+//! source is not public: foamgrain's reading of it is in [`crate::smoothing`]) act.
 
 use super::{Built, Given, Reader, Setup};
 use crate::error::CoupleError;
@@ -141,4 +142,36 @@ pub(super) fn const_diff_and_temporal(r: &mut Reader, g: &Given, s: &mut Setup) 
         SmoothingModel::ConstDiffAndTemporal { spatial, gamma },
         s,
     )
+}
+
+/// `localPSizeDiffSmoothingProps` (the keys of CFDEM's ErgunTestMPI and PFM's tutorials):
+/// `lowerLimit`, `upperLimit`, `dSmoothingLength` (m, the length where no particle is) and
+/// `Csmoothing` (the length per particle diameter), all required; `verbose` is accepted. Its
+/// source is not public: [`crate::smoothing`] says what foamgrain makes of it.
+pub(super) fn local_p_size_diff(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    r.check_props(
+        props,
+        dict,
+        &[
+            "lowerLimit",
+            "upperLimit",
+            "dSmoothingLength",
+            "Csmoothing",
+            "verbose",
+        ],
+    )?;
+    let model = "localPSizeDiffSmoothing";
+    let spatial = SmoothingSettings {
+        length: required(r, props, dict, "dSmoothingLength", model)?,
+        lower: required(r, props, dict, "lowerLimit", model)?,
+        upper: required(r, props, dict, "upperLimit", model)?,
+    };
+    let c = required(r, props, dict, "Csmoothing", model)?;
+    let model = SmoothingModel::LocalPSizeDiff { spatial, c };
+    match model.problem() {
+        // the length's key here is dSmoothingLength
+        Some(("smoothingLength", why)) => Err(r.err(&format!("{dict}/dSmoothingLength"), why)),
+        _ => set(r, dict, model, s),
+    }
 }

@@ -68,6 +68,30 @@ pub(super) fn big_particle(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
     props_with(r, g, s, Method::BigParticle, &["maxCellsPerParticle"])
 }
 
+/// `GaussVoidFraction` (CFDEM's, which stops on it): the common Props and CFDEM's
+/// `maxCellsPerParticle` (read, bounds nothing). The weights are normalised
+/// (`voidage::Method::Gauss`), unlike CFDEM's, which add up to about 8 times the particle
+/// volume: one warning line says so.
+pub(super) fn gauss(r: &mut Reader, g: &Given, s: &mut Setup) -> Built {
+    let (props, dict) = &g.props(r)?;
+    if props.contains("maxCellsPerParticle") {
+        let path = format!("{dict}/maxCellsPerParticle");
+        let n = r.number(props, "maxCellsPerParticle", &path)?;
+        if !(n >= 1.0 && n.fract() == 0.0) {
+            return Err(r.err(&path, format!("{n} is not a positive whole number")));
+        }
+    }
+    props_with(r, g, s, Method::Gauss, &["maxCellsPerParticle"])?;
+    r.warn(GAUSS_WARNING.to_owned());
+    Ok(())
+}
+
+/// The warning of `GaussVoidFraction`.
+pub const GAUSS_WARNING: &str = "voidFractionModel GaussVoidFraction: foamgrain normalises the \
+    Gaussian weights e^(-d^2/(2 r^2)) V_cell over the cells within 3 r so that each particle's \
+    volume is conserved exactly; CFDEM's code does not normalise them (they add up to about 8 \
+    times the particle volume, and CFDEM stops on this model)";
+
 /// The Props every voidage method reads: `alphaMin` (the ε floor, in [0, 1)), and CFDEM's
 /// `scaleUpVol`, `weight`, `porosity` (only 1) and `verbose`.
 fn props(

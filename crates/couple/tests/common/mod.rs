@@ -1,10 +1,12 @@
-//! What the bed heat tests share: a coupler with PFM's heatTransferGunn (explicit, cell
-//! values) and no forces, in a gas of ρ 1.2 kg/m³, ν 1e-5 m²/s, λ 0.0256 W/(m K), c_p 1007
-//! J/(kg K).
+//! What the coupler's tests share: particles with tags 1…n ([`Particles`]), and for the bed
+//! heat tests a coupler with PFM's heatTransferGunn (explicit, cell values) and no forces, in a
+//! gas of ρ 1.2 kg/m³, ν 1e-5 m²/s, λ 0.0256 W/(m K), c_p 1007 J/(kg K).
+#![allow(dead_code)]
 
 use closures::heat::{Nusselt, ReynoldsVelocity};
 use closures::model::ModelType;
 use couple::config::{Forces, HeatModel, HeatSettings};
+use couple::ParticleState;
 use couple::{CouplerSettings, Interpolation, Physics};
 use mesh::v3::V3;
 use voidage::Method;
@@ -40,5 +42,38 @@ pub fn gunn_settings(method: Method) -> CouplerSettings {
             max_source: None,
             interpolation: Interpolation::Cell,
         }),
+    }
+}
+
+/// Particles with tags 1…n, d = 2 mm and ρ_p = 2500 kg/m³ unless changed.
+pub struct Particles {
+    pub ids: Vec<u64>,
+    pub position: Vec<V3>,
+    pub velocity: Vec<V3>,
+    pub radius: Vec<f64>,
+    pub density: Vec<f64>,
+}
+
+impl Particles {
+    pub fn new(position: Vec<V3>, velocity: Vec<V3>) -> Particles {
+        let n = position.len();
+        Particles {
+            ids: (1..=n as u64).collect(),
+            position,
+            velocity,
+            radius: vec![1e-3; n],
+            density: vec![2500.0; n],
+        }
+    }
+
+    pub fn state(&self) -> ParticleState<'_> {
+        ParticleState {
+            ids: &self.ids,
+            position: &self.position,
+            velocity: &self.velocity,
+            radius: &self.radius,
+            density: &self.density,
+            temperature: None,
+        }
     }
 }

@@ -21,11 +21,24 @@ impl VoidageMesh {
         s: &mut Scratch,
         out: &mut Vec<(Label, f64)>,
     ) -> f64 {
-        let Some(c0) = b.cell else { return b.v };
+        if !self.cells_within(b, b.r, s) {
+            return b.v;
+        }
+        let share = b.v / s.candidates.len() as f64;
+        out.extend(s.candidates.iter().map(|&c| (c, share)));
+        0.0
+    }
+
+    /// The centre's cell and the cells whose centre lies strictly within `radius` of the
+    /// particle centre, reached from it through internal faces, into `s.candidates`: the
+    /// centre's cell first, as CFDEM lists it, the others in mesh order. False when the centre
+    /// is outside the mesh (no cells).
+    pub(super) fn cells_within(&self, b: Ball, radius: f64, s: &mut Scratch) -> bool {
+        let Some(c0) = b.cell else { return false };
         let n_internal = self.neighbour.len();
         let tets = self.locator.tets();
         let centres = &self.geom.cell_centres;
-        let r2 = b.r * b.r;
+        let r2 = radius * radius;
         s.begin_walk(c0);
         while let Some(c) = s.queue.pop() {
             s.candidates.push(c);
@@ -42,10 +55,7 @@ impl VoidageMesh {
                 }
             }
         }
-        let share = b.v / s.candidates.len() as f64;
-        // the centre's cell first, as CFDEM lists it; the others in mesh order
         s.candidates[1..].sort_unstable();
-        out.extend(s.candidates.iter().map(|&c| (c, share)));
-        0.0
+        true
     }
 }

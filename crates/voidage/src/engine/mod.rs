@@ -89,6 +89,7 @@ mod big;
 mod deposit;
 mod divided;
 mod field;
+mod gauss;
 mod general;
 mod grid;
 mod particles;
@@ -345,6 +346,7 @@ impl VoidageMesh {
             },
             (Method::Divided, _) => self.divided(b, s, out),
             (Method::BigParticle, _) => self.big_particle(b, s, out),
+            (Method::Gauss, _) => self.gauss(b, s, out),
             (Method::Trilinear, _) => {
                 let g = self.locator.tets().axis_grid();
                 let g = g.expect("trilinear: the grid is checked before depositing");

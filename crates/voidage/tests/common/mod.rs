@@ -315,3 +315,27 @@ pub fn box_tet_by_clipping(lo: V3, hi: V3, t: &[V3; 4]) -> f64 {
     }
     sign * pieces.iter().map(|t| vol(t).abs()).sum::<f64>()
 }
+
+/// The unit box as an 8³ grid (the grid path and, without it, the general path) and a graded
+/// 4³ hex mesh: the meshes the per-particle conservation tests walk.
+pub fn grid_general_graded() -> [(&'static str, voidage::VoidageMesh); 3] {
+    use mesh::build::{hex_grid, uniform_box};
+    use voidage::{MeshOptions, VoidageMesh};
+    let graded = hex_grid(
+        &[0.0, 0.1, 0.3, 0.6, 1.0],
+        &[0.0, 0.25, 0.5, 0.75, 1.0],
+        &[0.0, 0.5, 0.7, 0.9, 1.0],
+    );
+    let uniform = uniform_box([0.0; 3], [1.0; 3], [8, 8, 8]);
+    let no_grid = MeshOptions {
+        axis_aligned_fast_path: false,
+    };
+    [
+        ("grid", VoidageMesh::new(&uniform).unwrap()),
+        (
+            "general",
+            VoidageMesh::with_options(&uniform, no_grid).unwrap(),
+        ),
+        ("graded", VoidageMesh::new(&graded).unwrap()),
+    ]
+}
