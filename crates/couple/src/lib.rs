@@ -68,6 +68,7 @@ pub mod probe;
 pub mod random_walk;
 pub mod ranks;
 pub mod replay;
+mod side_checks;
 pub mod sides;
 pub mod smoothing;
 pub mod step;

@@ -39,6 +39,7 @@ use crate::ksl::{form_cfdem, CfdemSums, KslForm, UsAveraging, CFDEM_SUMS_WIDTH};
 use crate::periodic::PeriodicMesh;
 use crate::population::{Population, PopulationChange};
 use crate::ranks::{owner_reply_width, owner_sums_width, pick, CellOwners, Ranks, Serial};
+use crate::side_checks::{check_particles, fluid_err, particle_err, same_lengths};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 use foam::{Label, PolyMesh};
 use mesh::v3::V3;
@@ -1144,63 +1145,4 @@ fn fluid_record(eps: &[f64], fluid: &FluidState<'_>, c: usize, out: &mut Vec<f64
     out.extend_from_slice(&[
         eps[c], u[0], u[1], u[2], fluid.p[c], g[0], g[1], g[2], t[0], t[1], t[2],
     ]);
-}
-
-fn particle_err(source: crate::error::SideError) -> CoupleError {
-    CoupleError::Side {
-        side: "particle",
-        source,
-    }
-}
-
-fn fluid_err(source: crate::error::SideError) -> CoupleError {
-    CoupleError::Side {
-        side: "fluid",
-        source,
-    }
-}
-
-/// The first of `arrays` (name, length) whose length is not `expected`, as an error.
-fn same_lengths(expected: usize, arrays: &[(&'static str, usize)]) -> Result<(), CoupleError> {
-    match arrays.iter().find(|(_, len)| *len != expected) {
-        Some(&(what, found)) => Err(CoupleError::Length {
-            what,
-            expected,
-            found,
-        }),
-        None => Ok(()),
-    }
-}
-
-/// Equal lengths, finite velocities and positive finite densities; the first bad particle as
-/// an error naming its index and id. (Positions and radii are checked by the voidage.)
-fn check_particles(p: &ParticleState<'_>) -> Result<(), CoupleError> {
-    let n = p.ids.len();
-    same_lengths(
-        n,
-        &[
-            ("particle positions", p.position.len()),
-            ("particle velocities", p.velocity.len()),
-            ("particle radii", p.radius.len()),
-            ("particle densities", p.density.len()),
-        ],
-    )?;
-    let valid = |i: usize| {
-        p.velocity[i].iter().all(|x| x.is_finite())
-            && p.density[i].is_finite()
-            && p.density[i] > 0.0
-    };
-    if let Some(i) = (0..n).into_par_iter().find_first(|&i| !valid(i)) {
-        let message = if !p.velocity[i].iter().all(|x| x.is_finite()) {
-            format!("non-finite velocity {:?}", p.velocity[i])
-        } else {
-            format!("density {} is not a positive number", p.density[i])
-        };
-        return Err(CoupleError::Particle {
-            index: i,
-            id: Some(p.ids[i]),
-            message,
-        });
-    }
-    Ok(())
 }

@@ -69,6 +69,7 @@ fn conduction(d: f64, temp: impl Fn(f64) -> f64) -> (Vec<f64>, f64) {
     let fluid = FluidState {
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
         u: &u,
         p: &p,
         grad_p: &zero,

@@ -155,6 +155,7 @@ fn the_walls_heat_is_in_tsource_and_the_account() {
     let fluid = FluidState {
         vorticity: None,
         ddt_u: None,
+        turbulence: None,
         u: &u,
         p: &p,
         grad_p: &zero,
