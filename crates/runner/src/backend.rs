@@ -244,10 +244,12 @@ fn open_native_fluid(plan: &RunPlan) -> Result<NativeFluid, RunError> {
     Ok(fluid)
 }
 
-/// What grainPisoFoam cannot carry yet: the vorticity ∇ × U (`MeiLift`, `SaffmanLift`) and
-/// DU/Dt (`virtualMassForce` with `splitUrelCalculation`) are not in its replies, so those
-/// models are refused before a solver is spawned.
-#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+/// What grainPisoFoam's sparse exchange (several coupler ranks) cannot carry yet: the
+/// vorticity ∇ × U (`MeiLift`, `SaffmanLift`) and DU/Dt (`virtualMassForce` with
+/// `splitUrelCalculation`) come only in the replies to one coupler rank
+/// ([`foam_link::SpawnOptions::vorticity`], `ddt_u`), so with several those models are refused
+/// before a solver is spawned.
+#[cfg_attr(not(all(feature = "mpi", feature = "liggghts")), allow(dead_code))]
 fn foam_can_carry(layout: &crate::layout::CaseLayout) -> Result<(), RunError> {
     let forces = &layout.coupling.forces;
     let missing = match (forces.needs_vorticity(), forces.needs_ddt_u()) {
@@ -256,8 +258,9 @@ fn foam_can_carry(layout: &crate::layout::CaseLayout) -> Result<(), RunError> {
         (false, false) => return Ok(()),
     };
     Err(RunError::Backend(format!(
-        "{}: {missing}, which grainPisoFoam does not send: run --fluid native (or, for \
-         virtualMassForce, splitUrelCalculation false, which needs only U)",
+        "{}: {missing}, which grainPisoFoam's exchange with several coupler ranks does not \
+         carry: run one coupler rank, or --fluid native (or, for virtualMassForce, \
+         splitUrelCalculation false, which needs only U)",
         layout.coupling.file.display()
     )))
 }
@@ -447,7 +450,6 @@ mod mpi_pair {
         layout: &crate::layout::CaseLayout,
         ranks: usize,
     ) -> Result<crate::foam_fluid::FoamFluid, RunError> {
-        foam_can_carry(layout)?;
         let solver = solver_path()?;
         let ranks = match ranks {
             0 => foam_link::case_setup::decomposed_ranks(&layout.cfd)
@@ -455,9 +457,12 @@ mod mpi_pair {
                 .unwrap_or(1),
             n => n,
         };
+        let forces = &layout.coupling.forces;
         let options = foam_link::SpawnOptions {
             heat: layout.coupling.heat.is_some(),
             cfdem_ksl: None,
+            vorticity: forces.needs_vorticity(),
+            ddt_u: forces.needs_ddt_u(),
         };
         let fluid =
             foam_link::OpenFoamFluid::spawn_with(world, &layout.cfd, ranks, &solver, options)
@@ -493,6 +498,8 @@ mod mpi_pair {
             foam_link::SpawnOptions {
                 heat: layout.coupling.heat.is_some(),
                 cfdem_ksl: layout.coupling.momentum.ksl_form().cfdem(),
+                vorticity: false,
+                ddt_u: false,
             },
         )
         .map_err(|e| backend_err("grainPisoFoam", e))?;
