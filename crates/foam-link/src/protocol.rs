@@ -707,7 +707,8 @@ mod tests {
         let hello = Hello::parse(&[2, 10, 7, 1, 0, 3]).unwrap();
         assert!(hello.heat && hello.cfdem_ksl);
         assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 4])
+        // 4 and 8 are the lift fields' flags since issue 28; 16 is unknown
+        assert!(Hello::parse(&[2, 10, 7, 1, 0, 16])
             .unwrap_err()
             .contains("flags"));
         assert!(Hello::parse(&[2, 10, 7, 1, 0, 1, 1])
