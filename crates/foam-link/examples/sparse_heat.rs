@@ -46,6 +46,8 @@ fn main() {
     let heat = SpawnOptions {
         heat: true,
         cfdem_ksl: None,
+        vorticity: false,
+        ddt_u: false,
     };
     let (mut fluid, mut cells) =
         OpenFoamFluid::spawn_ranked_with(&world, &case, 2, &solver, heat).unwrap();

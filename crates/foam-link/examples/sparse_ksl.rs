@@ -58,6 +58,8 @@ fn main() {
     let options = SpawnOptions {
         heat: false,
         cfdem_ksl: Some(KSL),
+        vorticity: false,
+        ddt_u: false,
     };
     let (mut fluid, mut cells) =
         OpenFoamFluid::spawn_ranked_with(&world, &case, 2, &solver, options).unwrap();

@@ -36,6 +36,23 @@ pub fn launch_script(solver: &Path, case: &Path, ranks: usize, wm_project_dir: &
     launch_script_with(solver, case, ranks, wm_project_dir, false, None)
 }
 
+/// `script` (a [`launch_script_with`] line) that also exports `FOAMGRAIN_VORTICITY=1` when
+/// `vorticity` and `FOAMGRAIN_DDT_U=1` when `ddt_u`, just before its `exec`: the solver then
+/// replies ∇ × U and DU/Dt ([`crate::protocol`]). Without either, `script` unchanged.
+pub fn with_field_requests(script: &str, vorticity: bool, ddt_u: bool) -> String {
+    let mut exports = String::new();
+    if vorticity {
+        exports.push_str("export FOAMGRAIN_VORTICITY=1; ");
+    }
+    if ddt_u {
+        exports.push_str("export FOAMGRAIN_DDT_U=1; ");
+    }
+    match script.rfind("exec ") {
+        Some(at) if !exports.is_empty() => format!("{}{exports}{}", &script[..at], &script[at..]),
+        _ => script.to_string(),
+    }
+}
+
 /// As [`launch_script`]; with `heat` it also exports `FOAMGRAIN_HEAT=1`, which makes the
 /// solver read `0/T` and solve the temperature equation (the protocol's heat blocks,
 /// [`crate::protocol`]). With `ksl` (CFDEM's Ksl form, [`couple::ksl`]) it exports
@@ -251,6 +268,15 @@ mod tests {
              exec '/opt/bin/grainPisoFoam' -parallel -case '/tmp/it'\\''s a case' \
              > '/tmp/it'\\''s a case/log.grainPisoFoam'.${OMPI_COMM_WORLD_RANK:-0} 2>&1"
         );
+        let plain = launch_script_with(Path::new("/s"), Path::new("/c"), 1, "/w", false, None);
+        assert_eq!(with_field_requests(&plain, false, false), plain);
+        let both = with_field_requests(&plain, true, true);
+        assert!(both.contains(
+            "export FOAMGRAIN_LINK=1; export FOAMGRAIN_VORTICITY=1; export FOAMGRAIN_DDT_U=1; \
+             exec '/s'"
+        ));
+        assert!(with_field_requests(&plain, false, true)
+            .contains("export FOAMGRAIN_LINK=1; export FOAMGRAIN_DDT_U=1; exec '/s'"));
         let heat = launch_script_with(Path::new("/s"), Path::new("/c"), 1, "/w", true, None);
         assert!(heat.contains("export FOAMGRAIN_LINK=1; export FOAMGRAIN_HEAT=1; exec '/s'"));
         let ksl = couple::ksl::CfdemKsl {

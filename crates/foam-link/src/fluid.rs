@@ -3,7 +3,7 @@
 use crate::case_setup::{self, control_delta_t, launch_script_with, pid_path, Decomposition};
 use crate::protocol::{
     self, check_fields, check_heat_source, pack_fields, pack_heat_source, tag, Command, FieldsIn,
-    GlobalState, Hello, HELD_WORDS_PER_CELL, PATCH_WORDS, STATE_WORDS_PER_CELL,
+    GlobalState, Hello, HELD_WORDS_PER_CELL, PATCH_WORDS,
 };
 use crate::ranks::RankMap;
 use crate::sparse::SolverCells;
@@ -50,6 +50,14 @@ pub struct SpawnOptions {
     /// and every message exactly as without this option. (With one coupler rank the coupler
     /// forms Ksl itself and this stays `None`.)
     pub cfdem_ksl: Option<couple::ksl::CfdemKsl>,
+    /// The replies carry the vorticity ∇ × U (1/s) per cell, for `MeiLift` and `SaffmanLift`
+    /// ([`FluidState::vorticity`]; the launch line sets `FOAMGRAIN_VORTICITY=1`). One coupler
+    /// rank only (the sparse exchange does not carry it). Off: every message as without it.
+    pub vorticity: bool,
+    /// The replies carry DU/Dt = ∂U/∂t + ∇·(φU) (m/s²) per cell, for `virtualMassForce` with
+    /// `splitUrelCalculation` ([`FluidState::ddt_u`]; `FOAMGRAIN_DDT_U=1`). One coupler rank
+    /// only. Off: every message as without it.
+    pub ddt_u: bool,
 }
 
 /// What the exchange with the solver cost so far (coupler side, all ranks together).
@@ -99,6 +107,9 @@ pub struct OpenFoamFluid {
     heat: bool,
     /// The solver ranks form CFDEM's Ksl in the sparse exchange ([`SpawnOptions::cfdem_ksl`]).
     cfdem_ksl: bool,
+    /// The replies carry ∇ × U and DU/Dt ([`SpawnOptions::vorticity`], `ddt_u`).
+    vorticity: bool,
+    ddt_u: bool,
     /// In a sparse run with heat: the last advance replied the patch sums only, so the cells'
     /// T is that of an earlier reply ([`OpenFoamFluid::temperature`] then says `None`).
     stale_temperature: bool,
@@ -193,6 +204,13 @@ impl OpenFoamFluid {
         solver: &Path,
         options: SpawnOptions,
     ) -> Result<(Option<OpenFoamFluid>, SolverCells), LinkError> {
+        if options.vorticity || options.ddt_u {
+            return Err(LinkError::Parameter(
+                "SpawnOptions::vorticity and ddt_u are for one coupler rank (spawn_with): the \
+                 sparse exchange of several coupler ranks does not carry ∇ × U or DU/Dt"
+                    .into(),
+            ));
+        }
         let root = world.process_at_rank(0);
         if world.rank() == 0 {
             let mut fluid = OpenFoamFluid::spawn_from_root(world, case, np, solver, options)?;
@@ -270,7 +288,11 @@ impl OpenFoamFluid {
         }
 
         let wm = case_setup::wm_project_dir();
-        let script = launch_script_with(solver, &case, np, &wm, heat, options.cfdem_ksl);
+        let script = case_setup::with_field_requests(
+            &launch_script_with(solver, &case, np, &wm, heat, options.cfdem_ksl),
+            options.vorticity,
+            options.ddt_u,
+        );
         let mut command = std::process::Command::new("/bin/sh");
         command.arg("-c").arg(script);
         let inter = world
@@ -290,6 +312,8 @@ impl OpenFoamFluid {
             pending: None,
             heat,
             cfdem_ksl: options.cfdem_ksl.is_some(),
+            vorticity: options.vorticity,
+            ddt_u: options.ddt_u,
             stale_temperature: false,
             case,
             map: RankMap::serial(0),
@@ -356,6 +380,26 @@ impl OpenFoamFluid {
                 };
                 return Err(self.protocol_error(rank, m.into()));
             }
+            for (asked, got, what, var) in [
+                (
+                    self.vorticity,
+                    hello.vorticity,
+                    "∇ × U",
+                    "FOAMGRAIN_VORTICITY",
+                ),
+                (self.ddt_u, hello.ddt_u, "DU/Dt", "FOAMGRAIN_DDT_U"),
+            ] {
+                if asked != got {
+                    let m = match asked {
+                        true => format!(
+                            "answered without {what} although {var}=1 was set (an older \
+                             grainPisoFoam: rebuild it with openfoam-cases/solver/build.sh)"
+                        ),
+                        false => format!("answered with {what} although the coupler did not ask"),
+                    };
+                    return Err(self.protocol_error(rank, m));
+                }
+            }
             self.tp().set_pid(rank, hello.pid)?;
             let local: Vec<i32> = self.tp().receive(rank, tag::CELLS, "the cell map")?;
             if local.len() != hello.n_cells {
@@ -392,11 +436,13 @@ impl OpenFoamFluid {
         self.map = RankMap::new(self.mesh.n_cells, cells)
             .map_err(|(rank, m)| self.protocol_error(rank, m))?;
         self.patch_names = mesh_patches;
-        self.state = if self.heat {
-            GlobalState::with_heat(self.mesh.n_cells, self.patch_names.len())
-        } else {
-            GlobalState::new(self.mesh.n_cells, self.patch_names.len())
-        };
+        self.state = GlobalState::with_fields(
+            self.mesh.n_cells,
+            self.patch_names.len(),
+            self.heat,
+            self.vorticity,
+            self.ddt_u,
+        );
         for (rank, msg) in start_states.iter().enumerate() {
             match self.state.scatter(self.map.cells_of(rank), msg) {
                 Ok(t) => self.state.time = t,
@@ -685,7 +731,7 @@ impl OpenFoamFluid {
                 let cells = self.map.cells_of(rank).to_vec();
                 let n = cells.len();
                 let h = self.state.heat_words();
-                let split = (1 + (STATE_WORDS_PER_CELL + h) * n + (PATCH_WORDS + h) * n_patches)
+                let split = (1 + self.state.cell_words() * n + (PATCH_WORDS + h) * n_patches)
                     .min(msg.len());
                 let (state, held) = msg.split_at(split);
                 let held_fields = self.held.as_mut().expect("allocated by start_held");
@@ -819,8 +865,8 @@ impl FluidSide for OpenFoamFluid {
 
     fn state(&self) -> FluidState<'_> {
         FluidState {
-            vorticity: None,
-            ddt_u: None,
+            vorticity: self.state.vorticity.as_deref(),
+            ddt_u: self.state.ddt_u.as_deref(),
             turbulence: None,
             temperature: self.temperature(),
             u: &self.state.u,

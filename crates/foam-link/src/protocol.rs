@@ -57,6 +57,14 @@
 //! at KslLimit (U of its last reply, ε the exchange's ε_new; [`couple::ksl`]) instead of
 //! Σ Ksl and Σ Ksl·Us / Σ Ksl. Without it every message is as above.
 //!
+//! **Added mass and lift** (issue 28; [`crate::SpawnOptions::vorticity`] and
+//! [`crate::SpawnOptions::ddt_u`], the launch line sets `FOAMGRAIN_VORTICITY=1` and/or
+//! `FOAMGRAIN_DDT_U=1`): tag 1 has the sixth word with [`HELLO_FLAG_VORTICITY`] and/or
+//! [`HELLO_FLAG_DDT_U`], and the per-cell part of tag 20 (and so of tag 24) grows, after the
+//! heat block if any, by ∇ × U (3n, 1/s) and then DU/Dt (3n, m/s²), each only when asked for.
+//! The sparse exchange does not carry them (a sparse run with either is refused). Without
+//! them every message is as above.
+//!
 //! ([`sparse_reply_words`], [`sparse_sums_words`]; the coupler's side is
 //! [`couple::ranks::owner_reply_width`] and [`couple::ranks::owner_sums_width`].)
 //!
@@ -111,6 +119,12 @@ pub const HEAT_WORDS_PER_CELL: usize = 1;
 pub const HELLO_FLAG_HEAT: i32 = 1;
 /// Bit of the handshake's sixth word: the solver forms CFDEM's Ksl in the sparse exchange.
 pub const HELLO_FLAG_KSL_CFDEM: i32 = 2;
+/// Bit of the handshake's sixth word: the replies carry the vorticity ∇ × U.
+pub const HELLO_FLAG_VORTICITY: i32 = 4;
+/// Bit of the handshake's sixth word: the replies carry DU/Dt = ∂U/∂t + ∇·(φU).
+pub const HELLO_FLAG_DDT_U: i32 = 8;
+/// Doubles per cell each of ∇ × U and DU/Dt adds to [`tag::STATE`].
+pub const VECTOR_WORDS_PER_CELL: usize = 3;
 /// Doubles per cell in the reply (U, p, ∇p, ∇·τ).
 pub const STATE_WORDS_PER_CELL: usize = 10;
 /// Doubles per patch in the reply (Σ p|S|, Σ |S|, Σ φ).
@@ -219,6 +233,10 @@ pub struct Hello {
     pub heat: bool,
     /// The solver forms CFDEM's Ksl (a sixth word with [`HELLO_FLAG_KSL_CFDEM`]).
     pub cfdem_ksl: bool,
+    /// The replies carry ∇ × U (a sixth word with [`HELLO_FLAG_VORTICITY`]).
+    pub vorticity: bool,
+    /// The replies carry DU/Dt (a sixth word with [`HELLO_FLAG_DDT_U`]).
+    pub ddt_u: bool,
 }
 
 impl Hello {
@@ -237,7 +255,9 @@ impl Hello {
         let &[version, n_cells, pid, n_patches, rank] = head else {
             return Err(wrong());
         };
-        if flags & !(HELLO_FLAG_HEAT | HELLO_FLAG_KSL_CFDEM) != 0 {
+        let known =
+            HELLO_FLAG_HEAT | HELLO_FLAG_KSL_CFDEM | HELLO_FLAG_VORTICITY | HELLO_FLAG_DDT_U;
+        if flags & !known != 0 {
             return Err(format!("unknown handshake flags {flags}"));
         }
         if version != PROTOCOL_VERSION {
@@ -257,6 +277,8 @@ impl Hello {
             rank: count(rank, "rank")?,
             heat: flags & HELLO_FLAG_HEAT != 0,
             cfdem_ksl: flags & HELLO_FLAG_KSL_CFDEM != 0,
+            vorticity: flags & HELLO_FLAG_VORTICITY != 0,
+            ddt_u: flags & HELLO_FLAG_DDT_U != 0,
         })
     }
 }
@@ -332,6 +354,10 @@ pub struct GlobalState {
     /// Per patch with heat on: Σ φ T_b (K m³/s) with the φ of `patch_sums`, summed over the
     /// ranks.
     pub patch_t_flux: Option<Vec<f64>>,
+    /// ∇ × U per global cell, 1/s, when the replies carry it ([`GlobalState::with_fields`]).
+    pub vorticity: Option<Vec<V3>>,
+    /// DU/Dt per global cell, m/s², when the replies carry it ([`GlobalState::with_fields`]).
+    pub ddt_u: Option<Vec<V3>>,
 }
 
 impl GlobalState {
@@ -346,7 +372,36 @@ impl GlobalState {
             patch_sums: vec![[0.0; 3]; n_patches],
             temperature: None,
             patch_t_flux: None,
+            vorticity: None,
+            ddt_u: None,
         }
+    }
+
+    /// As [`GlobalState::new`], for replies with the heat block when `heat`, then ∇ × U when
+    /// `vorticity` and DU/Dt when `ddt_u` (the protocol's added-mass-and-lift blocks).
+    pub fn with_fields(
+        n_cells: usize,
+        n_patches: usize,
+        heat: bool,
+        vorticity: bool,
+        ddt_u: bool,
+    ) -> GlobalState {
+        let base = match heat {
+            true => GlobalState::with_heat(n_cells, n_patches),
+            false => GlobalState::new(n_cells, n_patches),
+        };
+        GlobalState {
+            vorticity: vorticity.then(|| vec![V3::zeros(); n_cells]),
+            ddt_u: ddt_u.then(|| vec![V3::zeros(); n_cells]),
+            ..base
+        }
+    }
+
+    /// Doubles per cell of this state's [`tag::STATE`] reply: [`STATE_WORDS_PER_CELL`], the
+    /// heat block's T, and 3 each for ∇ × U and DU/Dt when carried.
+    pub fn cell_words(&self) -> usize {
+        let vectors = usize::from(self.vorticity.is_some()) + usize::from(self.ddt_u.is_some());
+        STATE_WORDS_PER_CELL + self.heat_words() + VECTOR_WORDS_PER_CELL * vectors
     }
 
     /// As [`GlobalState::new`], for replies with the heat block (T per cell).
@@ -407,7 +462,7 @@ impl GlobalState {
         let m = self.patch_sums.len();
         let heat = self.heat_words();
         let per_patch = PATCH_WORDS + heat;
-        let expected = 1 + (STATE_WORDS_PER_CELL + heat) * n + per_patch * m;
+        let expected = 1 + self.cell_words() * n + per_patch * m;
         if msg.len() != expected {
             return Err(format!(
                 "state reply of {} values, expected {expected} ({n} cells, {m} patches)",
@@ -418,7 +473,9 @@ impl GlobalState {
         let (p, rest) = rest.split_at(n);
         let (grad_p, rest) = rest.split_at(3 * n);
         let (div_tau, rest) = rest.split_at(3 * n);
-        let (temperature, sums) = rest.split_at(heat * n);
+        let (temperature, rest) = rest.split_at(heat * n);
+        let (vorticity, rest) = rest.split_at(self.vorticity.as_ref().map_or(0, |_| 3 * n));
+        let (ddt_u, sums) = rest.split_at(self.ddt_u.as_ref().map_or(0, |_| 3 * n));
         let v = |s: &[f64], i: usize| -> V3 { V3::new(s[3 * i], s[3 * i + 1], s[3 * i + 2]) };
         for (i, &c) in cells.iter().enumerate() {
             let c = c as usize;
@@ -430,6 +487,13 @@ impl GlobalState {
         if let Some(t) = self.temperature.as_mut() {
             for (&c, &value) in cells.iter().zip(temperature) {
                 t[c as usize] = value;
+            }
+        }
+        for (field, block) in [(&mut self.vorticity, vorticity), (&mut self.ddt_u, ddt_u)] {
+            if let Some(w) = field.as_mut() {
+                for (i, &c) in cells.iter().enumerate() {
+                    w[c as usize] = v(block, i);
+                }
             }
         }
         for (j, s) in sums.chunks_exact(per_patch).enumerate() {
@@ -615,6 +679,8 @@ mod tests {
                 rank: 1,
                 heat: false,
                 cfdem_ksl: false,
+                vorticity: false,
+                ddt_u: false,
             })
         );
         assert!(Hello::parse(&[1, 1, 1, 1, 0])
@@ -641,7 +707,8 @@ mod tests {
         let hello = Hello::parse(&[2, 10, 7, 1, 0, 3]).unwrap();
         assert!(hello.heat && hello.cfdem_ksl);
         assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 4])
+        // 4 and 8 are the lift fields' flags since issue 28; 16 is unknown
+        assert!(Hello::parse(&[2, 10, 7, 1, 0, 16])
             .unwrap_err()
             .contains("flags"));
         assert!(Hello::parse(&[2, 10, 7, 1, 0, 1, 1])
@@ -732,6 +799,55 @@ mod tests {
             Ok(0.5)
         );
         assert_eq!(cold.patch_sums, [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
+    }
+
+    #[test]
+    fn vorticity_and_ddt_u_are_flags_and_blocks_after_the_heat_block() {
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_VORTICITY]).unwrap();
+        assert!(hello.vorticity && !hello.ddt_u && !hello.heat && !hello.cfdem_ksl);
+        let hello = Hello::parse(&[2, 10, 7, 1, 0, 1 | 4 | 8]).unwrap();
+        assert!(hello.heat && hello.vorticity && hello.ddt_u && !hello.cfdem_ksl);
+        assert!(Hello::parse(&[2, 10, 7, 1, 0, 16])
+            .unwrap_err()
+            .contains("flags"));
+        // two cells (global 1, 0), one patch, heat, ω and DU/Dt: time, U, p, ∇p, ∇·τ, T, ω,
+        // DU/Dt, then the patch's four sums
+        let mut s = GlobalState::with_fields(2, 1, true, true, true);
+        assert_eq!(s.cell_words(), 17);
+        let mut msg = vec![0.25];
+        msg.extend([0.0; 20]);
+        msg.extend([300.0, 301.0]);
+        msg.extend([1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        msg.extend([-1.0, -2.0, -3.0, -4.0, -5.0, -6.0]);
+        msg.extend([1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(s.scatter(&[1, 0], &msg), Ok(0.25));
+        assert_eq!(
+            s.vorticity.as_deref(),
+            Some(&[V3::new(4.0, 5.0, 6.0), V3::new(1.0, 2.0, 3.0)][..])
+        );
+        assert_eq!(
+            s.ddt_u.as_deref(),
+            Some(&[V3::new(-4.0, -5.0, -6.0), V3::new(-1.0, -2.0, -3.0)][..])
+        );
+        assert_eq!(s.temperature.as_deref(), Some(&[301.0, 300.0][..]));
+        assert_eq!(s.patch_sums, [[1.0, 2.0, 3.0]]);
+        // ω alone, without heat: 13 per cell, 3 per patch
+        let mut s = GlobalState::with_fields(1, 1, false, true, false);
+        assert_eq!(s.cell_words(), 13);
+        let msg = [
+            0.5, 0., 0., 0., 0., 0., 0., 0., 0., 0., 0., 7.0, 8.0, 9.0, 1., 2., 3.,
+        ];
+        assert_eq!(s.scatter(&[0], &msg), Ok(0.5));
+        assert_eq!(s.vorticity.as_deref(), Some(&[V3::new(7.0, 8.0, 9.0)][..]));
+        assert!(s.ddt_u.is_none());
+        // a reply without the block is refused
+        let err = s.scatter(&[0], &msg[..14]).unwrap_err();
+        assert!(err.contains("expected 17"), "{err}");
+        // and the plain state is the plain state
+        assert_eq!(
+            GlobalState::with_fields(3, 1, false, false, false).cell_words(),
+            10
+        );
     }
 
     #[test]

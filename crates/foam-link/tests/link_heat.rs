@@ -19,6 +19,8 @@ use mesh::v3::V3;
 const HEAT: SpawnOptions = SpawnOptions {
     heat: true,
     cfdem_ksl: None,
+    vorticity: false,
+    ddt_u: false,
 };
 
 #[test]

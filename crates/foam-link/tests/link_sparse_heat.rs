@@ -84,6 +84,8 @@ fn two_coupler_ranks_with_heat_equal_one() {
     let heat = SpawnOptions {
         heat: true,
         cfdem_ksl: None,
+        vorticity: false,
+        ddt_u: false,
     };
     let mut fluid = OpenFoamFluid::spawn_with(&world, &copy.dir, 2, &solver, heat).unwrap();
     let mut after_two = Vec::new();

@@ -6,7 +6,8 @@
 //!
 //! Supported: U — `fixedValue`, `uniformFixedValue` (`constant` or `table` of (time value)
 //! pairs, linear interpolation, clamped outside like OpenFOAM's default `outOfBounds clamp`),
-//! `noSlip`, `slip`, `zeroGradient`, `inletOutlet`; p — `fixedValue`, `uniformFixedValue`,
+//! CFDEMcoupling's `uniformFixedValueVoidfraction` (the same series divided by the face's
+//! voidage, [`VelocityBc::UniformFixedValueVoidfraction`]), `noSlip`, `slip`, `zeroGradient`, `inletOutlet`; p — `fixedValue`, `uniformFixedValue`,
 //! `zeroGradient`, `fixedFluxPressure`, `totalPressure` (incompressible: p = p0 − ½|U|² on
 //! inflow faces, p0 on outflow faces); both — `empty`, `symmetryPlane`/`symmetry` (slip for U,
 //! zeroGradient for p), `cyclic` on the patches of a translational cyclic pair (whose faces
@@ -56,6 +57,16 @@ pub enum VelocityBc {
     FixedValue(Vec<V3>),
     /// The same prescribed value on every face, possibly varying in time.
     UniformFixedValue(TimeSeries<V3>),
+    /// CFDEMcoupling's `uniformFixedValueVoidfraction` (`libfiniteVolumeCFDEM`, both
+    /// CFDEMcoupling-PUBLIC and -PFM: `src/finiteVolume/fields/fvPatchFields/derived/
+    /// uniformFixedValueVoidfraction/uniformFixedValueVoidfractionFvPatchField.C`,
+    /// `updateCoeffs`): U_b = u(t)/ε_b (m/s), u(t) the `uniformValue` series (m/s, a
+    /// superficial velocity) and ε_b the face value of the field `voidfraction` (its fixed value,
+    /// else the owner cell's). The inflow flux ε_b U_b·S is then u(t)·S whatever the voidage at
+    /// the inlet. CFDEM's condition holds u(t) undivided from its construction until its first
+    /// `updateCoeffs` (the start's `createPhi`); foamgrain divides from the start, which is the
+    /// same where the start voidage at the patch is 1 (CFDEM's cases start from ε = 1).
+    UniformFixedValueVoidfraction(TimeSeries<V3>),
     /// U = 0.
     NoSlip,
     /// Zero normal component, zero normal gradient of the tangential components.
@@ -100,11 +111,14 @@ impl VelocityBc {
 
 impl VelocityBc {
     /// True when the condition prescribes the value (OpenFOAM's `fixesValue`): fixedValue,
-    /// uniformFixedValue, noSlip.
+    /// uniformFixedValue, uniformFixedValueVoidfraction, noSlip.
     pub fn fixes_value(&self) -> bool {
         matches!(
             self,
-            VelocityBc::FixedValue(_) | VelocityBc::UniformFixedValue(_) | VelocityBc::NoSlip
+            VelocityBc::FixedValue(_)
+                | VelocityBc::UniformFixedValue(_)
+                | VelocityBc::UniformFixedValueVoidfraction(_)
+                | VelocityBc::NoSlip
         )
     }
 }
@@ -297,8 +311,8 @@ fn patch_entries<'a>(
         .collect()
 }
 
-const U_SUPPORTED: &str = "fixedValue, uniformFixedValue, noSlip, slip, zeroGradient, \
-                           inletOutlet, empty, symmetryPlane, symmetry, cyclic";
+const U_SUPPORTED: &str = "fixedValue, uniformFixedValue, uniformFixedValueVoidfraction, \
+                           noSlip, slip, zeroGradient, inletOutlet, empty, symmetryPlane, symmetry, cyclic";
 const P_SUPPORTED: &str = "fixedValue, uniformFixedValue, zeroGradient, fixedFluxPressure, \
                            totalPressure, empty, symmetryPlane, symmetry, cyclic";
 
@@ -346,6 +360,9 @@ pub fn read_velocity(
         let bc = match t {
             "fixedValue" => VelocityBc::FixedValue(e.values("value", as_v3, vec_list)?),
             "uniformFixedValue" => VelocityBc::UniformFixedValue(e.series(as_v3)?),
+            "uniformFixedValueVoidfraction" => {
+                VelocityBc::UniformFixedValueVoidfraction(e.series(as_v3)?)
+            }
             "noSlip" => VelocityBc::NoSlip,
             "slip" | "symmetryPlane" | "symmetry" => VelocityBc::Slip,
             "zeroGradient" => VelocityBc::ZeroGradient,
@@ -473,12 +490,15 @@ fn check_empty(e: &PatchEntry<'_>, patch_empty: bool, bc_empty: bool) -> Result<
 }
 
 /// Boundary-face velocity values (m/s), one per boundary face, at time `t` given the cell
-/// values and the current face fluxes `phi` (for inletOutlet: inflow where φ < 0).
+/// values, the boundary-face voidage `eps_b` (one per boundary face, for
+/// uniformFixedValueVoidfraction) and the current face fluxes `phi` (for inletOutlet: inflow
+/// where φ < 0).
 pub fn eval_velocity(
     g: &FvGeometry,
     bcs: &[VelocityBc],
     t: f64,
     u: &[V3],
+    eps_b: &[f64],
     phi: &[f64],
     out: &mut [V3],
 ) {
@@ -489,6 +509,7 @@ pub fn eval_velocity(
             out[b] = match bc {
                 VelocityBc::FixedValue(v) => v[i],
                 VelocityBc::UniformFixedValue(s) => s.at(t),
+                VelocityBc::UniformFixedValueVoidfraction(s) => s.at(t) / eps_b[b],
                 VelocityBc::NoSlip => V3::zeros(),
                 VelocityBc::Slip => {
                     let n = g.nhat(f);

@@ -67,10 +67,22 @@ impl FrozenFields {
             }
         };
         let u_bc = bc::read_velocity(&u_path, &u_file, &mesh, &g)?;
+        if let Some(k) = u_bc
+            .iter()
+            .position(|b| matches!(b, bc::VelocityBc::UniformFixedValueVoidfraction(_)))
+        {
+            return Err(FvError::setting(
+                &u_path,
+                format!("boundaryField.{}.type", g.patches[k].name),
+                "`uniformFixedValueVoidfraction` divides by the voidage, which a frozen fluid \
+                 does not have: use `uniformFixedValue` with the velocity at the patch",
+            ));
+        }
         let p_bc = bc::read_pressure(&p_path, &p_file, &mesh, &g)?;
         let phi = vec![0.0; g.n_faces()];
         let mut u_b = vec![V3::zeros(); g.n_boundary()];
-        bc::eval_velocity(&g, &u_bc, t, &u, &phi, &mut u_b);
+        let ones = vec![1.0; g.n_boundary()];
+        bc::eval_velocity(&g, &u_bc, t, &u, &ones, &phi, &mut u_b);
         let p_b = pressure_boundary(&g, &p_bc, t, &p, &u_b);
         let grad_p = fvc::grad_scalar(&g, &p, &p_b);
         let nu_c = vec![nu; g.n_cells];

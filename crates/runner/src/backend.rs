@@ -249,21 +249,31 @@ fn open_native_fluid(plan: &RunPlan) -> Result<NativeFluid, RunError> {
     Ok(fluid)
 }
 
-/// What grainPisoFoam cannot carry yet: the vorticity ∇ × U (`MeiLift`, `SaffmanLift`),
-/// DU/Dt (`virtualMassForce` with `splitUrelCalculation`) and k, ε (`KochHillRWDrag`) are not
-/// in its replies, so those models are refused before a solver is spawned.
+/// What grainPisoFoam cannot carry: k and ε (`KochHillRWDrag`) are in none of its replies;
+/// the vorticity ∇ × U (`MeiLift`, `SaffmanLift`) and DU/Dt (`virtualMassForce` with
+/// `splitUrelCalculation`) come only in the replies to one coupler rank
+/// ([`foam_link::SpawnOptions::vorticity`], `ddt_u`). What is missing (`several`: several
+/// coupler ranks) is refused before a solver is spawned.
 #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-fn foam_can_carry(layout: &crate::layout::CaseLayout) -> Result<(), RunError> {
+fn foam_can_carry(layout: &crate::layout::CaseLayout, several: bool) -> Result<(), RunError> {
     let forces = &layout.coupling.forces;
+    if forces.needs_turbulence() {
+        return Err(RunError::Backend(format!(
+            "{}: KochHillRWDrag needs the fluid's k and epsilon per cell, which grainPisoFoam's \
+             exchange does not carry: run --fluid native (a k-epsilon case), or KochHillDrag",
+            layout.coupling.file.display()
+        )));
+    }
     let missing = match (forces.needs_vorticity(), forces.needs_ddt_u()) {
-        _ if forces.needs_turbulence() => "KochHillRWDrag needs the fluid's k and epsilon per cell",
+        _ if !several => return Ok(()),
         (true, _) => "MeiLift/SaffmanLift need the fluid's vorticity ∇ × U",
         (false, true) => "virtualMassForce with splitUrelCalculation needs the fluid's DU/Dt",
         (false, false) => return Ok(()),
     };
     Err(RunError::Backend(format!(
-        "{}: {missing}, which grainPisoFoam does not send: run --fluid native (or, for \
-         virtualMassForce, splitUrelCalculation false, which needs only U)",
+        "{}: {missing}, which grainPisoFoam's exchange with several coupler ranks does not \
+         carry: run one coupler rank, or --fluid native (or, for virtualMassForce, \
+         splitUrelCalculation false, which needs only U)",
         layout.coupling.file.display()
     )))
 }
@@ -453,7 +463,7 @@ mod mpi_pair {
         layout: &crate::layout::CaseLayout,
         ranks: usize,
     ) -> Result<crate::foam_fluid::FoamFluid, RunError> {
-        foam_can_carry(layout)?;
+        foam_can_carry(layout, false)?;
         let solver = solver_path()?;
         let ranks = match ranks {
             0 => foam_link::case_setup::decomposed_ranks(&layout.cfd)
@@ -461,9 +471,12 @@ mod mpi_pair {
                 .unwrap_or(1),
             n => n,
         };
+        let forces = &layout.coupling.forces;
         let options = foam_link::SpawnOptions {
             heat: layout.coupling.heat.is_some(),
             cfdem_ksl: None,
+            vorticity: forces.needs_vorticity(),
+            ddt_u: forces.needs_ddt_u(),
         };
         let fluid =
             foam_link::OpenFoamFluid::spawn_with(world, &layout.cfd, ranks, &solver, options)
@@ -479,7 +492,7 @@ mod mpi_pair {
         layout: &crate::layout::CaseLayout,
         ranks: usize,
     ) -> Result<(Option<crate::foam_fluid::FoamFluid>, foam_link::SolverCells), RunError> {
-        foam_can_carry(layout)?;
+        foam_can_carry(layout, true)?;
         let solver = if mpi::topology::Communicator::rank(world) == 0 {
             solver_path()?
         } else {
@@ -499,6 +512,8 @@ mod mpi_pair {
             foam_link::SpawnOptions {
                 heat: layout.coupling.heat.is_some(),
                 cfdem_ksl: layout.coupling.momentum.ksl_form().cfdem(),
+                vorticity: false,
+                ddt_u: false,
             },
         )
         .map_err(|e| backend_err("grainPisoFoam", e))?;

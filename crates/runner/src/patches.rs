@@ -2,7 +2,7 @@
 //! CFD user reads them off the start fields, whatever the patches are called:
 //! * the inlet is the one patch where `U` is prescribed (`fixedValue` with a non-zero value,
 //!   `uniformFixedValue`, `flowRateInletVelocity`, `timeVaryingUniformFixedValue`,
-//!   `surfaceNormalFixedValue`) and `p` is not;
+//!   `surfaceNormalFixedValue`, CFDEM's `uniformFixedValueVoidfraction`) and `p` is not;
 //! * the outlet is the one patch where `p` is prescribed (`fixedValue`, `totalPressure`,
 //!   `uniformFixedValue`, `fixedMean`).
 //!
@@ -14,9 +14,10 @@ use foam::{Dict, Item, PolyMesh, Value};
 use std::path::Path;
 
 /// U boundary types that prescribe an inflow.
-const INFLOW_TYPES: [&str; 5] = [
+const INFLOW_TYPES: [&str; 6] = [
     "fixedValue",
     "uniformFixedValue",
+    "uniformFixedValueVoidfraction",
     "flowRateInletVelocity",
     "timeVaryingUniformFixedValue",
     "surfaceNormalFixedValue",

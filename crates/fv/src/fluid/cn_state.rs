@@ -131,7 +131,8 @@ impl Fluid {
         // the old level's boundary values as the solver evaluated them then
         let t0 = self.time - dt0.unwrap_or(self.settings.delta_t);
         let mut u0_b = vec![V3::zeros(); g.n_boundary()];
-        bc::eval_velocity(g, &self.u_bc, t0, &u0, &phi0, &mut u0_b);
+        let eps0_b = self.eps_boundary(&eps0);
+        bc::eval_velocity(g, &self.u_bc, t0, &u0, &eps0_b, &phi0, &mut u0_b);
         let ef0 = self.eps_faces(&eps0);
         let (mom0, eps0_ext) = cn_old_levels(&self.g, &u0, &u0_b, &ef0, &eps0);
         // the bracket's d₀(ε_f U_f·S): its native file, or (a directory of pisoFoam's) from

@@ -536,6 +536,12 @@ impl Fluid {
     /// ε at every face: linear interpolation inside; on boundary faces the `voidfraction`
     /// file's fixed value where it has one (CFDEM's inlets and outlets: 1), else the owner's.
     fn eps_faces(&self, eps: &[f64]) -> Vec<f64> {
+        fvc::interpolate(&self.g, Field::new(eps, &self.eps_boundary(eps)))
+    }
+
+    /// ε on the boundary faces: the `voidfraction` file's fixed value where it has one, else
+    /// the owner cell's (CFDEM's zeroGradient patches after `correctBoundaryConditions`).
+    fn eps_boundary(&self, eps: &[f64]) -> Vec<f64> {
         let g = &self.g;
         let mut b: Vec<f64> = g.owner[g.n_internal..]
             .iter()
@@ -548,7 +554,7 @@ impl Fluid {
                 }
             }
         }
-        fvc::interpolate(g, Field::new(eps, &b))
+        b
     }
 
     /// φ = ε_f U_f·S with U_f linearly interpolated (boundary: U_b).
@@ -573,7 +579,8 @@ impl Fluid {
 
     fn update_u_boundary(&mut self, t: f64) {
         let mut ub = std::mem::take(&mut self.u_b);
-        bc::eval_velocity(&self.g, &self.u_bc, t, &self.u, &self.phi, &mut ub);
+        let eps_b = self.eps_boundary(&self.eps);
+        bc::eval_velocity(&self.g, &self.u_bc, t, &self.u, &eps_b, &self.phi, &mut ub);
         self.u_b = ub;
     }
 
