@@ -30,15 +30,23 @@ use couple::CouplerSettings;
 
 use std::path::Path;
 
-/// The checks `spec` asks for, from `samples` (one per coupling step of length `dt_c`) and a
-/// heating case's `profiles`;
+/// What a run recorded besides its samples, for the checks that need it.
+#[derive(Clone, Copy, Debug)]
+pub struct Recorded<'a> {
+    /// A heating case's profiles at its sample times.
+    pub heating: &'a crate::heating_run::Profiles,
+    /// A fluidised bed's voidage profiles ([`crate::slab_profile`]).
+    pub slabs: &'a crate::slab_profile::Record,
+}
+
+/// The checks `spec` asks for, from `samples` (one per coupling step of length `dt_c`) and what
+/// the run `recorded`;
 /// plots go into `post`, what the log should say besides the checks into `notes`.
 pub fn evaluate(
     spec: &ValidationSpec,
     settings: &CouplerSettings,
     samples: &[Sample],
-    profiles: &crate::heating_run::Profiles,
-    slabs: &crate::slab_profile::Record,
+    recorded: Recorded<'_>,
     post: &Path,
     dt_c: f64,
     notes: &mut Vec<String>,
@@ -70,7 +78,7 @@ pub fn evaluate(
             averaging_time,
             ..
         } => crate::fluidised::checks(
-            slabs,
+            recorded.slabs,
             settings,
             samples,
             crate::fluidised::Targets {
@@ -88,7 +96,7 @@ pub fn evaluate(
             crate::conveyor::checks(spec, samples, post, notes)
         }
         ValidationSpec::PackedBedHeating(case) => {
-            crate::heating_run::checks(case, settings, profiles, samples, post, notes)
+            crate::heating_run::checks(case, settings, recorded.heating, samples, post, notes)
         }
     }
 }

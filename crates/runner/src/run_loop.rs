@@ -779,8 +779,10 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             spec,
             &self.plan.settings,
             samples,
-            profiles,
-            slabs,
+            checks::Recorded {
+                heating: profiles,
+                slabs,
+            },
             &post,
             self.schedule.dt_c,
             &mut notes,
