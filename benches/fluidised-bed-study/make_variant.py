@@ -34,6 +34,8 @@ def drag(law, extra=""):
     sub(cp, "BeetstraDragProps", f"{law}Props")
     if extra:
         sub(cp, f"{law}Props\n{{\n", f"{law}Props\n{{\n{extra}")
+# the study's runs end at 1.0 s (window 0.55 ... 1.0 s) unless named long (the case runs 3.0 s)
+sub(f"{dst}/CFD/system/controlDict", "endTime         3.0;", "endTime         1.0;")
 # denser particle dumps (every 0.01 s) for time-averaged voidage profiles; no effect on results
 sub(deck, "dump            dmp all custom 20000", "dump            dmp all custom 4000")
 def inlet(u):
