@@ -76,6 +76,7 @@ pub fn evaluate(
             pressure_drop_tolerance,
             packed_bed_tolerance,
             averaging_time,
+            bed_height_known_gap,
             ..
         } => crate::fluidised::checks(
             recorded.slabs,
@@ -91,7 +92,8 @@ pub fn evaluate(
             post,
             dt_c,
             notes,
-        ),
+        )
+        .map(|checks| crate::fluidised::with_height_gap(checks, bed_height_known_gap.as_deref())),
         ValidationSpec::PneumaticConveying(spec) => {
             crate::conveyor::checks(spec, samples, post, notes)
         }

@@ -76,6 +76,9 @@ pub enum ValidationSpec {
         /// `voidageProfiles { … }`: time-averaged voidage across the width at fixed heights
         /// against a measurement ([`crate::slab_profile`]).
         profiles: Option<crate::slab_profile::ProfileSpec>,
+        /// `bedHeightKnownGap`: what the case's documentation traces a failing bed height to,
+        /// added to that check's message.
+        bed_height_known_gap: Option<String>,
     },
     /// `type pneumaticConveying;`: Madden's (2020) reduced conveyor ([`crate::conveyor`]): the
     /// mean outlet air velocity against the seed's incompressible and compressible results, the
@@ -162,6 +165,10 @@ impl ValidationSpec {
                 pressure_drop_tolerance: tolerance(&d, path, "pressureDropTolerance")?,
                 packed_bed_tolerance: tolerance(&d, path, "packedBedTolerance")?,
                 averaging_time: tolerance(&d, path, "averagingTime")?,
+                bed_height_known_gap: match d.contains("bedHeightKnownGap") {
+                    true => Some(word(&d, path, "bedHeightKnownGap")?),
+                    false => None,
+                },
                 profiles: d
                     .opt_dict("voidageProfiles")
                     .map(crate::slab_profile::ProfileSpec::read)
