@@ -6,9 +6,9 @@
 //! At each coupling step the particles' volume inside each slab `[h − s/2, h + s/2]` (h above
 //! the column's floor, s the slab's thickness) is summed per width bin, exactly: a sphere of
 //! radius R whose centre lies at height z holds, between heights a < b, the volume
-//! V(b) − V(a) with V(x) = π (R² (t + R) − (t³ + R³)/3), t = clamp(x − z, −R, R) (the volume of
-//! the ball below a plane; e.g. Weisstein, "Spherical Cap", MathWorld). The slice is given to
-//! the bin of the particle's centre along the width (a slice reaches at most R into the next
+//! V(b) − V(a), V(x) the ball's volume below the plane at x: the cap of height x − z + R,
+//! π h² (3R − h)/3 clamped to 0 ≤ h ≤ 2R ([`voidage::sphere_box::cap_volume`]). The slice is
+//! given to the bin of the particle's centre along the width (a slice reaches at most R into the next
 //! bin; with 22 bins over 44 mm and R = 0.6 mm, the same choice as the study script
 //! `benches/fluidised-bed-study/analyse.py`). The bin's solid fraction is the sum over its
 //! volume (bin width × the column's depth × s), the depth being the cross-section over the
@@ -24,8 +24,8 @@ use crate::error::{io_err, RunError};
 use crate::validation::Check;
 use couple::Ranks;
 use mesh::v3::V3;
-use std::f64::consts::PI;
 use std::path::Path;
+use voidage::sphere_box::cap_volume;
 
 /// `voidageProfiles` of a `fluidisedBed` validationDict.
 #[derive(Clone, Debug, PartialEq)]
@@ -121,10 +121,8 @@ impl ProfileSpec {
 /// Volume of a ball of radius `r` centred at height `zc` lying between heights `a` < `b`, m³
 /// (see the module's text).
 pub fn slab_volume(r: f64, zc: f64, a: f64, b: f64) -> f64 {
-    let below = |x: f64| {
-        let t = (x - zc).clamp(-r, r);
-        PI * (r * r * (t + r) - (t * t * t + r * r * r) / 3.0)
-    };
+    // the ball below a plane at height x is the cap of height x − zc + R
+    let below = |x: f64| cap_volume(r, x - zc + r);
     below(b) - below(a)
 }
 
@@ -295,6 +293,7 @@ impl Record {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn slab_volumes_of_a_sphere_add_up_and_match_caps() {
