@@ -88,12 +88,12 @@ pub fn evaluate(
                 pressure_drop_tolerance: *pressure_drop_tolerance,
                 packed_bed_tolerance: *packed_bed_tolerance,
                 averaging_time: *averaging_time,
+                bed_height_known_gap: bed_height_known_gap.as_deref(),
             },
             post,
             dt_c,
             notes,
-        )
-        .map(|checks| crate::fluidised::with_height_gap(checks, bed_height_known_gap.as_deref())),
+        ),
         ValidationSpec::PneumaticConveying(spec) => {
             crate::conveyor::checks(spec, samples, post, notes)
         }

@@ -270,21 +270,20 @@ impl Record {
                 inner.len()
             ));
             let (measured, tol) = (s.measured[k], s.tolerance[k]);
-            let mut check = Check::new(
-                &format!(
+            checks.push(
+                Check::new(
+                    &format!(
                     "fluidised bed: time- and width-averaged voidage at {:.1} mm over t = {t0:.3} \
                      … {t1:.3} s vs the MR measurement (tolerance ±{tol} absolute)",
                     h * 1e3
                 ),
-                mean,
-                measured,
-                "",
-                tol / measured,
+                    mean,
+                    measured,
+                    "",
+                    tol / measured,
+                )
+                .with_known_gap(s.known_gap.as_deref()),
             );
-            if let (false, Some(gap)) = (check.pass, &s.known_gap) {
-                check.name = format!("{} — known gap: {gap}", check.name);
-            }
-            checks.push(check);
         }
         checks
     }
