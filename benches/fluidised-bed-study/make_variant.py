@@ -52,6 +52,11 @@ elif name == "u06":
     inlet(0.6)
 elif name == "u09":
     inlet(0.9)
+elif name == "u09tall":   # 0.9 m/s in a column twice as tall (0.2496 m, 12 x 1 x 52 cells): no particle leaves
+    inlet(0.9)
+    sub(f"{dst}/CFD/system/blockMeshDict", "H   0.1248;", "H   0.2496;")
+    mesh(1, 12, 52)
+    sub(f"{dst}/DEM/post/packed.data", "1.2479999999999999e-01 zlo zhi", "2.4959999999999999e-01 zlo zhi")
 elif name == "depth3":
     mesh(3)
 elif name == "depth5":
