@@ -6,7 +6,12 @@
 # coupling), side by side in one table. A measurement, not a test: nothing here passes or fails
 # but the runs themselves.
 #
-#   benches/ranks.sh [NP=100000] [RANKS="1 2 4"] [STEPS=5] [FLUID=native] [SOLVER_NP=1]
+#   benches/ranks.sh [NP=100000] [RANKS="1 2 4"] [STEPS=5] [FLUID=native] [SOLVER_NP=1] [CELL=0.0025] [HEIGHT]
+#
+# CELL is the cells' side (m), HEIGHT the box's height (m; by default three times the bed's):
+# `benches/ranks.sh 100000 "1 2 4 8" 3 native 1 0.001 0.1` meshes the box with 100 × 100 × 100 =
+# 10⁶ cells. Each coupler rank other than 0 holds only its part of the mesh (`couple::part`):
+# the "cells held" column, and "cuts" (parts cut during the run; empty: the whole mesh).
 #
 # With FLUID=openfoam, grainPisoFoam runs on SOLVER_NP ranks of its own; on N > 1 coupler ranks
 # each rank then exchanges its touched cells straight with the solver ranks owning them (the
@@ -25,6 +30,8 @@ ranks="${2:-1 2 4}"
 steps="${3:-5}"
 fluid="${4:-native}"
 solver_np="${5:-1}"
+cell="${6:-0.0025}"
+height="${7:-0}"
 export WM_PROJECT_DIR=/usr/share/openfoam
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
@@ -38,14 +45,15 @@ cp "$src"/system/{controlDict,fvSchemes,fvSolution} "$base/CFD/system/"
 cp "$src"/constant/{couplingProperties,g,transportProperties} "$base/CFD/constant/"
 cp "$src"/0/{p,Ksl,Us,f,voidfraction} "$base/CFD/0/"
 
-python3 - "$base" "$np" "$steps" <<'PY'
+python3 - "$base" "$np" "$steps" "$cell" "$height" <<'PY'
 import math, sys
 base, np_, steps = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+cell, height = float(sys.argv[4]), float(sys.argv[5])
 d, s, w = 1e-3, 1.1e-3, 0.1
 nx = int(w / s)                       # lattice sites across
 nz = math.ceil(np_ / nx**2)           # layers
-h = max(3 * nz * s, 0.02)             # box height: bed in the lowest third
-dx = 2.5 * d
+h = height if height > 0 else max(3 * nz * s, 0.02)   # box height: bed in the lowest third
+dx = cell
 cx, cz = round(w / dx), round(h / dx)
 h = cz * dx
 header = "FoamFile { version 2.0; format ascii; class dictionary; object %s; }\n"
@@ -136,8 +144,8 @@ done
 
 python3 - "${rows[@]}" <<'PY'
 import csv, re, sys
-print("| ranks | loop s/step | DEM % | fluid % | coupling % | rank | particles | cells touched | kB sent/step | kB received/step | peak MiB | solver kB sent/step | solver kB received/step |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+print("| ranks | loop s/step | DEM % | fluid % | coupling % | rank | particles | cells touched | cells held | cuts | kB sent/step | kB received/step | peak MiB | end MiB | solver kB sent/step | solver kB received/step |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for row in sys.argv[1:]:
     n, line, path = row.split("|")
     m = re.search(r"(\d+) coupling steps.*coupled loop ([\d.]+) s: DEM ([\d.]+) % fluid ([\d.]+) % coupling ([\d.]+) %", line)
@@ -147,5 +155,5 @@ for row in sys.argv[1:]:
     for i, r in enumerate(ranks):
         head = f"| {n} | {per:.3f} | {dem} | {fl} | {cp} " if i == 0 else "| | | | | "
         kb = lambda x: f"{float(x) / 1e3:.1f}" if x else ""
-        print(head + f"| {r['rank']} | {r['particles']} | {r['cells_touched']} | {kb(r['bytes_sent_per_step'])} | {kb(r['bytes_received_per_step'])} | {r['peak_memory_mib']} | {kb(r.get('solver_bytes_sent_per_step'))} | {kb(r.get('solver_bytes_received_per_step'))} |")
+        print(head + f"| {r['rank']} | {r['particles']} | {r['cells_touched']} | {r.get('cells_held', '')} | {r.get('mesh_cuts', '')} | {kb(r['bytes_sent_per_step'])} | {kb(r['bytes_received_per_step'])} | {r['peak_memory_mib']} | {r.get('end_memory_mib', '')} | {kb(r.get('solver_bytes_sent_per_step'))} | {kb(r.get('solver_bytes_received_per_step'))} |")
 PY

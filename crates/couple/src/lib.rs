@@ -62,6 +62,7 @@ pub mod memory;
 pub mod monitor;
 pub mod output;
 pub mod parcels;
+pub mod part;
 pub mod periodic;
 pub mod population;
 pub mod probe;

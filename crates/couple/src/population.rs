@@ -246,6 +246,14 @@ fn without_migrations(
     PopulationChange::from_array(sums)
 }
 
+/// For each particle of `ids`, its index among the particles `old_ids` (by tag; `None` for a
+/// particle not seen before): how the per-particle state kept between exchanges follows a
+/// changed population.
+pub(crate) fn follow_tags(old_ids: &[u64], ids: &[u64]) -> Vec<Option<usize>> {
+    let at: std::collections::HashMap<u64, usize> = old_ids.iter().copied().zip(0..).collect();
+    ids.iter().map(|id| at.get(id).copied()).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -197,6 +197,15 @@ pub fn pick(cells: &[Label], dense: &[f64], width: usize, out: &mut Vec<f64>) {
     }
 }
 
+/// The cells a rank's particles touch: their shares' cells and their centre cells, increasing.
+pub(crate) fn touched_cells(shares: &voidage::CellShares, centre: &[Option<Label>]) -> Vec<Label> {
+    let mut cells: Vec<Label> = shares.cells.clone();
+    cells.extend(centre.iter().flatten());
+    cells.sort_unstable();
+    cells.dedup();
+    cells
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -37,8 +37,10 @@ use crate::heat::{
 use crate::interpolate::Placement;
 use crate::ksl::{form_cfdem, CfdemSums, KslForm, UsAveraging, CFDEM_SUMS_WIDTH};
 use crate::periodic::PeriodicMesh;
-use crate::population::{Population, PopulationChange};
-use crate::ranks::{owner_reply_width, owner_sums_width, pick, CellOwners, Ranks, Serial};
+use crate::population::{follow_tags, Population, PopulationChange};
+use crate::ranks::{
+    owner_reply_width, owner_sums_width, pick, touched_cells, CellOwners, Ranks, Serial,
+};
 use crate::side_checks::{check_particles, fluid_err, particle_err, same_lengths};
 use crate::sides::{ExchangeFields, FluidSide, FluidState, ParticleSide, ParticleState};
 use foam::{Label, PolyMesh};
@@ -121,6 +123,8 @@ pub struct Coupler {
     bed_heat: crate::bed_heat::BedHeat,
     /// `KochHillRWDrag`'s eddies by tag ([`crate::random_walk`]).
     random_walk: Option<crate::random_walk::RandomWalk>,
+    /// The part of the mesh this rank holds, when it holds one ([`Coupler::set_part`]).
+    part: Option<crate::part::Parted>,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -200,7 +204,26 @@ impl Coupler {
             coupling_dt: None,
             bed_heat: Default::default(),
             random_walk: settings_random_walk,
+            part: None,
         })
+    }
+
+    /// Runs this coupler, made on `part`'s mesh, on that part of the mesh ([`crate::part`]:
+    /// labels mapped to the whole mesh's, a new part cut when the particles leave this one).
+    pub fn set_part(&mut self, part: crate::part::Parted) {
+        self.part = Some(part);
+    }
+
+    /// The part of the mesh this rank holds (`None`: the whole mesh).
+    pub fn part(&self) -> Option<&crate::part::Parted> {
+        self.part.as_ref()
+    }
+
+    /// The whole mesh's labels of `cells` (the same labels without a part).
+    fn global_labels(&self, cells: &[Label]) -> Vec<Label> {
+        self.part
+            .as_ref()
+            .map_or_else(|| cells.to_vec(), |p| p.to_global(cells))
     }
 
     /// Smooths the voidage handed to the fluid from now on (`smoothingModel`
@@ -613,9 +636,52 @@ impl Coupler {
         Ok(())
     }
 
-    /// Step 2's placement: each particle's cells and volume shares (centre cells in
-    /// `self.hints`) and the deposit.
+    /// Step 2's placement ([`Coupler::place_here`]); on a part of the mesh, a new part first
+    /// when a centre has left the safe box, and again (reaching further) when a particle
+    /// touched an edge cell ([`crate::part`]).
     fn place(
+        &mut self,
+        particles: &ParticleState<'_>,
+    ) -> Result<(CellShares, Deposit), CoupleError> {
+        if self
+            .part
+            .as_ref()
+            .is_some_and(|p| !p.holds(particles.position))
+        {
+            self.recut(particles, false)?;
+        }
+        let mut placed = self.place_here(particles)?;
+        let mut wider = 0;
+        while (self.part.as_ref()).is_some_and(|p| p.touches_edge(&placed.0, &self.hints)) {
+            if wider == 2 {
+                let m = "a particle reaches beyond this rank's part of the mesh cut 4 × wider";
+                return Err(CoupleError::Parameter(m.into()));
+            }
+            wider += 1;
+            self.recut(particles, true)?;
+            placed = self.place_here(particles)?;
+        }
+        Ok(placed)
+    }
+
+    /// A new part of the mesh around `particles` (reaching further when `wider`): the voidage
+    /// mesh is rebuilt on it, and what was kept by cell (hints, markers, ε) starts again.
+    fn recut(&mut self, particles: &ParticleState<'_>, wider: bool) -> Result<(), CoupleError> {
+        let p = self.part.as_mut().expect("recut runs on a part");
+        let part = p.recut(particles.position, particles.radius, wider)?;
+        self.vm = VoidageMesh::new(&part.mesh)?;
+        self.periodic = PeriodicMesh::new(&part.mesh, self.vm.geometry())?;
+        self.voidage = vec![1.0; self.vm.n_cells()];
+        self.hints.clear();
+        self.hint_ids.clear();
+        self.memo = DividedMemo::new();
+        self.remote = Remote::default();
+        Ok(())
+    }
+
+    /// Step 2's placement on the mesh this coupler holds: each particle's cells and volume
+    /// shares (centre cells in `self.hints`) and the deposit.
+    fn place_here(
         &mut self,
         particles: &ParticleState<'_>,
     ) -> Result<(CellShares, Deposit), CoupleError> {
@@ -761,11 +827,12 @@ impl Coupler {
         let mut solid = Vec::with_capacity(touched.len());
         pick(&touched, &deposit.solid, 1, &mut solid);
         self.sum_totals(&mut deposit);
+        let global = self.global_labels(&touched);
         let owners = self
             .owners
             .as_mut()
             .expect("exchange_owned runs with owners");
-        let got = owners.deposit(&touched, &solid).map_err(fluid_err)?;
+        let got = owners.deposit(&global, &solid).map_err(fluid_err)?;
         let heat_on = self.settings.heat.is_some();
         let reply_width = owner_reply_width(heat_on);
         same_lengths(touched.len() * reply_width, &[("owners' reply", got.len())])?;
@@ -885,7 +952,8 @@ impl Coupler {
             self.ranks
                 .sum_to_root(touched, &values, 1, &mut deposit.solid);
         } else {
-            self.ranks.sum_to_root(touched, &values, 1, &mut []);
+            let global = self.global_labels(touched);
+            self.ranks.sum_to_root(&global, &values, 1, &mut []);
         }
         self.sum_totals(deposit);
     }
@@ -947,7 +1015,8 @@ impl Coupler {
         }
         let root = self.ranks.rank() == 0;
         let mut sums = vec![0.0; if root { exchange.ksl.len() * width } else { 0 }];
-        self.ranks.sum_to_root(touched, &values, width, &mut sums);
+        let global = self.global_labels(touched);
+        self.ranks.sum_to_root(&global, &values, width, &mut sums);
         if root {
             for (c, s) in sums.chunks_exact(width).enumerate() {
                 if let Some(w) = heat_w.as_mut() {
@@ -1120,23 +1189,6 @@ fn closed_heat(
         tsource,
         account: HeatAccount::close(&all, fluid),
     }
-}
-
-/// The cells a rank's particles touch: their shares' cells and their centre cells, increasing.
-fn touched_cells(shares: &CellShares, centre: &[Option<Label>]) -> Vec<Label> {
-    let mut cells: Vec<Label> = shares.cells.clone();
-    cells.extend(centre.iter().flatten());
-    cells.sort_unstable();
-    cells.dedup();
-    cells
-}
-
-/// For each particle of `ids`, its index among the particles `old_ids` (by tag; `None` for a
-/// particle not seen before): how the per-particle state kept between exchanges follows a
-/// changed population.
-fn follow_tags(old_ids: &[u64], ids: &[u64]) -> Vec<Option<usize>> {
-    let at: std::collections::HashMap<u64, usize> = old_ids.iter().copied().zip(0..).collect();
-    ids.iter().map(|id| at.get(id).copied()).collect()
 }
 
 /// ε, U, p, ∇p and ∇·τ of cell `c` ([`FLUID_WIDTH`] values), appended to `out`.

@@ -16,6 +16,7 @@
 //!   ([`Locator::locate_near`]), and parallel batch queries;
 //! * [`nearest`]: nearest points on triangles and faces (point–face distances);
 //! * [`cyclic`]: translational `cyclic` patch pairs and their separations;
+//! * [`part`]: a rank's part of a mesh, the cells around a box with their whole-mesh labels;
 //! * [`build`]: programmatic meshes (graded Cartesian grids, single cells, affine maps).
 //!
 //! Invariant: geometry exactly as OpenFOAM computes it; no I/O (reading meshes is the `foam`
@@ -29,6 +30,7 @@ mod exact;
 pub mod geometry;
 pub mod locate;
 pub mod nearest;
+pub mod part;
 pub mod tets;
 /// The 3-vector type, from the leaf crate `v3` (so `mesh::v3::V3` is `v3::V3`).
 pub use ::v3;

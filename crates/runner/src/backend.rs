@@ -408,7 +408,10 @@ mod mpi_pair {
                 couple_loop(ctx, dem, fluid, events)
             }
             FluidBackend::Native => {
-                let stand_in = crate::fluid::StandInFluid::open(plan)?;
+                let state = couple::ParticleSide::state(&dem);
+                let (stand_in, part) =
+                    crate::mesh_part::stand_in_on_part(plan, state.position, state.radius)?;
+                ctx.part = part;
                 couple_loop(ctx, dem, stand_in, events)
             }
             #[cfg(feature = "mpi")]
@@ -419,7 +422,10 @@ mod mpi_pair {
                 match fluid {
                     Some(fluid) => couple_loop(ctx, dem, fluid, events),
                     None => {
-                        let stand_in = crate::fluid::StandInFluid::open(plan)?;
+                        let state = couple::ParticleSide::state(&dem);
+                        let (stand_in, part) =
+                            crate::mesh_part::stand_in_on_part(plan, state.position, state.radius)?;
+                        ctx.part = part;
                         couple_loop(ctx, dem, stand_in, events)
                     }
                 }

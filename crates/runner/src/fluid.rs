@@ -13,6 +13,9 @@ use std::path::Path;
 pub trait RunFluid: FluidSide {
     /// The fluid's simulated time, s.
     fn time(&self) -> f64;
+    /// The coupler now holds `n_cells` cells (a new part of the mesh, [`couple::part`]): a
+    /// side whose fields stand in on the coupler's cells grows them to match.
+    fn cells_held(&mut self, _n_cells: usize) {}
     /// Area-weighted mean kinematic pressure p/ρ (m²/s²) over patch `name`; `None` without
     /// the patch.
     fn patch_pressure(&self, name: &str) -> Option<f64>;
@@ -125,13 +128,18 @@ impl StandInFluid {
     /// once into the plan).
     pub fn open(plan: &crate::plan::RunPlan) -> Result<StandInFluid, crate::error::RunError> {
         let mesh = foam::Case::open(&plan.layout.cfd)?.read_mesh()?;
+        Ok(StandInFluid::on_mesh(plan, mesh))
+    }
+
+    /// The stand-in on `mesh` (a part of the case's mesh, [`couple::part`]).
+    pub fn on_mesh(plan: &crate::plan::RunPlan, mesh: PolyMesh) -> StandInFluid {
         let n = mesh.n_cells;
-        Ok(StandInFluid {
+        StandInFluid {
             mesh,
             time: plan.fluid.start_time,
             u: vec![mesh::v3::V3::zeros(); n],
             p: vec![0.0; n],
-        })
+        }
     }
 }
 
@@ -166,6 +174,14 @@ impl FluidSide for StandInFluid {
 impl RunFluid for StandInFluid {
     fn time(&self) -> f64 {
         self.time
+    }
+
+    fn cells_held(&mut self, n_cells: usize) {
+        // grown, never shrunk: what the run observed on the first part keeps its cells
+        if n_cells > self.u.len() {
+            self.u.resize(n_cells, mesh::v3::V3::zeros());
+            self.p.resize(n_cells, 0.0);
+        }
     }
 
     fn patch_pressure(&self, _name: &str) -> Option<f64> {

@@ -102,6 +102,14 @@ impl Profiler {
     }
 
     /// Whether `time` is a sample time (to half a coupling step).
+    /// Rank 0's bins on every rank (collective): a rank holding a part of the mesh
+    /// ([`couple::part`]) sees only its part's cells (its gas bins are never read).
+    pub(crate) fn agree(&mut self, ranks: &dyn Ranks) {
+        let mut x = [self.floor, self.width, self.bins as f64];
+        ranks.broadcast(&mut x);
+        (self.floor, self.width, self.bins) = (x[0], x[1], x[2] as usize);
+    }
+
     pub(crate) fn due(&self, time: f64) -> bool {
         self.times.iter().any(|t| (t - time).abs() < self.half_step)
     }

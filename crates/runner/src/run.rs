@@ -105,6 +105,7 @@ fn run_launched(
         init_seconds,
         ranks: None,
         owners: None,
+        part: None,
     };
     crate::backend::run_pair(ctx, opts.fluid, opts.dem, launch, events)
 }

@@ -44,6 +44,9 @@ pub(crate) struct LoopContext<'a> {
     /// On N ranks with grainPisoFoam: the straight link to the solver ranks owning the cells
     /// ([`couple::ranks::CellOwners`]).
     pub(crate) owners: Option<Box<dyn couple::ranks::CellOwners>>,
+    /// On a coupler rank other than 0: its part of the mesh ([`couple::part`]; `None`: the
+    /// whole mesh).
+    pub(crate) part: Option<couple::part::Parted>,
 }
 
 /// The loop's clock: coupling interval, steps, write interval.
@@ -188,6 +191,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             init_seconds,
             ranks,
             owners,
+            part,
         } = ctx;
         let dem = Timed::new(dem);
         let mut fluid = Timed::new(fluid);
@@ -205,6 +209,9 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         }
         if let Some(owners) = owners {
             coupler.set_owners(owners);
+        }
+        if let Some(part) = part {
+            coupler.set_part(part);
         }
         if let Some(s) = plan.layout.coupling.smoothing {
             coupler.set_smoothing(crate::smoothing::native(mesh, s)?);
@@ -342,7 +349,14 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                     .collect()
             })
             .unwrap_or_default();
-        let column = Column::of(self.mesh, volume, axis);
+        let mut column = Column::of(self.mesh, volume, axis);
+        let ranks = self.coupler.ranks();
+        if self.n_ranks > 1 {
+            // rank 0's: a rank holding a part of the mesh sees only its part
+            let mut c = [column.floor, column.area];
+            ranks.broadcast(&mut c);
+            [column.floor, column.area] = c;
+        }
         let air_cells = match spec {
             Some(ValidationSpec::PneumaticConveying(c)) => c.branch.as_ref().map(|b| {
                 let g = self.coupler.voidage_mesh().geometry();
@@ -356,7 +370,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }),
             _ => None,
         };
-        let heating = match spec {
+        let mut heating = match spec {
             Some(ValidationSpec::PackedBedHeating(c)) => Some(crate::heating_run::Profiler::new(
                 c,
                 self.coupler.voidage_mesh().geometry(),
@@ -366,7 +380,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             )),
             _ => None,
         };
-        let slabs = match spec {
+        let mut slabs = match spec {
             Some(ValidationSpec::FluidisedBed {
                 profiles: Some(p), ..
             }) => Some(crate::slab_profile::Profiler::new(
@@ -378,6 +392,10 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             )),
             _ => None,
         };
+        if self.n_ranks > 1 {
+            heating.iter_mut().for_each(|h| h.agree(ranks));
+            slabs.iter_mut().for_each(|s| s.agree(ranks));
+        }
         Observer {
             air_cells,
             outlet_cells,
@@ -567,6 +585,9 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 coupler.recycle(step);
             }
             let (step, dt) = coupler.hand_over(dem, fluid)?;
+            if coupler.part().is_some() {
+                fluid.inner.cells_held(coupler.voidage_mesh().n_cells());
+            }
             if let Some(c) = &out.interval_checks {
                 let state = fluid.inner.state();
                 if let Some(lines) = c.check(k, coupler, &step, &dem.state(), &state, dt_c)? {
@@ -736,14 +757,15 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         n_steps: u64,
         events: &mut dyn FnMut(Event),
     ) -> Result<(), RunError> {
-        let per_rank = crate::ranks_report::gather(
-            self.coupler.ranks(),
-            self.dem.state().len(),
-            held_max,
-            (self.n_ranks > 1).then(|| self.coupler.touched_cells()),
-            self.owned.then(|| self.coupler.owner_traffic()),
-            n_steps,
-        );
+        let local = crate::ranks_report::Local {
+            particles: self.dem.state().len(),
+            particles_max: held_max,
+            cells_touched: (self.n_ranks > 1).then(|| self.coupler.touched_cells()),
+            solver_traffic: self.owned.then(|| self.coupler.owner_traffic()),
+            cells_held: self.coupler.voidage_mesh().n_cells(),
+            mesh_cuts: self.coupler.part().map(|p| p.cuts),
+        };
+        let per_rank = crate::ranks_report::gather(self.coupler.ranks(), local, n_steps);
         if self.rank == 0 {
             let file = self.plan.layout.post_processing().join("ranks.csv");
             crate::ranks_report::write_csv(&file, &per_rank).map_err(io_err(&file))?;

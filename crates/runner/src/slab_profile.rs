@@ -166,6 +166,14 @@ impl Profiler {
         }
     }
 
+    /// Rank 0's column extents on every rank (collective): a rank holding a part of the mesh
+    /// ([`couple::part`]) sees only its part's points.
+    pub(crate) fn agree(&mut self, ranks: &dyn Ranks) {
+        let mut x = [self.floor, self.lo, self.hi, self.depth];
+        ranks.broadcast(&mut x);
+        [self.floor, self.lo, self.hi, self.depth] = x;
+    }
+
     /// The solid fraction of every (height, bin), heights outer, summed over the ranks
     /// (collective).
     pub(crate) fn measure(&self, position: &[V3], radius: &[f64], ranks: &dyn Ranks) -> Vec<f64> {
