@@ -21,6 +21,7 @@ pub mod heating_run;
 mod interval_check;
 pub mod journal;
 pub mod layout;
+#[cfg(feature = "liggghts")]
 mod mesh_part;
 mod monitors;
 pub mod native;
