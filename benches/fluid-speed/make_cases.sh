@@ -15,10 +15,10 @@
 # endTime is short (STEPS steps of each), so a serial pisoFoam run takes about a minute or two
 # on this machine; writeInterval makes endTime the only write.
 #
-#   benches/fluid-speed/make_cases.sh [OUT=/tmp/foamgrain-fluid-speed] [STEPS2D=200] [STEPS3D=100]
+#   benches/fluid-speed/make_cases.sh [OUT=/tmp/foamgrain-fluid-speed] [STEPS2D=100] [STEPS3D=100]
 set -euo pipefail
 out="${1:-/tmp/foamgrain-fluid-speed}"
-steps2d="${2:-200}"
+steps2d="${2:-100}"
 steps3d="${3:-100}"
 ex=/usr/share/doc/openfoam-examples/examples/incompressible/pisoFoam/RAS/cavity
 export WM_PROJECT_DIR=/usr/share/openfoam
