@@ -39,6 +39,7 @@ timed() {
 for c in $cases; do
     piso="$out/runs/$c-pisoFoam"
     ours="$out/runs/$c-native"
+    mkdir -p "$out/runs"
     for d in "$piso" "$ours"; do
         rm -rf "$d"
         cp -r "$out/$c" "$d"

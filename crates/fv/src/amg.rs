@@ -110,22 +110,45 @@ impl Csr {
     fn new(start: Vec<u32>, mut col: Vec<u32>, mut val: Vec<f64>, diag: Vec<f64>) -> Csr {
         let n = diag.len();
         let mut mid = vec![0u32; n];
-        let mut pairs: Vec<(u32, f64)> = Vec::new();
-        for i in 0..n {
-            let r = start[i] as usize..start[i + 1] as usize;
-            pairs.clear();
-            pairs.extend(
-                col[r.clone()]
-                    .iter()
-                    .copied()
-                    .zip(val[r.clone()].iter().copied()),
-            );
-            pairs.sort_by_key(|p| p.0);
-            for (k, p) in r.clone().zip(&pairs) {
-                col[k] = p.0;
-                val[k] = p.1;
+        // Rows in chunks of CHUNK, in parallel when there are several: each row is sorted on
+        // its own, so the result does not depend on the chunks.
+        const CHUNK: usize = 4096;
+        let mut pieces = Vec::with_capacity(n.div_ceil(CHUNK));
+        let (mut col_rest, mut val_rest, mut mid_rest) = (&mut col[..], &mut val[..], &mut mid[..]);
+        for r0 in (0..n).step_by(CHUNK) {
+            let r1 = (r0 + CHUNK).min(n);
+            let len = (start[r1] - start[r0]) as usize;
+            let (c, ct) = std::mem::take(&mut col_rest).split_at_mut(len);
+            let (v, vt) = std::mem::take(&mut val_rest).split_at_mut(len);
+            let (m, mt) = std::mem::take(&mut mid_rest).split_at_mut(r1 - r0);
+            (col_rest, val_rest, mid_rest) = (ct, vt, mt);
+            pieces.push((r0, c, v, m));
+        }
+        let sort = |(r0, col, val, mid): (usize, &mut [u32], &mut [f64], &mut [u32])| {
+            let base = start[r0] as usize;
+            let mut pairs: Vec<(u32, f64)> = Vec::new();
+            for (il, m) in mid.iter_mut().enumerate() {
+                let i = r0 + il;
+                let r = start[i] as usize - base..start[i + 1] as usize - base;
+                pairs.clear();
+                pairs.extend(
+                    col[r.clone()]
+                        .iter()
+                        .copied()
+                        .zip(val[r.clone()].iter().copied()),
+                );
+                pairs.sort_by_key(|p| p.0);
+                for (k, p) in r.clone().zip(&pairs) {
+                    col[k] = p.0;
+                    val[k] = p.1;
+                }
+                *m = start[i] + pairs.iter().take_while(|p| (p.0 as usize) < i).count() as u32;
             }
-            mid[i] = start[i] + pairs.iter().take_while(|p| (p.0 as usize) < i).count() as u32;
+        };
+        if pieces.len() > 1 {
+            pieces.into_par_iter().for_each(sort);
+        } else {
+            pieces.into_iter().for_each(sort);
         }
         let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
         Csr {
