@@ -97,6 +97,41 @@ fn purge_write_keeps_the_last_directories() {
     assert_eq!(times, ["0", "0.4", "0.5"]);
 }
 
+/// A `probes` function object: the value at a point is the one of the cell holding it in the
+/// written field (the cavity's 20 × 20 cells of 5 mm: (52.5, 52.5) mm is the centre of cell
+/// 10 + 20·10 = 210), a point outside the mesh is skipped with a warning.
+#[test]
+fn probes_sample_the_cell_holding_the_point() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_dir(&fixture("fv/cavity-re10"), dir.path());
+    std::fs::remove_dir_all(dir.path().join("0.5")).unwrap();
+    let cd = dir.path().join("system/controlDict");
+    let text = std::fs::read_to_string(&cd).unwrap();
+    let probes = "functions { probes { type probes; fields (p); \
+                  probeLocations ((0.0525 0.0525 0.005) (0.5 0.5 0.005)); } }";
+    std::fs::write(&cd, format!("{text}\n{probes}\n")).unwrap();
+    let out = foamgrain_fluid(dir.path(), &[]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("0.5 0.5 0.005"),
+        "no warning for the point outside: {err}"
+    );
+    let samples = std::fs::read_to_string(dir.path().join("postProcessing/probes/0/p")).unwrap();
+    let last = samples.lines().last().unwrap();
+    let cols: Vec<f64> = last
+        .split_whitespace()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    assert_eq!(cols.len(), 2, "{last}");
+    let p = internal(&dir.path().join("0.5/p"), 400);
+    assert!(
+        (cols[0] - 0.5).abs() < 1e-12 && (cols[1] - p[210]).abs() <= 1e-5 * p[210].abs(),
+        "{last} against p[210] = {}",
+        p[210]
+    );
+}
+
 #[test]
 fn unsupported_function_objects_and_applications_are_refused_by_name() {
     let cases = [

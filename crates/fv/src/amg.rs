@@ -28,14 +28,65 @@
 //! and 12.8 ms for PCG/DIC; 200×200: 12 iterations, 30 ms against 270 and 98 ms. On a 30³ grid
 //! with cells ten times flatter than wide (coefficients 100:1) the pairwise aggregates do not
 //! follow the strong direction well enough: 23 iterations, no faster than PCG/DIC (125).
+//!
+//! In the hierarchy of a matrix of at least [`PAR_MIN`] rows (smaller ones keep the sequential
+//! sweeps and their bits), on levels of at least 2 · [`BLOCK_ROWS`] rows the Gauss–Seidel sweeps are the
+//! *hybrid* (block-Jacobi / Gauss–Seidel) smoother of Baker, Falgout, Kolev & Yang,
+//! *Multigrid smoothers for ultraparallel computing*, SIAM J. Sci. Comput. 33 (2011)
+//! 2864–2887, §5: the rows are cut into a fixed number of contiguous blocks (a power of two,
+//! from the level's size alone, never from the thread count), each block is swept as
+//! Gauss–Seidel in parallel with the others, and a column in another block is read at its value
+//! from the sweep's start. The blocks depend on the matrix alone, so the iterates — and the
+//! iteration counts — are the same bits on any number of threads. The residual, restriction,
+//! prolongation and the K-cycle's products run in parallel over rows with each row's terms in
+//! the sequential order (the same bits as one thread). Measured on the first 20 steps of the
+//! 320² RAS cavity (benches/fluid-speed, docs/speed.md): 452 pressure iterations in 40 solves,
+//! against 449 with the sequential sweeps.
 
 // Row loops index several arrays by the same row or entry, as the equations do.
 #![allow(clippy::needless_range_loop)]
 
-use crate::ldu::RowMatrix;
+use crate::ldu::{RowMatrix, PAR_MIN};
+use rayon::prelude::*;
 
 /// Coarsening stops when a level has at most this many rows.
 pub const COARSEST: usize = 64;
+
+/// Rows per block of the hybrid Gauss–Seidel sweeps (see the module doc): a level of `n` rows
+/// has the largest power of two ≤ n / BLOCK_ROWS blocks, at most [`MAX_BLOCKS`]; a level with
+/// one block is swept sequentially. Below about 2000 rows a sweep takes less than handing it
+/// to the thread pool.
+pub const BLOCK_ROWS: usize = 2048;
+
+/// At most this many blocks per level: each block's boundary rows lag a sweep behind, so more
+/// blocks than threads cost iterations for nothing (four serve two to four threads).
+pub const MAX_BLOCKS: usize = 4;
+
+/// The rows of each of `nc` aggregates (`agg`: the aggregate of each row), in row order:
+/// aggregate `I`'s rows are `members[start[I]..start[I + 1]]`. Returns `(start, members)`.
+fn group(agg: &[u32], nc: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; nc + 1];
+    for &a in agg {
+        start[a as usize + 1] += 1;
+    }
+    for i in 0..nc {
+        start[i + 1] += start[i];
+    }
+    let mut members = vec![0u32; agg.len()];
+    let mut next = start.clone();
+    for (i, &a) in agg.iter().enumerate() {
+        members[next[a as usize] as usize] = i as u32;
+        next[a as usize] += 1;
+    }
+    (start, members)
+}
+
+/// The block boundaries of a level of `n` rows (`nb + 1` ascending row indices from 0 to `n`).
+fn block_bounds(n: usize) -> Vec<usize> {
+    let q = (n / BLOCK_ROWS).clamp(1, MAX_BLOCKS);
+    let nb = 1usize << (usize::BITS - 1 - q.leading_zeros());
+    (0..=nb).map(|b| b * n / nb).collect()
+}
 
 /// A square sparse matrix: compressed rows of off-diagonal entries and a separate diagonal.
 #[derive(Clone, Debug)]
@@ -48,6 +99,9 @@ struct Csr {
     diag: Vec<f64>,
     /// 1/diag (Gauss–Seidel multiplies instead of dividing).
     inv_diag: Vec<f64>,
+    /// Block boundaries of the hybrid Gauss–Seidel sweeps ([`block_bounds`]; one block, a
+    /// sequential sweep, unless [`Amg::new`] sets them).
+    blocks: Vec<usize>,
 }
 
 impl Csr {
@@ -56,25 +110,49 @@ impl Csr {
     fn new(start: Vec<u32>, mut col: Vec<u32>, mut val: Vec<f64>, diag: Vec<f64>) -> Csr {
         let n = diag.len();
         let mut mid = vec![0u32; n];
-        let mut pairs: Vec<(u32, f64)> = Vec::new();
-        for i in 0..n {
-            let r = start[i] as usize..start[i + 1] as usize;
-            pairs.clear();
-            pairs.extend(
-                col[r.clone()]
-                    .iter()
-                    .copied()
-                    .zip(val[r.clone()].iter().copied()),
-            );
-            pairs.sort_by_key(|p| p.0);
-            for (k, p) in r.clone().zip(&pairs) {
-                col[k] = p.0;
-                val[k] = p.1;
+        // Rows in chunks of CHUNK, in parallel when there are several: each row is sorted on
+        // its own, so the result does not depend on the chunks.
+        const CHUNK: usize = 4096;
+        let mut pieces = Vec::with_capacity(n.div_ceil(CHUNK));
+        let (mut col_rest, mut val_rest, mut mid_rest) = (&mut col[..], &mut val[..], &mut mid[..]);
+        for r0 in (0..n).step_by(CHUNK) {
+            let r1 = (r0 + CHUNK).min(n);
+            let len = (start[r1] - start[r0]) as usize;
+            let (c, ct) = std::mem::take(&mut col_rest).split_at_mut(len);
+            let (v, vt) = std::mem::take(&mut val_rest).split_at_mut(len);
+            let (m, mt) = std::mem::take(&mut mid_rest).split_at_mut(r1 - r0);
+            (col_rest, val_rest, mid_rest) = (ct, vt, mt);
+            pieces.push((r0, c, v, m));
+        }
+        let sort = |(r0, col, val, mid): (usize, &mut [u32], &mut [f64], &mut [u32])| {
+            let base = start[r0] as usize;
+            let mut pairs: Vec<(u32, f64)> = Vec::new();
+            for (il, m) in mid.iter_mut().enumerate() {
+                let i = r0 + il;
+                let r = start[i] as usize - base..start[i + 1] as usize - base;
+                pairs.clear();
+                pairs.extend(
+                    col[r.clone()]
+                        .iter()
+                        .copied()
+                        .zip(val[r.clone()].iter().copied()),
+                );
+                pairs.sort_by_key(|p| p.0);
+                for (k, p) in r.clone().zip(&pairs) {
+                    col[k] = p.0;
+                    val[k] = p.1;
+                }
+                *m = start[i] + pairs.iter().take_while(|p| (p.0 as usize) < i).count() as u32;
             }
-            mid[i] = start[i] + pairs.iter().take_while(|p| (p.0 as usize) < i).count() as u32;
+        };
+        if pieces.len() > 1 {
+            pieces.into_par_iter().for_each(sort);
+        } else {
+            pieces.into_iter().for_each(sort);
         }
         let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
         Csr {
+            blocks: vec![0, n],
             start,
             mid,
             col,
@@ -101,16 +179,126 @@ impl Csr {
         )
     }
 
-    /// r = b − A x.
+    /// True when the level is swept in parallel blocks.
+    fn is_blocked(&self) -> bool {
+        self.blocks.len() > 2
+    }
+
+    /// r = b − A x (in parallel over rows on a blocked level, each row's terms in order).
     fn residual(&self, b: &[f64], x: &[f64], r: &mut [f64]) {
-        for i in 0..self.n() {
+        let row = |i: usize| {
             let rr = self.row(i);
             let mut s = b[i] - self.diag[i] * x[i];
             for (&j, &v) in self.col[rr.clone()].iter().zip(&self.val[rr]) {
                 s -= v * x[j as usize];
             }
-            r[i] = s;
+            s
+        };
+        self.each_row(r, row);
+    }
+
+    /// out_i = row(i) for every row, in parallel on a blocked level.
+    fn each_row(&self, out: &mut [f64], row: impl Fn(usize) -> f64 + Sync) {
+        if self.is_blocked() {
+            out.par_iter_mut()
+                .enumerate()
+                .for_each(|(i, o)| *o = row(i));
+        } else {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = row(i);
+            }
         }
+    }
+
+    /// out = A u (in parallel over rows on a blocked level, each row's terms in order).
+    fn mul(&self, u: &[f64], out: &mut [f64]) {
+        let row = |i: usize| {
+            let mut s = self.diag[i] * u[i];
+            for k in self.row(i) {
+                s += self.val[k] * u[self.col[k] as usize];
+            }
+            s
+        };
+        self.each_row(out, row);
+    }
+
+    /// Σ uᵢvᵢ: sequential on an unblocked level, else [`crate::linsolve::dot`]'s fixed blocks
+    /// (the same bits on any number of threads).
+    fn dot(&self, u: &[f64], v: &[f64]) -> f64 {
+        if self.is_blocked() {
+            crate::linsolve::dot_blocked(u, v)
+        } else {
+            u.iter().zip(v).map(|(a, b)| a * b).sum()
+        }
+    }
+
+    /// x split at the block boundaries, each piece with its first row.
+    fn split_blocks<'x>(&self, x: &'x mut [f64]) -> Vec<(usize, &'x mut [f64])> {
+        let mut out = Vec::with_capacity(self.blocks.len() - 1);
+        let mut rest = x;
+        for w in self.blocks.windows(2) {
+            let (piece, tail) = rest.split_at_mut(w[1] - w[0]);
+            out.push((w[0], piece));
+            rest = tail;
+        }
+        out
+    }
+
+    /// Σ_k a_ik x_k over the entries `k` of row i, reading columns inside `lo..lo + xb.len()`
+    /// from the block's own values `xb` and the others from `x0`.
+    #[inline(always)]
+    fn partial_split(&self, k: std::ops::Range<usize>, lo: usize, xb: &[f64], x0: &[f64]) -> f64 {
+        let hi = lo + xb.len();
+        let mut s = 0.0;
+        for (&j, &v) in self.col[k.clone()].iter().zip(&self.val[k]) {
+            let j = j as usize;
+            s += v * if (lo..hi).contains(&j) {
+                xb[j - lo]
+            } else {
+                x0[j]
+            };
+        }
+        s
+    }
+
+    /// The hybrid forward sweep from x = 0 (module doc): each block a forward Gauss–Seidel
+    /// sweep of its rows, columns outside it at their value of the sweep's start (zero). The
+    /// columns above a row are zero too, so a row reads only its block's rows below it.
+    fn gs_forward_blocks_from_zero(&self, b: &[f64], x: &mut [f64]) {
+        self.split_blocks(x).into_par_iter().for_each(|(lo, xb)| {
+            for il in 0..xb.len() {
+                let i = lo + il;
+                let k = self.start[i] as usize..self.mid[i] as usize;
+                let mut s = 0.0;
+                for (&j, &v) in self.col[k.clone()].iter().zip(&self.val[k]) {
+                    let j = j as usize;
+                    if j >= lo {
+                        s += v * xb[j - lo];
+                    }
+                }
+                xb[il] = (b[i] - s) * self.inv_diag[i];
+            }
+        });
+    }
+
+    /// The hybrid backward sweep: each block a backward Gauss–Seidel sweep of its rows, columns
+    /// outside it at their values of the sweep's start `x0`; the lower part, not yet updated
+    /// in the block, reads `x0` throughout.
+    fn gs_backward_blocks(&self, b: &[f64], x: &mut [f64]) {
+        let x0 = x.to_vec();
+        let x0 = &x0[..];
+        self.split_blocks(x).into_par_iter().for_each(|(lo, xb)| {
+            for il in (0..xb.len()).rev() {
+                let i = lo + il;
+                let (s, m, e) = (
+                    self.start[i] as usize,
+                    self.mid[i] as usize,
+                    self.start[i + 1] as usize,
+                );
+                let low = b[i] - self.partial(s..m, x0);
+                xb[il] = (low - self.partial_split(m..e, lo, xb, x0)) * self.inv_diag[i];
+            }
+        });
     }
 
     /// Σ_k a_ik x_k over the entries `k` of row i.
@@ -123,23 +311,25 @@ impl Csr {
         s
     }
 
-    /// Forward Gauss–Seidel sweep. Each row sums the entries of the rows not yet updated in
-    /// this sweep (columns above) first and those just updated (below) last, so only the last
-    /// sum waits for the previous rows.
-    fn gs_forward(&self, b: &[f64], x: &mut [f64]) {
+    /// Forward Gauss–Seidel sweep from x = 0 (as every cycle starts): row i is
+    /// (b_i − Σ_{j<i} a_ij x_j) / a_ii, the columns above it being still zero (dropping their
+    /// zero products leaves the same bits).
+    fn gs_forward_from_zero(&self, b: &[f64], x: &mut [f64]) {
+        debug_assert!(x.iter().all(|&v| v == 0.0));
+        if self.is_blocked() {
+            return self.gs_forward_blocks_from_zero(b, x);
+        }
         for i in 0..self.n() {
-            let (s, m, e) = (
-                self.start[i] as usize,
-                self.mid[i] as usize,
-                self.start[i + 1] as usize,
-            );
-            let up = b[i] - self.partial(m..e, x);
-            x[i] = (up - self.partial(s..m, x)) * self.inv_diag[i];
+            let (s, m) = (self.start[i] as usize, self.mid[i] as usize);
+            x[i] = (b[i] - self.partial(s..m, x)) * self.inv_diag[i];
         }
     }
 
-    /// Backward Gauss–Seidel sweep (rows in reverse order; see [`Self::gs_forward`]).
+    /// Backward Gauss–Seidel sweep (rows in reverse order: each row sums its lower part, not yet updated in this sweep, first).
     fn gs_backward(&self, b: &[f64], x: &mut [f64]) {
+        if self.is_blocked() {
+            return self.gs_backward_blocks(b, x);
+        }
         for i in (0..self.n()).rev() {
             let (s, m, e) = (
                 self.start[i] as usize,
@@ -199,49 +389,66 @@ impl Csr {
     /// aggregates): coarse row I sums the rows of its cells, entries of the same coarse column
     /// merged, entries inside the aggregate moved to the diagonal.
     fn galerkin(&self, agg: &[u32], nc: usize) -> Csr {
-        // Members of each aggregate, in row order.
-        let mut count = vec![0u32; nc + 1];
-        for &a in agg {
-            count[a as usize + 1] += 1;
-        }
-        for i in 0..nc {
-            count[i + 1] += count[i];
-        }
-        let mut members = vec![0u32; agg.len()];
-        let mut next = count.clone();
-        for (i, &a) in agg.iter().enumerate() {
-            members[next[a as usize] as usize] = i as u32;
-            next[a as usize] += 1;
-        }
-        let mut diag = vec![0.0; nc];
+        let (count, members) = group(agg, nc);
+        // Coarse rows in chunks, in parallel on large levels: each row is summed exactly as
+        // in one sequential pass (its cells in row order, their entries in order), so the
+        // bits do not depend on the chunks.
+        const CHUNK: usize = 4096;
+        let chunk = |rows: std::ops::Range<usize>| {
+            let mut diag = Vec::with_capacity(rows.len());
+            let mut len = Vec::with_capacity(rows.len());
+            let mut col: Vec<u32> = Vec::new();
+            let mut val: Vec<f64> = Vec::new();
+            // Position of coarse column J in the current coarse row (or u32::MAX).
+            let mut pos = vec![u32::MAX; nc];
+            for ci in rows {
+                let row_start = col.len();
+                let mut d = 0.0;
+                for &m in &members[count[ci] as usize..count[ci + 1] as usize] {
+                    let i = m as usize;
+                    d += self.diag[i];
+                    for k in self.row(i) {
+                        let cj = agg[self.col[k] as usize] as usize;
+                        if cj == ci {
+                            d += self.val[k];
+                        } else if pos[cj] == u32::MAX {
+                            pos[cj] = col.len() as u32;
+                            col.push(cj as u32);
+                            val.push(self.val[k]);
+                        } else {
+                            val[pos[cj] as usize] += self.val[k];
+                        }
+                    }
+                }
+                for &cj in &col[row_start..] {
+                    pos[cj as usize] = u32::MAX;
+                }
+                diag.push(d);
+                len.push((col.len() - row_start) as u32);
+            }
+            (diag, len, col, val)
+        };
+        let ranges: Vec<std::ops::Range<usize>> = (0..nc)
+            .step_by(CHUNK)
+            .map(|s| s..(s + CHUNK).min(nc))
+            .collect();
+        let parts: Vec<_> = if ranges.len() > 1 {
+            ranges.into_par_iter().map(chunk).collect()
+        } else {
+            ranges.into_iter().map(chunk).collect()
+        };
+        let mut diag = Vec::with_capacity(nc);
         let mut start = Vec::with_capacity(nc + 1);
         start.push(0u32);
         let mut col = Vec::new();
         let mut val = Vec::new();
-        // Position of coarse column J in the current coarse row (or u32::MAX).
-        let mut pos = vec![u32::MAX; nc];
-        for ci in 0..nc {
-            let row_start = col.len();
-            for &m in &members[count[ci] as usize..count[ci + 1] as usize] {
-                let i = m as usize;
-                diag[ci] += self.diag[i];
-                for k in self.row(i) {
-                    let cj = agg[self.col[k] as usize] as usize;
-                    if cj == ci {
-                        diag[ci] += self.val[k];
-                    } else if pos[cj] == u32::MAX {
-                        pos[cj] = col.len() as u32;
-                        col.push(cj as u32);
-                        val.push(self.val[k]);
-                    } else {
-                        val[pos[cj] as usize] += self.val[k];
-                    }
-                }
+        for (d, len, c, v) in parts {
+            diag.extend(d);
+            for l in len {
+                start.push(start.last().unwrap() + l);
             }
-            for &cj in &col[row_start..] {
-                pos[cj as usize] = u32::MAX;
-            }
-            start.push(col.len() as u32);
+            col.extend(c);
+            val.extend(v);
         }
         Csr::new(start, col, val, diag)
     }
@@ -318,6 +525,57 @@ impl DenseLu {
 struct Level {
     a: Csr,
     from_fine: Vec<u32>,
+    /// The rows of the level above in each aggregate, in row order: aggregate `I`'s are
+    /// `members[members_start[I]..members_start[I + 1]]` (the restriction as a gather).
+    members_start: Vec<u32>,
+    members: Vec<u32>,
+}
+
+impl Level {
+    fn new(a: Csr, from_fine: Vec<u32>) -> Level {
+        let (members_start, members) = group(&from_fine, a.n());
+        Level {
+            a,
+            from_fine,
+            members_start,
+            members,
+        }
+    }
+
+    /// bc = Pᵀ r: each aggregate's sum of its rows' r, added in row order (the same bits as
+    /// scattering r row by row), in parallel over aggregates when `parallel`.
+    fn restrict(&self, r: &[f64], bc: &mut [f64], parallel: bool) {
+        let sum = |ci: usize| {
+            let k = self.members_start[ci] as usize..self.members_start[ci + 1] as usize;
+            let mut s = 0.0;
+            for &m in &self.members[k] {
+                s += r[m as usize];
+            }
+            s
+        };
+        if parallel {
+            bc.par_iter_mut()
+                .enumerate()
+                .for_each(|(ci, b)| *b = sum(ci));
+        } else {
+            for (ci, b) in bc.iter_mut().enumerate() {
+                *b = sum(ci);
+            }
+        }
+    }
+
+    /// x += P xc, in parallel when `parallel`.
+    fn prolong(&self, xc: &[f64], x: &mut [f64], parallel: bool) {
+        if parallel {
+            x.par_iter_mut()
+                .zip(&self.from_fine)
+                .for_each(|(xi, &ci)| *xi += xc[ci as usize]);
+        } else {
+            for (xi, &ci) in x.iter_mut().zip(&self.from_fine) {
+                *xi += xc[ci as usize];
+            }
+        }
+    }
 }
 
 /// The multigrid hierarchy of one matrix (see the module doc).
@@ -348,9 +606,16 @@ impl Amg {
             }
             let from_fine: Vec<u32> = agg1.iter().map(|&i| agg2[i as usize]).collect();
             let ac = a.galerkin(&from_fine, n2);
-            coarse.push(Level { a: ac, from_fine });
+            coarse.push(Level::new(ac, from_fine));
         }
         let direct = DenseLu::new(coarse.last().map_or(&fine, |l| &l.a));
+        let mut fine = fine;
+        if fine.n() >= PAR_MIN {
+            fine.blocks = block_bounds(fine.n());
+            for l in &mut coarse {
+                l.a.blocks = block_bounds(l.a.n());
+            }
+        }
         Amg {
             fine,
             coarse,
@@ -393,23 +658,19 @@ impl Amg {
             self.direct.solve(b, x);
             return;
         }
-        a.gs_forward(b, x);
+        a.gs_forward_from_zero(b, x);
         let mut r = vec![0.0; a.n()];
         a.residual(b, x, &mut r);
         let next = &self.coarse[level];
         let mut bc = vec![0.0; next.a.n()];
-        for (i, &ci) in next.from_fine.iter().enumerate() {
-            bc[ci as usize] += r[i];
-        }
+        next.restrict(&r, &mut bc, a.is_blocked());
         let mut xc = vec![0.0; next.a.n()];
         if level + 1 < self.coarse.len() {
             self.krylov(level + 1, &bc, &mut xc);
         } else {
             self.cycle(level + 1, &bc, &mut xc);
         }
-        for (xi, &ci) in x.iter_mut().zip(&next.from_fine) {
-            *xi += xc[ci as usize];
-        }
+        next.prolong(&xc, x, a.is_blocked());
         a.gs_backward(b, x);
     }
 
@@ -420,16 +681,8 @@ impl Amg {
     fn krylov(&self, level: usize, b: &[f64], x: &mut [f64]) {
         let a = self.matrix(level);
         let n = a.n();
-        let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
-        let mul = |u: &[f64], out: &mut [f64]| {
-            for i in 0..n {
-                let mut s = a.diag[i] * u[i];
-                for k in a.row(i) {
-                    s += a.val[k] * u[a.col[k] as usize];
-                }
-                out[i] = s;
-            }
-        };
+        let dot = |u: &[f64], v: &[f64]| a.dot(u, v);
+        let mul = |u: &[f64], out: &mut [f64]| a.mul(u, out);
         let mut v = vec![0.0; n];
         self.cycle(level, b, &mut v);
         let mut w = vec![0.0; n];
@@ -544,31 +797,75 @@ mod tests {
         let (g, a) = laplacian(40, 30);
         let m = RowMatrix::new(&a, &g);
         let amg = Amg::new(&m);
-        let n = g.n_cells;
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         // As a stationary iteration x ← x + M(b − Ax) it converges: the error in the A-norm
         // shrinks by at least ½ per cycle on average (measured: 8 cycles give 6.8e-4).
-        let x_true: Vec<f64> = (0..n).map(|i| ((i * 7 % 13) as f64).sin()).collect();
+        let x_true: Vec<f64> = (0..g.n_cells)
+            .map(|i| ((i * 7 % 13) as f64).sin())
+            .collect();
+        let first = error_after(&amg, &m, &x_true, 0);
+        let last = error_after(&amg, &m, &x_true, 8);
+        assert!(last < 0.5f64.powi(8) * first, "{first} → {last}");
+    }
+
+    /// The A-norm of the error after `cycles` stationary multigrid iterations
+    /// x ← x + M(b − Ax) from zero towards `x_true` (as in `a_cycle_reduces_the_error`).
+    fn error_after(amg: &Amg, m: &RowMatrix<'_>, x_true: &[f64], cycles: usize) -> f64 {
+        let n = x_true.len();
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let mut b = vec![0.0; n];
-        m.mul(&x_true, &mut b);
-        let mut x = vec![0.0; n];
-        let mut r = vec![0.0; n];
-        let mut z = vec![0.0; n];
-        let a_norm = |x: &[f64]| {
-            let e: Vec<f64> = x.iter().zip(&x_true).map(|(a, b)| a - b).collect();
-            let mut ae = vec![0.0; n];
-            m.mul(&e, &mut ae);
-            dot(&e, &ae).sqrt()
-        };
-        let first = a_norm(&x);
-        for _ in 0..8 {
+        m.mul(x_true, &mut b);
+        let (mut x, mut r, mut z) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for _ in 0..cycles {
             amg.fine.residual(&b, &x, &mut r);
             amg.apply(&r, &mut z);
-            assert!(dot(&r, &z) > 0.0);
+            assert!(dot(&r, &z) > 0.0, "the cycle is not positive definite");
             x.iter_mut().zip(&z).for_each(|(x, z)| *x += z);
         }
-        let last = a_norm(&x);
-        assert!(last < 0.5f64.powi(8) * first, "{first} → {last}");
+        let e: Vec<f64> = x.iter().zip(x_true).map(|(a, b)| a - b).collect();
+        let mut ae = vec![0.0; n];
+        m.mul(&e, &mut ae);
+        dot(&e, &ae).sqrt()
+    }
+
+    #[test]
+    fn blocked_sweeps_give_the_same_bits_on_any_thread_count_and_converge_as_sequential_ones() {
+        // 260 × 200 = 52 000 rows ≥ PAR_MIN: the hierarchy's large levels are blocked.
+        let (g, a) = laplacian(260, 200);
+        let m = RowMatrix::new(&a, &g);
+        let amg = Amg::new(&m);
+        let n = g.n_cells;
+        assert_eq!(amg.fine.blocks, vec![0, n / 4, n / 2, 3 * n / 4, n]);
+        assert!(amg.coarse[0].a.is_blocked());
+        let r: Vec<f64> = (0..n).map(|i| ((i * 7 % 13) as f64).sin()).collect();
+        let cycle_on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut z = vec![0.0; n];
+                amg.apply(&r, &mut z);
+                z
+            })
+        };
+        let one = cycle_on(1);
+        assert_eq!(one, cycle_on(2));
+        assert_eq!(one, cycle_on(3));
+        // The same hierarchy swept sequentially: the blocks lag at their edges only, so
+        // the error falls about as fast (measured: 8 cycles take the error from 140 to 6.9e-3 blocked, 5.1e-3 sequential).
+        let mut seq = amg.clone();
+        seq.fine.blocks = vec![0, n];
+        for l in &mut seq.coarse {
+            l.a.blocks = vec![0, l.a.n()];
+        }
+        let x_true: Vec<f64> = (0..n).map(|i| ((i * 3 % 17) as f64).cos()).collect();
+        let blocked = error_after(&amg, &m, &x_true, 8);
+        let sequential = error_after(&seq, &m, &x_true, 8);
+        let first = error_after(&amg, &m, &x_true, 0);
+        assert!(
+            blocked < 0.5f64.powi(8) * first && blocked < 1.5 * sequential,
+            "{first} → blocked {blocked}, sequential {sequential}"
+        );
     }
 
     #[test]

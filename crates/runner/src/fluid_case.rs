@@ -106,14 +106,16 @@ pub fn run_fluid(
     let mesh = foam_case.read_mesh()?;
     let mut fluid = Fluid::from_case_with(foam_case, settings, &mesh).map_err(fluid_error)?;
     let cells = fluid.geometry().n_cells;
-    let geometry = mesh::geometry::MeshGeometry::new(&mesh).map_err(|e| RunError::Setup {
-        file: case.join("constant/polyMesh"),
-        message: e.to_string(),
-    })?;
-    let locator = mesh::locate::Locator::new(&mesh, &geometry).map_err(|e| RunError::Setup {
-        file: case.join("constant/polyMesh"),
-        message: e.to_string(),
-    })?;
+    // The cell locator of the probes, built only when a probe asks for it (its set-up costs
+    // about as much as a few time steps on 10⁵ cells).
+    let locator: std::cell::OnceCell<Result<mesh::locate::Locator, String>> =
+        std::cell::OnceCell::new();
+    let locator_of = || {
+        locator.get_or_init(|| {
+            let geometry = mesh::geometry::MeshGeometry::new(&mesh).map_err(|e| e.to_string())?;
+            mesh::locate::Locator::new(&mesh, &geometry).map_err(|e| e.to_string())
+        })
+    };
     let turbulent = fluid.turbulence().is_some();
     let available: &[(&str, bool)] = match turbulent {
         true => &[
@@ -126,10 +128,20 @@ pub fn run_fluid(
         false => &[("p", false), ("U", true)],
     };
     let start_name = fluid.time_name();
-    let (mut probes, warnings) =
-        Probes::read_fields(case, &control, &start_name, available, &|x| {
-            locator.locate(x).map(|c| c as usize)
-        })?;
+    let read = Probes::read_fields(case, &control, &start_name, available, &|x| {
+        locator_of()
+            .as_ref()
+            .ok()
+            .and_then(|l| l.locate(x).map(|c| c as usize))
+    });
+    // a mesh the locator refuses is the error, not the probes it could not place
+    if let Some(Err(message)) = locator.get() {
+        return Err(RunError::Setup {
+            file: case.join("constant/polyMesh"),
+            message: message.clone(),
+        });
+    }
+    let (mut probes, warnings) = read?;
     for w in warnings {
         observe(FluidEvent::Warning(w));
     }

@@ -8,9 +8,10 @@ use crate::bc;
 use crate::error::Result;
 use crate::fvc::{self, Field};
 use crate::geometry::V3;
-use crate::ldu::Ldu;
+use crate::ldu::{Ldu, PAR_MIN};
 use crate::linsolve;
 use crate::settings::SnGrad;
+use rayon::prelude::*;
 
 /// The momentum equation of a step, fixed through its correctors.
 pub(super) struct MomentumEqn {
@@ -116,22 +117,28 @@ impl Fluid {
         let g = &self.g;
         let n = g.n_cells;
         let solver = self.settings.u_solver;
-        for k in (0..3).filter(|&k| g.solution_dirs[k]) {
-            eqn.m.diag = eqn.diag.iter().map(|d| d[k]).collect();
+        // The components are independent solves of matrices that differ in the diagonal
+        // only: on large meshes they run side by side (each solve's arithmetic unchanged, so
+        // the same bits as one after the other).
+        let dirs: Vec<usize> = (0..3).filter(|&k| g.solution_dirs[k]).collect();
+        let solve_one = |k: usize| -> Result<(Vec<f64>, linsolve::SolveStats)> {
+            let mut m = eqn.m.clone();
+            m.diag = eqn.diag.iter().map(|d| d[k]).collect();
             let rhs: Vec<f64> = (0..n)
                 .map(|c| eqn.b[c][k] - g.v[c] * self.kappa_p(c) * self.grad_p[c][k])
                 .collect();
             let mut x: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
             let what = ["Ux", "Uy", "Uz"][k];
-            let s = linsolve::solve(
-                solver.method,
-                &eqn.m,
-                g,
-                &rhs,
-                &mut x,
-                &solver.controls,
-                what,
-            )?;
+            let s = linsolve::solve(solver.method, &m, g, &rhs, &mut x, &solver.controls, what)?;
+            Ok((x, s))
+        };
+        let solved: Vec<Result<(Vec<f64>, linsolve::SolveStats)>> = if n >= PAR_MIN {
+            dirs.par_iter().map(|&k| solve_one(k)).collect()
+        } else {
+            dirs.iter().map(|&k| solve_one(k)).collect()
+        };
+        for (&k, r) in dirs.iter().zip(solved) {
+            let (x, s) = r?;
             report.momentum.push(s);
             for c in 0..n {
                 self.u[c][k] = x[c];
