@@ -559,6 +559,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             .as_ref()
             .map(|_| crate::conveyor::Evacuation::default());
         let mut open: Option<Open> = None;
+        events(Event::LoopStarted { steps });
         for k in 1..=steps {
             coupler.advance_particles(dem)?;
             if let Some(o) = open.take() {
