@@ -22,6 +22,8 @@ mod interval_check;
 pub mod journal;
 pub mod layout;
 mod monitors;
+#[cfg(any(feature = "mpi", feature = "liggghts"))]
+mod nap;
 pub mod native;
 mod outputs;
 mod particle_probe;
