@@ -9,6 +9,7 @@ mod dem;
 mod fluid;
 mod gci;
 mod info;
+mod progress;
 mod run;
 mod study;
 mod timestep;

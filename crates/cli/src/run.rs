@@ -108,47 +108,39 @@ pub fn run(a: &RunArgs) -> anyhow::Result<()> {
         })
         .context("installing the Ctrl-C handler")?;
     }
-    let bar = crate::args::progress_bar(
-        1000,
-        "{spinner} [{elapsed_precise}] {bar:30} t = {msg} (ETA {eta})",
-    );
-    let mut last_log = std::time::Instant::now();
+    let mut progress = crate::progress::Progress::new();
     let mut on_event = |e: Event| match e {
-        Event::Message(m) => match &bar {
-            Some(b) => b.println(m),
-            None => eprintln!("{m}"),
-        },
+        Event::Message(m) => progress.message(&m),
+        Event::LoopStarted { steps } => progress.started(steps),
         Event::Step {
             time,
             end,
             step,
             steps,
             sample,
-        } => {
-            if let Some(b) = &bar {
-                b.set_length(steps);
-                b.set_position(step);
-                b.set_message(format!(
+        } => progress.step(
+            step,
+            steps,
+            || {
+                format!(
                     "{time:.5} / {end} s, Δp {} Pa",
                     measured(sample.pressure_drop, 2)
-                ));
-            } else if step == steps || last_log.elapsed().as_secs_f64() >= 5.0 {
-                last_log = std::time::Instant::now();
-                eprintln!(
-                    "step {step}/{steps}: t = {time:.6} s, inlet {} m/s, Δp {} Pa, bed {} m, KE {:.3e} J",
+                )
+            },
+            || {
+                format!(
+                    "t = {time:.6} s, inlet {} m/s, Δp {} Pa, bed {} m, KE {:.3e} J",
                     measured(sample.inlet_velocity, 5),
                     measured(sample.pressure_drop, 3),
                     measured(sample.bed_height, 5),
                     sample.kinetic_energy
-                );
-            }
-        }
+                )
+            },
+        ),
     };
     let report = runner::run::run(&a.case, &opts, &stop, &mut on_event)
         .with_context(|| format!("running {}", a.case.display()))?;
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
+    progress.finish();
     if report.rank > 0 {
         // on N ranks rank 0 reports for the run
         return Ok(());

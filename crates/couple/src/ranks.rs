@@ -136,6 +136,10 @@ pub trait Ranks {
     fn traffic(&self) -> (u64, u64) {
         (0, 0)
     }
+    /// Returns once every rank has called it; a rank that waits sleeps rather than spins (a
+    /// barrier before the ranks go on to blocking collectives while one works alone). Nothing
+    /// alone.
+    fn meet(&self) {}
 }
 
 /// One rank: every operation is the identity.

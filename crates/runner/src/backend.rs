@@ -19,11 +19,6 @@ use crate::run_loop::{couple_loop, coupling_steps, LoopContext};
 use liggghts_deck::Deck;
 use std::path::{Path, PathBuf};
 
-/// The longest sleep of a rank waiting in [`Launch::all_ok`] (the extra latency of a stage
-/// boundary, against the minutes a waiting rank would otherwise spin).
-#[cfg(any(feature = "mpi", feature = "liggghts"))]
-const IDLE_NAP: std::time::Duration = std::time::Duration::from_millis(20);
-
 /// Ranks `mpirun` (Open MPI, MPICH/PMI) says this process is one of, without initialising MPI:
 /// 1 when launched alone.
 pub fn launched_ranks() -> usize {
@@ -110,7 +105,7 @@ impl Launch {
     /// before a collective section tells the others this way, so that none waits for it.
     ///
     /// The ranks that arrive first wait without spinning: the reduction is nonblocking
-    /// (`MPI_Iallreduce`) and tested with naps growing to [`IDLE_NAP`], so ranks waiting for
+    /// (`MPI_Iallreduce`) and tested with naps growing to 20 ms (`nap::STAGE`), so ranks waiting for
     /// rank 0's stage 1 (minutes) leave the cores to it, where a blocking `MPI_Allreduce`
     /// busy-polls in Open MPI (measured before: three waiting ranks took a whole core while
     /// LIGGGHTS packed for a 4-rank run).
@@ -122,17 +117,9 @@ impl Launch {
             let mut all = 0i32;
             let mine = ok as i32;
             mpi::request::scope(|scope| {
-                let mut request =
+                let request =
                     world.immediate_all_reduce_into(scope, &mine, &mut all, SystemOperation::min());
-                let mut nap = std::time::Duration::from_micros(50);
-                loop {
-                    match request.test() {
-                        Ok(_) => break,
-                        Err(pending) => request = pending,
-                    }
-                    std::thread::sleep(nap);
-                    nap = (nap * 2).min(IDLE_NAP);
-                }
+                crate::nap::wait(request, crate::nap::STAGE);
             });
             return all == 1;
         }

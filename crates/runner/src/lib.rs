@@ -24,6 +24,8 @@ pub mod layout;
 #[cfg(feature = "liggghts")]
 mod mesh_part;
 mod monitors;
+#[cfg(any(feature = "mpi", feature = "liggghts"))]
+mod nap;
 pub mod native;
 mod outputs;
 mod particle_probe;

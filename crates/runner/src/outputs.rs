@@ -457,7 +457,7 @@ impl Outputs<'_> {
                     .write_time(&dir, &name, self.mesh, &fields, particles)?;
             }
             // every rank's part is written (the solver replied to its write before)
-            ranks.all_max(&mut [0.0]);
+            ranks.meet();
             journal.commit(rank == 0)?;
             self.output_seconds += t.elapsed().as_secs_f64();
         }

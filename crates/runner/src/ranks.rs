@@ -176,6 +176,10 @@ impl Ranks for MpiRanks {
         self.comm.process_at_rank(0).broadcast_into(x);
     }
 
+    fn meet(&self) {
+        crate::nap::wait(self.comm.immediate_barrier(), crate::nap::STEP);
+    }
+
     fn traffic(&self) -> (u64, u64) {
         (self.traffic.sent, self.traffic.received)
     }

@@ -8,6 +8,12 @@ use crate::validation::Check;
 pub enum Event {
     /// A log line.
     Message(String),
+    /// The coupled loop starts: `steps` coupling steps follow (setting up, stage 1 and
+    /// reading the case are done; a front end's estimate of the time left starts here).
+    LoopStarted {
+        /// Coupling steps to run.
+        steps: u64,
+    },
     /// Progress after a coupling step.
     Step {
         /// Simulated time, s.

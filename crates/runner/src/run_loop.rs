@@ -577,7 +577,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             .as_ref()
             .map(|_| crate::conveyor::Evacuation::default());
         let mut open: Option<Open> = None;
+        events(Event::LoopStarted { steps });
         for k in 1..=steps {
+            // on N ranks: the ranks enter LIGGGHTS's run together, so that none spins in its
+            // first collective while rank 0 writes or waits for grainPisoFoam
+            coupler.ranks().meet();
             coupler.advance_particles(dem)?;
             if let Some(o) = open.take() {
                 fluid.finish_advance().map_err(RunError::Fluid)?;
@@ -606,6 +610,8 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
                 p.sample(t, physics, &step.placement, &state, voidage, &dem.state())?;
             }
             fluid.start_advance(dt).map_err(RunError::Fluid)?;
+            // the native fluid advances on rank 0 alone: the others sleep meanwhile
+            coupler.ranks().meet();
             held_max = held_max.max(dem.state().len());
             let mut sample = observer.sample(&*dem, &step, coupler.ranks(), evacuation.as_mut());
             if self.plan.layout.coupling.wall_heat.is_some() {
