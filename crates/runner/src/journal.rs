@@ -140,9 +140,10 @@ fn read(cfd: &Path) -> Result<Option<Entry>, RunError> {
 /// case is read.
 pub fn recover(cfd: &Path) -> Result<Vec<String>, RunError> {
     let done = finish_journal(cfd)?;
-    // a decomposed grainPisoFoam that was killed did not reconstruct its complete writes
+    // a decomposed grainPisoFoam that was killed did not reconstruct its complete writes (a
+    // folder without `constant/` is no OpenFOAM case: the run's reading of it names that)
     #[cfg(feature = "mpi")]
-    if cfd.join("processor0").is_dir() {
+    if cfd.join("processor0").is_dir() && cfd.join("constant").is_dir() {
         foam_link::case_setup::reconstruct(cfd)
             .map_err(|e| RunError::Backend(format!("restart: reconstructPar: {e}")))?;
     }
