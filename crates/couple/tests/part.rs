@@ -6,13 +6,11 @@
 //! The rank is rank 1 of two whose rank 0 is played by [`RankOne`]: it records what the rank
 //! sends and answers with the whole-mesh coupler's ε and fluid at the cells the rank listed.
 
-use closures::DragClosure;
-use closures::{model::ModelType, DragLaw};
-use couple::config::{DragSettings, Forces};
+use closures::DragLaw;
 use couple::memory::MemoryFluid;
 use couple::part::{PartSource, Parted};
 use couple::FluidSide;
-use couple::{Coupler, CouplerSettings, Interpolation, Physics, Ranks, SideError};
+use couple::{Coupler, CouplerSettings, Interpolation, Ranks, SideError};
 use foam::{Label, PolyMesh};
 use mesh::build::hex_grid;
 use mesh::part::MeshPart;
@@ -115,33 +113,13 @@ fn fluid(mesh: &PolyMesh, x: &[V3]) -> MemoryFluid {
 }
 
 fn settings(method: Method) -> CouplerSettings {
-    CouplerSettings {
+    common::drag_settings(
         method,
-        alpha_min: None,
-        coupling_interval: 1,
-        physics: Physics {
-            rho: 1.2,
-            nu: 1.5e-5,
-            gravity: V3::new(0.0, 0.0, -9.81),
-            model: ModelType::A,
-            forces: Forces {
-                drag: Some(DragSettings {
-                    closure: DragClosure::new(DragLaw::DiFelice, 0.3).unwrap(),
-                    interpolation: Interpolation::Smooth,
-                    implicit_dem: true,
-                    explicit_fluid: false,
-                    dem_only: false,
-                }),
-                grad_p: Some(Interpolation::Smooth),
-                viscous: Some(Interpolation::Cell),
-                archimedes: true,
-                no_drag: None,
-                ..Forces::default()
-            },
-            implicit_couple: true,
-        },
-        heat: None,
-    }
+        DragLaw::DiFelice,
+        Interpolation::Smooth,
+        1.2,
+        1.5e-5,
+    )
 }
 
 /// A cluster of 40 spheres (radius 0.012–0.02 m) about `at`, ids 1…40.

@@ -2,13 +2,13 @@
 //! neighbour list) is coupled at its image inside the mesh: the coupler on a channel cyclic in
 //! x gives it the deposit and forces of the same particle moved back by one period.
 
-use closures::model::ModelType;
-use closures::{DragClosure, DragLaw};
-use couple::config::{DragSettings, Forces};
-use couple::{Coupler, CouplerSettings, FluidState, Interpolation, ParticleState, Physics};
+use closures::DragLaw;
+use couple::{Coupler, CouplerSettings, FluidState, Interpolation, ParticleState};
 use mesh::build::uniform_box;
 use mesh::v3::V3;
 use voidage::Method;
+
+mod common;
 
 /// A channel 0.4 × 0.1 × 0.1 m of 8 × 2 × 2 cells, its x faces a translational cyclic pair.
 fn channel() -> foam::PolyMesh {
@@ -26,33 +26,7 @@ fn channel() -> foam::PolyMesh {
 }
 
 fn settings(method: Method) -> CouplerSettings {
-    CouplerSettings {
-        method,
-        alpha_min: None,
-        coupling_interval: 1,
-        physics: Physics {
-            rho: 1.3,
-            nu: 1.5e-4,
-            gravity: V3::new(0.0, 0.0, -9.81),
-            model: ModelType::A,
-            forces: Forces {
-                drag: Some(DragSettings {
-                    closure: DragClosure::new(DragLaw::KochHill, 0.3).unwrap(),
-                    interpolation: Interpolation::Cell,
-                    implicit_dem: true,
-                    explicit_fluid: false,
-                    dem_only: false,
-                }),
-                grad_p: Some(Interpolation::Cell),
-                viscous: Some(Interpolation::Cell),
-                archimedes: true,
-                no_drag: None,
-                ..Forces::default()
-            },
-            implicit_couple: true,
-        },
-        heat: None,
-    }
+    common::drag_settings(method, DragLaw::KochHill, Interpolation::Cell, 1.3, 1.5e-4)
 }
 
 #[test]

@@ -5,7 +5,8 @@
 
 use closures::heat::{Nusselt, ReynoldsVelocity};
 use closures::model::ModelType;
-use couple::config::{Forces, HeatModel, HeatSettings};
+use closures::{DragClosure, DragLaw};
+use couple::config::{DragSettings, Forces, HeatModel, HeatSettings};
 use couple::ParticleState;
 use couple::{CouplerSettings, Interpolation, Physics};
 use mesh::v3::V3;
@@ -42,6 +43,45 @@ pub fn gunn_settings(method: Method) -> CouplerSettings {
             max_source: None,
             interpolation: Interpolation::Cell,
         }),
+    }
+}
+
+/// The coupler's settings with the voidage `method`, the drag `law` (φ 0.3 where the law
+/// reads it) interpolated by `rule` together with ∇p, ∇·τ at the centre cell, Archimedes, model
+/// A, gravity −9.81 z, in a fluid of density `rho` (kg/m³) and viscosity `nu` (m²/s).
+pub fn drag_settings(
+    method: Method,
+    law: DragLaw,
+    rule: Interpolation,
+    rho: f64,
+    nu: f64,
+) -> CouplerSettings {
+    CouplerSettings {
+        method,
+        alpha_min: None,
+        coupling_interval: 1,
+        physics: Physics {
+            rho,
+            nu,
+            gravity: V3::new(0.0, 0.0, -9.81),
+            model: ModelType::A,
+            forces: Forces {
+                drag: Some(DragSettings {
+                    closure: DragClosure::new(law, 0.3).unwrap(),
+                    interpolation: rule,
+                    implicit_dem: true,
+                    explicit_fluid: false,
+                    dem_only: false,
+                }),
+                grad_p: Some(rule),
+                viscous: Some(Interpolation::Cell),
+                archimedes: true,
+                no_drag: None,
+                ..Forces::default()
+            },
+            implicit_couple: true,
+        },
+        heat: None,
     }
 }
 
