@@ -31,7 +31,7 @@
 //! (every cell meeting the box is in the part), and is counted as outside as on one rank.
 
 use crate::error::{CoupleError, SideError};
-use foam::Label;
+use foam::{Label, PolyMesh};
 use mesh::part::MeshPart;
 use mesh::v3::V3;
 use mesh::Aabb;
@@ -82,27 +82,30 @@ pub fn region_for(position: &[V3], radius: &[f64], reach_factor: f64) -> Option<
 }
 
 impl Parted {
-    /// The first part for the particles at `position`, and what the coupler keeps of it;
-    /// `None` when the source gives none (the coupler then keeps the whole mesh).
+    /// The first part's mesh for the particles at `position`, and what the coupler keeps of the
+    /// part; `None` when the source gives none (the coupler then keeps the whole mesh).
     pub fn first(
         mut source: Box<dyn PartSource>,
         position: &[V3],
         radius: &[f64],
-    ) -> Result<Option<(MeshPart, Parted)>, SideError> {
+    ) -> Result<Option<(PolyMesh, Parted)>, SideError> {
         let (safe, region) =
             region_for(position, radius, 1.0).unwrap_or((Aabb::EMPTY, Aabb::EMPTY));
-        let Some(part) = source.cut(&region)? else {
+        let Some(MeshPart {
+            mesh, global, edge, ..
+        }) = source.cut(&region)?
+        else {
             return Ok(None);
         };
         let parted = Parted {
             source,
-            global: part.global.clone(),
-            edge: part.edge.clone(),
+            global,
+            edge,
             safe,
             reach_factor: 1.0,
             cuts: 1,
         };
-        Ok(Some((part, parted)))
+        Ok(Some((mesh, parted)))
     }
 
     /// Whether every centre of `position` is in the safe box.
@@ -117,13 +120,14 @@ impl Parted {
         shares.cells.iter().any(edge) || centre.iter().flatten().any(edge)
     }
 
-    /// A new part for the particles at `position`, with the reach doubled first when `wider`.
+    /// A new part for the particles at `position`, with the reach doubled first when `wider`;
+    /// returns its mesh.
     pub fn recut(
         &mut self,
         position: &[V3],
         radius: &[f64],
         wider: bool,
-    ) -> Result<MeshPart, CoupleError> {
+    ) -> Result<PolyMesh, CoupleError> {
         if wider {
             self.reach_factor *= 2.0;
         }
@@ -138,11 +142,11 @@ impl Parted {
                     "the mesh can no longer be cut into a part around this rank's particles".into(),
                 )
             })?;
-        self.global.clone_from(&part.global);
-        self.edge.clone_from(&part.edge);
+        self.global = part.global;
+        self.edge = part.edge;
         self.safe = safe;
         self.cuts += 1;
-        Ok(part)
+        Ok(part.mesh)
     }
 
     /// The whole mesh's labels of the part's cells `cells`.

@@ -668,9 +668,9 @@ impl Coupler {
     /// mesh is rebuilt on it, and what was kept by cell (hints, markers, ε) starts again.
     fn recut(&mut self, particles: &ParticleState<'_>, wider: bool) -> Result<(), CoupleError> {
         let p = self.part.as_mut().expect("recut runs on a part");
-        let part = p.recut(particles.position, particles.radius, wider)?;
-        self.vm = VoidageMesh::new(&part.mesh)?;
-        self.periodic = PeriodicMesh::new(&part.mesh, self.vm.geometry())?;
+        let mesh = p.recut(particles.position, particles.radius, wider)?;
+        self.vm = VoidageMesh::new(&mesh)?;
+        self.periodic = PeriodicMesh::new(&mesh, self.vm.geometry())?;
         self.voidage = vec![1.0; self.vm.n_cells()];
         self.hints.clear();
         self.hint_ids.clear();

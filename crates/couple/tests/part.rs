@@ -155,15 +155,15 @@ fn a_rank_on_its_part_deposits_and_forces_as_on_the_whole_mesh_and_follows_its_p
         let mut w = Coupler::new(&whole, settings(method)).unwrap();
         let fl = Rc::new(fluid(&whole, &w.voidage_mesh().geometry().cell_centres));
         let first = cluster(V3::new(0.25, 0.3, 0.3));
-        let (part, parted) = Parted::first(Box::new(source), &first.position, &first.radius)
+        let (part_mesh, parted) = Parted::first(Box::new(source), &first.position, &first.radius)
             .unwrap()
             .expect("the cluster's part is smaller than the mesh");
         assert!(
-            part.mesh.n_cells < whole.n_cells / 2,
+            part_mesh.n_cells < whole.n_cells / 2,
             "{}",
-            part.mesh.n_cells
+            part_mesh.n_cells
         );
-        let mut p = Coupler::new(&part.mesh, settings(method)).unwrap();
+        let mut p = Coupler::new(&part_mesh, settings(method)).unwrap();
         p.set_part(parted);
         let sent: Sent = Default::default();
         let mut worst: f64 = 0.0;
@@ -181,7 +181,7 @@ fn a_rank_on_its_part_deposits_and_forces_as_on_the_whole_mesh_and_follows_its_p
             }));
             sent.borrow_mut().clear();
             // rank 1 reads no fluid of its own: rank 0 sends it the cells' values
-            let mut none = MemoryFluid::uniform(part.mesh.clone(), V3::zeros());
+            let mut none = MemoryFluid::uniform(part_mesh.clone(), V3::zeros());
             (none.u, none.p, none.grad_p, none.div_tau) = (vec![], vec![], vec![], vec![]);
             let ps = p.exchange(&c.state(), &none.state()).unwrap();
             // the solid volume per cell, under the whole mesh's labels, is the whole mesh's

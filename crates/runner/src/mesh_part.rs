@@ -43,7 +43,7 @@ pub(crate) fn stand_in_on_part(
         cfd: plan.layout.cfd.clone(),
     });
     match Parted::first(source, position, radius).map_err(RunError::Fluid)? {
-        Some((part, parted)) => Ok((StandInFluid::on_mesh(plan, part.mesh), Some(parted))),
+        Some((mesh, parted)) => Ok((StandInFluid::on_mesh(plan, mesh), Some(parted))),
         None => Ok((StandInFluid::open(plan)?, None)),
     }
 }
