@@ -8,6 +8,7 @@ surfaces.
 
     python3 geometry.py            # coarse mesh (CFD/system/blockMeshDict), DEM/meshes/conveyor.stl
     python3 geometry.py --fine     # every cell count doubled (8x the cells)
+    python3 geometry.py --scale S  # every cell count times S (2.13: ~5e4 cells, the seed's coarse)
     python3 geometry.py --out DIR  # write the blockMeshDict into DIR instead
     python3 geometry.py --full [--scale S]   # the full system into ../pneumatic-conveying-full;
                                    # every cell count times S (1: ~2.4e4 cells; 0.5: the CI mesh)
@@ -296,13 +297,14 @@ def main():
     ap.add_argument("--full", action="store_true",
                     help="the full system, into ../pneumatic-conveying-full")
     ap.add_argument("--scale", type=float, default=1.0,
-                    help="--full: every cell count times this (rounded, at least 1)")
+                    help="every cell count times this (rounded, at least 1)")
     a = ap.parse_args()
     case = os.path.join(os.path.dirname(HERE), "pneumatic-conveying-full") if a.full else HERE
     if a.full:
         n = {k: max(1, int(v * a.scale + 0.5)) for k, v in {**COARSE, **FULL}.items()}
     else:
-        n = {k: v * (2 if a.fine else 1) for k, v in COARSE.items()}
+        f = a.scale * (2 if a.fine else 1)
+        n = {k: max(1, int(v * f + 0.5)) for k, v in COARSE.items()}
     out = a.out or os.path.join(case, "CFD/system")
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "blockMeshDict"), "w") as fh:

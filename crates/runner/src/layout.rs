@@ -25,6 +25,54 @@ pub struct CaseLayout {
     pub validation: Option<ValidationSpec>,
     /// `CFD/constant/couplingProperties`, read once here (it also names the coupled deck).
     pub coupling: couple::CouplingConfig,
+    /// `CFD/system/controlDict`, read once here (its `application` is checked first).
+    pub control: Dict,
+}
+
+/// CFDEM solvers whose equations foamgrain's fluids do not solve, each with the reason. A case
+/// naming one in `CFD/system/controlDict` (`application`) is refused before its
+/// couplingProperties is read, so the user hears why the case cannot run rather than about
+/// the first of its models. Every other name runs (CFDEM's tutorials also name `pisoFoam`,
+/// `potentialFoam` and others there, left over from their templates).
+const UNSUPPORTED_APPLICATIONS: &[(&str, &str)] = &[
+    (
+        "cfdemSolverRhoPimpleChem",
+        "a compressible, reacting solver (rhoPimple with species transport and PFM's \
+         chemistryModels, against LIGGGHTS-PFM's `fix chem/shrink/core`); foamgrain's fluids \
+         are incompressible (PISO) and carry no species, and neither Debian's LIGGGHTS 3.8 nor \
+         the native DEM has the chemistry fixes",
+    ),
+    (
+        "rcfdemSolverRhoSteadyPimpleChem",
+        "a recurrence-based compressible, reacting solver (species transport and PFM's \
+         chemistryModels); foamgrain's fluids are incompressible (PISO) and carry no species",
+    ),
+    (
+        "cfdemSolverIB",
+        "the immersed-boundary (resolved) solver; foamgrain couples unresolved particles only",
+    ),
+    (
+        "cfdemSolverMultiphase",
+        "a VOF multiphase solver; foamgrain's fluids have one phase besides the particles",
+    ),
+];
+
+/// `application` of a coupled case's controlDict, refused when it names a solver foamgrain
+/// does not have ([`UNSUPPORTED_APPLICATIONS`]).
+fn check_application(path: &Path, control: &Dict) -> Result<(), LayoutError> {
+    let Ok(app) = control.word("application") else {
+        return Ok(());
+    };
+    match UNSUPPORTED_APPLICATIONS
+        .iter()
+        .find(|(name, _)| *name == app)
+    {
+        Some((name, why)) => Err(LayoutError::Entry {
+            path: path.to_path_buf(),
+            msg: format!("application `{name}` is not supported: it is {why}"),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The reference a case is checked against (`type` in `validationDict`).
@@ -251,6 +299,15 @@ impl CaseLayout {
                 what: "couplingProperties",
             });
         }
+        let control_path = cfd.join("system/controlDict");
+        if !control_path.is_file() {
+            return Err(LayoutError::Missing {
+                path: control_path,
+                what: "the CFD case's controlDict",
+            });
+        }
+        let control = foam::parse_file(&control_path)?.body;
+        check_application(&control_path, &control)?;
         // CFDEM names the coupled deck in couplingProperties (`twoWayMPIProps/liggghtsPath`,
         // relative to the CFD case); without it, DEM/in.liggghts_run.
         let config = couple::CouplingConfig::read(&coupling)?;
@@ -282,6 +339,7 @@ impl CaseLayout {
             run_deck,
             validation,
             coupling: config,
+            control,
         })
     }
 
@@ -348,6 +406,34 @@ mod tests {
         assert!(err.contains("CFD") && err.contains("not found"), "{err}");
         std::fs::create_dir_all(dir.path().join("CFD/constant")).unwrap();
         std::fs::create_dir_all(dir.path().join("DEM")).unwrap();
+        let err = CaseLayout::open(dir.path()).unwrap_err().to_string();
+        assert!(err.contains("couplingProperties"), "{err}");
+    }
+
+    #[test]
+    fn a_reacting_cfdem_case_is_refused_by_its_application() {
+        // PFM's cfdemSolverRhoPimpleChem tutorials select `chemistryModels (species …)` and
+        // `reactionHeat`; the user must hear that the solver is missing, not about a model
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir_all(dir.path().join("CFD/constant")).unwrap();
+        std::fs::create_dir_all(dir.path().join("CFD/system")).unwrap();
+        std::fs::create_dir_all(dir.path().join("DEM")).unwrap();
+        std::fs::write(
+            dir.path().join("CFD/constant/couplingProperties"),
+            "chemistryModels ( species );\nenergyModels ( reactionHeat );\n",
+        )
+        .unwrap();
+        let control = dir.path().join("CFD/system/controlDict");
+        std::fs::write(&control, "application cfdemSolverRhoPimpleChem;\n").unwrap();
+        let err = CaseLayout::open(dir.path()).unwrap_err().to_string();
+        assert!(
+            err.contains("controlDict")
+                && err.contains("cfdemSolverRhoPimpleChem")
+                && err.contains("incompressible"),
+            "{err}"
+        );
+        // an application foamgrain runs goes on to couplingProperties (which is bad here)
+        std::fs::write(&control, "application cfdemSolverPiso;\n").unwrap();
         let err = CaseLayout::open(dir.path()).unwrap_err().to_string();
         assert!(err.contains("couplingProperties"), "{err}");
     }

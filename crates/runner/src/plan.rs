@@ -121,7 +121,7 @@ impl RunPlan {
         warnings.extend(commands.warnings.iter().cloned());
         let case = foam::Case::open(&layout.cfd)?;
         let control = ControlDict {
-            body: case.control_dict()?,
+            body: layout.control.clone(),
             path: layout.cfd.join("system/controlDict"),
         };
         if opts.fluid == FluidBackend::Native {

@@ -363,8 +363,10 @@ pub const ENERGY: Family = Family {
             refuse(
                 "it reads the per-particle heat of reaction `reactionHeat` that LIGGGHTS-PFM's \
                  `fix couple/cfd/chemistry` (with `fix chem/shrink/core`) writes; neither \
-                 Debian's LIGGGHTS 3.8 nor foamgrain's DEM has those fixes, and chemistry is \
-                 not implemented",
+                 Debian's LIGGGHTS 3.8 nor foamgrain's DEM has those fixes, and only PFM's \
+                 compressible, reacting solvers (cfdemSolverRhoPimpleChem, \
+                 rcfdemSolverRhoSteadyPimpleChem) select it; foamgrain's fluids are \
+                 incompressible",
             ),
         ),
         (
@@ -387,23 +389,24 @@ pub const THERM_COND: Family = Family {
     ],
 };
 
+/// Why PFM's chemistry models are refused: they exist for its compressible, reacting solvers.
+const REACTING: &str = "PFM's chemistry models serve its compressible, reacting solvers \
+    (cfdemSolverRhoPimpleChem, rcfdemSolverRhoSteadyPimpleChem: species transport against \
+    LIGGGHTS-PFM's `fix chem/shrink/core`; the 10 of the 53 couplingProperties in PFM's tutorials \
+    that select one all belong to them); foamgrain's fluids are incompressible (PISO) and carry no species, and \
+    neither Debian's LIGGGHTS 3.8 nor the native DEM has the chemistry fixes";
+
 /// `chemistryModels` (CFDEM-PFM).
 pub const CHEMISTRY: Family = Family {
     key: "chemistryModels",
     models: &[
         ("off", SAME),
         ("noChemistry", SAME),
-        ("species", refuse("chemistry is not implemented")),
-        (
-            "diffusionCoefficients",
-            refuse("chemistry is not implemented"),
-        ),
-        ("massTransferCoeff", refuse("chemistry is not implemented")),
-        (
-            "reactantPerParticle",
-            refuse("chemistry is not implemented"),
-        ),
-        ("initMultiLayers", refuse("chemistry is not implemented")),
+        ("species", refuse(REACTING)),
+        ("diffusionCoefficients", refuse(REACTING)),
+        ("massTransferCoeff", refuse(REACTING)),
+        ("reactantPerParticle", refuse(REACTING)),
+        ("initMultiLayers", refuse(REACTING)),
     ],
 };
 
