@@ -255,7 +255,15 @@ fn erfc(x: f64) -> f64 {
 /// t = 4 s, zeroGradient ends 4 diffusion lengths away) on `n` cells with `steps` Euler steps,
 /// against T = ½ erfc((x − 0.5)/(2√(αt))).
 fn step_diffusion_error(n: usize, steps: usize) -> f64 {
+    step_diffusion_error_as(n, steps, false)
+}
+
+/// [`step_diffusion_error`], with `pfm` the diffusivity given as CFDEMcoupling-PFM's
+/// `DT [0 2 -1 0 0 0 0] 1e-3;` in place of Pr and Prt, and ν ten times α (U = 0, so ν moves
+/// nothing but a diffusivity wrongly taken as ν/Pr).
+fn step_diffusion_error_as(n: usize, steps: usize, pfm: bool) -> f64 {
     let (alpha, t_end) = (1e-3, 4.0);
+    let nu = if pfm { 10.0 * alpha } else { alpha };
     let dir = tempfile::tempdir().unwrap();
     let m = mesh::build::uniform_box([0.0; 3], [1.0, 0.1, 0.1], [n, 1, 1]);
     let wall = ["type noSlip;", "type zeroGradient;", "type zeroGradient;"];
@@ -280,7 +288,15 @@ fn step_diffusion_error(n: usize, steps: usize) -> f64 {
         t_internal: format!("nonuniform List<scalar> {n} ({})", cells.join(" ")),
     };
     let dt = t_end / steps as f64;
-    write_heat_case(dir.path(), m, &patches, &spec(alpha, dt, t_end), &heat);
+    write_heat_case(dir.path(), m, &patches, &spec(nu, dt, t_end), &heat);
+    if pfm {
+        replace(
+            dir.path(),
+            "constant/transportProperties",
+            "Pr [0 0 0 0 0 0 0] 1;\nPrt 0.85;\n",
+            &format!("DT [0 2 -1 0 0 0 0] {alpha};\n"),
+        );
+    }
     let mut fluid = heat_fluid(dir.path()).unwrap();
     for _ in 0..steps {
         fluid.advance(dt).unwrap();
@@ -315,6 +331,15 @@ fn diffusion_from_a_step_matches_erfc() {
     eprintln!("step diffusion: max error {e1:.3e} (100 cells), {e2:.3e} (200 cells)");
     assert!(e1 / e2 > 3.0, "{e1} {e2}");
     assert!(e2 < 3e-4, "{e2}");
+}
+
+/// (b') The same with PFM's constant `DT` instead of Pr and Prt (PFM's cfdemSolverPisoScalar,
+/// its packedBedTemp): the same erfc, to the same bound on 200 cells.
+#[test]
+fn pfm_dt_diffusion_from_a_step_matches_erfc() {
+    let e = step_diffusion_error_as(200, 1600, true);
+    eprintln!("step diffusion with DT: max error {e:.3e} (200 cells)");
+    assert!(e < 3e-4, "{e}");
 }
 
 /// A closed 2-D box (no-slip walls, U = 0), T zeroGradient everywhere, T0 = 300 K.

@@ -124,7 +124,8 @@ pub struct HeatFlow<'a> {
 
 impl Temperature {
     /// Reads `T` (it must exist), `alphat` and `Tsource` (when present) of the time directory
-    /// `dir`, with the conditions of [`bc`]; `phi` the start time's face fluxes (inletOutlet):
+    /// `dir` (`alphat` only with Pr and Prt), with the conditions of [`bc`]; `phi` the start
+    /// time's face fluxes (inletOutlet):
     /// the directory's `phi` when it has one, else the flux of U with ε ≡ 1.
     pub fn read(
         dir: &Path,
@@ -146,7 +147,9 @@ impl Temperature {
         })?;
         // inletOutlet faces as OpenFOAM evaluates them with the start flux
         t.evaluate(g, phi);
-        let alphat = if dir.join("alphat").is_file() {
+        // PFM's constant DT reads no alphat (its solver has no turbulent diffusivity)
+        let with_alphat = settings.diffusivity.turbulent_prandtl().is_some();
+        let alphat = if with_alphat && dir.join("alphat").is_file() {
             Some(ScalarField::read(dir, "alphat", g, |path, file| {
                 bc::read_alphat(path, file, mesh, g, &t.bcs)
             })?)
@@ -282,11 +285,18 @@ impl Temperature {
     /// after updating α_t = ν_t/Prt (cells; boundary faces by α_t's conditions, `calculated`
     /// and the accepted wall functions ν_t,b/Prt; without an `alphat` file ν_t,b/Prt).
     fn diffusivity(&mut self, g: &FvGeometry, flow: &HeatFlow<'_>) -> Vec<f64> {
-        let (prt, alpha) = (self.settings.prt, flow.nu / self.settings.pr);
+        let alpha = self.settings.diffusivity.laminar(flow.nu);
         let zeros = (vec![0.0; g.n_cells], vec![0.0; g.n_boundary()]);
         let (nut_c, nut_b) = flow.nut.unwrap_or((&zeros.0, &zeros.1));
-        let mut at_c: Vec<f64> = nut_c.iter().map(|n| n / prt).collect();
-        let mut at_b: Vec<f64> = nut_b.iter().map(|n| n / prt).collect();
+        // PFM's constant DT has no turbulent part (and reads no alphat)
+        let prt = self.settings.diffusivity.turbulent_prandtl();
+        let (mut at_c, mut at_b): (Vec<f64>, Vec<f64>) = match prt {
+            Some(prt) => (
+                nut_c.iter().map(|n| n / prt).collect(),
+                nut_b.iter().map(|n| n / prt).collect(),
+            ),
+            None => zeros.clone(),
+        };
         if let Some(a) = &mut self.alphat {
             a.cells.clone_from(&at_c);
             for (p, bc) in g.patches.iter().zip(&a.bcs) {

@@ -3,7 +3,12 @@
 //! numbers of `constant/transportProperties` and the schemes and solver of cfdemSolverPisoScalar's
 //! T equation (CFDEMcoupling-PUBLIC `applications/solvers/cfdemSolverPisoScalar`):
 //!
-//! * `Pr`, `Prt` (dimensionless, > 0): `Pr [0 0 0 0 0 0 0] 0.7;` or `Pr 0.7;`;
+//! * `Pr`, `Prt` (dimensionless, > 0): `Pr [0 0 0 0 0 0 0] 0.7;` or `Pr 0.7;`
+//!   (CFDEMcoupling-PUBLIC's cfdemSolverPisoScalar: α_eff = ν/Pr + ν_t/Prt); or, without them,
+//!   `DT` (m²/s, > 0), CFDEMcoupling-PFM's cfdemSolverPisoScalar, whose T equation has the
+//!   same form with the constant α_eff = DT (no turbulent part; its `Laplacian` term is named
+//!   `laplacian((DT*voidfraction),T)`). Both solvers carry the same application name, so the
+//!   keys decide: Pr and Prt first;
 //! * fvSchemes `div(phi,T)` (else `default`): `Gauss linear`, `Gauss upwind`,
 //!   `Gauss limitedLinear ψ`, each may be `bounded` ([`crate::convection`]);
 //!   `laplacian((alphaEff*voidfraction),T)` — the name OpenFOAM gives the solver's term (the
@@ -32,10 +37,8 @@ use std::path::Path;
 /// The settings of the temperature equation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TemperatureSettings {
-    /// Laminar Prandtl number Pr = ν/α (dimensionless): the molecular diffusivity is ν/Pr.
-    pub pr: f64,
-    /// Turbulent Prandtl number Prt (dimensionless): α_t = ν_t/Prt.
-    pub prt: f64,
+    /// The fluid's thermal diffusivity α_eff.
+    pub diffusivity: Diffusivity,
     /// `div(phi,T)`, the `T` solver (`crank_nicolson` is always `None`: Euler).
     pub scheme: ScalarScheme,
     /// CFDEM-PFM's bed conductivity model (`thermCondModel`), set by the coupling; `None`
@@ -44,8 +47,54 @@ pub struct TemperatureSettings {
     pub bed: Option<crate::temperature::conduction::BedConduction>,
 }
 
+/// The fluid's thermal diffusivity α_eff (m²/s) in the T equation's `laplacian(α_eff ε, T)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Diffusivity {
+    /// CFDEMcoupling-PUBLIC: α_eff = ν/Pr + ν_t/Prt, Pr and Prt dimensionless.
+    Prandtl {
+        /// Laminar Prandtl number Pr = ν/α: the molecular diffusivity is ν/Pr.
+        pr: f64,
+        /// Turbulent Prandtl number Prt: α_t = ν_t/Prt.
+        prt: f64,
+    },
+    /// CFDEMcoupling-PFM: α_eff = DT, a constant (m²/s), laminar or not.
+    Constant {
+        /// DT, m²/s.
+        dt: f64,
+    },
+}
+
+impl Diffusivity {
+    /// The molecular part (m²/s) for the laminar kinematic viscosity `nu` (m²/s).
+    pub fn laminar(self, nu: f64) -> f64 {
+        match self {
+            Diffusivity::Prandtl { pr, .. } => nu / pr,
+            Diffusivity::Constant { dt } => dt,
+        }
+    }
+
+    /// Prt, when the turbulent viscosity adds α_t = ν_t/Prt; `None` for a constant DT.
+    pub fn turbulent_prandtl(self) -> Option<f64> {
+        match self {
+            Diffusivity::Prandtl { prt, .. } => Some(prt),
+            Diffusivity::Constant { .. } => None,
+        }
+    }
+
+    /// The name OpenFOAM gives the equation's Laplacian term, the fvSchemes key.
+    pub fn laplacian_key(self) -> &'static str {
+        match self {
+            Diffusivity::Prandtl { .. } => LAPLACIAN_KEY,
+            Diffusivity::Constant { .. } => DT_LAPLACIAN_KEY,
+        }
+    }
+}
+
 /// The term OpenFOAM names the T equation's Laplacian by (`fvm::laplacian(alphaEff*voidfraction, T)`).
 pub const LAPLACIAN_KEY: &str = "laplacian((alphaEff*voidfraction),T)";
+
+/// PFM's name of that term (`fvm::laplacian(DT*voidfraction, T)`).
+pub const DT_LAPLACIAN_KEY: &str = "laplacian((DT*voidfraction),T)";
 
 impl TemperatureSettings {
     /// Reads the temperature settings of `case` (see the module documentation); every
@@ -54,8 +103,7 @@ impl TemperatureSettings {
         let root = case.root();
         let tp_file = root.join("constant/transportProperties");
         let tp = case.read_dict("constant/transportProperties")?;
-        let pr = prandtl(&tp, &tp_file, "Pr")?;
-        let prt = prandtl(&tp, &tp_file, "Prt")?;
+        let diffusivity = diffusivity(&tp, &tp_file)?;
 
         let sch_file = root.join("system/fvSchemes");
         let sch = case.read_dict("system/fvSchemes")?;
@@ -75,7 +123,7 @@ impl TemperatureSettings {
                 ),
             ));
         }
-        laplacian(&sch, &sch_file)?;
+        laplacian(&sch, &sch_file, diffusivity.laplacian_key())?;
         for entry in ["ddt(voidfraction,T)", "ddt(voidfraction)"] {
             let (w, key) = scheme_words(&sch, &sch_file, "ddtSchemes", entry)?;
             if w != ["Euler"] {
@@ -103,8 +151,7 @@ impl TemperatureSettings {
         relaxation(&sol, &sol_file)?;
         let solver = linear_solver(&sol, &sol_file, "T")?;
         Ok(TemperatureSettings {
-            pr,
-            prt,
+            diffusivity,
             scheme: ScalarScheme {
                 convection,
                 bounded,
@@ -116,29 +163,38 @@ impl TemperatureSettings {
     }
 }
 
-/// `Pr` or `Prt` of transportProperties: a positive number, with or without a dimension set.
-fn prandtl(tp: &Dict, file: &Path, key: &str) -> Result<f64> {
-    match dimensioned(tp, file, key)? {
-        Some(v) if v > 0.0 => Ok(v),
-        Some(v) => Err(err(file, key, format!("{v} is not a positive number"))),
-        None => Err(err(
+/// `Pr` and `Prt` of transportProperties (PUBLIC's form) or, when neither is given, `DT`
+/// (PFM's); each a positive number, with or without a dimension set.
+fn diffusivity(tp: &Dict, file: &Path) -> Result<Diffusivity> {
+    let positive = |key: &str| -> Result<Option<f64>> {
+        match dimensioned(tp, file, key)? {
+            Some(v) if v > 0.0 => Ok(Some(v)),
+            Some(v) => Err(err(file, key, format!("{v} is not a positive number"))),
+            None => Ok(None),
+        }
+    };
+    match (positive("Pr")?, positive("Prt")?, positive("DT")?) {
+        (Some(pr), Some(prt), _) => Ok(Diffusivity::Prandtl { pr, prt }),
+        (None, None, Some(dt)) => Ok(Diffusivity::Constant { dt }),
+        (pr, _, _) => Err(err(
             file,
-            key,
+            if pr.is_some() { "Prt" } else { "Pr" },
             "missing: the temperature equation needs the laminar and turbulent Prandtl \
-             numbers `Pr` and `Prt`",
+             numbers `Pr` and `Prt` (CFDEMcoupling-PUBLIC's cfdemSolverPisoScalar), or the \
+             thermal diffusivity `DT` in m²/s without them (CFDEMcoupling-PFM's)",
         )),
     }
 }
 
-/// The T Laplacian's scheme must be the momentum Laplacian's (the fluid's delta coefficients
-/// and non-orthogonal correction).
-fn laplacian(sch: &Dict, sch_file: &Path) -> Result<()> {
+/// The T Laplacian's scheme (fvSchemes key `name`) must be the momentum Laplacian's (the
+/// fluid's delta coefficients and non-orthogonal correction).
+fn laplacian(sch: &Dict, sch_file: &Path, name: &str) -> Result<()> {
     let mom = scheme_group(sch, sch_file, "laplacianSchemes", MOMENTUM_LAPLACIANS)?
         .into_iter()
         .next()
         .map(|(w, _)| w)
         .unwrap_or_default();
-    let (lap, key) = scheme_words(sch, sch_file, "laplacianSchemes", LAPLACIAN_KEY)?;
+    let (lap, key) = scheme_words(sch, sch_file, "laplacianSchemes", name)?;
     if lap != mom {
         return Err(err(
             sch_file,
