@@ -59,6 +59,7 @@ pub mod fluid;
 pub mod frozen;
 pub mod fv_options;
 pub mod fvc;
+pub mod gather;
 pub mod geometry;
 pub mod ldu;
 pub mod linsolve;

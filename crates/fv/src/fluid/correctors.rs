@@ -8,6 +8,7 @@ use super::coefficients::Correctors;
 use super::{Fluid, Levels, MomentumEqn, StepReport};
 use crate::error::Result;
 use crate::fvc::{self, Field};
+use crate::gather;
 use crate::geometry::{FvGeometry, V3};
 use crate::ldu::Ldu;
 use crate::linsolve;
@@ -186,14 +187,6 @@ impl Fluid {
         let gamma = &cs.gamma;
         // Pressure matrix (symmetric positive definite with a fixed-value patch or ref cell).
         let mut pm = Ldu::zeros(g);
-        let mut src = vec![0.0; n];
-        for f in 0..g.n_internal {
-            let c = gamma[f] * g.mag_sf[f] * self.lap_dc[f];
-            pm.upper[f] = -c;
-            pm.lower[f] = -c;
-            pm.diag[g.owner[f] as usize] += c;
-            pm.diag[g.neighbour[f] as usize] += c;
-        }
         let p_fixed: Vec<bool> = {
             let mut v = vec![false; nb];
             for (patch, bc) in g.patches.iter().zip(&self.p_bc) {
@@ -205,21 +198,40 @@ impl Fluid {
             }
             v
         };
-        for f in g.n_internal..g.n_faces() {
-            let bi = f - g.n_internal;
-            if p_fixed[bi] {
-                let c = gamma[f] * g.mag_sf[f] * self.lap_dc[f];
-                let o = g.owner[f] as usize;
-                pm.diag[o] += c;
-                src[o] += c * self.p_b[bi];
-            }
+        // γ_f|S|δ per face (in parallel), each cell's sum over its faces in face order
+        // (crate::gather: the face loops' bits).
+        let coef: Vec<f64> = (0..g.n_faces())
+            .into_par_iter()
+            .map(|f| gamma[f] * g.mag_sf[f] * self.lap_dc[f])
+            .collect();
+        for f in 0..g.n_internal {
+            pm.upper[f] = -coef[f];
+            pm.lower[f] = -coef[f];
         }
+        let fixed = |f: usize| f >= g.n_internal && p_fixed[f - g.n_internal];
         let div_star = fvc::surface_integrate(g, phi_star);
-        for c in 0..n {
-            src[c] -= div_star[c] * g.v[c];
+        let sums = gather::face_sums(
+            g,
+            |_| (0.0, 0.0),
+            |(d, s), f, _| {
+                if f < g.n_internal {
+                    (d + coef[f], s)
+                } else if fixed(f) {
+                    (d + coef[f], s + coef[f] * self.p_b[f - g.n_internal])
+                } else {
+                    (d, s)
+                }
+            },
+        );
+        let mut src = gather::cells(n, |c| {
+            let mut s = sums[c].1 - div_star[c] * g.v[c];
             if self.ddt_voidage {
-                src[c] -= g.v[c] * cs.ddt_eps[c];
+                s -= g.v[c] * cs.ddt_eps[c];
             }
+            s
+        });
+        for (d, s) in pm.diag.iter_mut().zip(&sums) {
+            *d = s.0;
         }
         if !cs.fixes_p {
             let (rc, rv) = self.settings.p_ref;
@@ -257,16 +269,22 @@ impl Fluid {
             let mut rhs = peq.src.clone();
             if corrected {
                 let gp = fvc::grad_scalar(g, &p, &self.p_b);
-                for f in 0..g.n_internal {
+                nonorth_flux.par_iter_mut().enumerate().for_each(|(f, nf)| {
                     let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                     let w = g.weight[f];
                     let gf: V3 = V3::from_fn(|i, _| w * (gp[o][i] - gp[nb_][i]) + gp[nb_][i]);
-                    nonorth_flux[f] = gamma[f] * g.mag_sf[f] * g.corr_vec[f].dot(&gf);
-                }
-                for f in 0..g.n_internal {
-                    rhs[g.owner[f] as usize] += nonorth_flux[f];
-                    rhs[g.neighbour[f] as usize] -= nonorth_flux[f];
-                }
+                    *nf = gamma[f] * g.mag_sf[f] * g.corr_vec[f].dot(&gf);
+                });
+                let nf = &nonorth_flux;
+                rhs = gather::face_sums(
+                    g,
+                    |c| peq.src[c],
+                    |r, f, own| match (f < g.n_internal, own) {
+                        (false, _) => r,
+                        (true, true) => r + nf[f],
+                        (true, false) => r - nf[f],
+                    },
+                );
             }
             let last = last_corr && nonorth == self.settings.n_non_orth;
             let ctl = if last {
@@ -293,11 +311,15 @@ impl Fluid {
         }
         let phi_star = &fluxes.star;
         // Rhie–Chow face flux from the pressure solution.
-        for f in 0..g.n_internal {
-            let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
-            self.phi[f] = phi_star[f]
-                - (gamma[f] * g.mag_sf[f] * self.lap_dc[f] * (p[nb_] - p[o]) + nonorth_flux[f]);
-        }
+        let lap_dc = &self.lap_dc;
+        self.phi[..g.n_internal]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(f, phi)| {
+                let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                *phi = phi_star[f]
+                    - (gamma[f] * g.mag_sf[f] * lap_dc[f] * (p[nb_] - p[o]) + nonorth_flux[f]);
+            });
         for f in g.n_internal..g.n_faces() {
             let bi = f - g.n_internal;
             if peq.p_fixed[bi] {
@@ -339,10 +361,8 @@ impl Fluid {
                 };
             }
         } else {
-            for c in 0..n {
-                let k = kappa[c];
-                self.u[c] = hbya[c] - (k * self.grad_p[c]);
-            }
+            let grad_p = &self.grad_p;
+            gather::each_mut(&mut self.u, |c, u| *u = hbya[c] - (kappa[c] * grad_p[c]));
         }
         self.update_u_boundary(t_new);
         for s in &mut self.mean_forces {

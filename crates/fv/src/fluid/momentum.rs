@@ -7,11 +7,25 @@ use super::{Fluid, Levels, StepReport};
 use crate::bc;
 use crate::error::Result;
 use crate::fvc::{self, Field};
+use crate::gather;
 use crate::geometry::V3;
 use crate::ldu::{Ldu, PAR_MIN};
 use crate::linsolve;
 use crate::settings::SnGrad;
 use rayon::prelude::*;
+
+/// The coefficients of one internal face in the momentum matrix ([`Fluid::face_terms`]).
+struct FaceTerms {
+    /// Upper and lower coefficient (m³/s).
+    upper: f64,
+    lower: f64,
+    /// Its part of the owner's and the neighbour's diagonal (m³/s).
+    d_o: f64,
+    d_n: f64,
+    /// The non-orthogonal correction's flux, + to the owner's source, − to the neighbour's
+    /// (m⁴/s²).
+    corr: V3,
+}
 
 /// The momentum equation of a step, fixed through its correctors.
 pub(super) struct MomentumEqn {
@@ -42,8 +56,6 @@ impl Fluid {
         let (cd, cd_diag, cd_b) = self.conv_diff(&nu_f, &grad_u);
         let g = &self.g;
         let m = cd;
-        let mut diag: Vec<V3> = vec![V3::zeros(); n];
-        let mut b: Vec<V3> = vec![V3::zeros(); n];
         let stress = if self.settings.full_stress {
             let fl = fvc::dev2_transpose_flux(
                 g,
@@ -55,10 +67,12 @@ impl Fluid {
         } else {
             vec![V3::zeros(); n]
         };
-        for k in 0..3 {
-            for c in 0..n {
-                let v = g.v[c];
-                let ksl = self.ksl[c] / rho * v;
+        // Each cell on its own (in parallel on large meshes; the same bits).
+        let cell = |c: usize| {
+            let (mut d, mut bc) = (V3::zeros(), V3::zeros());
+            let v = g.v[c];
+            let ksl = self.ksl[c] / rho * v;
+            for k in 0..3 {
                 let (ddt, mut old_source) = match self.cn {
                     // OpenFOAM's CrankNicolson fvmDdt: diag c/Δt ε V, source (c/Δt ε°U° + ψ d₀) V
                     Some(_) => (lv.cn_r * self.eps[c] * v, lv.cn_src[c][k] * v),
@@ -79,10 +93,12 @@ impl Fluid {
                 for s in &self.mean_forces {
                     rhs += v * s.source(c)[k];
                 }
-                diag[c][k] = cd_diag[c][k] + ddt + ksl;
-                b[c][k] = rhs;
+                d[k] = cd_diag[c][k] + ddt + ksl;
+                bc[k] = rhs;
             }
-        }
+            (d, bc)
+        };
+        let (diag, b): (Vec<V3>, Vec<V3>) = gather::cells(n, cell).into_iter().unzip();
         let a_mean: Vec<f64> = (0..n)
             .map(|c| (diag[c][0] + diag[c][1] + diag[c][2]) / 3.0 / g.v[c])
             .collect();
@@ -124,9 +140,9 @@ impl Fluid {
         let solve_one = |k: usize| -> Result<(Vec<f64>, linsolve::SolveStats)> {
             let mut m = eqn.m.clone();
             m.diag = eqn.diag.iter().map(|d| d[k]).collect();
-            let rhs: Vec<f64> = (0..n)
-                .map(|c| eqn.b[c][k] - g.v[c] * self.kappa_p(c) * self.grad_p[c][k])
-                .collect();
+            let rhs: Vec<f64> = gather::cells(n, |c| {
+                eqn.b[c][k] - g.v[c] * self.kappa_p(c) * self.grad_p[c][k]
+            });
             let mut x: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
             let what = ["Ux", "Uy", "Uz"][k];
             let s = linsolve::solve(solver.method, &m, g, &rhs, &mut x, &solver.controls, what)?;
@@ -168,45 +184,62 @@ impl Fluid {
 
     /// Convection (flux φ, current) and diffusion (ε νeff at faces, `nu_f`) of the momentum
     /// equation: off-diagonal matrix, per-component diagonal and source (including boundary
-    /// contributions and the explicit non-orthogonal correction).
+    /// contributions and the explicit non-orthogonal correction). The faces' terms are formed
+    /// in parallel and each cell gathers its faces' in face order ([`crate::gather`]: the bits
+    /// of OpenFOAM's scatter loops).
     fn conv_diff(&self, nu_f: &[f64], grad_u: &[crate::fvc::Tensor]) -> (Ldu, Vec<V3>, Vec<V3>) {
         let g = &self.g;
-        let mut m = Ldu::zeros(g);
-        let mut diag = vec![V3::zeros(); g.n_cells];
-        let mut b = vec![V3::zeros(); g.n_cells];
+        let ni = g.n_internal;
         let corrected = self.settings.sn_grad == SnGrad::Corrected;
         let conv = self.settings.convection;
         let weights = conv.weights(g, &self.phi, &self.u, &self.u_b, grad_u);
-        for f in 0..g.n_internal {
-            let (o, nn) = (g.owner[f] as usize, g.neighbour[f] as usize);
-            let phi = self.phi[f];
-            let w = weights[f];
-            let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
-            m.upper[f] = phi * (1.0 - w) - gam;
-            m.lower[f] = -phi * w - gam;
-            let d_o = phi * w + gam;
-            let d_n = -phi * (1.0 - w) + gam;
-            for k in 0..3 {
-                diag[o][k] += d_o;
-                diag[nn][k] += d_n;
-            }
-            if corrected {
-                let wf = g.weight[f];
-                let kv = g.corr_vec[f];
-                let c = nu_f[f] * g.mag_sf[f];
-                for j in 0..3 {
-                    let mut s = 0.0;
-                    for i in 0..3 {
-                        s += kv[i]
-                            * (wf * (grad_u[o][(i, j)] - grad_u[nn][(i, j)]) + grad_u[nn][(i, j)]);
-                    }
-                    b[o][j] += c * s;
-                    b[nn][j] -= c * s;
-                }
-            }
+        let faces: Vec<FaceTerms> = (0..ni)
+            .into_par_iter()
+            .map(|f| self.face_terms(f, weights[f], nu_f, grad_u, corrected))
+            .collect();
+        let mut m = Ldu::zeros(g);
+        for (f, t) in faces.iter().enumerate() {
+            m.upper[f] = t.upper;
+            m.lower[f] = t.lower;
         }
         let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
-        self.add_boundary_terms(nu_f, &vi, &self.u_b, Some(&mut diag), &mut b);
+        let (u, u_b) = (&self.u, &self.u_b);
+        let sums = gather::face_sums(
+            g,
+            |_| (V3::zeros(), V3::zeros()),
+            |(mut d, mut b), f, own| {
+                if f < ni {
+                    let t = &faces[f];
+                    let dd = if own { t.d_o } else { t.d_n };
+                    for k in 0..3 {
+                        d[k] += dd;
+                    }
+                    if corrected {
+                        for j in 0..3 {
+                            if own {
+                                b[j] += t.corr[j];
+                            } else {
+                                b[j] -= t.corr[j];
+                            }
+                        }
+                    }
+                } else {
+                    // The boundary face's part: with U_b = vi ⊙ U_P + vb, the implicit
+                    // φ vi + a_f|S|δ (1 − vi) and the explicit (−φ + a_f|S|δ) vb.
+                    let bi = f - ni;
+                    let o = g.owner[f] as usize;
+                    let phi = self.phi[f];
+                    let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
+                    for k in 0..3 {
+                        d[k] += phi * vi[bi][k] + gam * (1.0 - vi[bi][k]);
+                        let vb = u_b[bi][k] - vi[bi][k] * u[o][k];
+                        b[k] += -phi * vb + gam * vb;
+                    }
+                }
+                (d, b)
+            },
+        );
+        let (mut diag, mut b): (Vec<V3>, Vec<V3>) = sums.into_iter().unzip();
         // linearUpwind's explicit part: the source loses V ∇·(φ c) (OpenFOAM's
         // `fvm += fvc::surfaceIntegrate(faceFlux*correction)`).
         if let Some(corr) = conv.correction(g, &self.phi, &self.u, grad_u) {
@@ -231,34 +264,42 @@ impl Fluid {
         (m, diag, b)
     }
 
-    /// Adds the boundary faces' part of convection and diffusion: with the face value
-    /// U_b = vi ⊙ U_P + vb (vi from [`bc::velocity_value_coeffs`], `u_b` the face values), the
-    /// implicit φ vi + a_f|S|δ (1 − vi) to `diag` (when given) and the explicit
-    /// (−φ + a_f|S|δ) vb to `b` (a_f = ε νeff at the face, `nu_f`).
-    fn add_boundary_terms(
+    /// The terms of internal face `f` in the momentum matrix, for the convection weight `w`
+    /// of the owner, ε νeff at the faces `nu_f` and ∇U `grad_u` (OpenFOAM's `fvm::div` and
+    /// `fvm::laplacian` coefficients, and with `corrected` the non-orthogonal flux
+    /// a_f|S| k·(∇U)_f of `laplacian(…, U)`'s explicit part).
+    fn face_terms(
         &self,
+        f: usize,
+        w: f64,
         nu_f: &[f64],
-        vi: &[V3],
-        u_b: &[V3],
-        mut diag: Option<&mut Vec<V3>>,
-        b: &mut [V3],
-    ) {
+        grad_u: &[crate::fvc::Tensor],
+        corrected: bool,
+    ) -> FaceTerms {
         let g = &self.g;
-        for f in g.n_internal..g.n_faces() {
-            let bi = f - g.n_internal;
-            if g.boundary_empty[bi] {
-                continue;
-            }
-            let o = g.owner[f] as usize;
-            let phi = self.phi[f];
-            let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
-            for k in 0..3 {
-                if let Some(d) = diag.as_deref_mut() {
-                    d[o][k] += phi * vi[bi][k] + gam * (1.0 - vi[bi][k]);
+        let (o, nn) = (g.owner[f] as usize, g.neighbour[f] as usize);
+        let phi = self.phi[f];
+        let gam = nu_f[f] * g.mag_sf[f] * self.lap_dc[f];
+        let mut corr = V3::zeros();
+        if corrected {
+            let wf = g.weight[f];
+            let kv = g.corr_vec[f];
+            let c = nu_f[f] * g.mag_sf[f];
+            for j in 0..3 {
+                let mut s = 0.0;
+                for i in 0..3 {
+                    s += kv[i]
+                        * (wf * (grad_u[o][(i, j)] - grad_u[nn][(i, j)]) + grad_u[nn][(i, j)]);
                 }
-                let vb = u_b[bi][k] - vi[bi][k] * self.u[o][k];
-                b[o][k] += -phi * vb + gam * vb;
+                corr[j] = c * s;
             }
+        }
+        FaceTerms {
+            upper: phi * (1.0 - w) - gam,
+            lower: -phi * w - gam,
+            d_o: phi * w + gam,
+            d_n: -phi * (1.0 - w) + gam,
+            corr,
         }
     }
 }

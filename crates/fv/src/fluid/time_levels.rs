@@ -6,6 +6,7 @@
 use super::{Fluid, OldLevel};
 use crate::ddt::DdtCoeffs;
 use crate::fvc::{self, Field};
+use crate::gather;
 use crate::geometry::V3;
 use crate::settings::TimeScheme;
 
@@ -85,10 +86,9 @@ impl Fluid {
         let g = &self.g;
         let uf_old = fvc::interpolate(g, Field::new(&u_old, &u_b_old));
         // U°_f·S and ddtCorr's face difference D° = φ° − ε°_f U°_f·S (m³/s)
-        let q_old: Vec<f64> = (0..g.n_faces()).map(|f| uf_old[f].dot(&g.sf[f])).collect();
-        let d_old: Vec<f64> = (0..g.n_faces())
-            .map(|f| phi_old[f] - ef_old[f] * q_old[f])
-            .collect();
+        // (each face on its own: in parallel on large meshes, the same bits)
+        let q_old: Vec<f64> = gather::cells(g.n_faces(), |f| uf_old[f].dot(&g.sf[f]));
+        let d_old: Vec<f64> = gather::cells(g.n_faces(), |f| phi_old[f] - ef_old[f] * q_old[f]);
         let mut lv = Levels {
             dt,
             t_new,

@@ -18,10 +18,12 @@ use crate::convection::Convection;
 use crate::ddt::CrankNicolsonDdt0;
 use crate::error::Result;
 use crate::fvc;
+use crate::gather;
 use crate::geometry::FvGeometry;
 use crate::ldu::Ldu;
 use crate::linsolve::{self, SolveStats};
 use crate::settings::LinearSolver;
+use rayon::prelude::*;
 
 /// What a scalar transport equation's terms are discretised with.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,25 +94,51 @@ impl ScalarEqn {
             .convection
             .scalar_weights(g, phi, x, x_b)
             .expect("settings admit only scalar schemes for k and epsilon");
-        for f in 0..g.n_internal {
-            let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
-            let w = weights[f];
-            let gam = gamma_f[f] * g.mag_sf[f] * flow.lap_dc[f];
-            m.lower[f] = -w * phi[f] - gam;
-            m.upper[f] = -w * phi[f] + phi[f] - gam;
-            m.diag[o] -= m.lower[f];
-            m.diag[nb] -= m.upper[f];
-        }
-        if flow.corrected {
+        // The faces' coefficients in parallel, each cell's diagonal and source gathered
+        // over its faces in face order (crate::gather: the face loops' bits).
+        let ni = g.n_internal;
+        let (lower, upper): (Vec<f64>, Vec<f64>) = (0..ni)
+            .into_par_iter()
+            .map(|f| {
+                let w = weights[f];
+                let gam = gamma_f[f] * g.mag_sf[f] * flow.lap_dc[f];
+                (-w * phi[f] - gam, -w * phi[f] + phi[f] - gam)
+            })
+            .unzip();
+        m.lower = lower;
+        m.upper = upper;
+        let corr: Vec<f64> = if flow.corrected {
             let gx = fvc::grad_scalar(g, x, x_b);
-            for f in 0..g.n_internal {
-                let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
-                let w = g.weight[f];
-                let gf = w * (gx[o] - gx[nb]) + gx[nb];
-                let corr = gamma_f[f] * g.mag_sf[f] * g.corr_vec[f].dot(&gf);
-                source[o] += corr;
-                source[nb] -= corr;
-            }
+            (0..ni)
+                .into_par_iter()
+                .map(|f| {
+                    let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                    let w = g.weight[f];
+                    let gf = w * (gx[o] - gx[nb]) + gx[nb];
+                    gamma_f[f] * g.mag_sf[f] * g.corr_vec[f].dot(&gf)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let sums = gather::face_sums(
+            g,
+            |_| (0.0, 0.0),
+            |(d, s), f, own| match (f < ni, own) {
+                (false, _) => (d, s),
+                (true, true) => (
+                    d - m.lower[f],
+                    if corr.is_empty() { s } else { s + corr[f] },
+                ),
+                (true, false) => (
+                    d - m.upper[f],
+                    if corr.is_empty() { s } else { s - corr[f] },
+                ),
+            },
+        );
+        for (c, (d, s)) in sums.into_iter().enumerate() {
+            m.diag[c] = d;
+            source[c] = s;
         }
         debug_assert!(
             flow.crank_nicolson.is_none() || flow.ddt_weight.is_none(),
