@@ -207,6 +207,13 @@ impl MeshPart {
     }
 }
 
+impl foam::HeapBytes for MeshPart {
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        self.mesh.heap_bytes() + flat(&self.global) + flat(&self.edge)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -359,3 +359,25 @@ impl VoidageMesh {
         }
     }
 }
+
+impl foam::HeapBytes for VoidageMesh {
+    /// Its geometry, locator, grid, its own copy of the faces and addressing, and the per-face
+    /// and per-cell records of the general kernels (planes, bins, edge directions).
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        self.geom.heap_bytes()
+            + self.locator.heap_bytes()
+            + self.grid.heap_bytes()
+            + self.faces.heap_bytes()
+            + flat(&self.owner)
+            + flat(&self.neighbour)
+            + flat(&self.cell_bounds)
+            + flat(&self.boundary_bounds)
+            + flat(&self.face_planes)
+            + flat(&self.cell_planes)
+            + flat(&self.cell_plane_start)
+            + self.bins.heap_bytes()
+            + flat(&self.planar)
+            + flat(&self.edge_axes)
+    }
+}
