@@ -191,6 +191,11 @@ impl MeshPart {
             list.push(&buf);
             owner.push(o);
         }
+        // the arrays built by pushes hold only what they keep (the part's bytes are counted
+        // by capacity, `foam::HeapBytes`)
+        global.shrink_to_fit();
+        points.shrink_to_fit();
+        neighbour.shrink_to_fit();
         Some(MeshPart {
             mesh: PolyMesh {
                 points,

@@ -247,21 +247,21 @@ impl VoidageMesh {
             .collect();
         let (cell_planes, cell_plane_start) =
             CellPlane::table(tets, &mesh.owner, &mesh.neighbour, &face_planes, &planar);
-        let edge_axes: Vec<EdgeAxes> = (0..mesh.n_faces())
-            .flat_map(|f| {
-                let face = mesh.faces.face(f);
-                let nh = face_planes[f].0;
-                let p = |i: usize| points[face[i % face.len()] as usize];
-                let planar = planar[f];
-                (0..face.len()).map(move |i| {
-                    if planar {
-                        EdgeAxes::new(p(i), p(i + 1), nh)
-                    } else {
-                        EdgeAxes::default()
-                    }
-                })
+        // one per point slot of the faces (allocated exactly: a flat_map gives no size)
+        let mut edge_axes: Vec<EdgeAxes> = Vec::with_capacity(mesh.faces.labels().len());
+        edge_axes.extend((0..mesh.n_faces()).flat_map(|f| {
+            let face = mesh.faces.face(f);
+            let nh = face_planes[f].0;
+            let p = |i: usize| points[face[i % face.len()] as usize];
+            let planar = planar[f];
+            (0..face.len()).map(move |i| {
+                if planar {
+                    EdgeAxes::new(p(i), p(i + 1), nh)
+                } else {
+                    EdgeAxes::default()
+                }
             })
-            .collect();
+        }));
         Ok(VoidageMesh {
             geom,
             grid,
