@@ -12,6 +12,10 @@
 # `benches/ranks.sh 100000 "1 2 4 8" 3 native 1 0.001 0.1` meshes the box with 100 × 100 × 100 =
 # 10⁶ cells. Each coupler rank other than 0 holds only its part of the mesh (`couple::part`):
 # the "cells held" column, and "cuts" (parts cut during the run; empty: the whole mesh).
+# "mesh MiB" and "particles MiB" are what the rank's coupler and sides hold for its cells and
+# its particles at the end (`couple::HeldBytes`, counted on the arrays; LIGGGHTS's own atom
+# arrays are not counted), "rest MiB" the end memory less both (the program, LIGGGHTS, MPI,
+# and on rank 0 the native fluid's fields).
 #
 # With FLUID=openfoam, grainPisoFoam runs on SOLVER_NP ranks of its own; on N > 1 coupler ranks
 # each rank then exchanges its touched cells straight with the solver ranks owning them (the
@@ -144,8 +148,8 @@ done
 
 python3 - "${rows[@]}" <<'PY'
 import csv, re, sys
-print("| ranks | loop s/step | DEM % | fluid % | coupling % | rank | particles | cells touched | cells held | cuts | kB sent/step | kB received/step | peak MiB | end MiB | solver kB sent/step | solver kB received/step |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+print("| ranks | loop s/step | DEM % | fluid % | coupling % | rank | particles | cells touched | cells held | cuts | kB sent/step | kB received/step | peak MiB | end MiB | mesh MiB | particles MiB | rest MiB | solver kB sent/step | solver kB received/step |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for row in sys.argv[1:]:
     n, line, path = row.split("|")
     m = re.search(r"(\d+) coupling steps.*coupled loop ([\d.]+) s: DEM ([\d.]+) % fluid ([\d.]+) % coupling ([\d.]+) %", line)
@@ -155,5 +159,7 @@ for row in sys.argv[1:]:
     for i, r in enumerate(ranks):
         head = f"| {n} | {per:.3f} | {dem} | {fl} | {cp} " if i == 0 else "| | | | | "
         kb = lambda x: f"{float(x) / 1e3:.1f}" if x else ""
-        print(head + f"| {r['rank']} | {r['particles']} | {r['cells_touched']} | {r.get('cells_held', '')} | {r.get('mesh_cuts', '')} | {kb(r['bytes_sent_per_step'])} | {kb(r['bytes_received_per_step'])} | {r['peak_memory_mib']} | {r.get('end_memory_mib', '')} | {kb(r.get('solver_bytes_sent_per_step'))} | {kb(r.get('solver_bytes_received_per_step'))} |")
+        mesh, parts, end = r.get('mesh_mib', ''), r.get('particle_mib', ''), r.get('end_memory_mib', '')
+        rest = f"{float(end) - float(mesh) - float(parts):.1f}" if mesh and parts and end else ""
+        print(head + f"| {r['rank']} | {r['particles']} | {r['cells_touched']} | {r.get('cells_held', '')} | {r.get('mesh_cuts', '')} | {kb(r['bytes_sent_per_step'])} | {kb(r['bytes_received_per_step'])} | {r['peak_memory_mib']} | {end} | {mesh} | {parts} | {rest} | {kb(r.get('solver_bytes_sent_per_step'))} | {kb(r.get('solver_bytes_received_per_step'))} |")
 PY

@@ -140,6 +140,12 @@ pub struct Population {
     total: PopulationChange,
 }
 
+impl foam::HeapBytes for Population {
+    fn heap_bytes(&self) -> usize {
+        self.last.as_ref().map_or(0, foam::heap::flat)
+    }
+}
+
 impl Population {
     /// What entered and left since the total started (the first exchange).
     pub fn total(&self) -> PopulationChange {

@@ -122,6 +122,12 @@ pub trait ParticleSide {
     fn command(&mut self, command: &str) -> Result<(), SideError> {
         Err(format!("this particle side cannot run LIGGGHTS commands (`{command}`)").into())
     }
+    /// Bytes this side holds on the heap of the coupler's process for its particles (its
+    /// copies of their state and its force buffers, [`foam::HeapBytes`]; not a DEM library's
+    /// own arrays); `None` (the default): not counted.
+    fn held_bytes(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// A CFD side.
@@ -134,4 +140,9 @@ pub trait FluidSide {
     fn advance(&mut self, dt: f64) -> Result<(), SideError>;
     /// The fluid now.
     fn state(&self) -> FluidState<'_>;
+    /// Bytes this side holds on the heap of the coupler's process, all of it growing with the
+    /// cells ([`foam::HeapBytes`]); `None` (the default): not counted.
+    fn held_bytes(&self) -> Option<usize> {
+        None
+    }
 }

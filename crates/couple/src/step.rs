@@ -87,27 +87,27 @@ pub struct CouplingStep {
 
 /// The coupler: the voidage mesh, the settings and the voidage of the last step.
 pub struct Coupler {
-    vm: VoidageMesh,
+    pub(crate) vm: VoidageMesh,
     /// The mesh's cyclic directions: centres beyond a cyclic face are placed at their image.
     periodic: PeriodicMesh,
     settings: CouplerSettings,
-    voidage: Vec<f64>,
+    pub(crate) voidage: Vec<f64>,
     /// Each particle's centre cell at the last exchange (where the search starts), for the
     /// particles `hint_ids`: followed by tag when the population changes.
-    hints: Vec<Option<Label>>,
-    hint_ids: Vec<u64>,
+    pub(crate) hints: Vec<Option<Label>>,
+    pub(crate) hint_ids: Vec<u64>,
     /// `divided`'s marker cells of the last exchange, for the particles `hint_ids`
     /// ([`voidage::memo`]: reused while a particle stays within their clearance).
-    memo: DividedMemo,
-    population: Population,
+    pub(crate) memo: DividedMemo,
+    pub(crate) population: Population,
     steps: u64,
-    spare: Spare,
+    pub(crate) spare: Spare,
     ranks: Box<dyn Ranks>,
     /// Cells this rank's particles touched in the last exchange on several ranks.
     touched: usize,
     /// On ranks other than 0: ε and the fluid at the cells this rank's particles touch
     /// (received from rank 0; other cells hold stale values that are never read).
-    remote: Remote,
+    pub(crate) remote: Remote,
     /// The fluid's cells' owners, when they are not rank 0 ([`Coupler::set_owners`]).
     owners: Option<Box<dyn CellOwners>>,
     /// The smoothing of the ε handed to the fluid ([`Coupler::set_smoothing`]).
@@ -115,8 +115,8 @@ pub struct Coupler {
     /// The Ksl form handed to the fluid ([`Coupler::set_ksl_form`]).
     ksl_form: KslForm,
     /// `virtualMassForce`'s record of the last exchange's particles ([`Before`]), by tag.
-    before: Vec<Option<Before>>,
-    before_ids: Vec<u64>,
+    pub(crate) before: Vec<Option<Before>>,
+    pub(crate) before_ids: Vec<u64>,
     /// The coupling interval Δt, s ([`Coupler::set_coupling_time_step`]).
     coupling_dt: Option<f64>,
     /// PFM's wall heat and inter-grain conduction ([`Coupler::set_bed_heat`]).
@@ -124,19 +124,19 @@ pub struct Coupler {
     /// `KochHillRWDrag`'s eddies by tag ([`crate::random_walk`]).
     random_walk: Option<crate::random_walk::RandomWalk>,
     /// The part of the mesh this rank holds, when it holds one ([`Coupler::set_part`]).
-    part: Option<crate::part::Parted>,
+    pub(crate) part: Option<crate::part::Parted>,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
 /// `n_cells` long).
 #[derive(Default)]
-struct Remote {
-    eps: Vec<f64>,
-    u: Vec<V3>,
-    p: Vec<f64>,
-    grad_p: Vec<V3>,
-    div_tau: Vec<V3>,
-    t: Vec<f64>,
+pub(crate) struct Remote {
+    pub(crate) eps: Vec<f64>,
+    pub(crate) u: Vec<V3>,
+    pub(crate) p: Vec<f64>,
+    pub(crate) grad_p: Vec<V3>,
+    pub(crate) div_tau: Vec<V3>,
+    pub(crate) t: Vec<f64>,
 }
 
 /// Values per cell rank 0 sends each rank: ε, U (3), p, ∇p (3), ∇·τ (3); with heat T after
@@ -150,17 +150,17 @@ const EXCHANGE_WIDTH: usize = 7;
 /// particles they hold about 200 MB, which fresh allocations would page-fault in again every
 /// step.
 #[derive(Default)]
-struct Spare {
+pub(crate) struct Spare {
     /// Couplings of a recycled step.
-    couplings: Vec<ParticleCoupling>,
+    pub(crate) couplings: Vec<ParticleCoupling>,
     /// Centre cells of a recycled step.
-    centre: Vec<Option<Label>>,
+    pub(crate) centre: Vec<Option<Label>>,
     /// Voidage shares of a recycled step.
-    shares: Option<CellShares>,
+    pub(crate) shares: Option<CellShares>,
     /// What [`Coupler::step`] hands the particle side: F_ext, β and u_f.
-    f_ext: Vec<V3>,
-    beta: Vec<f64>,
-    u_f: Vec<V3>,
+    pub(crate) f_ext: Vec<V3>,
+    pub(crate) beta: Vec<f64>,
+    pub(crate) u_f: Vec<V3>,
 }
 
 impl Coupler {
@@ -668,7 +668,7 @@ impl Coupler {
     /// mesh is rebuilt on it, and what was kept by cell (hints, markers, ε) starts again.
     fn recut(&mut self, particles: &ParticleState<'_>, wider: bool) -> Result<(), CoupleError> {
         let p = self.part.as_mut().expect("recut runs on a part");
-        let mesh = p.recut(particles.position, particles.radius, wider)?;
+        let mesh = p.recut(particles, self.coupling_dt, wider)?;
         self.vm = VoidageMesh::new(&mesh)?;
         self.periodic = PeriodicMesh::new(&mesh, self.vm.geometry())?;
         self.voidage = vec![1.0; self.vm.n_cells()];

@@ -8,9 +8,11 @@
 //! Architecture invariant: no geometry and no physics here — only data as OpenFOAM stores it.
 //! Every error names the file and the line (ASCII) or byte offset (binary) where it was found.
 
+pub mod heap;
 pub mod poly_mesh;
 pub mod poly_mesh_io;
 
+pub use heap::HeapBytes;
 pub use poly_mesh::{FaceList, Label, Patch, PolyMesh, TopologyError};
 pub use poly_mesh_io::{read_poly_mesh, write_poly_mesh};
 

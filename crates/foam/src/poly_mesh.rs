@@ -14,8 +14,8 @@ pub type Label = u32;
 /// per face plus one, and face `i` is `labels[offsets[i]..offsets[i + 1]]`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FaceList {
-    offsets: Vec<Label>,
-    labels: Vec<Label>,
+    pub(crate) offsets: Vec<Label>,
+    pub(crate) labels: Vec<Label>,
 }
 
 impl Default for FaceList {

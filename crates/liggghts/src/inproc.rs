@@ -475,4 +475,27 @@ impl ParticleSide for LiggghtsDem {
         self.refresh()?;
         Ok(())
     }
+
+    /// The coupler's copies of the particles' state (tags, centres, velocities, radii,
+    /// densities, temperatures), their local indices and the force fields handed to LIGGGHTS;
+    /// LIGGGHTS's own atom arrays (in the same process) are not counted.
+    fn held_bytes(&self) -> Option<usize> {
+        fn flat<T: Copy>(v: &Vec<T>) -> usize {
+            v.capacity() * std::mem::size_of::<T>()
+        }
+        let p = &self.particles;
+        let f = &self.fields;
+        Some(
+            flat(&p.ids)
+                + flat(&p.position)
+                + flat(&p.velocity)
+                + flat(&p.radius)
+                + flat(&p.density)
+                + p.temperature.as_ref().map_or(0, flat)
+                + flat(&self.local)
+                + flat(&f.dragforce)
+                + flat(&f.ksl)
+                + flat(&f.uf),
+        )
+    }
 }

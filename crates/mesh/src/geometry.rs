@@ -293,3 +293,14 @@ fn cell_centres_and_volumes(
         .unzip();
     (est, ctr, vol)
 }
+
+impl foam::HeapBytes for MeshGeometry {
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        flat(&self.face_centres)
+            + flat(&self.face_areas)
+            + flat(&self.cell_centre_estimates)
+            + flat(&self.cell_centres)
+            + flat(&self.cell_volumes)
+    }
+}

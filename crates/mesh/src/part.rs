@@ -191,6 +191,11 @@ impl MeshPart {
             list.push(&buf);
             owner.push(o);
         }
+        // the arrays built by pushes hold only what they keep (the part's bytes are counted
+        // by capacity, `foam::HeapBytes`)
+        global.shrink_to_fit();
+        points.shrink_to_fit();
+        neighbour.shrink_to_fit();
         Some(MeshPart {
             mesh: PolyMesh {
                 points,
@@ -204,6 +209,13 @@ impl MeshPart {
             edge,
             whole_cells: mesh.n_cells,
         })
+    }
+}
+
+impl foam::HeapBytes for MeshPart {
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        self.mesh.heap_bytes() + flat(&self.global) + flat(&self.edge)
     }
 }
 

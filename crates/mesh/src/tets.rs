@@ -373,3 +373,17 @@ impl TetDecomposition {
         None
     }
 }
+
+impl foam::HeapBytes for TetDecomposition {
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        flat(&self.points)
+            + self.faces.heap_bytes()
+            + flat(&self.owner)
+            + flat(&self.neighbour)
+            + self.cell_faces.heap_bytes()
+            + flat(&self.cell_apex)
+            + flat(&self.face_apex)
+            + self.grid.heap_bytes()
+    }
+}

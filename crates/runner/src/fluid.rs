@@ -169,6 +169,12 @@ impl FluidSide for StandInFluid {
             div_tau: &self.u,
         }
     }
+
+    /// Its mesh (the first part's, or the whole mesh) and its zero fields.
+    fn held_bytes(&self) -> Option<usize> {
+        use foam::heap::{flat, HeapBytes as _};
+        Some(self.mesh.heap_bytes() + flat(&self.u) + flat(&self.p))
+    }
 }
 
 impl RunFluid for StandInFluid {

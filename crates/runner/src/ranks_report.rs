@@ -35,6 +35,13 @@ pub struct RankFigures {
     pub cells_held: usize,
     /// Parts of the mesh it cut (`None`: it held the whole mesh).
     pub mesh_cuts: Option<u64>,
+    /// What its coupler and fluid side held at the end for the cells, MiB
+    /// ([`couple::HeldBytes::mesh`] and [`couple::FluidSide::held_bytes`]).
+    pub mesh_mib: f64,
+    /// What its coupler and particle side held at the end for the particles, MiB
+    /// ([`couple::HeldBytes::particles`] and [`couple::ParticleSide::held_bytes`]; not the DEM
+    /// library's own arrays).
+    pub particle_mib: f64,
 }
 
 /// What one rank gives [`gather`].
@@ -52,7 +59,13 @@ pub struct Local {
     pub cells_held: usize,
     /// Parts of the mesh it cut (`None`: the whole mesh).
     pub mesh_cuts: Option<u64>,
+    /// Bytes held for the cells and for the particles ([`RankFigures::mesh_mib`],
+    /// [`RankFigures::particle_mib`]).
+    pub held: couple::HeldBytes,
 }
+
+/// Bytes in a MiB.
+const MIB: f64 = 1024.0 * 1024.0;
 
 /// Peak resident set size of this process in MiB (`VmHWM` of `/proc/self/status`), if the
 /// platform reports it.
@@ -85,6 +98,8 @@ pub fn gather(ranks: &dyn Ranks, local: Local, steps: u64) -> Vec<RankFigures> {
         status_mib("VmRSS:").unwrap_or(f64::NAN),
         local.cells_held as f64,
         local.mesh_cuts.map_or(f64::NAN, |c| c as f64),
+        local.held.mesh as f64 / MIB,
+        local.held.particles as f64 / MIB,
     ];
     ranks
         .gather(&record)
@@ -104,6 +119,8 @@ pub fn gather(ranks: &dyn Ranks, local: Local, steps: u64) -> Vec<RankFigures> {
             end_mib: r[8].is_finite().then_some(r[8]),
             cells_held: r[9] as usize,
             mesh_cuts: r[10].is_finite().then_some(r[10] as u64),
+            mesh_mib: r[11],
+            particle_mib: r[12],
         })
         .collect()
 }
@@ -111,12 +128,12 @@ pub fn gather(ranks: &dyn Ranks, local: Local, steps: u64) -> Vec<RankFigures> {
 /// The figures as `ranks.csv` (an unreported memory is an empty cell).
 pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
     let mut text = String::from(
-        "rank,particles,particles_max,cells_touched,bytes_sent_per_step,bytes_received_per_step,peak_memory_mib,solver_bytes_sent_per_step,solver_bytes_received_per_step,end_memory_mib,cells_held,mesh_cuts\n",
+        "rank,particles,particles_max,cells_touched,bytes_sent_per_step,bytes_received_per_step,peak_memory_mib,solver_bytes_sent_per_step,solver_bytes_received_per_step,end_memory_mib,cells_held,mesh_cuts,mesh_mib,particle_mib\n",
     );
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| v.to_string());
     for f in figures {
         text.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{:.1},{:.1}\n",
             f.rank,
             f.particles,
             f.particles_max,
@@ -129,6 +146,8 @@ pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
             f.end_mib.map_or(String::new(), |m| format!("{m:.1}")),
             f.cells_held,
             f.mesh_cuts.map_or(String::new(), |c| c.to_string()),
+            f.mesh_mib,
+            f.particle_mib,
         ));
     }
     atomic_write::write_atomically(path, |w| w.write_all(text.as_bytes()))
@@ -138,13 +157,15 @@ pub fn write_csv(path: &Path, figures: &[RankFigures]) -> std::io::Result<()> {
 pub fn table(figures: &[RankFigures]) -> Vec<String> {
     let mut lines = vec![
         "rank  particles (max)      cells touched  cells held (cuts)  kB sent/step  \
-         kB received/step  peak MiB  end MiB  solver kB sent/received per step"
+         kB received/step  peak MiB  end MiB  mesh MiB  particles MiB  \
+         solver kB sent/received per step"
             .into(),
     ];
     let kb = |x: Option<f64>| x.map_or("—".into(), |v| format!("{:.1}", v / 1e3));
     for f in figures {
         lines.push(format!(
-            "{:4}  {:9} ({:9})  {:>13}  {:>10} ({:>4})  {:12.1}  {:16.1}  {:>8}  {:>7}  {} / {}",
+            "{:4}  {:9} ({:9})  {:>13}  {:>10} ({:>4})  {:12.1}  {:16.1}  {:>8}  {:>7}  {:8.1}  \
+             {:13.1}  {} / {}",
             f.rank,
             f.particles,
             f.particles_max,
@@ -155,6 +176,8 @@ pub fn table(figures: &[RankFigures]) -> Vec<String> {
             f.received_per_step / 1e3,
             f.peak_mib.map_or("—".into(), |m| format!("{m:.0}")),
             f.end_mib.map_or("—".into(), |m| format!("{m:.0}")),
+            f.mesh_mib,
+            f.particle_mib,
             kb(f.solver_sent_per_step),
             kb(f.solver_received_per_step),
         ));
@@ -172,6 +195,10 @@ mod tests {
             particles: 7,
             particles_max: 9,
             cells_held: 12,
+            held: couple::HeldBytes {
+                mesh: 3 << 20,
+                particles: 1 << 19,
+            },
             ..Local::default()
         };
         let f = gather(&couple::Serial::default(), local, 2);
@@ -191,7 +218,7 @@ mod tests {
         };
         write_csv(&path, &[unmeasured]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(text.lines().nth(1), Some("0,7,9,,0,0,,,,,12,"));
+        assert_eq!(text.lines().nth(1), Some("0,7,9,,0,0,,,,,12,,3.0,0.5"));
         let to_solver = Local {
             cells_touched: Some(3),
             solver_traffic: Some((100, 50)),

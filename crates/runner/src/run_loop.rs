@@ -770,6 +770,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             solver_traffic: self.owned.then(|| self.coupler.owner_traffic()),
             cells_held: self.coupler.voidage_mesh().n_cells(),
             mesh_cuts: self.coupler.part().map(|p| p.cuts),
+            held: self.held(),
         };
         let per_rank = crate::ranks_report::gather(self.coupler.ranks(), local, n_steps);
         if self.rank == 0 {
@@ -782,6 +783,15 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }
         }
         Ok(())
+    }
+
+    /// What this rank's coupler and sides hold for the cells and for the particles.
+    fn held(&self) -> couple::HeldBytes {
+        let sides = couple::HeldBytes {
+            mesh: self.fluid.held_bytes().unwrap_or(0),
+            particles: self.dem.held_bytes().unwrap_or(0),
+        };
+        self.coupler.held_bytes() + sides
     }
 
     /// The case's checks (`validationDict`), written to `postProcessing/validation.json`.

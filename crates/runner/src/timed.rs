@@ -53,6 +53,9 @@ impl<P: ParticleSide> ParticleSide for Timed<P> {
     fn command(&mut self, command: &str) -> Result<(), SideError> {
         self.inner.command(command)
     }
+    fn held_bytes(&self) -> Option<usize> {
+        self.inner.held_bytes()
+    }
 }
 
 impl<F: FluidSide> FluidSide for Timed<F> {
@@ -70,6 +73,9 @@ impl<F: FluidSide> FluidSide for Timed<F> {
     }
     fn state(&self) -> FluidState<'_> {
         self.inner.state()
+    }
+    fn held_bytes(&self) -> Option<usize> {
+        self.inner.held_bytes()
     }
 }
 

@@ -141,3 +141,9 @@ impl DividedMemo {
             .collect();
     }
 }
+
+impl foam::HeapBytes for DividedMemo {
+    fn heap_bytes(&self) -> usize {
+        foam::heap::flat(&self.entries) + foam::heap::flat(&self.spare)
+    }
+}

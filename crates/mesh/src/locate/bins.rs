@@ -275,3 +275,16 @@ impl Locator {
         self.seeds = fine;
     }
 }
+
+impl foam::HeapBytes for Bins {
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        flat(&self.seeds) + flat(&self.offsets) + flat(&self.cells)
+    }
+}
+
+impl foam::HeapBytes for SeedGrid {
+    fn heap_bytes(&self) -> usize {
+        foam::heap::flat(&self.seeds)
+    }
+}

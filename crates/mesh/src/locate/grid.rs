@@ -237,3 +237,10 @@ fn uniform_spacing(pl: &[f64]) -> Option<(f64, f64)> {
         .all(|(i, &x)| (x - (pl[0] + h * i as f64)).abs() <= 0.25 * h);
     (ok && h > 0.0).then(|| (pl[0], 1.0 / h))
 }
+
+impl foam::HeapBytes for AxisGrid {
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        self.planes.iter().map(flat).sum::<usize>() + flat(&self.cells) + flat(&self.slots)
+    }
+}

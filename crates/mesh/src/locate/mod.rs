@@ -261,3 +261,21 @@ impl Locator {
         self.walk_or_search(p, self.seeds.seed(p))
     }
 }
+
+impl foam::HeapBytes for Locator {
+    /// Its tetrahedra (an own copy of the mesh's points, faces and addressing), grid, bins and
+    /// per-cell plane records.
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        self.tets.heap_bytes()
+            + self.grid.heap_bytes()
+            + self.bins.heap_bytes()
+            + self.seeds.heap_bytes()
+            + flat(&self.face_planar)
+            + flat(&self.cell_faces)
+            + flat(&self.cell_face_start)
+            + flat(&self.cell_bounds)
+            + flat(&self.cell_excess)
+            + flat(&self.cell_star)
+    }
+}

@@ -98,7 +98,9 @@ impl CellFace {
         face_normals: &[V3],
         face_certainty: &[FaceCertainty],
     ) -> (Vec<CellFace>, Vec<u32>) {
-        let mut cell_faces = Vec::new();
+        // one record per (cell, face): a face's owner and, if internal, its neighbour (exact,
+        // so that no unused capacity is allocated)
+        let mut cell_faces = Vec::with_capacity(tets.owner.len() + tets.neighbour.len());
         let mut cell_face_start = Vec::with_capacity(tets.n_cells() + 1);
         for c in 0..tets.n_cells() as Label {
             cell_face_start.push(cell_faces.len() as u32);

@@ -247,21 +247,21 @@ impl VoidageMesh {
             .collect();
         let (cell_planes, cell_plane_start) =
             CellPlane::table(tets, &mesh.owner, &mesh.neighbour, &face_planes, &planar);
-        let edge_axes: Vec<EdgeAxes> = (0..mesh.n_faces())
-            .flat_map(|f| {
-                let face = mesh.faces.face(f);
-                let nh = face_planes[f].0;
-                let p = |i: usize| points[face[i % face.len()] as usize];
-                let planar = planar[f];
-                (0..face.len()).map(move |i| {
-                    if planar {
-                        EdgeAxes::new(p(i), p(i + 1), nh)
-                    } else {
-                        EdgeAxes::default()
-                    }
-                })
+        // one per point slot of the faces (allocated exactly: a flat_map gives no size)
+        let mut edge_axes: Vec<EdgeAxes> = Vec::with_capacity(mesh.faces.labels().len());
+        edge_axes.extend((0..mesh.n_faces()).flat_map(|f| {
+            let face = mesh.faces.face(f);
+            let nh = face_planes[f].0;
+            let p = |i: usize| points[face[i % face.len()] as usize];
+            let planar = planar[f];
+            (0..face.len()).map(move |i| {
+                if planar {
+                    EdgeAxes::new(p(i), p(i + 1), nh)
+                } else {
+                    EdgeAxes::default()
+                }
             })
-            .collect();
+        }));
         Ok(VoidageMesh {
             geom,
             grid,
@@ -357,5 +357,27 @@ impl VoidageMesh {
             (Method::Exact, None) => self.general_exact(b, s, out),
             (Method::Cube | Method::CorrectedCube, None) => self.general_cube(b, corrected, s, out),
         }
+    }
+}
+
+impl foam::HeapBytes for VoidageMesh {
+    /// Its geometry, locator, grid, its own copy of the faces and addressing, and the per-face
+    /// and per-cell records of the general kernels (planes, bins, edge directions).
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        self.geom.heap_bytes()
+            + self.locator.heap_bytes()
+            + self.grid.heap_bytes()
+            + self.faces.heap_bytes()
+            + flat(&self.owner)
+            + flat(&self.neighbour)
+            + flat(&self.cell_bounds)
+            + flat(&self.boundary_bounds)
+            + flat(&self.face_planes)
+            + flat(&self.cell_planes)
+            + flat(&self.cell_plane_start)
+            + self.bins.heap_bytes()
+            + flat(&self.planar)
+            + flat(&self.edge_axes)
     }
 }

@@ -92,3 +92,10 @@ impl CellShares {
         self.volumes.extend(shares.iter().map(|s| s.1));
     }
 }
+
+impl foam::HeapBytes for CellShares {
+    fn heap_bytes(&self) -> usize {
+        use foam::heap::flat;
+        flat(&self.offsets) + flat(&self.cells) + flat(&self.volumes)
+    }
+}

@@ -162,3 +162,9 @@ impl VoidageMesh {
         }
     }
 }
+
+impl foam::HeapBytes for CellBins {
+    fn heap_bytes(&self) -> usize {
+        foam::heap::flat(&self.offsets) + foam::heap::flat(&self.cells)
+    }
+}

@@ -35,7 +35,8 @@ impl CellPlane {
         face_planes: &[(V3, f64)],
         planar: &[bool],
     ) -> (Vec<CellPlane>, Vec<u32>) {
-        let mut planes = Vec::new();
+        // one plane per (cell, face): exact, so that no unused capacity is allocated
+        let mut planes = Vec::with_capacity(owner.len() + neighbour.len());
         let mut start = Vec::with_capacity(tets.n_cells() + 1);
         for cell in 0..tets.n_cells() as Label {
             start.push(planes.len() as u32);
