@@ -96,7 +96,7 @@ pub fn run_fluid(
     end_time: Option<f64>,
     observe: &mut dyn FnMut(FluidEvent<'_>),
 ) -> Result<FluidRun, RunError> {
-    let control = read_control(case)?;
+    let control = ControlDict::read(case)?;
     check_application(&control)?;
     check_function_objects(&control)?;
     // the controlDict and the mesh are read once, here, and handed to the fluid
@@ -237,13 +237,6 @@ fn count(total: &mut Iterations, report: &StepReport) {
 
 fn fluid_error(e: fv::FvError) -> RunError {
     RunError::Fluid(Box::new(e))
-}
-
-/// `system/controlDict`, parsed.
-fn read_control(case: &Path) -> Result<ControlDict, RunError> {
-    let path = case.join("system/controlDict");
-    let body = foam::parse_file(&path)?.body;
-    Ok(ControlDict { path, body })
 }
 
 /// `application`, when given, is one whose equations `fv` solves.

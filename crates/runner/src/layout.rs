@@ -25,8 +25,27 @@ pub struct CaseLayout {
     pub validation: Option<ValidationSpec>,
     /// `CFD/constant/couplingProperties`, read once here (it also names the coupled deck).
     pub coupling: couple::CouplingConfig,
-    /// `CFD/system/controlDict`, read once here (its `application` is checked first).
-    pub control: Dict,
+    /// `CFD/system/controlDict`, read once here (its `application` is checked first); the
+    /// fluid's settings, its function objects and the warnings read it from here.
+    pub control: ControlDict,
+}
+
+/// `system/controlDict`, parsed once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ControlDict {
+    /// The file (named in errors).
+    pub path: PathBuf,
+    /// Its entries.
+    pub body: Dict,
+}
+
+impl ControlDict {
+    /// Reads `CASE/system/controlDict` of the OpenFOAM case `case`.
+    pub fn read(case: &Path) -> Result<ControlDict, foam::FoamError> {
+        let path = case.join("system/controlDict");
+        let body = foam::parse_file(&path)?.body;
+        Ok(ControlDict { path, body })
+    }
 }
 
 /// CFDEM solvers whose equations foamgrain's fluids do not solve, each with the reason. A case
@@ -59,8 +78,8 @@ const UNSUPPORTED_APPLICATIONS: &[(&str, &str)] = &[
 
 /// `application` of a coupled case's controlDict, refused when it names a solver foamgrain
 /// does not have ([`UNSUPPORTED_APPLICATIONS`]).
-fn check_application(path: &Path, control: &Dict) -> Result<(), LayoutError> {
-    let Ok(app) = control.word("application") else {
+fn check_application(control: &ControlDict) -> Result<(), LayoutError> {
+    let Ok(app) = control.body.word("application") else {
         return Ok(());
     };
     match UNSUPPORTED_APPLICATIONS
@@ -68,7 +87,7 @@ fn check_application(path: &Path, control: &Dict) -> Result<(), LayoutError> {
         .find(|(name, _)| *name == app)
     {
         Some((name, why)) => Err(LayoutError::Entry {
-            path: path.to_path_buf(),
+            path: control.path.clone(),
             msg: format!("application `{name}` is not supported: it is {why}"),
         }),
         None => Ok(()),
@@ -306,8 +325,8 @@ impl CaseLayout {
                 what: "the CFD case's controlDict",
             });
         }
-        let control = foam::parse_file(&control_path)?.body;
-        check_application(&control_path, &control)?;
+        let control = ControlDict::read(&cfd)?;
+        check_application(&control)?;
         // CFDEM names the coupled deck in couplingProperties (`twoWayMPIProps/liggghtsPath`,
         // relative to the CFD case); without it, DEM/in.liggghts_run.
         let config = couple::CouplingConfig::read(&coupling)?;

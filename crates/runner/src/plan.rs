@@ -81,15 +81,7 @@ pub struct RunOptions {
     pub no_overlap: bool,
 }
 
-/// `system/controlDict`, parsed once: the fluid's settings, its function objects (`probes`,
-/// `surfaceFieldValue`) and the warnings read it from here.
-#[derive(Clone, Debug)]
-pub struct ControlDict {
-    /// The file (named in errors).
-    pub path: PathBuf,
-    /// Its entries.
-    pub body: foam::Dict,
-}
+pub use crate::layout::ControlDict;
 
 /// A case read once.
 pub struct RunPlan {
@@ -102,8 +94,6 @@ pub struct RunPlan {
     pub commands: LiggghtsCommands,
     /// The fluid's settings (controlDict, fvSchemes, fvSolution).
     pub fluid: fv::settings::Settings,
-    /// `system/controlDict` for the function objects.
-    pub control: ControlDict,
     /// The coupled LIGGGHTS deck.
     pub run_deck: Deck,
     /// What the reading found worth a warning (printed before the run starts).
@@ -120,14 +110,10 @@ impl RunPlan {
         let commands = LiggghtsCommands::read_case(&layout.cfd)?;
         warnings.extend(commands.warnings.iter().cloned());
         let case = foam::Case::open(&layout.cfd)?;
-        let control = ControlDict {
-            body: layout.control.clone(),
-            path: layout.cfd.join("system/controlDict"),
-        };
         if opts.fluid == FluidBackend::Native {
-            warnings.extend(control_dict_warnings(&control));
+            warnings.extend(control_dict_warnings(&layout.control));
         }
-        let mut fluid = fv::settings::Settings::read_with_control(&case, &control.body)
+        let mut fluid = fv::settings::Settings::read_with_control(&case, &layout.control.body)
             .map_err(|e| RunError::Fluid(Box::new(e)))?;
         if let Some(heat) = settings.heat {
             // cfdemSolverPisoScalar's temperature equation: 0/T, Pr, Prt, the T solver
@@ -170,7 +156,6 @@ impl RunPlan {
             settings,
             commands,
             fluid,
-            control,
             run_deck,
             warnings,
         };

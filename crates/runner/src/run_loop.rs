@@ -81,7 +81,7 @@ impl Schedule {
         let ratio = dt_c / cfd_dt;
         if (ratio - ratio.round()).abs() > 1e-6 * ratio || ratio.round() < 1.0 {
             return Err(setup_err(
-                &plan.control.path,
+                &plan.layout.control.path,
                 format!(
                     "deltaT {cfd_dt} s must divide the coupling interval {interval} × {dem_dt} s \
                      = {dt_c} s"
@@ -511,7 +511,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         if self.n_ranks > 1 {
             return Ok(None);
         }
-        let control = &self.plan.control;
+        let control = &self.plan.layout.control;
         let precision = crate::probes::write_precision(&control.body)
             .map_err(|m| setup_err(&control.path, m))?;
         Ok(crate::particle_probe::ParticleProbes::new(
@@ -535,7 +535,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             return Ok(Default::default());
         }
         let cfd = &self.plan.layout.cfd;
-        let control = &self.plan.control;
+        let control = &self.plan.layout.control;
         let locator = self.coupler.voidage_mesh().locator();
         let heat = self.plan.settings.heat.is_some();
         let (probes, warnings) =
