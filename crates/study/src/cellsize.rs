@@ -31,7 +31,7 @@ use crate::run::{RunContext, RunResult};
 use crate::steady::SteadyCriterion;
 use crate::template::Template;
 use closures::model::ModelType;
-use couple::{CouplerSettings, CouplingConfig};
+use couple::CouplerSettings;
 use mesh::v3::{unit, V3};
 use runner::bed::Bed;
 use runner::layout::CaseLayout;
@@ -389,7 +389,7 @@ impl StudyCase {
     fn read(case: &Path, events: &mut dyn FnMut(StudyEvent)) -> Result<StudyCase, StudyError> {
         let layout = CaseLayout::open(case)?;
         let template = Template::read(&layout.cfd.join("system/blockMeshDict.template"))?;
-        let config = CouplingConfig::read_case(&layout.cfd)?;
+        let config = &layout.coupling;
         for w in &config.warnings {
             events(StudyEvent::Message(format!("warning: {w}")));
         }
@@ -411,10 +411,11 @@ impl StudyCase {
             rho: settings.physics.rho,
             mu: settings.physics.rho * settings.physics.nu,
         };
+        let coupling_interval = config.coupling_interval;
         Ok(StudyCase {
             layout,
             template,
-            coupling_interval: config.coupling_interval,
+            coupling_interval,
             settings,
             model,
             gvec,

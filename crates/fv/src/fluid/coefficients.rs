@@ -25,6 +25,10 @@ pub(super) struct Correctors {
     pub(super) gamma: Vec<f64>,
     /// γ_f on the boundary faces.
     pub(super) gamma_b: Vec<f64>,
+    /// The faces next to porous cells ([`porous_faces`]) with [`Fluid::harmonic_faces`]:
+    /// they take the series resistances; faces between two clear cells keep pisoFoam's
+    /// linear forms (all false without `harmonic_faces`).
+    pub(super) porous_face: Vec<bool>,
     /// ddtCorr per face (m³/s).
     pub(super) ddt_corr: Vec<f64>,
     /// `CrankNicolson ψ`: ddtCorr's factor (ε/A)_f × coupling coefficient per face.
@@ -63,10 +67,14 @@ impl Fluid {
         let g = &self.g;
         let fixed_flux = bc::flux_fixed(g, &self.u_bc, &self.phi);
         let fixes_p = self.p_bc.iter().any(PressureBc::fixes_value);
-        let (kappa, gam_c, gamma) = self.flux_coefficient(lv, &eqn.r_au);
+        let porous_face = match self.harmonic_faces {
+            true => porous_faces(g, &self.eps, &self.ksl),
+            false => vec![false; g.n_faces()],
+        };
+        let (kappa, gam_c, gamma) = self.flux_coefficient(lv, &eqn.r_au, &porous_face);
         let gamma_b: Vec<f64> = gamma[g.n_internal..].to_vec();
         let (ddt_corr, cn_corr_w) = self.ddt_corr(lv, &eqn.r_au);
-        let porous = self.porous_time(lv, &eqn.a_mean, &gam_c);
+        let porous = self.porous_time(lv, &eqn.a_mean, &gam_c, &porous_face);
         let jump_zone = if self.reconstruct_u {
             jump_zone(&self.g, &gam_c, JUMP_RATIO, JUMP_LAYERS)
         } else {
@@ -80,6 +88,7 @@ impl Fluid {
             gam_c,
             gamma,
             gamma_b,
+            porous_face,
             ddt_corr,
             cn_corr_w,
             porous,
@@ -98,8 +107,14 @@ impl Fluid {
 
     /// κ = κ_p/A and γ_c = ε κ per cell, and the flux coefficient γ_f per face: ε_f κ_f
     /// (cfdemSolverPiso's `rUAfvoidfraction` for model A), with [`Fluid::harmonic_faces`] the
-    /// half-cell resistances in series.
-    fn flux_coefficient(&self, lv: &Levels, r_au: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    /// half-cell resistances in series on the faces next to porous cells (`porous_face`) and
+    /// on boundary faces.
+    fn flux_coefficient(
+        &self,
+        lv: &Levels,
+        r_au: &[f64],
+        porous_face: &[bool],
+    ) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         let g = &self.g;
         let n = g.n_cells;
         let ef = &lv.ef;
@@ -113,7 +128,7 @@ impl Fluid {
         let gam_c: Vec<f64> = (0..n).map(|c| self.eps[c] * kappa[c]).collect();
         let gamma: Vec<f64> = (0..g.n_faces())
             .map(|f| {
-                if self.harmonic_faces && f < g.n_internal {
+                if porous_face[f] && f < g.n_internal {
                     // Two half-cell resistances in series: the owner's half is the fraction
                     // 1 − w of the centre distance (w = d_fN/d_PN, OpenFOAM's weight).
                     let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
@@ -206,7 +221,13 @@ impl Fluid {
 
     /// The porous faces' time terms of [`PorousTimeFlux::Consistent`] (grainPisoFoam's
     /// `porousFaces`), from the step's levels `lv`, A (`a_mean`) and γ_c (`gam_c`).
-    fn porous_time(&self, lv: &Levels, a_mean: &[f64], gam_c: &[f64]) -> PorousTime {
+    fn porous_time(
+        &self,
+        lv: &Levels,
+        a_mean: &[f64],
+        gam_c: &[f64],
+        porous_face: &[bool],
+    ) -> PorousTime {
         let g = &self.g;
         let n = g.n_cells;
         let (dt, ddt_k, cn_r) = (lv.dt, lv.ddt_k, lv.cn_r);
@@ -215,7 +236,7 @@ impl Fluid {
         // time resistance r_t = 1/(κ_p Δt) per cell (s/m², kinematic) and the mask.
         let consistent = self.harmonic_faces && self.porous_time_flux == PorousTimeFlux::Consistent;
         let porous_face = if consistent {
-            porous_faces(g, &self.eps, &self.ksl)
+            porous_face.to_vec()
         } else {
             vec![false; g.n_faces()]
         };

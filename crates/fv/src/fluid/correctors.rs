@@ -119,6 +119,8 @@ impl Fluid {
         // like the pressure gradient it balances (Fluid::harmonic_faces).
         let ht: Vec<V3> = (0..n).map(|c| 1.0 / kappa[c] * hbya[c]).collect();
         let htf = interpolate_cells(g, &ht);
+        // between clear cells pisoFoam's ε_f (HbyA)_f·S
+        let hf = interpolate_cells(g, hbya);
         let ht_steady = self.steady_driving(lv, cs, &ht);
         let htsf = if pt.consistent {
             interpolate_cells(g, &ht_steady)
@@ -140,6 +142,8 @@ impl Fluid {
                     // The owner's half cell with the face's old flux.
                     let o = g.owner[f] as usize;
                     gamma[f] * (ht_steady[o].dot(&g.sf[f]) + pt.r_t[o] * pt.phi_t[f])
+                } else if internal && !cs.porous_face[f] {
+                    lv.ef[f] * hf[f].dot(&g.sf[f]) + ddt_corr[f]
                 } else if internal {
                     gamma[f] * htf[f].dot(&g.sf[f]) + ddt_corr[f]
                 } else {
@@ -345,6 +349,7 @@ impl Fluid {
                 &self.p,
                 &self.p_b,
                 &cs.gam_c,
+                &cs.porous_face,
                 (&cs.porous.gam_steady, &cs.porous.face),
             )
         } else {
@@ -372,21 +377,32 @@ impl Fluid {
 }
 
 /// Gauss gradient of the cell pressures `p` (boundary values `p_b`) with the flux-continuous
-/// face pressure of [`Fluid::harmonic_faces`] on internal faces: p_f weights each side by its
-/// flux coefficient γ = εκ over its distance to the face, p_f = (w γ_P p_P + (1−w) γ_N p_N)/
-/// (w γ_P + (1−w) γ_N). `gamma` per cell; on the faces `steady.1` marks (empty: none) the
-/// per-cell `steady.0` instead (the steady γ′ of [`PorousTimeFlux::Consistent`]).
+/// face pressure of [`Fluid::harmonic_faces`] on the internal faces `porous` marks (next to
+/// porous cells): p_f weights each side by its flux coefficient γ = εκ over its distance to
+/// the face, p_f = (w γ_P p_P + (1−w) γ_N p_N)/(w γ_P + (1−w) γ_N). `gamma` per cell; on the
+/// faces `steady.1` marks (empty: none) the per-cell `steady.0` instead (the steady γ′ of
+/// [`PorousTimeFlux::Consistent`]). Faces between clear cells take pisoFoam's linear face
+/// value p_N + w (p_P − p_N).
 fn flux_consistent_grad(
     g: &FvGeometry,
     p: &[f64],
     p_b: &[f64],
     gamma: &[f64],
+    porous: &[bool],
     steady: (&[f64], &[bool]),
 ) -> Vec<V3> {
     let mut sum = vec![V3::zeros(); g.n_cells];
     for f in 0..g.n_internal {
         let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
         let w = g.weight[f];
+        if !porous[f] {
+            let pf = p[nb] + w * (p[o] - p[nb]);
+            for i in 0..3 {
+                sum[o][i] += pf * g.sf[f][i];
+                sum[nb][i] -= pf * g.sf[f][i];
+            }
+            continue;
+        }
         let kappa = if steady.1.get(f).copied().unwrap_or(false) {
             steady.0
         } else {

@@ -135,6 +135,19 @@ pub struct Fluid {
     /// jumps by orders of magnitude (the surface of a packed bed, a bed on an inlet) they keep
     /// the resistances in series, so the pressure drop of a bed of N cells is that of N cells,
     /// not N − 1 (Patankar, Numerical Heat Transfer and Fluid Flow, 1980, §4.2-3).
+    ///
+    /// Only faces next to a porous cell (ε < 1 or Ksl > 0 on either side) take these forms;
+    /// faces between two clear cells keep pisoFoam's linear ε_f κ_f, ε_f (HbyA)_f·S + ddtCorr
+    /// and linear face pressure, as grainPisoFoam's `porousFaces.H` does. With the series forms
+    /// on clear faces too (before 2026-11-29), CrankNicolson 0.9 at Courant numbers 14–20
+    /// diverged where grainPisoFoam does not (`openfoam-cases/pneumatic-conveying-full`,
+    /// docs/pneumatic-conveying.md). The likely mechanism: where κ = 1/A varies across clear
+    /// faces (the convection-dominated entry of the conveyor's tube) the old-time part of
+    /// the predicted flux, γ_f (H/κ)_f·S, is weighted by the harmonic γ_f while ddtCorr's
+    /// bracket is weighted by the linear (ε/A)_f, so the cells' old velocities and CN's
+    /// stored derivatives stay in the face flux with weight γ_f − (ε/A)_f instead of
+    /// cancelling; the clear cavity with the series forms on every face differed from icoFoam
+    /// by 8.6e-3 of the lid speed (`tests/cavity.rs`).
     pub harmonic_faces: bool,
     /// Cell velocities from the face fluxes near jumps of the flux coefficient (default false:
     /// OpenFOAM's U = HbyA − κ∇p everywhere). Where γ = εκ changes by more than 10× across a
