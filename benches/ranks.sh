@@ -10,8 +10,9 @@
 #
 # CELL is the cells' side (m), HEIGHT the box's height (m; by default three times the bed's):
 # `benches/ranks.sh 100000 "1 2 4 8" 3 native 1 0.001 0.1` meshes the box with 100 × 100 × 100 =
-# 10⁶ cells. Each coupler rank other than 0 holds only its part of the mesh (`couple::part`):
-# the "cells held" column, and "cuts" (parts cut during the run; empty: the whole mesh).
+# 10⁶ cells. Each coupler rank other than 0 holds only its part of the mesh (`couple::part`),
+# and with FLUID=openfoam on N > 1 ranks rank 0 too: the "cells held" column, and "cuts" (parts
+# cut during the run; empty: the whole mesh).
 # "mesh MiB" and "particles MiB" are what the rank's coupler and sides hold for its cells and
 # its particles at the end (`couple::HeldBytes`, counted on the arrays; LIGGGHTS's own atom
 # arrays are not counted), "rest MiB" the end memory less both (the program, LIGGGHTS, MPI,

@@ -512,6 +512,24 @@ mod cosim {
         );
     }
 
+    /// With grainPisoFoam on several coupler ranks, coupler rank 0 holds a part of the mesh as
+    /// the other ranks do (`runner::mesh_part::foam_on_part`): fewer cells than the mesh's 320
+    /// and at least one cut, in `postProcessing/ranks.csv`.
+    fn rank_zero_holds_a_part(case: &Path) {
+        let file = case.join("postProcessing/ranks.csv");
+        let text = std::fs::read_to_string(&file).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(row[col("rank")], "0", "{text}");
+        let held: usize = row[col("cells_held")].parse().unwrap();
+        assert!(held < 320, "rank 0 holds {held} of the 320 cells:\n{text}");
+        let cuts: u64 = row[col("mesh_cuts")].parse().unwrap();
+        assert!(cuts >= 1, "{text}");
+        eprintln!("rank 0 holds {held} of the 320 cells ({cuts} cuts)");
+    }
+
     /// The three deaths, each against one uninterrupted run: a LIGGGHTS rank (coupler rank 2;
     /// LIGGGHTS runs in-process on every rank), one of grainPisoFoam's 2 ranks, and coupler
     /// rank 0 (LIGGGHTS, the coupling and the run's outputs).
@@ -523,6 +541,7 @@ mod cosim {
         let tmp = tempfile::tempdir().unwrap();
         let whole = fixture(tmp.path(), "whole", Bed::Suspended);
         run(&whole, Stack::CoSim);
+        rank_zero_holds_a_part(&whole);
         let deaths: [(Victim, &[&str]); 3] = [
             (Victim::Coupler(2), &["process rank 2", "signal 9"]),
             // foam-link's pid check or mpirun, whichever notices first

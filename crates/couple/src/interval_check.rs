@@ -98,8 +98,12 @@ pub struct IntervalCheckInput<'a> {
     /// Fluid velocity per cell, m/s, for the fluid's CFL number (empty on a rank that does
     /// not hold the fluid).
     pub u: &'a [V3],
-    /// Cell volumes, m³.
+    /// Cell volumes, m³ (the cells of `cell`).
     pub volumes: &'a [f64],
+    /// The volumes of the cells `u` is given on, m³: `volumes`, unless the coupler holds a
+    /// part of the mesh while `u` is the whole fluid's (coupler rank 0 with grainPisoFoam on
+    /// several ranks, [`crate::part`]).
+    pub fluid_volumes: &'a [f64],
     /// Fluid density, kg/m³.
     pub rho: f64,
     /// Kinematic viscosity, m²/s.
@@ -173,7 +177,7 @@ impl IntervalCheck {
             c.max_st = c.max_st.max(st);
             c.max_speed = c.max_speed.max(input.velocity[i].norm());
         }
-        for (u, v) in input.u.iter().zip(input.volumes) {
+        for (u, v) in input.u.iter().zip(input.fluid_volumes) {
             c.cfl = c.cfl.max(u.norm() * input.dt_cfd / v.cbrt());
             c.min_vcell_mesh = c.min_vcell_mesh.min(*v);
         }
@@ -344,6 +348,7 @@ mod tests {
                 u_particle: &self.u_particle,
                 u: &self.u,
                 volumes: &self.volumes,
+                fluid_volumes: &self.volumes,
                 rho: 1.2,
                 nu: 1.5e-5,
                 cg: 1.0,

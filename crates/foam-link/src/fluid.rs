@@ -773,6 +773,27 @@ impl OpenFoamFluid {
         self.sparse
     }
 
+    /// In a sparse run ([`OpenFoamFluid::spawn_ranked`]): hands the caller the whole mesh read
+    /// at the spawn, so that coupler rank 0 can cut its part of it and summarise what it
+    /// observes without holding it twice. The exchange does not read the mesh after the
+    /// handshake (the cell map has the cell count); this fluid's [`FluidSide::mesh`] is then a
+    /// mesh without points, faces or cells. `None` in a dense run (one coupler rank, whose
+    /// exchange fields are the mesh's) and once taken.
+    pub fn take_mesh(&mut self) -> Option<PolyMesh> {
+        if !self.sparse || self.mesh.n_cells == 0 {
+            return None;
+        }
+        let none = PolyMesh {
+            points: Vec::new(),
+            faces: foam::FaceList::new(),
+            owner: Vec::new(),
+            neighbour: Vec::new(),
+            boundary: Vec::new(),
+            n_cells: 0,
+        };
+        Some(std::mem::replace(&mut self.mesh, none))
+    }
+
     /// [`OpenFoamFluid::start_interval`] of a sparse run: the solver advances with the fields
     /// of the last sparse exchange and replies with the patch sums (or everything, `whole`);
     /// returns the reply's tag.

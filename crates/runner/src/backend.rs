@@ -407,7 +407,21 @@ mod mpi_pair {
                 let (fluid, cells) = open_foam_ranked(world, layout, ctx.opts.fluid_ranks)?;
                 ctx.owners = Some(Box::new(cells));
                 match fluid {
-                    Some(fluid) => couple_loop(ctx, dem, fluid, events),
+                    Some(fluid) => {
+                        // rank 0 on its part too: the solver's ranks hold the fluid
+                        let dt_c = plan.settings.coupling_interval as f64
+                            * couple::ParticleSide::time_step(&dem);
+                        let state = couple::ParticleSide::state(&dem);
+                        let (fluid, part, whole) = crate::mesh_part::foam_on_part(
+                            plan,
+                            fluid,
+                            state.position,
+                            state.radius,
+                            dt_c,
+                        )?;
+                        (ctx.part, ctx.whole) = (part, whole);
+                        couple_loop(ctx, dem, fluid, events)
+                    }
                     None => {
                         let state = couple::ParticleSide::state(&dem);
                         let (stand_in, part) =
@@ -478,13 +492,14 @@ mod mpi_pair {
     }
 
     /// grainPisoFoam spawned from all the coupler's ranks ([`foam_link::OpenFoamFluid::spawn_ranked`]):
-    /// rank 0 gets the fluid, every rank its link to the solver ranks.
+    /// rank 0 gets the fluid (with the whole mesh the spawn read), every rank its link to the
+    /// solver ranks.
     #[cfg(all(feature = "mpi", feature = "liggghts"))]
     fn open_foam_ranked(
         world: &mpi::topology::SimpleCommunicator,
         layout: &crate::layout::CaseLayout,
         ranks: usize,
-    ) -> Result<(Option<crate::foam_fluid::FoamFluid>, foam_link::SolverCells), RunError> {
+    ) -> Result<(Option<foam_link::OpenFoamFluid>, foam_link::SolverCells), RunError> {
         foam_can_carry(layout, true)?;
         let solver = if mpi::topology::Communicator::rank(world) == 0 {
             solver_path()?
@@ -510,6 +525,6 @@ mod mpi_pair {
             },
         )
         .map_err(|e| backend_err("grainPisoFoam", e))?;
-        Ok((fluid.map(crate::foam_fluid::FoamFluid::new), cells))
+        Ok((fluid, cells))
     }
 }

@@ -19,9 +19,17 @@ pub struct FoamFluid {
 }
 
 impl FoamFluid {
-    /// Wraps a spawned solver.
+    /// Wraps a spawned solver; the coupler works on the solver's mesh.
     pub fn new(inner: OpenFoamFluid) -> FoamFluid {
         let mesh = inner.mesh().clone();
+        FoamFluid::on_mesh(inner, mesh)
+    }
+
+    /// Wraps a spawned solver whose coupler works on `mesh`: coupler rank 0's part of the
+    /// mesh when the solver's ranks exchange straight with the coupler's
+    /// ([`crate::mesh_part::foam_on_part`]; the solver's replies to rank 0 are then the patch
+    /// sums, or the whole fields in the whole mesh's cell order).
+    pub fn on_mesh(inner: OpenFoamFluid, mesh: PolyMesh) -> FoamFluid {
         FoamFluid {
             inner: Some(inner),
             mesh,
@@ -56,6 +64,12 @@ impl FluidSide for FoamFluid {
 
     fn state(&self) -> FluidState<'_> {
         self.solver().state()
+    }
+
+    /// The coupler's copy of the mesh it holds (the solver's mesh, or rank 0's first part).
+    fn held_bytes(&self) -> Option<usize> {
+        use foam::heap::HeapBytes as _;
+        Some(self.mesh.heap_bytes())
     }
 }
 

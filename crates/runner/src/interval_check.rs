@@ -30,7 +30,10 @@ impl IntervalChecks {
     }
 
     /// The report of coupling step `k` (from 1) when one is due, collective over the ranks;
-    /// an error when a limit is exceeded and `warnOnly` is off.
+    /// an error when a limit is exceeded and `warnOnly` is off. `fluid_volumes`: the volumes
+    /// of the cells `fluid` is given on when they are not the coupler's (rank 0 holding a part
+    /// of the mesh, [`crate::whole`]).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn check(
         &self,
         k: u64,
@@ -38,6 +41,7 @@ impl IntervalChecks {
         step: &CouplingStep,
         particles: &ParticleState<'_>,
         fluid: &FluidState<'_>,
+        fluid_volumes: Option<&[f64]>,
         dt_c: f64,
     ) -> Result<Option<Vec<String>>, RunError> {
         if !(k - 1).is_multiple_of(self.every) {
@@ -54,6 +58,7 @@ impl IntervalChecks {
             u_particle: &u_particle,
             u: fluid.u,
             volumes: coupler.voidage_mesh().cell_volumes(),
+            fluid_volumes: fluid_volumes.unwrap_or(coupler.voidage_mesh().cell_volumes()),
             rho: settings.physics.rho,
             nu: settings.physics.nu,
             cg: drag.map_or(1.0, |p| p.cg),

@@ -48,3 +48,4 @@ mod stage1;
 pub mod surface_values;
 pub mod timed;
 pub mod validation;
+mod whole;

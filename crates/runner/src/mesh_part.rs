@@ -1,32 +1,41 @@
-//! The part of the mesh a coupler rank other than 0 holds ([`couple::part`]): the cells around
-//! its particles, cut from the case's polyMesh, read from disk for each cut (the whole mesh is
+//! The part of the mesh a coupler rank holds ([`couple::part`]): the cells around its
+//! particles, cut from the case's polyMesh, read from disk for each cut (the whole mesh is
 //! held only while a part is cut, then dropped).
 //!
-//! Rank 0 keeps the whole mesh: it holds the native fluid, or, with grainPisoFoam, observes
-//! the patches and writes the run's outputs. A mesh with `cyclic` patches is not cut
-//! ([`mesh::part`]): every rank then holds it whole, as before.
+//! Ranks other than 0 hold a part with a stand-in fluid ([`stand_in_on_part`]). With
+//! grainPisoFoam on several coupler ranks rank 0 holds a part too ([`foam_on_part`]): its
+//! first part is cut from the whole mesh the solver's spawn read, after rank 0 has taken from
+//! it what it observes of the whole mesh ([`crate::whole`]). With the native fluid rank 0 keeps
+//! the whole mesh: it sums the ranks' cells and holds the fluid's whole fields. A mesh with
+//! `cyclic` patches is not cut ([`mesh::part`]): every rank then holds it whole, as before.
 
 use crate::error::RunError;
 use crate::fluid::StandInFluid;
 use couple::part::{PartSource, Parted};
 use couple::SideError;
+use foam::PolyMesh;
 use mesh::part::MeshPart;
 use mesh::v3::V3;
 use mesh::Aabb;
 use std::path::PathBuf;
 
-/// The case's polyMesh on disk as the source of a rank's parts.
+/// The case's polyMesh on disk as the source of a rank's parts; the first part from a whole
+/// mesh already read, when there is one.
 struct CaseMesh {
     cfd: PathBuf,
+    first: Option<PolyMesh>,
 }
 
 impl PartSource for CaseMesh {
     fn cut(&mut self, region: &Aabb) -> Result<Option<MeshPart>, SideError> {
-        let whole = foam::Case::open(&self.cfd)
-            .and_then(|c| c.read_mesh())
-            .map_err(|e| {
-                SideError::from(format!("reading the mesh to cut this rank's part: {e}"))
-            })?;
+        let whole = match self.first.take() {
+            Some(whole) => whole,
+            None => foam::Case::open(&self.cfd)
+                .and_then(|c| c.read_mesh())
+                .map_err(|e| {
+                    SideError::from(format!("reading the mesh to cut this rank's part: {e}"))
+                })?,
+        };
         Ok(MeshPart::around(&whole, region))
     }
 }
@@ -41,9 +50,57 @@ pub(crate) fn stand_in_on_part(
 ) -> Result<(StandInFluid, Option<Parted>), RunError> {
     let source = Box::new(CaseMesh {
         cfd: plan.layout.cfd.clone(),
+        first: None,
     });
     match Parted::first(source, position, radius).map_err(RunError::Fluid)? {
         Some((mesh, parted)) => Ok((StandInFluid::on_mesh(plan, mesh), Some(parted))),
         None => Ok((StandInFluid::open(plan)?, None)),
     }
 }
+
+/// Coupler rank 0 with grainPisoFoam on several ranks (`inner`, a sparse run): the fluid on
+/// rank 0's part of the mesh around its particles at `position` (radii `radius`), what its
+/// coupler keeps of the part, and what rank 0 keeps of the whole mesh and observes on it
+/// ([`crate::whole`], for a run starting at the solver's time with coupling interval `dt_c`
+/// s). The whole mesh the spawn read is summarised, cut and dropped. A mesh that cannot be cut
+/// (cyclic patches, or a part that would be the whole mesh) stays whole, as before (`None`s).
+#[cfg(feature = "mpi")]
+pub(crate) fn foam_on_part(
+    plan: &crate::plan::RunPlan,
+    mut inner: foam_link::OpenFoamFluid,
+    position: &[V3],
+    radius: &[f64],
+    dt_c: f64,
+) -> Result<PartedFoam, RunError> {
+    use crate::foam_fluid::FoamFluid;
+    let Some(whole) = inner.take_mesh() else {
+        return Ok((FoamFluid::new(inner), None, None));
+    };
+    if whole
+        .boundary
+        .iter()
+        .any(|p| p.patch_type.contains("cyclic"))
+    {
+        return Ok((FoamFluid::on_mesh(inner, whole), None, None));
+    }
+    let summary = crate::whole::WholeMesh::of(plan, &whole, inner.time(), dt_c)?;
+    let source = Box::new(CaseMesh {
+        cfd: plan.layout.cfd.clone(),
+        first: Some(whole),
+    });
+    match Parted::first(source, position, radius).map_err(RunError::Fluid)? {
+        Some((mesh, parted)) => Ok((FoamFluid::on_mesh(inner, mesh), Some(parted), Some(summary))),
+        None => {
+            let whole = foam::Case::open(&plan.layout.cfd)?.read_mesh()?;
+            Ok((FoamFluid::on_mesh(inner, whole), None, None))
+        }
+    }
+}
+
+/// What [`foam_on_part`] gives: the fluid side, the part and the whole mesh's summary.
+#[cfg(feature = "mpi")]
+pub(crate) type PartedFoam = (
+    crate::foam_fluid::FoamFluid,
+    Option<Parted>,
+    Option<(crate::whole::WholeMesh, crate::whole::Observed)>,
+);

@@ -14,14 +14,14 @@ use crate::error::{io_err, setup_err, RunError};
 use crate::fluid::RunFluid;
 use crate::layout::ValidationSpec;
 use crate::monitors::RunMonitors;
-use crate::outputs::{population_summary, pvd_entries_until, Column, Observer, Open, Outputs};
+use crate::outputs::{population_summary, pvd_entries_until, Observer, Open, Outputs};
 use crate::plan::FluidBackend;
 use crate::plan::{RunOptions, RunPlan};
 use crate::report::{Event, RunReport};
 use crate::timed::Timed;
 use crate::validation::write_json;
+use crate::whole::{Observed, WholeMesh};
 use couple::{Coupler, FluidSide, ParticleSide};
-use mesh::v3::{unit, V3};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -47,6 +47,9 @@ pub(crate) struct LoopContext<'a> {
     /// On a coupler rank other than 0: its part of the mesh ([`couple::part`]; `None`: the
     /// whole mesh).
     pub(crate) part: Option<couple::part::Parted>,
+    /// On coupler rank 0 holding a part of the mesh: what it keeps of the whole mesh and
+    /// observes on it ([`crate::whole`]).
+    pub(crate) whole: Option<(WholeMesh, Observed)>,
 }
 
 /// The loop's clock: coupling interval, steps, write interval.
@@ -114,7 +117,10 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     events: &mut dyn FnMut(Event),
 ) -> Result<RunReport, RunError> {
     let mesh = fluid.mesh().clone();
-    let mut run = Stage2::open(ctx, &mesh, dem, fluid, events)?;
+    let mut ctx = ctx;
+    let (whole, observed) = ctx.whole.take().unzip();
+    let mut run = Stage2::open(ctx, &mesh, whole.as_ref(), dem, fluid, events)?;
+    run.observed = observed;
     let observer = run.observer(events);
     let mut out = run.outputs(&observer, events)?;
     let t_loop = Instant::now();
@@ -146,7 +152,12 @@ struct Stage2<'a, P: ParticleSide, F: RunFluid> {
     opts: &'a RunOptions,
     stop: &'a AtomicBool,
     init_seconds: f64,
+    /// The mesh the coupler holds (rank 0's part, with `whole`).
     mesh: &'a foam::PolyMesh,
+    /// On rank 0 holding a part: what it keeps of the whole mesh ([`crate::whole`]).
+    whole: Option<&'a WholeMesh>,
+    /// What the observer measures, when measured before the loop (rank 0 on a part).
+    observed: Option<Observed>,
     dem: Timed<P>,
     fluid: Timed<F>,
     coupler: Coupler,
@@ -180,6 +191,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
     fn open(
         ctx: LoopContext<'a>,
         mesh: &'a foam::PolyMesh,
+        whole: Option<&'a WholeMesh>,
         dem: P,
         fluid: F,
         events: &mut dyn FnMut(Event),
@@ -192,6 +204,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             ranks,
             owners,
             part,
+            whole: _,
         } = ctx;
         let dem = Timed::new(dem);
         let mut fluid = Timed::new(fluid);
@@ -237,6 +250,8 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             stop,
             init_seconds,
             mesh,
+            whole,
+            observed: None,
             dem,
             fluid,
             coupler,
@@ -250,6 +265,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         };
         run.announce(events);
         Ok(run)
+    }
+
+    /// Cells of the whole mesh (rank 0 on a part holds fewer).
+    fn whole_cells(&self) -> usize {
+        self.whole.map_or(self.mesh.n_cells, |w| w.shell.n_cells)
     }
 
     /// The log lines that open stage 2.
@@ -285,7 +305,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         events(Event::Message(format!(
             "stage 2: {} particles, {} cells, {} coupling steps of {} s ({} DEM + {} fluid steps each), model {}, voidage {}",
             self.n_particles,
-            self.mesh.n_cells,
+            self.whole_cells(),
             s.steps,
             s.dt_c,
             self.plan.settings.coupling_interval,
@@ -297,105 +317,38 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
 
     /// What a step's sample measures: the column along the flow (the validationDict's axis,
     /// else against gravity) and the inlet and outlet patches (the validationDict's, else the
-    /// ones the start fields' boundary conditions make inlet and outlet).
-    fn observer(&self, events: &mut dyn FnMut(Event)) -> Observer {
-        let physics = &self.plan.settings.physics;
-        let spec = &self.plan.layout.validation;
-        let axis = match spec {
-            Some(ValidationSpec::ErgunPackedBed { axis, .. }) => *axis,
-            Some(ValidationSpec::PackedBedHeating(c)) => c.axis,
-            _ => unit(-physics.gravity).unwrap_or(V3::z()),
-        };
-        let volume: f64 = self
-            .coupler
-            .voidage_mesh()
-            .geometry()
-            .cell_volumes
-            .iter()
-            .sum();
-        let (inlet, outlet) = match spec {
-            Some(
-                ValidationSpec::ErgunPackedBed { inlet, outlet, .. }
-                | ValidationSpec::FluidisedBed { inlet, outlet, .. },
-            ) => (Some(inlet.clone()), Some(outlet.clone())),
-            Some(ValidationSpec::PneumaticConveying(c)) => {
-                (Some(c.inlet.clone()), Some(c.outlet.clone()))
-            }
-            Some(ValidationSpec::PackedBedHeating(c)) => {
-                (Some(c.inlet.clone()), Some(c.outlet.clone()))
-            }
-            _ => {
-                let start = couple::output::time_name(self.schedule.start);
-                let found = crate::patches::find(&self.plan.layout.cfd, &start, self.mesh);
-                for note in &found.notes {
-                    events(Event::Message(format!("monitoring: {note}")));
-                }
-                if let (Some(i), Some(o)) = (&found.inlet, &found.outlet) {
-                    events(Event::Message(format!(
-                        "monitoring: Δp between the inlet `{i}` and the outlet `{o}`"
-                    )));
-                }
-                (found.inlet, found.outlet)
-            }
-        };
-        let outlet_cells = outlet
-            .as_deref()
-            .and_then(|name| self.mesh.boundary.iter().find(|p| p.name == name))
-            .map(|patch| {
-                let areas = &self.coupler.voidage_mesh().geometry().face_areas;
-                patch
-                    .faces()
-                    .map(|f| (self.mesh.owner[f] as usize, areas[f].norm()))
-                    .collect()
-            })
-            .unwrap_or_default();
-        let mut column = Column::of(self.mesh, volume, axis);
+    /// ones the start fields' boundary conditions make inlet and outlet); on N ranks rank 0's
+    /// column and bins, which rank 0 measured on the whole mesh ([`crate::whole`]).
+    fn observer(&mut self, events: &mut dyn FnMut(Event)) -> Observer {
+        let observed = self.observed.take().unwrap_or_else(|| {
+            let geometry = self.coupler.voidage_mesh().geometry();
+            let s = &self.schedule;
+            crate::whole::observed(self.plan, self.mesh, geometry, s.start, s.dt_c)
+        });
+        let crate::whole::Observed {
+            mut column,
+            inlet,
+            outlet,
+            notes,
+            outlet_cells,
+            air_cells,
+            mut heating,
+            mut slabs,
+        } = observed;
+        for note in notes {
+            events(Event::Message(note));
+        }
         let ranks = self.coupler.ranks();
         if self.n_ranks > 1 {
             // rank 0's: a rank holding a part of the mesh sees only its part
             let mut c = [column.floor, column.area];
             ranks.broadcast(&mut c);
             [column.floor, column.area] = c;
-        }
-        let air_cells = match spec {
-            Some(ValidationSpec::PneumaticConveying(c)) => c.branch.as_ref().map(|b| {
-                let g = self.coupler.voidage_mesh().geometry();
-                crate::branch::AirCells::select(
-                    b,
-                    c.tube_from,
-                    axis,
-                    &g.cell_centres,
-                    &g.cell_volumes,
-                )
-            }),
-            _ => None,
-        };
-        let mut heating = match spec {
-            Some(ValidationSpec::PackedBedHeating(c)) => Some(crate::heating_run::Profiler::new(
-                c,
-                self.coupler.voidage_mesh().geometry(),
-                self.mesh,
-                column.floor,
-                self.schedule.dt_c,
-            )),
-            _ => None,
-        };
-        let mut slabs = match spec {
-            Some(ValidationSpec::FluidisedBed {
-                profiles: Some(p), ..
-            }) => Some(crate::slab_profile::Profiler::new(
-                p,
-                &self.mesh.points,
-                column.axis,
-                column.floor,
-                column.area,
-            )),
-            _ => None,
-        };
-        if self.n_ranks > 1 {
             heating.iter_mut().for_each(|h| h.agree(ranks));
             slabs.iter_mut().for_each(|s| s.agree(ranks));
         }
+        let physics = &self.plan.settings.physics;
+        let spec = &self.plan.layout.validation;
         Observer {
             air_cells,
             outlet_cells,
@@ -424,7 +377,18 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
     where
         'a: 'o,
     {
-        let (plan, mesh): (&'a RunPlan, &'a foam::PolyMesh) = (self.plan, self.mesh);
+        let plan: &'a RunPlan = self.plan;
+        // the monitors' whole fields are written on the whole mesh: rank 0 on a part has its
+        // cell count, patches and cell volumes; its coupler's own ε is never set there (with
+        // grainPisoFoam on several ranks the owners hold ε), the ones a whole-mesh coupler holds
+        let (mesh, eps_before, cell_volumes): (&'a foam::PolyMesh, _, _) = match self.whole {
+            Some(w) => (&w.shell, vec![1.0; w.shell.n_cells], w.cell_volumes.clone()),
+            None => (
+                self.mesh,
+                self.coupler.voidage().to_vec(),
+                self.coupler.voidage_mesh().geometry().cell_volumes.clone(),
+            ),
+        };
         let layout = &plan.layout;
         let s = self.schedule;
         let post = layout.post_processing();
@@ -472,9 +436,9 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             kept_rows,
             samples: Vec::with_capacity(s.steps as usize),
             vtp,
-            eps_before: self.coupler.voidage().to_vec(),
-            ddt_eps: vec![0.0; self.mesh.n_cells],
-            cell_volumes: self.coupler.voidage_mesh().geometry().cell_volumes.clone(),
+            eps_before,
+            ddt_eps: vec![0.0; mesh.n_cells],
+            cell_volumes,
             mesh,
             rho: self.plan.settings.physics.rho,
             writes: 0,
@@ -570,6 +534,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             ..
         } = self.schedule;
         let commands = &self.plan.commands;
+        let whole = self.whole;
         let (dem, fluid, coupler) = (&mut self.dem, &mut self.fluid, &mut self.coupler);
         let mut held_max = 0;
         let mut evacuation = observer
@@ -594,7 +559,9 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             }
             if let Some(c) = &out.interval_checks {
                 let state = fluid.inner.state();
-                if let Some(lines) = c.check(k, coupler, &step, &dem.state(), &state, dt_c)? {
+                let volumes = whole.map(|w| &w.cell_volumes[..]);
+                let ps = dem.state();
+                if let Some(lines) = c.check(k, coupler, &step, &ps, &state, volumes, dt_c)? {
                     lines.into_iter().for_each(|l| events(Event::Message(l)));
                 }
             }
@@ -744,7 +711,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             particles: self.n_particles,
             particles_at_end,
             population,
-            cells: self.mesh.n_cells,
+            cells: self.whole_cells(),
             init_seconds: self.init_seconds,
             loop_seconds,
             dem_seconds,
@@ -788,7 +755,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
     /// What this rank's coupler and sides hold for the cells and for the particles.
     fn held(&self) -> couple::HeldBytes {
         let sides = couple::HeldBytes {
-            mesh: self.fluid.held_bytes().unwrap_or(0),
+            mesh: self.fluid.held_bytes().unwrap_or(0) + self.whole.map_or(0, |w| w.held_bytes()),
             particles: self.dem.held_bytes().unwrap_or(0),
         };
         self.coupler.held_bytes() + sides
