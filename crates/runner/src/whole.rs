@@ -10,6 +10,7 @@
 //! that mesh. Both are light: per cell only the volumes (8 B, for the monitors and
 //! `checkCouplingInterval`) and a heating case's bins; per face of the outlet its cell and area.
 
+#[cfg(feature = "mpi")]
 use crate::error::RunError;
 use crate::layout::ValidationSpec;
 use crate::outputs::Column;
@@ -153,6 +154,8 @@ pub(crate) struct WholeMesh {
 impl WholeMesh {
     /// The summary of `mesh` and what the observer measures on it (for a run starting at
     /// `start` s with coupling interval `dt_c` s); the geometry is computed here and dropped.
+    /// (Only a co-simulation on several coupler ranks, `mpi`, cuts rank 0's part.)
+    #[cfg(feature = "mpi")]
     pub(crate) fn of(
         plan: &RunPlan,
         mesh: &PolyMesh,

@@ -134,7 +134,7 @@ impl Fluid {
                     let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                     let w = g.weight[f];
                     1.0 / ((1.0 - w) / gam_c[o] + w / gam_c[nb_])
-                } else if self.harmonic_faces {
+                } else if self.harmonic_faces && f >= g.n_internal {
                     // A boundary face closes the owner's half cell: its coefficient is the
                     // cell's, whatever ε the boundary condition holds (a bed on an inlet).
                     gam_c[g.owner[f] as usize]
