@@ -141,6 +141,7 @@ fn symmetric_gauss_seidel(bencher: divan::Bencher) {
     let sm = Smoother {
         kind: SmootherKind::SymGaussSeidel,
         sweeps: 1,
+        hybrid: false,
     };
     bencher.bench_local(|| {
         let mut x = vec![0.0; g.n_cells];

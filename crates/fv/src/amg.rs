@@ -11,6 +11,14 @@
 //! at [`COARSEST`] rows or when a level would shrink by less than a third; the coarsest system
 //! is solved exactly (dense LU with partial pivoting).
 //!
+//! [`Amg::rebuild`] keeps a hierarchy's aggregates for a new matrix of the same pattern and
+//! redoes only the Galerkin products' values (on each level's stored pattern, the same
+//! additions in the same order as [`Amg::new`], so the same bits for the same aggregates):
+//! [`crate::linsolve`] uses it for the pressure matrices of successive time steps on
+//! ≥ [`PAR_MIN`] rows, choosing the aggregates again every [`REAGGREGATE`] set-ups. On the
+//! 320² RAS cavity (20 steps, docs/speed.md third pass) the pressure took 414 iterations
+//! against 450 with aggregates chosen every step.
+//!
 //! [`Amg::apply`] is one K-cycle from a zero guess (Notay & Vassilevski 2008): forward
 //! Gauss–Seidel, the coarse correction, backward Gauss–Seidel, where the coarse problem is
 //! solved by one or two flexible-CG steps preconditioned by the next level's cycle (a plain
@@ -82,10 +90,26 @@ fn group(agg: &[u32], nc: usize) -> (Vec<u32>, Vec<u32>) {
 }
 
 /// The block boundaries of a level of `n` rows (`nb + 1` ascending row indices from 0 to `n`).
-fn block_bounds(n: usize) -> Vec<usize> {
+pub(crate) fn block_bounds(n: usize) -> Vec<usize> {
     let q = (n / BLOCK_ROWS).clamp(1, MAX_BLOCKS);
     let nb = 1usize << (usize::BITS - 1 - q.leading_zeros());
     (0..=nb).map(|b| b * n / nb).collect()
+}
+
+/// `x` split at the ascending row indices `bounds` (from 0 to `x.len()`), each piece with its
+/// first row.
+pub(crate) fn split_at_bounds<'x>(
+    x: &'x mut [f64],
+    bounds: &[usize],
+) -> Vec<(usize, &'x mut [f64])> {
+    let mut out = Vec::with_capacity(bounds.len() - 1);
+    let mut rest = x;
+    for w in bounds.windows(2) {
+        let (piece, tail) = rest.split_at_mut(w[1] - w[0]);
+        out.push((w[0], piece));
+        rest = tail;
+    }
+    out
 }
 
 /// A square sparse matrix: compressed rows of off-diagonal entries and a separate diagonal.
@@ -234,14 +258,7 @@ impl Csr {
 
     /// x split at the block boundaries, each piece with its first row.
     fn split_blocks<'x>(&self, x: &'x mut [f64]) -> Vec<(usize, &'x mut [f64])> {
-        let mut out = Vec::with_capacity(self.blocks.len() - 1);
-        let mut rest = x;
-        for w in self.blocks.windows(2) {
-            let (piece, tail) = rest.split_at_mut(w[1] - w[0]);
-            out.push((w[0], piece));
-            rest = tail;
-        }
-        out
+        split_at_bounds(x, &self.blocks)
     }
 
     /// Σ_k a_ik x_k over the entries `k` of row i, reading columns inside `lo..lo + xb.len()`
@@ -529,16 +546,104 @@ struct Level {
     /// `members[members_start[I]..members_start[I + 1]]` (the restriction as a gather).
     members_start: Vec<u32>,
     members: Vec<u32>,
+    /// For each entry of the level above's matrix: the entry of this level's matrix it is
+    /// summed into, or [`ON_DIAG`] for an entry inside its aggregate (the Galerkin product's
+    /// pattern, so that [`Amg::rebuild`] redoes only its values).
+    target: Vec<u32>,
 }
 
+/// [`Level::target`] of an entry that goes to the coarse diagonal.
+const ON_DIAG: u32 = u32::MAX;
+
 impl Level {
-    fn new(a: Csr, from_fine: Vec<u32>) -> Level {
+    fn new(above: &Csr, a: Csr, from_fine: Vec<u32>) -> Level {
         let (members_start, members) = group(&from_fine, a.n());
+        // Each fine row's entries on their own (in parallel on large levels).
+        let row_targets = |i: usize| -> Vec<u32> {
+            let ci = from_fine[i] as usize;
+            let cols = &a.col[a.row(ci)];
+            above
+                .row(i)
+                .map(|k| {
+                    let cj = from_fine[above.col[k] as usize];
+                    if cj as usize == ci {
+                        ON_DIAG
+                    } else {
+                        let p = cols.binary_search(&cj).expect("Galerkin pattern");
+                        a.start[ci] + p as u32
+                    }
+                })
+                .collect()
+        };
+        let target: Vec<u32> = if above.n() >= 2 * BLOCK_ROWS {
+            (0..above.n())
+                .into_par_iter()
+                .flat_map_iter(row_targets)
+                .collect()
+        } else {
+            (0..above.n()).flat_map(row_targets).collect()
+        };
         Level {
             a,
             from_fine,
             members_start,
             members,
+            target,
+        }
+    }
+
+    /// The Galerkin product of `above` on this level's pattern: each coarse row the sum of its
+    /// cells' rows in row order, their entries in order — the additions of
+    /// [`Csr::galerkin`] in the same order, so the same bits for the same aggregates.
+    fn galerkin_values(&self, above: &Csr) -> Csr {
+        let c = &self.a;
+        let nc = c.n();
+        let mut diag = vec![0.0; nc];
+        let mut val = vec![0.0; c.val.len()];
+        const CHUNK: usize = 4096;
+        let mut pieces = Vec::with_capacity(nc.div_ceil(CHUNK));
+        let (mut val_rest, mut diag_rest) = (&mut val[..], &mut diag[..]);
+        for r0 in (0..nc).step_by(CHUNK) {
+            let r1 = (r0 + CHUNK).min(nc);
+            let len = (c.start[r1] - c.start[r0]) as usize;
+            let (v, vt) = std::mem::take(&mut val_rest).split_at_mut(len);
+            let (d, dt) = std::mem::take(&mut diag_rest).split_at_mut(r1 - r0);
+            (val_rest, diag_rest) = (vt, dt);
+            pieces.push((r0, v, d));
+        }
+        let sum = |(r0, v, d): (usize, &mut [f64], &mut [f64])| {
+            let base = c.start[r0] as usize;
+            for (il, dc) in d.iter_mut().enumerate() {
+                let ci = r0 + il;
+                let mut s = 0.0;
+                let ms = self.members_start[ci] as usize..self.members_start[ci + 1] as usize;
+                for &m in &self.members[ms] {
+                    let i = m as usize;
+                    s += above.diag[i];
+                    for k in above.row(i) {
+                        match self.target[k] {
+                            ON_DIAG => s += above.val[k],
+                            t => v[t as usize - base] += above.val[k],
+                        }
+                    }
+                }
+                *dc = s;
+            }
+        };
+        if pieces.len() > 1 {
+            pieces.into_par_iter().for_each(sum);
+        } else {
+            pieces.into_iter().for_each(sum);
+        }
+        let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
+        Csr {
+            start: c.start.clone(),
+            mid: c.mid.clone(),
+            col: c.col.clone(),
+            val,
+            diag,
+            inv_diag,
+            blocks: c.blocks.clone(),
         }
     }
 
@@ -584,7 +689,14 @@ pub struct Amg {
     fine: Csr,
     coarse: Vec<Level>,
     direct: DenseLu,
+    /// Set-ups since the aggregates were chosen ([`Amg::rebuild`]).
+    age: usize,
 }
+
+/// [`Amg::rebuild`] keeps a hierarchy's aggregates for at most this many set-ups (the
+/// pressure matrix of a PISO step changes with 1/A, slowly from step to step; the aggregates
+/// follow its strongest couplings, so they are chosen again every so often).
+pub const REAGGREGATE: usize = 10;
 
 impl Amg {
     /// Builds the hierarchy of `m`.
@@ -606,7 +718,8 @@ impl Amg {
             }
             let from_fine: Vec<u32> = agg1.iter().map(|&i| agg2[i as usize]).collect();
             let ac = a.galerkin(&from_fine, n2);
-            coarse.push(Level::new(ac, from_fine));
+            let level = Level::new(a, ac, from_fine);
+            coarse.push(level);
         }
         let direct = DenseLu::new(coarse.last().map_or(&fine, |l| &l.a));
         let mut fine = fine;
@@ -620,7 +733,42 @@ impl Amg {
             fine,
             coarse,
             direct,
+            age: 0,
         }
+    }
+
+    /// The hierarchy of `m` with this one's aggregates (the pairwise passes, the sequential
+    /// part of [`Amg::new`], skipped): each level's Galerkin product redone on its pattern
+    /// ([`Level::galerkin_values`]), the coarsest factorised again. `None` when `m` has not
+    /// the rows of this hierarchy's finest level, or when the aggregates were chosen
+    /// [`REAGGREGATE`] set-ups ago (then [`Amg::new`] chooses them again for `m`).
+    pub fn rebuild(&self, m: &RowMatrix<'_>) -> Option<Amg> {
+        let fine = Csr::from_rows(m);
+        if self.age + 1 >= REAGGREGATE || fine.start != self.fine.start || fine.col != self.fine.col
+        {
+            return None;
+        }
+        let mut fine = fine;
+        fine.blocks = self.fine.blocks.clone();
+        let mut coarse: Vec<Level> = Vec::with_capacity(self.coarse.len());
+        for l in &self.coarse {
+            let above = coarse.last().map_or(&fine, |c: &Level| &c.a);
+            let a = l.galerkin_values(above);
+            coarse.push(Level {
+                a,
+                from_fine: l.from_fine.clone(),
+                members_start: l.members_start.clone(),
+                members: l.members.clone(),
+                target: l.target.clone(),
+            });
+        }
+        let direct = DenseLu::new(coarse.last().map_or(&fine, |l| &l.a));
+        Some(Amg {
+            fine,
+            coarse,
+            direct,
+            age: self.age + 1,
+        })
     }
 
     /// Number of levels, the finest included.
@@ -693,15 +841,10 @@ impl Amg {
             x.copy_from_slice(&v);
             return;
         }
-        let r1: Vec<f64> = b
-            .iter()
-            .zip(&w)
-            .map(|(b, w)| b - rho1 / alpha1 * w)
-            .collect();
+        let mut r1 = vec![0.0; n];
+        a.each_row(&mut r1, |i| b[i] - rho1 / alpha1 * w[i]);
         if dot(&r1, &r1).sqrt() <= 0.25 * dot(b, b).sqrt() {
-            for i in 0..n {
-                x[i] = rho1 / alpha1 * v[i];
-            }
+            a.each_row(x, |i| rho1 / alpha1 * v[i]);
             return;
         }
         let mut v2 = vec![0.0; n];
@@ -713,16 +856,12 @@ impl Amg {
         let rho2 = dot(&v2, &r1);
         let alpha2 = beta - gamma * gamma / alpha1;
         if alpha2 <= 0.0 {
-            for i in 0..n {
-                x[i] = rho1 / alpha1 * v[i];
-            }
+            a.each_row(x, |i| rho1 / alpha1 * v[i]);
             return;
         }
         let c1 = rho1 / alpha1 - gamma * rho2 / (alpha1 * alpha2);
         let c2 = rho2 / alpha2;
-        for i in 0..n {
-            x[i] = c1 * v[i] + c2 * v2[i];
-        }
+        a.each_row(x, |i| c1 * v[i] + c2 * v2[i]);
     }
 }
 
@@ -790,6 +929,41 @@ mod tests {
                 assert!((c.val[k] - c.val[back]).abs() < 1e-12);
             }
         }
+    }
+
+    #[test]
+    fn a_rebuilt_hierarchy_is_the_galerkin_product_on_the_kept_aggregates() {
+        let (g, a) = laplacian(70, 60);
+        let m = RowMatrix::new(&a, &g);
+        let amg = Amg::new(&m);
+        assert!(amg.n_levels() >= 3, "{:?}", amg.sizes());
+        // The same matrix: the same bits as choosing the aggregates again (the same sums in
+        // the same order).
+        let same = amg.rebuild(&m).unwrap();
+        for (l, r) in amg.coarse.iter().zip(&same.coarse) {
+            assert_eq!(
+                (&l.a.diag, &l.a.val, &l.a.col),
+                (&r.a.diag, &r.a.val, &r.a.col)
+            );
+        }
+        // Twice the matrix (exact in floating point): Pᵀ(2A)P = 2 PᵀAP on every level.
+        let mut a2 = a.clone();
+        for v in a2.diag.iter_mut().chain(&mut a2.upper).chain(&mut a2.lower) {
+            *v *= 2.0;
+        }
+        let m2 = RowMatrix::new(&a2, &g);
+        let twice = amg.rebuild(&m2).unwrap();
+        for (l, r) in amg.coarse.iter().zip(&twice.coarse) {
+            let doubled: Vec<f64> = l.a.val.iter().map(|v| 2.0 * v).collect();
+            let ddiag: Vec<f64> = l.a.diag.iter().map(|v| 2.0 * v).collect();
+            assert_eq!((&ddiag, &doubled), (&r.a.diag, &r.a.val));
+        }
+        // The aggregates are chosen again after REAGGREGATE set-ups.
+        let mut h = amg;
+        for _ in 1..REAGGREGATE {
+            h = h.rebuild(&m).unwrap();
+        }
+        assert!(h.rebuild(&m).is_none());
     }
 
     #[test]

@@ -195,7 +195,15 @@ impl<'a> RowMatrix<'a> {
     /// The row form of `a` on the mesh of `g`.
     pub fn new(a: &'a Ldu, g: &'a FvGeometry) -> Self {
         let r = &g.rows;
-        let coef = (0..r.col.len()).map(|k| a.coef(r, k)).collect();
+        // Each entry on its own (in parallel on large meshes: the same values).
+        let coef = if r.n_rows() < PAR_MIN {
+            (0..r.col.len()).map(|k| a.coef(r, k)).collect()
+        } else {
+            (0..r.col.len())
+                .into_par_iter()
+                .map(|k| a.coef(r, k))
+                .collect()
+        };
         RowMatrix {
             rows: r,
             diag: &a.diag,

@@ -64,6 +64,7 @@ pub mod geometry;
 pub mod ldu;
 pub mod linsolve;
 pub mod settings;
+mod sweep;
 pub mod temperature;
 pub mod testfields;
 pub mod turbulence;

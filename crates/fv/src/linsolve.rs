@@ -7,7 +7,8 @@
 //! preconditioned by the aggregation multigrid of [`crate::amg`]. All work on the row form of the matrix ([`RowMatrix`]). On large meshes the
 //! matrix products and vector operations run in parallel (rayon) with reductions whose bits do
 //! not depend on the thread count; the triangular sweeps (DIC/DILU, Gauss–Seidel) are
-//! sequential by nature.
+//! sequential by nature, but for the Gauss–Seidel sweeps of [`Smoother::hybrid`]
+//! ([`crate::sweep`]).
 //!
 //! Convergence is judged as OpenFOAM judges it (`lduMatrix::solver`): the residual
 //! r = Σ|b − Ax| / n_f with the normalisation n_f = Σ(|Ax − A x̄| + |b − A x̄|) + 1e-20, x̄ the
@@ -86,6 +87,11 @@ pub struct Smoother {
     pub kind: SmootherKind,
     /// Sweeps between residual checks (`nSweeps`, default 1).
     pub sweeps: usize,
+    /// Gauss–Seidel sweeps in the hybrid block order of [`crate::sweep`] on ≥ [`PAR_MIN`]
+    /// rows (in parallel; the same bits on any number of threads); false: row by row,
+    /// OpenFOAM's sweeps bit for bit. fvSolution does not set it (false); the momentum
+    /// predictor does.
+    pub hybrid: bool,
 }
 
 /// One sweep of a [`Smoother`].
@@ -206,14 +212,25 @@ const BLOCK: usize = 8192;
 fn norm_factor(a: &RowMatrix<'_>, x: &[f64], b: &[f64], ax: &[f64]) -> f64 {
     let n = x.len().max(1) as f64;
     let xbar = x.iter().sum::<f64>() / n;
-    let mut s = 0.0;
-    for c in 0..x.len() {
-        // Row c of A times the uniform field x̄, its terms in row order.
+    // Row c of A times the uniform field x̄, its terms in row order.
+    let term = |c: usize| {
         let mut axr = a.diag[c] * xbar;
         for k in a.rows.row(c) {
             axr += a.coef[k] * xbar;
         }
-        s += (ax[c] - axr).abs() + (b[c] - axr).abs();
+        (ax[c] - axr).abs() + (b[c] - axr).abs()
+    };
+    // The terms in parallel on large meshes, summed in row order either way (the same bits).
+    let mut s = 0.0;
+    if x.len() < PAR_MIN {
+        for c in 0..x.len() {
+            s += term(c);
+        }
+    } else {
+        let terms: Vec<f64> = (0..x.len()).into_par_iter().map(term).collect();
+        for t in terms {
+            s += t;
+        }
     }
     s + 1e-20
 }
@@ -328,17 +345,25 @@ thread_local! {
 
 /// The multigrid hierarchy of `a`: reused when `a` equals (bit for bit) the matrix of the
 /// previous call on this thread — the pressure matrix of every PISO corrector and
-/// non-orthogonal correction of a time step is the same — else built. The result depends on
-/// the matrix only, never on what was solved before.
+/// non-orthogonal correction of a time step is the same — else built. On fewer than
+/// [`PAR_MIN`] rows the result depends on the matrix only, never on what was solved before;
+/// on larger matrices a new matrix of the same rows keeps the previous hierarchy's aggregates
+/// for up to [`crate::amg::REAGGREGATE`] set-ups ([`crate::amg::Amg::rebuild`]), so the
+/// hierarchy depends on the matrices of the last few time steps (the same on any number of
+/// threads).
 fn amg_for(a: &Ldu, m: &RowMatrix<'_>) -> std::rc::Rc<crate::amg::Amg> {
     AMG_CACHE.with(|cache| {
         let mut cache = cache.borrow_mut();
+        let mut rebuilt = None;
         if let Some((cached, amg)) = cache.as_ref() {
             if cached == a {
                 return amg.clone();
             }
+            if a.diag.len() >= PAR_MIN {
+                rebuilt = amg.rebuild(m);
+            }
         }
-        let amg = std::rc::Rc::new(crate::amg::Amg::new(m));
+        let amg = std::rc::Rc::new(rebuilt.unwrap_or_else(|| crate::amg::Amg::new(m)));
         *cache = Some((a.clone(), amg.clone()));
         amg
     })
@@ -378,7 +403,8 @@ fn start(
 ) -> Result<(Vec<f64>, f64, SolveStats)> {
     let mut ax = vec![0.0; x.len()];
     m.mul(x, &mut ax);
-    let r: Vec<f64> = b.iter().zip(&ax).map(|(b, ax)| b - ax).collect();
+    let mut r = vec![0.0; x.len()];
+    par_map2(&mut r, b, &ax, |b, ax| b - ax);
     let nf = norm_factor(m, x, b, &ax);
     let r0 = sum_abs(&r) / nf;
     check_finite(what, r0)?;
@@ -404,6 +430,17 @@ fn update_and_residual(x: &mut [f64], r: &mut [f64], p: &[f64], q: &[f64], alpha
         x.par_iter_mut().zip(p).for_each(|(x, p)| *x += alpha * p);
         r.par_iter_mut().zip(q).for_each(|(r, q)| *r -= alpha * q);
         sum_abs(r)
+    }
+}
+
+/// out_i = f(a_i, b_i) (b empty: f(a_i, out_i)), in parallel on ≥ [`PAR_MIN`] elements (each
+/// element on its own: the same bits either way).
+fn par_map2(out: &mut [f64], a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64 + Sync) {
+    let one = |(i, o): (usize, &mut f64)| *o = f(a[i], if b.is_empty() { *o } else { b[i] });
+    if out.len() < PAR_MIN {
+        out.iter_mut().enumerate().for_each(one);
+    } else {
+        out.par_iter_mut().enumerate().for_each(one);
     }
 }
 
@@ -449,7 +486,7 @@ pub fn pcg(
         if flexible {
             r_prev.copy_from_slice(&r);
         }
-        p.iter_mut().zip(&w).for_each(|(p, w)| *p = w + beta * *p);
+        par_map2(&mut p, &w, &[], |w, p| w + beta * p);
         let pap = m.mul_dot(&p, &mut ap);
         if pap == 0.0 {
             break;
@@ -667,13 +704,7 @@ pub fn smooth(
             }
         }
     };
-    let relax = |x: &mut [f64], bp: &[f64], c: usize| {
-        let mut s = bp[c];
-        for k in rows.start[c] as usize..rows.end[c] as usize {
-            s -= m.coef[k] * x[rows.col[k] as usize];
-        }
-        x[c] = s / m.diag[c];
-    };
+    let mut sweeper = crate::sweep::Sweeper::new(x.len(), smoother.hybrid);
     let factor = match smoother.kind {
         SmootherKind::Factor | SmootherKind::FactorGaussSeidel => Some(Dilu::new(a, &m)),
         _ => None,
@@ -696,13 +727,9 @@ pub fn smooth(
             (SmootherKind::GaussSeidel | SmootherKind::SymGaussSeidel, _) => {
                 for _ in 0..sweeps {
                     interfaces(x, &mut b_prime);
-                    for c in 0..x.len() {
-                        relax(x, &b_prime, c);
-                    }
+                    sweeper.sweep(&m, &b_prime, x, false);
                     if smoother.kind == SmootherKind::SymGaussSeidel {
-                        for c in (0..x.len()).rev() {
-                            relax(x, &b_prime, c);
-                        }
+                        sweeper.sweep(&m, &b_prime, x, true);
                     }
                 }
             }
@@ -713,9 +740,7 @@ pub fn smooth(
                 if smoother.kind == SmootherKind::FactorGaussSeidel {
                     for _ in 0..sweeps {
                         interfaces(x, &mut b_prime);
-                        for c in 0..x.len() {
-                            relax(x, &b_prime, c);
-                        }
+                        sweeper.sweep(&m, &b_prime, x, false);
                     }
                 }
             }
@@ -855,7 +880,13 @@ mod tests {
             tolerance: 1e-12,
             ..SolverControls::default()
         };
-        let sm = |kind| Method::Smooth(Smoother { kind, sweeps: 1 });
+        let sm = |kind| {
+            Method::Smooth(Smoother {
+                kind,
+                sweeps: 1,
+                hybrid: false,
+            })
+        };
         let gs = |symmetric| {
             sm(if symmetric {
                 SmootherKind::SymGaussSeidel
@@ -948,10 +979,12 @@ mod tests {
                 Method::Smooth(Smoother {
                     kind: SmootherKind::SymGaussSeidel,
                     sweeps: 1,
+                    hybrid: false,
                 }),
                 Method::Smooth(Smoother {
                     kind: SmootherKind::FactorGaussSeidel,
                     sweeps: 2,
+                    hybrid: false,
                 }),
                 Method::Gamg,
             ];
@@ -1000,7 +1033,11 @@ mod tests {
             SmootherKind::SymGaussSeidel,
             SmootherKind::FactorGaussSeidel,
         ] {
-            let sm = Smoother { kind, sweeps: 3 };
+            let sm = Smoother {
+                kind,
+                sweeps: 3,
+                hybrid: false,
+            };
             let mut x = vec![0.0; g.n_cells];
             let s = smooth(&a, &g, &b, &mut x, sm, &c, "x").unwrap();
             // Checks after 3, 6 and 9 sweeps; 9 ≥ 7 stops (OpenFOAM's smoothSolver count).

@@ -454,6 +454,7 @@ pub(crate) fn linear_solver(d: &Dict, file: &Path, name: &str) -> Result<LinearS
             Method::Smooth(Smoother {
                 kind,
                 sweeps: sweeps as usize,
+                hybrid: false,
             })
         }
         "GAMG" => {

@@ -137,6 +137,14 @@ impl Fluid {
         // only: on large meshes they run side by side (each solve's arithmetic unchanged, so
         // the same bits as one after the other).
         let dirs: Vec<usize> = (0..3).filter(|&k| g.solution_dirs[k]).collect();
+        // A smoothSolver sweeps in the hybrid block order (crate::sweep): in parallel on large
+        // meshes, as the other components' solves are.
+        let method = match solver.method {
+            linsolve::Method::Smooth(sm) => {
+                linsolve::Method::Smooth(linsolve::Smoother { hybrid: true, ..sm })
+            }
+            other => other,
+        };
         let solve_one = |k: usize| -> Result<(Vec<f64>, linsolve::SolveStats)> {
             let mut m = eqn.m.clone();
             m.diag = eqn.diag.iter().map(|d| d[k]).collect();
@@ -145,7 +153,7 @@ impl Fluid {
             });
             let mut x: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
             let what = ["Ux", "Uy", "Uz"][k];
-            let s = linsolve::solve(solver.method, &m, g, &rhs, &mut x, &solver.controls, what)?;
+            let s = linsolve::solve(method, &m, g, &rhs, &mut x, &solver.controls, what)?;
             Ok((x, s))
         };
         let solved: Vec<Result<(Vec<f64>, linsolve::SolveStats)>> = if n >= PAR_MIN {
