@@ -71,22 +71,28 @@ fn cavity_matches_a_fresh_icofoam_run() {
 /// the cavity has none, so its velocities are icoFoam's to round-off as before.
 #[test]
 fn reconstructed_velocities_leave_a_flow_without_jumps_alone() {
+    let e = re100_with(|fluid| fluid.reconstruct_u = true);
+    assert!(e < 1e-12, "max |ΔU|/U_lid = {e}");
+}
+
+/// The Re 100 cavity run with an option `set` on: max |U − U_icoFoam| / U_lid at t = 0.5
+/// against the committed fixture.
+fn re100_with(set: impl FnOnce(&mut fv::Fluid)) -> f64 {
     let case = testkit::fixture("fv/cavity-re100");
     let dir = tempfile::tempdir().unwrap();
     testkit::copy_dir(&case, dir.path());
     let _ = std::fs::remove_dir_all(dir.path().join("0.5"));
     let mut fluid = fv::Fluid::from_case(dir.path()).unwrap();
-    fluid.reconstruct_u = true;
+    set(&mut fluid);
     fluid.run().unwrap();
     let n = fluid.geometry().n_cells;
     let theirs = read_u(&case.join("0.5/U"), n);
-    let e = fluid
+    fluid
         .u()
         .iter()
         .zip(&theirs)
         .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
-        .fold(0.0, f64::max);
-    assert!(e < 1e-12, "max |ΔU|/U_lid = {e}");
+        .fold(0.0, f64::max)
 }
 
 /// `harmonic_faces` (the coupled runs' porous faces) changes only faces next to porous cells
@@ -97,21 +103,7 @@ fn reconstructed_velocities_leave_a_flow_without_jumps_alone() {
 /// here), and CrankNicolson 0.9 diverged at Courant numbers 14–20 on the conveyor.
 #[test]
 fn porous_faces_leave_a_clear_flow_alone() {
-    let case = testkit::fixture("fv/cavity-re100");
-    let dir = tempfile::tempdir().unwrap();
-    testkit::copy_dir(&case, dir.path());
-    let _ = std::fs::remove_dir_all(dir.path().join("0.5"));
-    let mut fluid = fv::Fluid::from_case(dir.path()).unwrap();
-    fluid.harmonic_faces = true;
-    fluid.run().unwrap();
-    let n = fluid.geometry().n_cells;
-    let theirs = read_u(&case.join("0.5/U"), n);
-    let e = fluid
-        .u()
-        .iter()
-        .zip(&theirs)
-        .flat_map(|(a, b)| (0..3).map(move |k| (a[k] - b[k]).abs()))
-        .fold(0.0, f64::max);
+    let e = re100_with(|fluid| fluid.harmonic_faces = true);
     eprintln!("cavity Re 100 with harmonic_faces: max |ΔU|/U_lid = {e:.3e}");
     assert!(e < 1e-12, "max |ΔU|/U_lid = {e}");
 }

@@ -47,8 +47,6 @@ pub(super) struct Correctors {
 pub(super) struct PorousTime {
     /// [`PorousTimeFlux::Consistent`] with [`Fluid::harmonic_faces`].
     pub(super) consistent: bool,
-    /// The faces next to porous cells ([`porous_faces`]; all false unless `consistent`).
-    pub(super) face: Vec<bool>,
     /// The time resistance r_t = 1/(κ_p Δt) per cell (s/m², kinematic; backward: T = c ε/Δt,
     /// CrankNicolson: T = c/Δt ε, grainPisoFoam's ddtUEqn.A()).
     pub(super) r_t: Vec<f64>,
@@ -74,7 +72,7 @@ impl Fluid {
         let (kappa, gam_c, gamma) = self.flux_coefficient(lv, &eqn.r_au, &porous_face);
         let gamma_b: Vec<f64> = gamma[g.n_internal..].to_vec();
         let (ddt_corr, cn_corr_w) = self.ddt_corr(lv, &eqn.r_au);
-        let porous = self.porous_time(lv, &eqn.a_mean, &gam_c, &porous_face);
+        let porous = self.porous_time(lv, &eqn.a_mean, &gam_c);
         let jump_zone = if self.reconstruct_u {
             jump_zone(&self.g, &gam_c, JUMP_RATIO, JUMP_LAYERS)
         } else {
@@ -221,25 +219,14 @@ impl Fluid {
 
     /// The porous faces' time terms of [`PorousTimeFlux::Consistent`] (grainPisoFoam's
     /// `porousFaces`), from the step's levels `lv`, A (`a_mean`) and γ_c (`gam_c`).
-    fn porous_time(
-        &self,
-        lv: &Levels,
-        a_mean: &[f64],
-        gam_c: &[f64],
-        porous_face: &[bool],
-    ) -> PorousTime {
+    fn porous_time(&self, lv: &Levels, a_mean: &[f64], gam_c: &[f64]) -> PorousTime {
         let g = &self.g;
         let n = g.n_cells;
         let (dt, ddt_k, cn_r) = (lv.dt, lv.ddt_k, lv.cn_r);
         let cn = self.cn.as_ref();
-        // Faces next to porous cells take the consistent time term (PorousTimeFlux): their
-        // time resistance r_t = 1/(κ_p Δt) per cell (s/m², kinematic) and the mask.
+        // Faces next to porous cells (Correctors::porous_face) take the consistent time term
+        // (PorousTimeFlux): their time resistance r_t = 1/(κ_p Δt) per cell (s/m², kinematic).
         let consistent = self.harmonic_faces && self.porous_time_flux == PorousTimeFlux::Consistent;
-        let porous_face = if consistent {
-            porous_face.to_vec()
-        } else {
-            vec![false; g.n_faces()]
-        };
         // (backward: T = c ε/Δt, CrankNicolson: T = c/Δt ε, grainPisoFoam's ddtUEqn.A())
         let r_t: Vec<f64> = (0..n)
             .map(|c| match cn {
@@ -277,7 +264,6 @@ impl Fluid {
         let phi_t = self.porous_old_flux(lv, consistent);
         PorousTime {
             consistent,
-            face: porous_face,
             r_t,
             cn_h,
             gam_steady,

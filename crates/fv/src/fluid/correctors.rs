@@ -132,13 +132,13 @@ impl Fluid {
                 let internal = f < g.n_internal;
                 if !internal && g.boundary_empty[f - g.n_internal] {
                     0.0
-                } else if pt.face[f] && internal {
+                } else if pt.consistent && cs.porous_face[f] && internal {
                     // The face's momentum balance with its own old flux.
                     let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                     let w = g.weight[f];
                     let rtf = (1.0 - w) * pt.r_t[o] + w * pt.r_t[nb_];
                     gamma[f] * (htsf[f].dot(&g.sf[f]) + rtf * pt.phi_t[f])
-                } else if pt.face[f] {
+                } else if pt.consistent && cs.porous_face[f] {
                     // The owner's half cell with the face's old flux.
                     let o = g.owner[f] as usize;
                     gamma[f] * (ht_steady[o].dot(&g.sf[f]) + pt.r_t[o] * pt.phi_t[f])
@@ -350,7 +350,7 @@ impl Fluid {
                 &self.p_b,
                 &cs.gam_c,
                 &cs.porous_face,
-                (&cs.porous.gam_steady, &cs.porous.face),
+                cs.porous.consistent.then_some(&cs.porous.gam_steady[..]),
             )
         } else {
             fvc::grad_scalar(&self.g, &self.p, &self.p_b)
@@ -379,17 +379,16 @@ impl Fluid {
 /// Gauss gradient of the cell pressures `p` (boundary values `p_b`) with the flux-continuous
 /// face pressure of [`Fluid::harmonic_faces`] on the internal faces `porous` marks (next to
 /// porous cells): p_f weights each side by its flux coefficient γ = εκ over its distance to
-/// the face, p_f = (w γ_P p_P + (1−w) γ_N p_N)/(w γ_P + (1−w) γ_N). `gamma` per cell; on the
-/// faces `steady.1` marks (empty: none) the per-cell `steady.0` instead (the steady γ′ of
-/// [`PorousTimeFlux::Consistent`]). Faces between clear cells take pisoFoam's linear face
-/// value p_N + w (p_P − p_N).
+/// the face, p_f = (w γ_P p_P + (1−w) γ_N p_N)/(w γ_P + (1−w) γ_N). `gamma` per cell, or
+/// `steady` per cell when given (the steady γ′ of [`PorousTimeFlux::Consistent`]). Faces
+/// between clear cells take pisoFoam's linear face value p_N + w (p_P − p_N).
 fn flux_consistent_grad(
     g: &FvGeometry,
     p: &[f64],
     p_b: &[f64],
     gamma: &[f64],
     porous: &[bool],
-    steady: (&[f64], &[bool]),
+    steady: Option<&[f64]>,
 ) -> Vec<V3> {
     let mut sum = vec![V3::zeros(); g.n_cells];
     for f in 0..g.n_internal {
@@ -403,11 +402,7 @@ fn flux_consistent_grad(
             }
             continue;
         }
-        let kappa = if steady.1.get(f).copied().unwrap_or(false) {
-            steady.0
-        } else {
-            gamma
-        };
+        let kappa = steady.unwrap_or(gamma);
         let (a, b) = (w * kappa[o], (1.0 - w) * kappa[nb]);
         let pf = (a * p[o] + b * p[nb]) / (a + b);
         for i in 0..3 {
