@@ -1,5 +1,11 @@
 //! Aggregation algebraic multigrid: what the native solver runs for fvSolution's `GAMG`.
 //!
+//! Two hierarchies and two cycles. For `GAMG` on a symmetric matrix (the pressure),
+//! [`Amg::gamg`] builds OpenFOAM's hierarchy (one pairing pass per level on the mesh's face
+//! weights) and the module `vcycle` iterates OpenFOAM's V-cycle on it. For the K-cycle (`GAMG` as a
+//! preconditioner, and the non-symmetric `GAMG` solver's BiCGStab), [`Amg::new`] builds the
+//! matrix-based hierarchy below.
+//!
 //! The hierarchy is built from the matrix alone (Stüben, *A review of algebraic multigrid*,
 //! J. Comput. Appl. Math. 128 (2001) 281–309; the pairwise aggregation of Notay, *An
 //! aggregation-based algebraic multigrid method*, ETNA 37 (2010) 123–146, as OpenFOAM's
@@ -56,6 +62,8 @@
 
 use crate::ldu::{RowMatrix, PAR_MIN};
 use rayon::prelude::*;
+
+mod vcycle;
 
 /// Coarsening stops when a level has at most this many rows.
 pub const COARSEST: usize = 64;
@@ -362,12 +370,13 @@ impl Csr {
     /// with its free neighbour of largest |a_ij| (ties: the first); a cell with no free
     /// neighbour joins the aggregate of its most strongly coupled neighbour, or stays alone
     /// when it has none. Returns the aggregate of each row and the number of aggregates.
-    fn pairwise(&self) -> (Vec<u32>, usize) {
+    fn pairwise(&self, forward: bool) -> (Vec<u32>, usize) {
         const FREE: u32 = u32::MAX;
         let n = self.n();
         let mut agg = vec![FREE; n];
         let mut nc = 0u32;
-        for i in 0..n {
+        for ii in 0..n {
+            let i = if forward { ii } else { n - 1 - ii };
             if agg[i] != FREE {
                 continue;
             }
@@ -397,6 +406,13 @@ impl Csr {
                     agg[i] = nc;
                     nc += 1;
                 }
+            }
+        }
+        if !forward {
+            // Aggregates numbered in row order again (OpenFOAM's pairGAMGAgglomeration
+            // reverses the map of a backward pass).
+            for a in &mut agg {
+                *a = nc - 1 - *a;
             }
         }
         (agg, nc as usize)
@@ -691,6 +707,8 @@ pub struct Amg {
     direct: DenseLu,
     /// Set-ups since the aggregates were chosen ([`Amg::rebuild`]).
     age: usize,
+    /// The aggregates follow the mesh, not the matrix ([`Amg::gamg`]): kept for good.
+    geometric: bool,
 }
 
 /// [`Amg::rebuild`] keeps a hierarchy's aggregates for at most this many set-ups (the
@@ -710,9 +728,9 @@ impl Amg {
                 break;
             }
             // Two pairwise passes: aggregates of up to four cells.
-            let (agg1, n1) = a.pairwise();
+            let (agg1, n1) = a.pairwise(true);
             let a1 = a.galerkin(&agg1, n1);
-            let (agg2, n2) = a1.pairwise();
+            let (agg2, n2) = a1.pairwise(true);
             if 3 * n2 > 2 * n {
                 break;
             }
@@ -721,8 +739,13 @@ impl Amg {
             let level = Level::new(a, ac, from_fine);
             coarse.push(level);
         }
+        Amg::finish(fine, coarse)
+    }
+
+    /// The hierarchy of `fine` and its `coarse` levels: the coarsest factorised, the hybrid
+    /// blocks of every level set on a matrix of ≥ [`PAR_MIN`] rows.
+    fn finish(mut fine: Csr, mut coarse: Vec<Level>) -> Amg {
         let direct = DenseLu::new(coarse.last().map_or(&fine, |l| &l.a));
-        let mut fine = fine;
         if fine.n() >= PAR_MIN {
             fine.blocks = block_bounds(fine.n());
             for l in &mut coarse {
@@ -734,6 +757,7 @@ impl Amg {
             coarse,
             direct,
             age: 0,
+            geometric: false,
         }
     }
 
@@ -744,8 +768,8 @@ impl Amg {
     /// [`REAGGREGATE`] set-ups ago (then [`Amg::new`] chooses them again for `m`).
     pub fn rebuild(&self, m: &RowMatrix<'_>) -> Option<Amg> {
         let fine = Csr::from_rows(m);
-        if self.age + 1 >= REAGGREGATE || fine.start != self.fine.start || fine.col != self.fine.col
-        {
+        let aged = !self.geometric && self.age + 1 >= REAGGREGATE;
+        if aged || fine.start != self.fine.start || fine.col != self.fine.col {
             return None;
         }
         let mut fine = fine;
@@ -768,6 +792,7 @@ impl Amg {
             coarse,
             direct,
             age: self.age + 1,
+            geometric: self.geometric,
         })
     }
 
@@ -873,7 +898,13 @@ mod tests {
 
     /// The 5-point Laplacian of an nx × ny grid with one Dirichlet side (SPD).
     fn laplacian(nx: usize, ny: usize) -> (FvGeometry, Ldu) {
-        let m = mesh::build::uniform_box([0.0; 3], [1.0, 1.0, 0.1], [nx, ny, 1]);
+        laplacian_box([1.0, 1.0, 0.1], [nx, ny, 1])
+    }
+
+    /// The Laplacian (|S|/δ per face) of a box of `size` in `n` cells with a Dirichlet wall at
+    /// x = 0 (SPD), as the pressure equation of a uniform mesh.
+    pub(super) fn laplacian_box(size: [f64; 3], n: [usize; 3]) -> (FvGeometry, Ldu) {
+        let m = mesh::build::uniform_box([0.0; 3], size, n);
         let g = FvGeometry::new(&m).unwrap();
         let mut a = Ldu::zeros(&g);
         for f in 0..g.n_internal {
@@ -1043,7 +1074,7 @@ mod tests {
     }
 
     #[test]
-    fn gamg_solves_symmetric_and_non_symmetric_systems_in_few_iterations() {
+    fn k_cycle_solves_symmetric_and_non_symmetric_systems_in_few_iterations() {
         use crate::linsolve::{solve, Method, Preconditioner, SolverControls};
         let (g, mut a) = laplacian(60, 50);
         let n = g.n_cells;
@@ -1064,7 +1095,9 @@ mod tests {
                 .fold(0.0, f64::max);
             (s.iterations, err)
         };
-        let (it_amg, err) = run(&a, Method::Gamg);
+        // The K-cycle as CG's preconditioner (fvSolution's `PCG` with `preconditioner GAMG`;
+        // `GAMG` itself on a symmetric matrix is the V-cycle of `vcycle`, tested there).
+        let (it_amg, err) = run(&a, Method::Pcg(Preconditioner::Amg));
         let (it_dic, _) = run(&a, Method::Pcg(Preconditioner::Dic));
         assert!(
             err < 1e-7 && it_amg * 4 < it_dic,
