@@ -3,9 +3,10 @@
 //! (`PBiCG`), BiCGStab (`PBiCGStab`) and
 //! Gauss–Seidel smoothing (`smoothSolver` with `GaussSeidel`/`symGaussSeidel`) for the momentum
 //! components, with the Jacobi (`diagonal`) or diagonal-incomplete (`DIC`/`DILU`)
-//! preconditioner, and `GAMG`: on a symmetric matrix OpenFOAM's own iteration, V-cycles of the
-//! hierarchy its `faceAreaPair` agglomeration builds ([`gamg`], [`crate::amg::Amg::v_cycle`]),
-//! on a non-symmetric one BiCGStab preconditioned by the K-cycle of [`crate::amg`]. All work on the row form of the matrix ([`RowMatrix`]). On large meshes the
+//! preconditioner, and `GAMG`: on a symmetric matrix flexible CG preconditioned by OpenFOAM's
+//! own V-cycle on the hierarchy its `faceAreaPair` agglomeration builds ([`gamg`],
+//! [`crate::amg::Amg::v_cycle`]), on a non-symmetric one BiCGStab preconditioned by the
+//! K-cycle of [`crate::amg`]. All work on the row form of the matrix ([`RowMatrix`]). On large meshes the
 //! matrix products and vector operations run in parallel (rayon) with reductions whose bits do
 //! not depend on the thread count; the triangular sweeps (DIC/DILU, Gauss–Seidel) are
 //! sequential by nature, but for the Gauss–Seidel sweeps of [`Smoother::hybrid`]
@@ -53,13 +54,12 @@ pub enum Method {
     BiCg(Preconditioner),
     /// `smoothSolver` with its smoother.
     Smooth(Smoother),
-    /// `GAMG`: on a symmetric matrix OpenFOAM's GAMG iteration ([`gamg`]: V-cycles on the
-    /// `faceAreaPair` hierarchy with its default controls), on others BiCGStab preconditioned
-    /// by the K-cycle of [`crate::amg`], to the entry's tolerances. The V-cycles take
-    /// OpenFOAM's iteration counts to within one or two per solve (188 against pisoFoam's 189
-    /// over 30 steps of the 48³ RAS cavity, benches/fluid-speed); the answers agree with
-    /// OpenFOAM's to the solver tolerance, not bit for bit (other summation orders, an exact
-    /// coarsest solve, hybrid sweeps on large levels).
+    /// `GAMG`: on a symmetric matrix flexible CG preconditioned by OpenFOAM's GAMG V-cycle
+    /// ([`gamg`]: the `faceAreaPair` hierarchy with its default controls), on others BiCGStab
+    /// preconditioned by the K-cycle of [`crate::amg`], to the entry's tolerances. An
+    /// iteration is one V-cycle, as in OpenFOAM's count: 189 against pisoFoam's 189 over 30
+    /// steps of the 48³ RAS cavity, fewer where CG's acceleration helps (benches/fluid-speed).
+    /// The answers agree with OpenFOAM's to the solver tolerance, not bit for bit.
     Gamg,
 }
 
@@ -338,7 +338,13 @@ enum Precond {
     /// 1/a_cc.
     Jacobi(Vec<f64>),
     Dilu(Dilu),
+    /// A K-cycle of [`crate::amg`].
     Amg(std::rc::Rc<crate::amg::Amg>),
+    /// A V-cycle of OpenFOAM's GAMG ([`gamg`]) and its work vectors.
+    VCycle(
+        std::rc::Rc<crate::amg::Amg>,
+        std::cell::RefCell<crate::amg::CycleWork>,
+    ),
 }
 
 thread_local! {
@@ -384,7 +390,7 @@ thread_local! {
 /// OpenFOAM's `faceAreaPair` weight of each entry of the rows of `g`: |S ∘ (1, 1.01, 1.02)| /
 /// √|S| of its face (`faceAreaPairGAMGAgglomeration`; the factors break the ties of a
 /// Cartesian mesh's faces).
-fn face_area_pair_weights(g: &FvGeometry) -> Vec<f64> {
+pub(crate) fn face_area_pair_weights(g: &FvGeometry) -> Vec<f64> {
     g.rows
         .face
         .iter()
@@ -440,6 +446,10 @@ impl Precond {
                 .for_each(|((w, r), d)| *w = r * d),
             Precond::Dilu(f) => f.apply(rows, r, w),
             Precond::Amg(amg) => amg.apply(r, w),
+            Precond::VCycle(amg, work) => {
+                w.iter_mut().for_each(|v| *v = 0.0);
+                amg.v_cycle(r, w, r, &mut work.borrow_mut());
+            }
         }
     }
 }
@@ -510,6 +520,43 @@ pub fn pcg(
     c: &SolverControls,
     what: &str,
 ) -> Result<SolveStats> {
+    pcg_with(a, g, b, x, |m| Precond::new(pre, a, m), c, what)
+}
+
+/// `GAMG` on a symmetric matrix: flexible conjugate gradients ([`pcg`]'s) preconditioned by
+/// one V-cycle of OpenFOAM's GAMG ([`crate::amg::Amg::v_cycle`] on the `faceAreaPair`
+/// hierarchy of [`crate::amg::Amg::gamg`], kept across calls by [`gamg_for`]), to the
+/// entry's tolerances. OpenFOAM iterates the V-cycles alone; CG's acceleration takes fewer of
+/// them where the pressure field has long smooth modes (the 320² RAS cavity: 479 against 759
+/// V-cycles alone over 30 steps, pisoFoam's GAMG ≈ 25 per step) and the same number elsewhere
+/// (the 48³ cavity: 189 against 188 alone and pisoFoam's 189).
+pub fn gamg(
+    a: &Ldu,
+    g: &FvGeometry,
+    b: &[f64],
+    x: &mut [f64],
+    c: &SolverControls,
+    what: &str,
+) -> Result<SolveStats> {
+    let cycle = |m: &RowMatrix<'_>| {
+        let amg = gamg_for(a, g, m);
+        let work = std::cell::RefCell::new(amg.cycle_work());
+        Precond::VCycle(amg, work)
+    };
+    pcg_with(a, g, b, x, cycle, c, what)
+}
+
+/// [`pcg`] with the preconditioner `make` builds (only when the initial guess has not met the
+/// tolerances already).
+fn pcg_with<'a>(
+    a: &'a Ldu,
+    g: &'a FvGeometry,
+    b: &[f64],
+    x: &mut [f64],
+    make: impl FnOnce(&RowMatrix<'a>) -> Precond,
+    c: &SolverControls,
+    what: &str,
+) -> Result<SolveStats> {
     let n = x.len();
     let m = RowMatrix::new(a, g);
     let (mut r, nf, mut stats) = start(&m, b, x, what)?;
@@ -518,11 +565,11 @@ pub fn pcg(
         return Ok(stats);
     }
     let mut ap = vec![0.0; n];
-    let pre = Precond::new(pre, a, &m);
+    let pre = make(&m);
     let mut w = vec![0.0; n];
     let mut p = vec![0.0; n];
     let mut rho_old = 1.0;
-    let flexible = matches!(pre, Precond::Amg(_));
+    let flexible = matches!(pre, Precond::Amg(_) | Precond::VCycle(..));
     let mut r_prev = if flexible { r.clone() } else { Vec::new() };
     while stats.iterations < c.max_iter {
         pre.apply(m.rows, &r, &mut w);
@@ -547,41 +594,6 @@ pub fn pcg(
         rho_old = rho;
         stats.iterations += 1;
         stats.last = res / nf;
-        check_finite(what, stats.last)?;
-        if converged(c, stats.last, r0, stats.iterations) {
-            break;
-        }
-    }
-    Ok(stats)
-}
-
-/// Solves the symmetric system `A x = b` from `x` as OpenFOAM's `GAMG` solver does: V-cycles
-/// of [`crate::amg`]'s hierarchy ([`crate::amg::Amg::v_cycle`]), the residual checked after
-/// each (`GAMGSolver::solve`).
-pub fn gamg(
-    a: &Ldu,
-    g: &FvGeometry,
-    b: &[f64],
-    x: &mut [f64],
-    c: &SolverControls,
-    what: &str,
-) -> Result<SolveStats> {
-    let n = x.len();
-    let m = RowMatrix::new(a, g);
-    let (mut r, nf, mut stats) = start(&m, b, x, what)?;
-    let r0 = stats.initial;
-    if converged(c, r0, r0, 0) {
-        return Ok(stats);
-    }
-    let amg = gamg_for(a, g, &m);
-    let mut ax = vec![0.0; n];
-    let mut work = amg.cycle_work();
-    while stats.iterations < c.max_iter {
-        amg.v_cycle(b, x, &r, &mut work);
-        m.mul(x, &mut ax);
-        par_map2(&mut r, b, &ax, |b, ax| b - ax);
-        stats.iterations += 1;
-        stats.last = sum_abs(&r) / nf;
         check_finite(what, stats.last)?;
         if converged(c, stats.last, r0, stats.iterations) {
             break;

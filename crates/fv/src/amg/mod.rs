@@ -2,7 +2,7 @@
 //!
 //! Two hierarchies and two cycles. For `GAMG` on a symmetric matrix (the pressure),
 //! [`Amg::gamg`] builds OpenFOAM's hierarchy (one pairing pass per level on the mesh's face
-//! weights) and the module `vcycle` iterates OpenFOAM's V-cycle on it. For the K-cycle (`GAMG` as a
+//! weights) and the module `vcycle` applies OpenFOAM's V-cycle on it (as CG's preconditioner). For the K-cycle (`GAMG` as a
 //! preconditioner, and the non-symmetric `GAMG` solver's BiCGStab), [`Amg::new`] builds the
 //! matrix-based hierarchy below.
 //!
@@ -64,6 +64,7 @@ use crate::ldu::{RowMatrix, PAR_MIN};
 use rayon::prelude::*;
 
 mod vcycle;
+pub(crate) use vcycle::CycleWork;
 
 /// Coarsening stops when a level has at most this many rows.
 pub const COARSEST: usize = 64;
