@@ -43,11 +43,14 @@ fn dict_number(text: &str, key: &str) -> f64 {
         .unwrap_or_else(|| panic!("no `{key}` in the validationDict"))
 }
 
+/// Cells (index, volume m³).
+type Cells = Vec<(usize, f64)>;
+
 /// The downstream tube's and the vented leg's cells (index, volume) by their centres, as the
 /// validationDict's comments define them (column axis z, branch axis x): the tube from
 /// `tubeFrom` to `tubeTo`, the vented leg at or past `branchFrom` with x ≥ `ventFrom`; the
 /// secondary chamber (x ≤ −`secondaryFrom`, past `tubeFrom`) is neither.
-fn regions(case: &Path, geometry: &MeshGeometry) -> (Vec<(usize, f64)>, Vec<(usize, f64)>) {
+fn regions(case: &Path, geometry: &MeshGeometry) -> (Cells, Cells) {
     let text = std::fs::read_to_string(case.join("validationDict")).unwrap();
     let n = |k| dict_number(&text, k);
     let (tube_from, tube_to, branch_from) = (n("tubeFrom"), n("tubeTo"), n("branchFrom"));

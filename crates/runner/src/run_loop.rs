@@ -386,7 +386,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             .map(crate::branch::AirCells::listed)
             .unwrap_or_default();
         let cfl = out.interval_checks.is_some();
-        let watching = !(cells.is_empty() && !cfl)
+        let watching = (!cells.is_empty() || cfl)
             && (self.fluid.inner)
                 .watch(&cells, cfl)
                 .map_err(RunError::Fluid)?;
