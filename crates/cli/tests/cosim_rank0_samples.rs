@@ -151,32 +151,27 @@ fn rank_0_samples_the_current_air_on_two_coupler_ranks() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let case = conveyor(tmp.path());
-    let out = Command::new("mpirun")
-        .args([
-            "--oversubscribe",
-            "-np",
-            "2",
-            env!("CARGO_BIN_EXE_foamgrain"),
-            "run",
-        ])
-        .arg(&case)
-        .args([
-            "--fluid",
-            "openfoam",
-            "--dem",
-            "liggghts",
-            "--end-time",
-            "0.006",
-        ])
-        .env(
-            "WM_PROJECT_DIR",
-            std::env::var("WM_PROJECT_DIR").unwrap_or_else(|_| "/usr/share/openfoam".into()),
-        )
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .output()
-        .unwrap();
+    let out = common::cosim_env(
+        Command::new("mpirun")
+            .args([
+                "--oversubscribe",
+                "-np",
+                "2",
+                env!("CARGO_BIN_EXE_foamgrain"),
+                "run",
+            ])
+            .arg(&case)
+            .args([
+                "--fluid",
+                "openfoam",
+                "--dem",
+                "liggghts",
+                "--end-time",
+                "0.006",
+            ]),
+    )
+    .output()
+    .unwrap();
     let log = format!(
         "{}{}",
         String::from_utf8_lossy(&out.stdout),
