@@ -723,19 +723,19 @@ mod tests {
 
     #[test]
     fn heat_adds_a_handshake_flag_a_tsource_block_and_a_t_block() {
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
         assert!(hello.heat && !hello.cfdem_ksl);
         // CFDEM's Ksl form (issue 28): flag 2, alone or with heat
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_KSL_CFDEM]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, HELLO_FLAG_KSL_CFDEM]).unwrap();
         assert!(!hello.heat && hello.cfdem_ksl);
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, 3]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, 3]).unwrap();
         assert!(hello.heat && hello.cfdem_ksl);
-        assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
+        assert!(!Hello::parse(&[3, 10, 7, 1, 0]).unwrap().heat);
         // 4 and 8 are the lift fields' flags since issue 28; 16 is unknown
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 16])
+        assert!(Hello::parse(&[3, 10, 7, 1, 0, 16])
             .unwrap_err()
             .contains("flags"));
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 1, 1])
+        assert!(Hello::parse(&[3, 10, 7, 1, 0, 1, 1])
             .unwrap_err()
             .contains("6 with heat"));
 
@@ -827,11 +827,11 @@ mod tests {
 
     #[test]
     fn vorticity_and_ddt_u_are_flags_and_blocks_after_the_heat_block() {
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_VORTICITY]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, HELLO_FLAG_VORTICITY]).unwrap();
         assert!(hello.vorticity && !hello.ddt_u && !hello.heat && !hello.cfdem_ksl);
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, 1 | 4 | 8]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, 1 | 4 | 8]).unwrap();
         assert!(hello.heat && hello.vorticity && hello.ddt_u && !hello.cfdem_ksl);
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 16])
+        assert!(Hello::parse(&[3, 10, 7, 1, 0, 16])
             .unwrap_err()
             .contains("flags"));
         // two cells (global 1, 0), one patch, heat, ω and DU/Dt: time, U, p, ∇p, ∇·τ, T, ω,
