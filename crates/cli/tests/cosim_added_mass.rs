@@ -19,19 +19,14 @@ fn run(case: &Path) -> Output {
 }
 
 fn run_on(case: &Path, fluid: &str, dem: &str) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_foamgrain"))
-        .arg("run")
-        .arg(case)
-        .args(["--fluid", fluid, "--dem", dem])
-        .env(
-            "WM_PROJECT_DIR",
-            std::env::var("WM_PROJECT_DIR").unwrap_or_else(|_| "/usr/share/openfoam".into()),
-        )
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .output()
-        .unwrap()
+    common::cosim_env(
+        Command::new(env!("CARGO_BIN_EXE_foamgrain"))
+            .arg("run")
+            .arg(case)
+            .args(["--fluid", fluid, "--dem", dem]),
+    )
+    .output()
+    .unwrap()
 }
 
 /// The settling case with `models` added to `forceModels` and `props` after the list.

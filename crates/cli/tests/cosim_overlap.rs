@@ -18,20 +18,15 @@ mod common;
 /// Runs `foamgrain run CASE ARGS…` with Debian's OpenFOAM environment; panics with its output
 /// when it fails for another reason than its checks.
 fn run(case: &Path, args: &[&str]) {
-    let out = Command::new(env!("CARGO_BIN_EXE_foamgrain"))
-        .arg("run")
-        .arg(case)
-        .args(["--fluid", "openfoam", "--dem", "native"])
-        .args(args)
-        .env(
-            "WM_PROJECT_DIR",
-            std::env::var("WM_PROJECT_DIR").unwrap_or_else(|_| "/usr/share/openfoam".into()),
-        )
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
-        .output()
-        .unwrap();
+    let out = common::cosim_env(
+        Command::new(env!("CARGO_BIN_EXE_foamgrain"))
+            .arg("run")
+            .arg(case)
+            .args(["--fluid", "openfoam", "--dem", "native"])
+            .args(args),
+    )
+    .output()
+    .unwrap();
     let log = String::from_utf8_lossy(&out.stderr);
     // a short Ergun run ends before its plateaus: its checks fail (exit 2, and they are
     // compared below); an error (exit 1) must not happen

@@ -104,6 +104,10 @@ pub struct IntervalCheckInput<'a> {
     /// part of the mesh while `u` is the whole fluid's (coupler rank 0 with grainPisoFoam on
     /// several ranks, [`crate::part`]).
     pub fluid_volumes: &'a [f64],
+    /// max |U|/∛V over the fluid's cells (1/s) where the fluid computed it because `u` is not
+    /// the current fluid (coupler rank 0 in grainPisoFoam's sparse exchange, which sends it no
+    /// cell field): the CFL is then this × `dt_cfd`, and `u` is not read. `None`: from `u`.
+    pub u_by_size: Option<f64>,
     /// Fluid density, kg/m³.
     pub rho: f64,
     /// Kinematic viscosity, m²/s.
@@ -178,8 +182,13 @@ impl IntervalCheck {
             c.max_speed = c.max_speed.max(input.velocity[i].norm());
         }
         for (u, v) in input.u.iter().zip(input.fluid_volumes) {
-            c.cfl = c.cfl.max(u.norm() * input.dt_cfd / v.cbrt());
+            if input.u_by_size.is_none() {
+                c.cfl = c.cfl.max(u.norm() * input.dt_cfd / v.cbrt());
+            }
             c.min_vcell_mesh = c.min_vcell_mesh.min(*v);
+        }
+        if let Some(x) = input.u_by_size {
+            c.cfl = x * input.dt_cfd;
         }
         c
     }
@@ -349,6 +358,7 @@ mod tests {
                 u: &self.u,
                 volumes: &self.volumes,
                 fluid_volumes: &self.volumes,
+                u_by_size: None,
                 rho: 1.2,
                 nu: 1.5e-5,
                 cg: 1.0,
@@ -383,6 +393,16 @@ mod tests {
         assert!((c.particle_cfl() - 5e-3).abs() < 1e-15);
         // fluid CFL: max(1·1e-3/1e-2, 2·1e-3/2e-2) = 0.1
         assert!((c.cfl - 0.1).abs() < 1e-14);
+        // given max |U|/∛V (the solver's, when u is not current): 250 1/s · 1e-3 s, u unread
+        let given = IntervalCheck::compute(
+            &IntervalCheckInput {
+                u_by_size: Some(250.0),
+                ..input
+            },
+            None,
+        );
+        assert_eq!(given.cfl, 0.25);
+        assert_eq!(given.min_vcell_mesh, c.min_vcell_mesh);
         let (_, over) = c.report(&IntervalCheckSettings::default());
         assert!(over.is_empty(), "{over:?}");
         // rhoP given: τ scales with it; CG = 2: the real diameter halves, τ/4; scaleDrag 2: τ/2

@@ -6,9 +6,11 @@
 //! rank 0 all of them, rank 1 those with 45 mm < x < 55 mm, on both solver ranks): ε = 0.6,
 //! and shares of Ksl = 500 kg/(m³ s) and Tsource = −5 K/s (rank 0: 300 and −2 where rank 1
 //! touches, 500 and −5 elsewhere; rank 1: 200 and −3), three intervals of 0.1 s, the last with
-//! the whole state. Rank 0 writes to OUT, one value a line: `reply_T CELL T` (the T the sparse
-//! reply gave rank 0 at the start of interval 3, i.e. after two intervals), `outlet I Σφ Σφ T_b`
-//! after each interval, `T CELL T` after the third. Exits 1 when a reply's summed volume or
+//! the whole state. Rank 0 watches every third cell, last first, and max |U|/∛V (the protocol's
+//! watch) before the first interval. Rank 0 writes to OUT, one value a line: `reply_T CELL T`
+//! (the T the sparse reply gave rank 0 at the start of interval 3, i.e. after two intervals),
+//! `outlet I Σφ Σφ T_b` after each interval, `watch_U CELL Ux Uy Uz` and `watch_cfl X` (max
+//! |U|/∛V, 1/s) after the second, `T CELL T` after the third. Exits 1 when a reply's summed volume or
 //! lowest-rank flag is wrong, or when rank 0's fluid shows T after an advance without the
 //! whole state (it would be stale) or none after one with it.
 
@@ -51,6 +53,10 @@ fn main() {
     };
     let (mut fluid, mut cells) =
         OpenFoamFluid::spawn_ranked_with(&world, &case, 2, &solver, heat).unwrap();
+    let watched: Vec<usize> = (0..g.cell_centres.len()).rev().step_by(3).collect();
+    if let Some(f) = fluid.as_mut() {
+        f.watch(&watched, true).unwrap();
+    }
     let mut text = String::new();
     let width = owner_reply_width(true);
     for i in 0..3 {
@@ -105,6 +111,17 @@ fn main() {
                 o.t_flux.unwrap()
             )
             .unwrap();
+            if i == 1 {
+                let w = f.watched().expect("watching without whole replies");
+                for (&c, u) in watched.iter().zip(&w.u) {
+                    writeln!(text, "watch_U {c} {:.17e} {:.17e} {:.17e}", u.x, u.y, u.z).unwrap();
+                }
+                writeln!(text, "watch_cfl {:.17e}", w.u_by_size.unwrap()).unwrap();
+            }
+            if i == 2 && f.watched().is_some() {
+                eprintln!("interval 2: watched values while the replies carry the whole state");
+                std::process::exit(1);
+            }
         }
         world.barrier();
     }

@@ -8,6 +8,7 @@ use crate::protocol::{
 use crate::ranks::RankMap;
 use crate::sparse::SolverCells;
 use crate::transport::Transport;
+use crate::watch::{Watch, Watched};
 use crate::LinkError;
 use couple::{ExchangeFields, FluidSide, FluidState, SideError};
 use foam::{Case, PolyMesh};
@@ -113,6 +114,8 @@ pub struct OpenFoamFluid {
     /// In a sparse run with heat: the last advance replied the patch sums only, so the cells'
     /// T is that of an earlier reply ([`OpenFoamFluid::temperature`] then says `None`).
     stale_temperature: bool,
+    /// In a sparse run: the cells whose U the patch replies carry ([`OpenFoamFluid::watch`]).
+    watch: Option<Watch>,
 }
 
 /// What [`OpenFoamFluid::finish_interval`] needs of the advance it completes.
@@ -315,6 +318,7 @@ impl OpenFoamFluid {
             vorticity: options.vorticity,
             ddt_u: options.ddt_u,
             stale_temperature: false,
+            watch: None,
             case,
             map: RankMap::serial(0),
             patch_names: Vec::new(),
@@ -720,6 +724,9 @@ impl OpenFoamFluid {
         let wait_before = self.tp().wait_seconds;
         let t = Instant::now();
         self.state.clear_sums();
+        if let Some(w) = self.watch.as_mut() {
+            w.clear();
+        }
         let mut time = self.state.time;
         let n_patches = self.patch_names.len();
         for rank in 0..self.ranks() {
@@ -738,7 +745,7 @@ impl OpenFoamFluid {
                 scatter_held(&cells, held, held_fields)
                     .and_then(|()| self.state.scatter(&cells, state))
             } else {
-                self.state.add_patch_sums(&msg)
+                self.patch_reply(rank, &msg)
             };
             time = match got {
                 Ok(t) => t,
@@ -771,6 +778,97 @@ impl OpenFoamFluid {
     /// True when the exchange fields come from the coupler ranks' sparse exchange.
     pub fn is_sparse(&self) -> bool {
         self.sparse
+    }
+
+    /// True in a sparse run whose replies carry the whole state ([`OpenFoamFluid::set_whole`]).
+    pub fn is_whole(&self) -> bool {
+        self.whole
+    }
+
+    /// In a sparse run without [`OpenFoamFluid::set_whole`], where only the patch sums come
+    /// back after an advance and [`FluidSide::state`] keeps the start fields: asks every
+    /// solver rank for U of the global `cells` now and after each advance, and with `cfl` for
+    /// max |U|/∛V over its cells ([`OpenFoamFluid::watched`]; the protocol's watch). The
+    /// bytes scale with `cells`, not with the mesh. Replaces an earlier watch; refused in a
+    /// dense or whole run (the state is current there), while an advance is under way, and
+    /// for a cell outside the mesh.
+    pub fn watch(&mut self, cells: &[usize], cfl: bool) -> Result<(), LinkError> {
+        if !self.sparse || self.whole {
+            return Err(LinkError::Parameter(
+                "watch is for the sparse exchange without whole replies: there the state \
+                 after an advance carries every cell"
+                    .into(),
+            ));
+        }
+        if self.pending.is_some() || self.stopped {
+            return Err(LinkError::Parameter(
+                "watch while an advance is under way or after the solver was stopped".into(),
+            ));
+        }
+        let np = self.ranks();
+        let mut groups = vec![Vec::new(); np];
+        let mut local: Vec<Vec<i32>> = vec![Vec::new(); np];
+        for (k, &c) in cells.iter().enumerate() {
+            if c >= self.map.n_cells() {
+                return Err(LinkError::Parameter(format!(
+                    "watch: cell {c} of a mesh of {} cells",
+                    self.map.n_cells()
+                )));
+            }
+            let (s, l) = self.map.locate(c);
+            groups[s].push(k);
+            local[s].push(l as i32);
+        }
+        let words = Command::Watch { cfl }.words();
+        for (rank, cells) in local.iter().enumerate() {
+            self.tp()
+                .send(rank, &words, tag::COMMAND, "the watch to arrive")?;
+            self.tp()
+                .send(rank, cells, tag::WATCH_CELLS, "the watched cells to arrive")?;
+        }
+        self.stats.bytes_sent += (8 * words.len() * np + 4 * cells.len()) as u64;
+        let mut watch = Watch::new(groups, cells.len(), cfl);
+        for rank in 0..np {
+            let msg: Vec<f64> =
+                self.tp()
+                    .receive(rank, tag::WATCHED, "the watched cells' fluid")?;
+            self.stats.bytes_received += 8 * msg.len() as u64;
+            if let Err(m) = watch.take(rank, &msg) {
+                return Err(self.protocol_error(rank, m));
+            }
+        }
+        self.watch = Some(watch);
+        Ok(())
+    }
+
+    /// What [`OpenFoamFluid::watch`] asked for, after the last advance (before the first:
+    /// at the watch); `None` without a watch, and while the replies carry the whole state
+    /// ([`OpenFoamFluid::set_whole`]: read [`FluidSide::state`] then).
+    pub fn watched(&self) -> Option<&Watched> {
+        match self.whole {
+            true => None,
+            false => self.watch.as_ref().map(|w| &w.values),
+        }
+    }
+
+    /// One rank's [`tag::PATCH_STATE`] reply: the patch sums, then the watch block when
+    /// watching; returns the rank's time.
+    fn patch_reply(&mut self, rank: usize, msg: &[f64]) -> Result<f64, String> {
+        let per_patch = PATCH_WORDS + self.state.heat_words();
+        let sums = (1 + per_patch * self.patch_names.len()).min(msg.len());
+        let (sums, block) = msg.split_at(sums);
+        let time = self.state.add_patch_sums(sums)?;
+        match self.watch.as_mut() {
+            Some(w) => w.take(rank, block)?,
+            None if !block.is_empty() => {
+                return Err(format!(
+                    "patch reply with {} values after the sums, and no watch",
+                    block.len()
+                ))
+            }
+            None => {}
+        }
+        Ok(time)
     }
 
     /// In a sparse run ([`OpenFoamFluid::spawn_ranked`]): hands the caller the whole mesh read

@@ -89,6 +89,9 @@ mod fluid;
 pub mod sparse;
 #[cfg(feature = "mpi")]
 mod transport;
+// read by the fluid (feature `mpi`); its parsing is tested without
+#[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+mod watch;
 
 pub use error::LinkError;
 #[cfg(feature = "mpi")]
@@ -96,6 +99,7 @@ pub use fluid::{ExchangeStats, HeldFields, OpenFoamFluid, PatchFlow, SpawnOption
 pub use ranks::RankMap;
 #[cfg(feature = "mpi")]
 pub use sparse::SolverCells;
+pub use watch::Watched;
 
 /// The environment variables Open MPI and Debian's OpenFOAM need for a spawned solver, as
 /// (name, value); see the crate documentation.

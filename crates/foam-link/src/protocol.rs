@@ -17,7 +17,9 @@
 //! | 10 [`tag::COMMAND`] | coupler → rank | f64\[4\]: [`Command::words`] |
 //! | 11 [`tag::FIELDS`] | coupler → rank | f64\[9n\]: ε_old, ε_new, Ksl, Us (3n), f (3n) |
 //! | 20 [`tag::STATE`] | rank → coupler | f64\[1+10n+3m\]: time, U (3n), p, ∇p (3n), ∇·τ (3n), Σp\|S\|, Σ\|S\|, Σφ per patch |
-//! | 23 [`tag::PATCH_STATE`] | rank → coupler | f64\[1+3m\]: after [`Command::AdvanceHeld`]: time and the patch sums |
+//! | 23 [`tag::PATCH_STATE`] | rank → coupler | f64\[1+3m\]: after [`Command::AdvanceHeld`]: time and the patch sums; after a [`Command::Watch`], then the watch block |
+//! | 15 [`tag::WATCH_CELLS`] | coupler → rank | i32\[k\]: after [`Command::Watch`]: the local cells whose U rank 0 samples |
+//! | 25 [`tag::WATCHED`] | rank → coupler | f64\[c+3k\]: the reply to [`Command::Watch`], the watch block of the current fluid: max over the rank's cells of \|U\|/∛V (1/s; c = 1 when the watch asked for it, else 0), then U of the k watched cells |
 //! | 24 [`tag::WHOLE_STATE`] | rank → coupler | after [`Command::AdvanceHeld`] with `whole`: tag 20's message, then ε, Ksl (n each), Us, f (3n each) |
 //! | 12 [`tag::SPARSE_CELLS`] | coupler rank q → rank | i32\[k\]: after [`Command::Exchange`]: the local cells q's particles touch |
 //! | 13 [`tag::SPARSE_SOLID`] | q → rank | f64\[k\]: the solid volume q deposits in each, m³ |
@@ -30,6 +32,13 @@
 //! holds the fluid ([`couple::ranks`]). It then holds ε_new (the touched cells' ε, 1 elsewhere),
 //! ε_old (the last exchange's ε_new, 1 before the first), Ksl = Σ Ksl, Us = Σ Ksl·Us / Σ Ksl
 //! (0 where Σ Ksl = 0) and f = Σ f for the next [`Command::AdvanceHeld`].
+//!
+//! The watch (version 3): in the sparse exchange no cell field reaches coupler rank 0 (it
+//! holds a part of the mesh), so what it samples of U on the whole mesh (a conveyor's air
+//! along the tube and the vented leg; `checkCouplingInterval`'s CFL) would be the start
+//! fields'. [`Command::Watch`] names those cells once; each rank answers with their U now and
+//! appends them to every later tag 23 reply. A run without a watch sends exactly what version
+//! 2 sent.
 //! | 21 [`tag::DONE`] | rank → coupler | f64\[1\]: time (after write or stop) |
 //! | 30 [`tag::ERROR`] | rank → coupler | the text of an OpenFOAM FatalError |
 //!
@@ -75,7 +84,7 @@ use crate::ranks::RankMap;
 use mesh::v3::V3;
 
 /// The version both sides must agree on.
-pub const PROTOCOL_VERSION: i32 = 2;
+pub const PROTOCOL_VERSION: i32 = 3;
 
 /// Message tags.
 pub mod tag {
@@ -97,6 +106,10 @@ pub mod tag {
     pub const SPARSE_SOLID: i32 = 13;
     /// Sparse exchange: ε and the force sums per touched cell.
     pub const SPARSE_SUMS: i32 = 14;
+    /// The watch: the local cells whose U rank 0 samples.
+    pub const WATCH_CELLS: i32 = 15;
+    /// The watch's reply: the watch block of the current fluid.
+    pub const WATCHED: i32 = 25;
     /// Sparse exchange: the summed solid volume and the fluid per touched cell.
     pub const SPARSE_REPLY: i32 = 22;
     /// Time and patch sums after an advance with held fields.
@@ -187,6 +200,12 @@ pub enum Command {
         /// Reply with the whole state and the held fields.
         whole: bool,
     },
+    /// The cells whose U the [`tag::PATCH_STATE`] replies carry from now on (sent after it,
+    /// [`tag::WATCH_CELLS`]); answered with [`tag::WATCHED`] (module docs).
+    Watch {
+        /// The replies also carry max |U|/∛V over the rank's cells.
+        cfl: bool,
+    },
 }
 
 impl Command {
@@ -212,6 +231,7 @@ impl Command {
                 step_length,
                 f64::from(u8::from(first) + 2 * u8::from(whole)),
             ],
+            Command::Watch { cfl } => [6.0, f64::from(u8::from(cfl)), 0.0, 0.0],
         }
     }
 }
@@ -670,9 +690,9 @@ mod tests {
     #[test]
     fn handshake_checks_version_and_signs() {
         assert_eq!(
-            Hello::parse(&[2, 4480, 1234, 3, 1]),
+            Hello::parse(&[3, 4480, 1234, 3, 1]),
             Ok(Hello {
-                version: 2,
+                version: 3,
                 n_cells: 4480,
                 pid: 1234,
                 n_patches: 3,
@@ -686,7 +706,11 @@ mod tests {
         assert!(Hello::parse(&[1, 1, 1, 1, 0])
             .unwrap_err()
             .contains("build.sh"));
-        assert!(Hello::parse(&[2, -1, 1, 1, 0])
+        // a solver built before the watch (version 2) is asked to be rebuilt
+        assert!(Hello::parse(&[2, 1, 1, 1, 0])
+            .unwrap_err()
+            .contains("build.sh"));
+        assert!(Hello::parse(&[3, -1, 1, 1, 0])
             .unwrap_err()
             .contains("cell count"));
         assert!(Hello::parse(&[1, 1, 1]).is_err());
@@ -699,19 +723,19 @@ mod tests {
 
     #[test]
     fn heat_adds_a_handshake_flag_a_tsource_block_and_a_t_block() {
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, HELLO_FLAG_HEAT]).unwrap();
         assert!(hello.heat && !hello.cfdem_ksl);
         // CFDEM's Ksl form (issue 28): flag 2, alone or with heat
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_KSL_CFDEM]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, HELLO_FLAG_KSL_CFDEM]).unwrap();
         assert!(!hello.heat && hello.cfdem_ksl);
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, 3]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, 3]).unwrap();
         assert!(hello.heat && hello.cfdem_ksl);
-        assert!(!Hello::parse(&[2, 10, 7, 1, 0]).unwrap().heat);
+        assert!(!Hello::parse(&[3, 10, 7, 1, 0]).unwrap().heat);
         // 4 and 8 are the lift fields' flags since issue 28; 16 is unknown
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 16])
+        assert!(Hello::parse(&[3, 10, 7, 1, 0, 16])
             .unwrap_err()
             .contains("flags"));
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 1, 1])
+        assert!(Hello::parse(&[3, 10, 7, 1, 0, 1, 1])
             .unwrap_err()
             .contains("6 with heat"));
 
@@ -803,11 +827,11 @@ mod tests {
 
     #[test]
     fn vorticity_and_ddt_u_are_flags_and_blocks_after_the_heat_block() {
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, HELLO_FLAG_VORTICITY]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, HELLO_FLAG_VORTICITY]).unwrap();
         assert!(hello.vorticity && !hello.ddt_u && !hello.heat && !hello.cfdem_ksl);
-        let hello = Hello::parse(&[2, 10, 7, 1, 0, 1 | 4 | 8]).unwrap();
+        let hello = Hello::parse(&[3, 10, 7, 1, 0, 1 | 4 | 8]).unwrap();
         assert!(hello.heat && hello.vorticity && hello.ddt_u && !hello.cfdem_ksl);
-        assert!(Hello::parse(&[2, 10, 7, 1, 0, 16])
+        assert!(Hello::parse(&[3, 10, 7, 1, 0, 16])
             .unwrap_err()
             .contains("flags"));
         // two cells (global 1, 0), one patch, heat, ω and DU/Dt: time, U, p, ∇p, ∇·τ, T, ω,
@@ -871,6 +895,8 @@ mod tests {
         assert_eq!(held(true, false).words()[3], 1.0);
         assert_eq!(held(false, true).words()[3], 2.0);
         assert_eq!(held(true, true).words()[3], 3.0);
+        assert_eq!(Command::Watch { cfl: false }.words(), [6.0, 0.0, 0.0, 0.0]);
+        assert_eq!(Command::Watch { cfl: true }.words(), [6.0, 1.0, 0.0, 0.0]);
         // 4480 cells on 2 ranks, 3 patches: 8 (8 + 9·4480) and 8 (2·10 + 10·4480) bytes.
         assert_eq!(advance_bytes(4480, 2, 3), (322_624, 358_560));
     }

@@ -5,7 +5,9 @@
 //! to the same fields, in cells on both solver ranks) against 1 coupler rank with the dense
 //! exchange on 2 solver ranks: T after the run, the T the sparse reply carried after two
 //! intervals (the dense run's T then) and the outlet's Σ φ and Σ φ T_b after every interval
-//! (the sparse run's patch reply with heat) agree to solver tolerance.
+//! (the sparse run's patch reply with heat) agree to solver tolerance; so do U of every third
+//! cell and max |U|/∛V that the watch (protocol v3) gave rank 0 after two intervals, against the
+//! dense run's U then (max |U|/∛V over its cells with the coupler's cell volumes).
 
 mod common;
 use common::*;
@@ -18,6 +20,8 @@ use std::process::Command;
 #[derive(Default)]
 struct Sparse {
     reply_t: BTreeMap<usize, f64>,
+    watch_u: Vec<(usize, [f64; 3])>,
+    watch_cfl: Option<f64>,
     outlet: Vec<(f64, f64)>,
     t: Vec<f64>,
 }
@@ -32,6 +36,10 @@ fn parse(text: &str) -> Sparse {
                 s.reply_t.insert(w[1].parse().unwrap(), num(2));
             }
             "outlet" => s.outlet.push((num(2), num(3))),
+            "watch_U" => s
+                .watch_u
+                .push((w[1].parse().unwrap(), [num(2), num(3), num(4)])),
+            "watch_cfl" => s.watch_cfl = Some(num(1)),
             "T" => s.t.push(num(2)),
             other => panic!("unexpected line {other}"),
         }
@@ -89,10 +97,12 @@ fn two_coupler_ranks_with_heat_equal_one() {
     };
     let mut fluid = OpenFoamFluid::spawn_with(&world, &copy.dir, 2, &solver, heat).unwrap();
     let mut after_two = Vec::new();
+    let mut u_two = Vec::new();
     let mut outlet = Vec::new();
     for i in 0..3 {
         if i == 2 {
             after_two = fluid.temperature().unwrap().to_vec();
+            u_two = couple::FluidSide::state(&fluid).u.to_vec();
         }
         fluid
             .set_fields_with_heat(&channel.fields(i), Some(&channel.tsource))
@@ -120,6 +130,30 @@ fn two_coupler_ranks_with_heat_equal_one() {
     assert!(cooled < -0.5, "min T {cooled}");
     assert!(dt < 1e-8, "T {dt:e}");
     assert!(dreply < 1e-8, "reply T {dreply:e}");
+    // the watch: every third cell, last first, on both solver ranks
+    let n = u_two.len();
+    assert_eq!(sparse.watch_u.len(), n.div_ceil(3));
+    assert_eq!(sparse.watch_u[0].0, n - 1);
+    let mut du: f64 = 0.0;
+    for &(c, u) in &sparse.watch_u {
+        let d = u_two[c];
+        for k in 0..3 {
+            du = du.max((u[k] - d[k]).abs() / d.norm().max(1e-12));
+        }
+    }
+    let volumes = copy.mesh().1.cell_volumes;
+    let cfl = u_two
+        .iter()
+        .zip(&volumes)
+        .map(|(u, v)| u.norm() / v.cbrt())
+        .fold(0.0, f64::max);
+    let watch_cfl = sparse.watch_cfl.unwrap();
+    eprintln!("watch: U {du:.2e} of |U|; max |U|/∛V {watch_cfl} vs dense {cfl}");
+    assert!(cfl > 0.0 && du < 1e-8, "watched U {du:e}");
+    assert!(
+        (watch_cfl - cfl).abs() <= 1e-8 * cfl,
+        "max |U|/∛V {watch_cfl} vs {cfl}"
+    );
     assert_eq!(sparse.outlet.len(), 3);
     for ((f, tf), (g, tg)) in sparse.outlet.iter().zip(&outlet) {
         assert!((f - g).abs() <= 1e-8 * g.abs(), "outlet flux {f} vs {g}");

@@ -176,18 +176,58 @@ impl AirCells {
 
     /// The velocities of the cell field `u` (m/s); `None` when either region has no cell.
     pub fn measure(&self, spec: &BranchSpec, axis: V3, u: &[V3]) -> Option<AirVelocities> {
-        let stats = |cells: &[(usize, f64)], along: V3| {
+        let tube = self.tube.iter().map(|&(c, v)| (u[c], v));
+        let vent = self.vent.iter().map(|&(c, v)| (u[c], v));
+        Self::stats(spec, axis, tube, vent)
+    }
+
+    /// The cells in the order [`AirCells::measure_listed`] takes their velocities: the
+    /// downstream tube's, then the vented leg's.
+    pub fn listed(&self) -> Vec<usize> {
+        self.tube
+            .iter()
+            .chain(&self.vent)
+            .map(|&(c, _)| c)
+            .collect()
+    }
+
+    /// As [`AirCells::measure`], with U of the cells of [`AirCells::listed`] in its order
+    /// (what grainPisoFoam's ranks send for them, [`crate::fluid::RunFluid::watched`]);
+    /// `None` also when `listed` has another length.
+    pub fn measure_listed(
+        &self,
+        spec: &BranchSpec,
+        axis: V3,
+        listed: &[V3],
+    ) -> Option<AirVelocities> {
+        if listed.len() != self.tube.len() + self.vent.len() {
+            return None;
+        }
+        let (tube_u, vent_u) = listed.split_at(self.tube.len());
+        let tube = tube_u.iter().zip(&self.tube).map(|(&u, &(_, v))| (u, v));
+        let vent = vent_u.iter().zip(&self.vent).map(|(&u, &(_, v))| (u, v));
+        Self::stats(spec, axis, tube, vent)
+    }
+
+    /// The velocities of (U, cell volume) over the tube and the leg.
+    fn stats(
+        spec: &BranchSpec,
+        axis: V3,
+        tube: impl Iterator<Item = (V3, f64)>,
+        vent: impl Iterator<Item = (V3, f64)>,
+    ) -> Option<AirVelocities> {
+        let stats = |cells: &mut dyn Iterator<Item = (V3, f64)>, along: V3| {
             let (mut sum, mut vol, mut peak) = (0.0, 0.0, f64::NEG_INFINITY);
-            for &(c, v) in cells {
-                let w = u[c].dot(&along);
+            for (u, v) in cells {
+                let w = u.dot(&along);
                 sum += w * v;
                 vol += v;
                 peak = f64::max(peak, w);
             }
             (vol > 0.0).then(|| (sum / vol, peak))
         };
-        let (tube_mean, tube_peak) = stats(&self.tube, axis)?;
-        let (vent_mean, vent_peak) = stats(&self.vent, spec.axis)?;
+        let (tube_mean, tube_peak) = stats(&mut { tube }, axis)?;
+        let (vent_mean, vent_peak) = stats(&mut { vent }, spec.axis)?;
         Some(AirVelocities {
             tube_mean,
             tube_peak,
@@ -455,6 +495,11 @@ mod tests {
         let a = cells.measure(&spec(), V3::z(), &u).unwrap();
         assert_eq!(a.tube_mean, (40.0 + 3.0 * 60.0) / 4.0);
         assert_eq!((a.tube_peak, a.vent_mean, a.vent_peak), (60.0, 70.0, 70.0));
+        // the listed cells' velocities (as grainPisoFoam's ranks send them) measure the same
+        assert_eq!(cells.listed(), [0, 1, 2]);
+        let listed = [u[0], u[1], u[2]];
+        assert_eq!(cells.measure_listed(&spec(), V3::z(), &listed), Some(a));
+        assert_eq!(cells.measure_listed(&spec(), V3::z(), &listed[..2]), None);
     }
 
     fn row(t: f64, n: usize, n_in: usize, n_out: usize, v1: f64) -> Sample {

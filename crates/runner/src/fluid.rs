@@ -66,6 +66,19 @@ pub trait RunFluid: FluidSide {
     fn held_exchange(&self) -> Option<HeldExchange<'_>> {
         None
     }
+    /// When this rank's [`FluidSide::state`] is not the current fluid on the whole mesh
+    /// (coupler rank 0 in grainPisoFoam's sparse exchange, without [`RunFluid::want_held`]:
+    /// the solver ranks reply with the patch sums only): asks the fluid for U of the whole
+    /// mesh's `cells` and, with `cfl`, for max |U|/∛V over its cells, after each advance
+    /// ([`RunFluid::watched`]). `Ok(false)`: the state is current, read it instead.
+    fn watch(&mut self, cells: &[usize], cfl: bool) -> Result<bool, SideError> {
+        let _ = (cells, cfl);
+        Ok(false)
+    }
+    /// After [`RunFluid::watch`] said `true`: its values of the last advance.
+    fn watched(&self) -> Option<Watched<'_>> {
+        None
+    }
     /// The faces of patch `name` (area vectors out of the domain), for the native
     /// `surfaceFieldValue` ([`crate::surface_values`]); `None` without the patch or where the
     /// backend runs OpenFOAM's own function objects (grainPisoFoam).
@@ -98,6 +111,15 @@ pub enum FaceField {
     Scalar(Vec<f64>),
     /// One vector per face.
     Vector(Vec<V3>),
+}
+
+/// What [`RunFluid::watch`] asked for.
+#[derive(Clone, Copy, Debug)]
+pub struct Watched<'a> {
+    /// U of the watched cells (m/s), in the order they were named.
+    pub u: &'a [V3],
+    /// max |U|/∛V over the fluid's cells (1/s), when asked for.
+    pub u_by_size: Option<f64>,
 }
 
 /// Whole exchange fields held by an external solver (ADR 0004 units).

@@ -144,6 +144,23 @@ impl RunFluid for FoamFluid {
         })
     }
 
+    fn watch(&mut self, cells: &[usize], cfl: bool) -> Result<bool, SideError> {
+        let solver = self.solver_mut()?;
+        if !solver.is_sparse() || solver.is_whole() {
+            return Ok(false);
+        }
+        solver.watch(cells, cfl)?;
+        Ok(true)
+    }
+
+    fn watched(&self) -> Option<crate::fluid::Watched<'_>> {
+        let w = self.inner.as_ref()?.watched()?;
+        Some(crate::fluid::Watched {
+            u: &w.u,
+            u_by_size: w.u_by_size,
+        })
+    }
+
     fn finish(&mut self) -> Result<(), SideError> {
         match self.inner.take() {
             Some(s) => Ok(s.finish()?),

@@ -32,7 +32,9 @@ impl IntervalChecks {
     /// The report of coupling step `k` (from 1) when one is due, collective over the ranks;
     /// an error when a limit is exceeded and `warnOnly` is off. `fluid_volumes`: the volumes
     /// of the cells `fluid` is given on when they are not the coupler's (rank 0 holding a part
-    /// of the mesh, [`crate::whole`]).
+    /// of the mesh, [`crate::whole`]); `u_by_size`: max |U|/∛V over the fluid's cells when the
+    /// fluid sent it because `fluid` is not current (rank 0 in grainPisoFoam's sparse
+    /// exchange, [`crate::fluid::RunFluid::watched`]).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn check(
         &self,
@@ -42,6 +44,7 @@ impl IntervalChecks {
         particles: &ParticleState<'_>,
         fluid: &FluidState<'_>,
         fluid_volumes: Option<&[f64]>,
+        u_by_size: Option<f64>,
         dt_c: f64,
     ) -> Result<Option<Vec<String>>, RunError> {
         if !(k - 1).is_multiple_of(self.every) {
@@ -59,6 +62,7 @@ impl IntervalChecks {
             u: fluid.u,
             volumes: coupler.voidage_mesh().cell_volumes(),
             fluid_volumes: fluid_volumes.unwrap_or(coupler.voidage_mesh().cell_volumes()),
+            u_by_size,
             rho: settings.physics.rho,
             nu: settings.physics.nu,
             cg: drag.map_or(1.0, |p| p.cg),

@@ -238,7 +238,11 @@ impl Observer {
             .conveyor
             .as_ref()
             .and_then(|c| Some((c.branch.as_ref()?, self.air_cells.as_ref()?)))
-            .and_then(|(b, cells)| cells.measure(b, self.column.axis, fluid.state().u));
+            .and_then(|(b, cells)| match fluid.watched() {
+                // rank 0 in grainPisoFoam's sparse exchange: the solver ranks sent these cells
+                Some(w) => cells.measure_listed(b, self.column.axis, w.u),
+                None => cells.measure(b, self.column.axis, fluid.state().u),
+            });
         sample.tube_air_velocity = air.map(|a| a.tube_mean);
         sample.tube_air_peak = air.map(|a| a.tube_peak);
         sample.vent_air_velocity = air.map(|a| a.vent_mean);

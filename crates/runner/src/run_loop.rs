@@ -123,6 +123,7 @@ pub(crate) fn couple_loop<P: ParticleSide, F: RunFluid>(
     run.observed = observed;
     let observer = run.observer(events);
     let mut out = run.outputs(&observer, events)?;
+    run.watch(&observer, &out, events)?;
     let t_loop = Instant::now();
     let (stopped, held_max) = run.steps(&observer, &mut out, events)?;
     let Outputs {
@@ -366,6 +367,40 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         }
     }
 
+    /// Coupler rank 0 in grainPisoFoam's sparse exchange (without the whole replies the
+    /// monitors ask for) holds no current fluid field: the solver ranks send it U of the cells
+    /// the observer samples (a conveyor's air) and, for `checkCouplingInterval`, max |U|/∛V
+    /// after each advance ([`RunFluid::watch`]).
+    fn watch(
+        &mut self,
+        observer: &Observer,
+        out: &Outputs<'_>,
+        events: &mut dyn FnMut(Event),
+    ) -> Result<(), RunError> {
+        if self.rank != 0 || !self.owned {
+            return Ok(());
+        }
+        let cells = observer
+            .air_cells
+            .as_ref()
+            .map(crate::branch::AirCells::listed)
+            .unwrap_or_default();
+        let cfl = out.interval_checks.is_some();
+        let watching = (!cells.is_empty() || cfl)
+            && (self.fluid.inner)
+                .watch(&cells, cfl)
+                .map_err(RunError::Fluid)?;
+        if !watching {
+            return Ok(());
+        }
+        events(Event::Message(format!(
+            "rank 0 samples U of {} cells{} from grainPisoFoam's ranks after each advance",
+            cells.len(),
+            if cfl { " and max |U|/∛V" } else { "" }
+        )));
+        Ok(())
+    }
+
     /// What the run writes as its steps close; a run started from a later time
     /// (`startFrom latestTime`, a restart) continues the earlier run's series: its rows and
     /// particle files up to the start time are kept.
@@ -560,8 +595,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             if let Some(c) = &out.interval_checks {
                 let state = fluid.inner.state();
                 let volumes = whole.map(|w| &w.cell_volumes[..]);
+                let u_by_size = fluid.inner.watched().and_then(|w| w.u_by_size);
                 let ps = dem.state();
-                if let Some(lines) = c.check(k, coupler, &step, &ps, &state, volumes, dt_c)? {
+                if let Some(lines) =
+                    c.check(k, coupler, &step, &ps, &state, volumes, u_by_size, dt_c)?
+                {
                     lines.into_iter().for_each(|l| events(Event::Message(l)));
                 }
             }

@@ -21,3 +21,18 @@ pub fn cosim_ready(tools: &[&str]) -> bool {
     }
     true
 }
+
+/// `command` with the environment a co-simulation needs: Debian's OpenFOAM
+/// (`WM_PROJECT_DIR`, unless set) and Open MPI as root with oversubscription. (`dying_rank`
+/// sets its own, with its log files.)
+#[allow(dead_code)]
+pub fn cosim_env(command: &mut std::process::Command) -> &mut std::process::Command {
+    command
+        .env(
+            "WM_PROJECT_DIR",
+            std::env::var("WM_PROJECT_DIR").unwrap_or_else(|_| "/usr/share/openfoam".into()),
+        )
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_rmaps_base_oversubscribe", "1")
+}
