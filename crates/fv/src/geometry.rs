@@ -121,6 +121,9 @@ pub struct FvGeometry {
     /// k = n̂ − d · delta_coeff, so that n̂·∇φ ≈ delta_coeff (φ_N − φ_P) + k·(∇φ)_f
     /// ("corrected" snGrad, Jasak 1996 §3.3.1.3 over-relaxed approach as OpenFOAM uses it).
     pub corr_vec: Vec<V3>,
+    /// Every internal face's [`Self::corr_vec`] is exactly zero (an orthogonal mesh): the
+    /// `corrected` schemes' explicit corrections are then zero, and are skipped.
+    pub orthogonal: bool,
     /// Boundary patches in file order.
     pub patches: Vec<FvPatch>,
     /// Whether each boundary face belongs to an `empty` patch (skipped by every operator).
@@ -199,6 +202,7 @@ impl FvGeometry {
             weight: deltas.weight,
             delta: deltas.delta,
             delta_coeff: deltas.delta_coeff,
+            orthogonal: deltas.corr_vec.iter().all(|k| k.iter().all(|&x| x == 0.0)),
             corr_vec: deltas.corr_vec,
             patches,
             boundary_empty,

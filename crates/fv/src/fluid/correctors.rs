@@ -271,7 +271,8 @@ impl Fluid {
         let mut nonorth_flux = vec![0.0; g.n_internal];
         for nonorth in 0..=self.settings.n_non_orth {
             let mut rhs = peq.src.clone();
-            if corrected {
+            // On an orthogonal mesh the correction is zero (skipped: the same bits).
+            if corrected && !g.orthogonal {
                 let gp = fvc::grad_scalar(g, &p, &self.p_b);
                 nonorth_flux.par_iter_mut().enumerate().for_each(|(f, nf)| {
                     let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);

@@ -107,7 +107,8 @@ impl ScalarEqn {
             .unzip();
         m.lower = lower;
         m.upper = upper;
-        let corr: Vec<f64> = if flow.corrected {
+        // On an orthogonal mesh the correction is zero (skipped: the same bits).
+        let corr: Vec<f64> = if flow.corrected && !g.orthogonal {
             let gx = fvc::grad_scalar(g, x, x_b);
             (0..ni)
                 .into_par_iter()
