@@ -347,13 +347,49 @@ enum Precond {
     ),
 }
 
+/// A multigrid hierarchy, the matrix and the pairing weights it was built for (none for the
+/// K-cycle's, whose pairing follows the matrix).
+type Cached = (Ldu, Vec<f64>, std::rc::Rc<crate::amg::Amg>);
+
 thread_local! {
-    /// The last matrix a multigrid hierarchy was built for on this thread, and the hierarchy.
-    static AMG_CACHE: std::cell::RefCell<Option<(Ldu, std::rc::Rc<crate::amg::Amg>)>> =
-        const { std::cell::RefCell::new(None) };
+    /// The last K-cycle hierarchy ([`amg_for`]) on this thread.
+    static AMG_CACHE: std::cell::RefCell<Option<Cached>> = const { std::cell::RefCell::new(None) };
+    /// The last hierarchy [`gamg`] used ([`gamg_for`]) on this thread.
+    static GAMG_CACHE: std::cell::RefCell<Option<Cached>> = const { std::cell::RefCell::new(None) };
 }
 
-/// The multigrid hierarchy of `a`: reused when `a` equals (bit for bit) the matrix of the
+/// The hierarchy in `cache` when it was built for `a` (bit for bit) and `weights`; else, for
+/// the same `weights` and when `keep`, the cached hierarchy's aggregates with `a`'s Galerkin
+/// products ([`crate::amg::Amg::rebuild`], which may refuse); else `build(weights)`. The
+/// result is cached.
+fn cached_hierarchy(
+    cache: &'static std::thread::LocalKey<std::cell::RefCell<Option<Cached>>>,
+    a: &Ldu,
+    m: &RowMatrix<'_>,
+    weights: Vec<f64>,
+    keep: bool,
+    build: impl FnOnce(Vec<f64>) -> crate::amg::Amg,
+) -> std::rc::Rc<crate::amg::Amg> {
+    cache.with(|cache| {
+        let mut cache = cache.borrow_mut();
+        let mut rebuilt = None;
+        if let Some((cached, cached_w, amg)) = cache.as_ref() {
+            if *cached_w == weights {
+                if cached == a {
+                    return amg.clone();
+                }
+                if keep {
+                    rebuilt = amg.rebuild(m);
+                }
+            }
+        }
+        let amg = std::rc::Rc::new(rebuilt.unwrap_or_else(|| build(weights.clone())));
+        *cache = Some((a.clone(), weights, amg.clone()));
+        amg
+    })
+}
+
+/// The K-cycle's hierarchy of `a`: reused when `a` equals (bit for bit) the matrix of the
 /// previous call on this thread — the pressure matrix of every PISO corrector and
 /// non-orthogonal correction of a time step is the same — else built. On fewer than
 /// [`PAR_MIN`] rows the result depends on the matrix only, never on what was solved before;
@@ -362,29 +398,10 @@ thread_local! {
 /// hierarchy depends on the matrices of the last few time steps (the same on any number of
 /// threads).
 fn amg_for(a: &Ldu, m: &RowMatrix<'_>) -> std::rc::Rc<crate::amg::Amg> {
-    AMG_CACHE.with(|cache| {
-        let mut cache = cache.borrow_mut();
-        let mut rebuilt = None;
-        if let Some((cached, amg)) = cache.as_ref() {
-            if cached == a {
-                return amg.clone();
-            }
-            if a.diag.len() >= PAR_MIN {
-                rebuilt = amg.rebuild(m);
-            }
-        }
-        let amg = std::rc::Rc::new(rebuilt.unwrap_or_else(|| crate::amg::Amg::new(m)));
-        *cache = Some((a.clone(), amg.clone()));
-        amg
+    let keep = a.diag.len() >= PAR_MIN;
+    cached_hierarchy(&AMG_CACHE, a, m, Vec::new(), keep, |_| {
+        crate::amg::Amg::new(m)
     })
-}
-
-/// A hierarchy of [`gamg`], the matrix and the pairing weights it was built for.
-type GamgCached = (Ldu, Vec<f64>, std::rc::Rc<crate::amg::Amg>);
-
-thread_local! {
-    /// The last hierarchy [`gamg`] used on this thread.
-    static GAMG_CACHE: std::cell::RefCell<Option<GamgCached>> = const { std::cell::RefCell::new(None) };
 }
 
 /// OpenFOAM's `faceAreaPair` weight of each entry of the rows of `g`: |S ∘ (1, 1.01, 1.02)| /
@@ -409,21 +426,7 @@ pub(crate) fn face_area_pair_weights(g: &FvGeometry) -> Vec<f64> {
 /// would build, bit for bit, as OpenFOAM's `cacheAgglomeration` keeps it); else built.
 fn gamg_for(a: &Ldu, g: &FvGeometry, m: &RowMatrix<'_>) -> std::rc::Rc<crate::amg::Amg> {
     let w = face_area_pair_weights(g);
-    GAMG_CACHE.with(|cache| {
-        let mut cache = cache.borrow_mut();
-        let mut rebuilt = None;
-        if let Some((cached, cached_w, amg)) = cache.as_ref() {
-            if cached == a && *cached_w == w {
-                return amg.clone();
-            }
-            if *cached_w == w {
-                rebuilt = amg.rebuild(m);
-            }
-        }
-        let amg = std::rc::Rc::new(rebuilt.unwrap_or_else(|| crate::amg::Amg::gamg(m, w.clone())));
-        *cache = Some((a.clone(), w, amg.clone()));
-        amg
-    })
+    cached_hierarchy(&GAMG_CACHE, a, m, w, true, |w| crate::amg::Amg::gamg(m, w))
 }
 
 impl Precond {

@@ -2,9 +2,9 @@
 //!
 //! Two hierarchies and two cycles. For `GAMG` on a symmetric matrix (the pressure),
 //! [`Amg::gamg`] builds OpenFOAM's hierarchy (one pairing pass per level on the mesh's face
-//! weights) and the module `vcycle` applies OpenFOAM's V-cycle on it (as CG's preconditioner). For the K-cycle (`GAMG` as a
-//! preconditioner, and the non-symmetric `GAMG` solver's BiCGStab), [`Amg::new`] builds the
-//! matrix-based hierarchy below.
+//! weights) and the module `vcycle` applies OpenFOAM's V-cycle on it (as CG's
+//! preconditioner). For the K-cycle (`GAMG` as a preconditioner, and the non-symmetric `GAMG`
+//! solver's BiCGStab), [`Amg::new`] builds the matrix-based hierarchy below.
 //!
 //! The hierarchy is built from the matrix alone (Stüben, *A review of algebraic multigrid*,
 //! J. Comput. Appl. Math. 128 (2001) 281–309; the pairwise aggregation of Notay, *An
@@ -20,10 +20,11 @@
 //! [`Amg::rebuild`] keeps a hierarchy's aggregates for a new matrix of the same pattern and
 //! redoes only the Galerkin products' values (on each level's stored pattern, the same
 //! additions in the same order as [`Amg::new`], so the same bits for the same aggregates):
-//! [`crate::linsolve`] uses it for the pressure matrices of successive time steps on
-//! ≥ [`PAR_MIN`] rows, choosing the aggregates again every [`REAGGREGATE`] set-ups. On the
-//! 320² RAS cavity (20 steps, docs/speed.md third pass) the pressure took 414 iterations
-//! against 450 with aggregates chosen every step.
+//! [`crate::linsolve`] uses it for the K-cycle's matrices of successive time steps on
+//! ≥ [`PAR_MIN`] rows, choosing the aggregates again every [`REAGGREGATE`] set-ups (on the
+//! 320² RAS cavity, 20 steps, docs/speed.md third pass, when the K-cycle solved the pressure:
+//! 414 iterations against 450 with aggregates chosen every step), and for [`Amg::gamg`]'s
+//! hierarchies always (their aggregates follow the mesh).
 //!
 //! [`Amg::apply`] is one K-cycle from a zero guess (Notay & Vassilevski 2008): forward
 //! Gauss–Seidel, the coarse correction, backward Gauss–Seidel, where the coarse problem is
@@ -367,8 +368,10 @@ impl Csr {
         }
     }
 
-    /// One pass of pairwise aggregation: every cell not yet taken, in row order, is paired
-    /// with its free neighbour of largest |a_ij| (ties: the first); a cell with no free
+    /// One pass of pairwise aggregation: every cell not yet taken, in row order (`forward`)
+    /// or in reverse, is paired with its free neighbour of largest |a_ij| (ties: the first in
+    /// column order); a backward pass's aggregate numbers are reversed afterwards, as
+    /// OpenFOAM's `pairGAMGAgglomeration` reverses them. A cell with no free
     /// neighbour joins the aggregate of its most strongly coupled neighbour, or stays alone
     /// when it has none. Returns the aggregate of each row and the number of aggregates.
     fn pairwise(&self, forward: bool) -> (Vec<u32>, usize) {

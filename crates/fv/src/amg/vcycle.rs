@@ -15,9 +15,8 @@
 //! factor s = (b·c)/(c·Ac) that minimises the energy norm of the error along the prolonged
 //! correction c and adds a Jacobi step: c ← s c + (b − s A c)/D. It is skipped on the level
 //! just above the coarsest, whose correction is the exact coarse solution prolonged (s = 1).
-//! Piecewise-constant prolongation under-corrects smooth errors by about a factor of two per
-//! level; the scaling is what lets the plain V-cycle converge (Stüben 2001, §7.1 on scaled
-//! aggregation corrections).
+//! Piecewise-constant prolongation under-corrects smooth errors; without the scaling the same
+//! cycles reduce a 3-D Poisson residual by 0.42 per cycle instead of 0.14 (`tests` below).
 //!
 //! The sweeps are those of [`Csr`]: sequential on small levels, the hybrid blocks of the
 //! module doc on large ones (the same bits on any thread count).
