@@ -48,6 +48,32 @@ pub struct RowAddressing {
     pub col: Vec<u32>,
     /// Internal face of each entry.
     pub face: Vec<u32>,
+    /// The multi-threaded Gauss–Seidel schedule of these rows, made at its first use
+    /// ([`RowAddressing::pipeline`]).
+    pipeline: PipelineCache,
+}
+
+/// A lazily made [`crate::sweep::Schedule`]: not part of the addressing's value (a clone starts
+/// empty, equality ignores it).
+#[derive(Default)]
+struct PipelineCache(std::sync::OnceLock<Option<crate::sweep::Schedule>>);
+
+impl Clone for PipelineCache {
+    fn clone(&self) -> Self {
+        PipelineCache::default()
+    }
+}
+
+impl PartialEq for PipelineCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for PipelineCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("PipelineCache")
+    }
 }
 
 impl RowAddressing {
@@ -105,7 +131,22 @@ impl RowAddressing {
             is_lower,
             col,
             face,
+            pipeline: PipelineCache::default(),
         }
+    }
+
+    /// The schedule on which Gauss–Seidel sweeps of these rows run on several threads with
+    /// the sequential sweep's bits ([`crate::sweep`]); `None` below [`PAR_MIN`] rows or where
+    /// the numbering leaves nothing to run side by side. Made once, at the first call.
+    pub(crate) fn pipeline(&self) -> Option<&crate::sweep::Schedule> {
+        self.pipeline
+            .0
+            .get_or_init(|| {
+                (self.n_rows() >= PAR_MIN)
+                    .then(|| crate::sweep::Schedule::new(self))
+                    .flatten()
+            })
+            .as_ref()
     }
 
     /// True when row `c`'s entry `k` is an interface entry.

@@ -805,7 +805,7 @@ pub fn smooth(
             }
         }
     };
-    let mut sweeper = crate::sweep::Sweeper::new(x.len(), smoother.hybrid);
+    let mut sweeper = crate::sweep::Sweeper::new(m.rows, smoother.hybrid);
     let factor = match smoother.kind {
         SmootherKind::Factor | SmootherKind::FactorGaussSeidel => Some(Dilu::new(a, &m)),
         _ => None,

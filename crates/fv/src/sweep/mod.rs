@@ -20,30 +20,45 @@
 //! residual but leave their error along the block edges, where ε is small, and νt = Cμ k²/ε
 //! there moved by 0.5 % (4e-3 of its largest value, against 7e-5 from pisoFoam before).
 
-use crate::ldu::{RowMatrix, PAR_MIN};
+mod pipeline;
+
+use crate::ldu::{RowAddressing, RowMatrix, PAR_MIN};
+use pipeline::Pipeline;
+pub(crate) use pipeline::Schedule;
 use rayon::prelude::*;
 
 /// How the rows of one matrix are swept.
-pub(crate) struct Sweeper {
+pub(crate) struct Sweeper<'a> {
     /// Block boundaries (`[0, n]`: one block, the sequential sweep).
     blocks: Vec<usize>,
     /// The values at the sweep's start (hybrid sweeps only).
     x0: Vec<f64>,
+    /// The sequential sweep on several threads ([`pipeline`]), where the mesh allows it.
+    pipeline: Option<Pipeline<'a>>,
 }
 
-impl Sweeper {
-    /// The sweeps of a matrix of `n` rows: hybrid when asked (`hybrid`) on ≥ [`PAR_MIN`]
-    /// rows, else sequential.
-    pub(crate) fn new(n: usize, hybrid: bool) -> Sweeper {
+impl<'a> Sweeper<'a> {
+    /// The sweeps of a matrix on `rows`: hybrid when asked (`hybrid`) on ≥ [`PAR_MIN`] rows,
+    /// else sequential — on several threads ([`RowAddressing::pipeline`]) where the pool has
+    /// them and the mesh's numbering allows, with the same bits.
+    pub(crate) fn new(rows: &'a RowAddressing, hybrid: bool) -> Sweeper<'a> {
+        let n = rows.n_rows();
         if hybrid && n >= PAR_MIN {
             Sweeper {
                 blocks: crate::amg::block_bounds(n),
                 x0: vec![0.0; n],
+                pipeline: None,
             }
         } else {
+            let pipeline = if rayon::current_num_threads() > 1 {
+                rows.pipeline().map(Pipeline::new)
+            } else {
+                None
+            };
             Sweeper {
                 blocks: vec![0, n],
                 x0: Vec::new(),
+                pipeline,
             }
         }
     }
@@ -52,6 +67,10 @@ impl Sweeper {
     /// side `bp` (b′: b less the interface part).
     pub(crate) fn sweep(&mut self, m: &RowMatrix<'_>, bp: &[f64], x: &mut [f64], backward: bool) {
         let rows = m.rows;
+        if let Some(p) = &mut self.pipeline {
+            p.sweep(m, bp, x, backward);
+            return;
+        }
         if self.blocks.len() <= 2 {
             let relax = |x: &mut [f64], c: usize| {
                 let mut s = bp[c];
@@ -127,7 +146,7 @@ mod tests {
                 .build()
                 .unwrap();
             pool.install(|| {
-                let mut s = Sweeper::new(n, true);
+                let mut s = Sweeper::new(&g.rows, true);
                 if !hybrid {
                     s.blocks = vec![0, n];
                 }
@@ -138,13 +157,14 @@ mod tests {
                 x
             })
         };
-        assert_eq!(Sweeper::new(n, true).blocks.len(), 5);
-        assert_eq!(Sweeper::new(n, false).blocks, vec![0, n]);
+        assert_eq!(Sweeper::new(&g.rows, true).blocks.len(), 5);
+        assert_eq!(Sweeper::new(&g.rows, false).blocks, vec![0, n]);
         let one = run(1, 3, true);
         assert_eq!(one, run(2, 3, true));
         assert_eq!(one, run(3, 3, true));
         // Below PAR_MIN rows: the sequential sweep.
-        assert_eq!(Sweeper::new(PAR_MIN - 1, true).blocks, vec![0, PAR_MIN - 1]);
+        let small = RowAddressing::new(PAR_MIN - 1, &[], &[], 0);
+        assert_eq!(Sweeper::new(&small, true).blocks, vec![0, PAR_MIN - 1]);
         // The residual after a few sweeps: the hybrid sweep lags only at the block edges.
         let res = |x: &[f64]| {
             let mut ax = vec![0.0; n];
