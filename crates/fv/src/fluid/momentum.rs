@@ -137,12 +137,15 @@ impl Fluid {
         // only: on large meshes they run side by side (each solve's arithmetic unchanged, so
         // the same bits as one after the other).
         let dirs: Vec<usize> = (0..3).filter(|&k| g.solution_dirs[k]).collect();
-        // A smoothSolver sweeps in the hybrid block order (crate::sweep): in parallel on large
-        // meshes, as the other components' solves are.
+        // A smoothSolver sweeps in parallel on large meshes, as the other components' solves
+        // run: OpenFOAM's sequential sweep on several threads where the mesh's numbering
+        // allows (crate::sweep::pipeline, the same bits), else in the hybrid block order
+        // (crate::sweep).
         let method = match solver.method {
-            linsolve::Method::Smooth(sm) => {
-                linsolve::Method::Smooth(linsolve::Smoother { hybrid: true, ..sm })
-            }
+            linsolve::Method::Smooth(sm) => linsolve::Method::Smooth(linsolve::Smoother {
+                hybrid: g.rows.pipeline().is_none(),
+                ..sm
+            }),
             other => other,
         };
         let solve_one = |k: usize| -> Result<(Vec<f64>, linsolve::SolveStats)> {
