@@ -62,7 +62,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::ldu::{RowMatrix, PAR_MIN};
+use crate::sweep::Schedule;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 mod vcycle;
 pub(crate) use vcycle::CycleWork;
@@ -136,6 +138,9 @@ struct Csr {
     /// Block boundaries of the hybrid Gauss–Seidel sweeps ([`block_bounds`]; one block, a
     /// sequential sweep, unless [`Amg::new`] sets them).
     blocks: Vec<usize>,
+    /// The sequential sweep on several threads (`crate::sweep::pipeline`), which replaces the
+    /// hybrid blocks in the forward sweeps of the levels [`Amg::gamg`] gives one.
+    pipeline: Option<Arc<Schedule>>,
 }
 
 impl Csr {
@@ -187,6 +192,7 @@ impl Csr {
         let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
         Csr {
             blocks: vec![0, n],
+            pipeline: None,
             start,
             mid,
             col,
@@ -664,6 +670,7 @@ impl Level {
             diag,
             inv_diag,
             blocks: c.blocks.clone(),
+            pipeline: c.pipeline.clone(),
         }
     }
 
@@ -778,6 +785,7 @@ impl Amg {
         }
         let mut fine = fine;
         fine.blocks = self.fine.blocks.clone();
+        fine.pipeline = self.fine.pipeline.clone();
         let mut coarse: Vec<Level> = Vec::with_capacity(self.coarse.len());
         for l in &self.coarse {
             let above = coarse.last().map_or(&fine, |c: &Level| &c.a);

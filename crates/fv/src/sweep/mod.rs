@@ -23,8 +23,7 @@
 mod pipeline;
 
 use crate::ldu::{RowAddressing, RowMatrix, PAR_MIN};
-use pipeline::Pipeline;
-pub(crate) use pipeline::Schedule;
+pub(crate) use pipeline::{Pipeline, Schedule};
 use rayon::prelude::*;
 
 /// How the rows of one matrix are swept.

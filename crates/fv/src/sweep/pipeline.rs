@@ -76,11 +76,36 @@ impl<'a> Pipeline<'a> {
     }
 
     /// One Gauss–Seidel sweep (forward, or backward: rows in reverse order) of `m` for the
-    /// right-hand side `bp`, on the threads of the current pool; the sequential sweep's bits.
+    /// right-hand side `bp` over the triangular entries (the smoothSolver's sweep, see
+    /// [`crate::sweep`]), on the threads of the current pool; the sequential sweep's bits.
     pub(crate) fn sweep(&mut self, m: &RowMatrix<'_>, bp: &[f64], x: &mut [f64], backward: bool) {
+        let rows = m.rows;
+        self.run(x, backward, |c, xa| {
+            let mut s = bp[c];
+            for k in rows.start[c] as usize..rows.end[c] as usize {
+                s -= m.coef[k] * f64::from_bits(xa[rows.col[k] as usize].load(Ordering::Relaxed));
+            }
+            s / m.diag[c]
+        });
+    }
+
+    /// Sets `x[c] = relax(c, x)` for every row c in sweep order (ascending, or descending when
+    /// `backward`), the rows of independent chunks side by side on the current pool's threads;
+    /// `relax` reads x through the shared view it is given. The bits of the sequential loop,
+    /// provided `relax(c, ·)` reads only row c's columns in the schedule's matrix.
+    pub(crate) fn run<F>(&mut self, x: &mut [f64], backward: bool, relax: F)
+    where
+        F: Fn(usize, &[AtomicU64]) -> f64 + Sync,
+    {
         const _: () = assert!(
             std::mem::size_of::<AtomicU64>() == std::mem::size_of::<f64>()
                 && std::mem::align_of::<AtomicU64>() == std::mem::align_of::<f64>()
+        );
+        let sched = self.schedule;
+        assert_eq!(
+            x.len(),
+            sched.bounds[sched.bounds.len() - 1],
+            "one value per row"
         );
         // SAFETY: AtomicU64 has the size and alignment of f64 (asserted above) and the same
         // bit validity as u64, whose every pattern is a valid f64; `x` is borrowed mutably for
@@ -89,18 +114,10 @@ impl<'a> Pipeline<'a> {
             unsafe { std::slice::from_raw_parts(x.as_mut_ptr().cast::<AtomicU64>(), x.len()) };
         self.epoch = self.epoch.wrapping_add(1);
         let epoch = self.epoch;
-        let sched = self.schedule;
         let done = &self.done;
         let n_chunks = sched.bounds.len() - 1;
         let next = AtomicUsize::new(0);
-        let rows = m.rows;
-        let relax = |c: usize| {
-            let mut s = bp[c];
-            for k in rows.start[c] as usize..rows.end[c] as usize {
-                s -= m.coef[k] * f64::from_bits(xa[rows.col[k] as usize].load(Ordering::Relaxed));
-            }
-            xa[c].store((s / m.diag[c]).to_bits(), Ordering::Relaxed);
-        };
+        let one = |c: usize| xa[c].store(relax(c, xa).to_bits(), Ordering::Relaxed);
         let work = || loop {
             let claimed = next.fetch_add(1, Ordering::Relaxed);
             if claimed >= n_chunks {
@@ -116,13 +133,16 @@ impl<'a> Pipeline<'a> {
             }
             let (lo, hi) = (sched.bounds[i], sched.bounds[i + 1]);
             if backward {
-                (lo..hi).rev().for_each(relax);
+                (lo..hi).rev().for_each(one);
             } else {
-                (lo..hi).for_each(relax);
+                (lo..hi).for_each(one);
             }
             done[i].store(epoch, Ordering::Release);
         };
         let helpers = rayon::current_num_threads().saturating_sub(1);
+        if helpers == 0 {
+            return work();
+        }
         rayon::scope(|s| {
             for _ in 0..helpers {
                 s.spawn(|_| work());
@@ -133,19 +153,25 @@ impl<'a> Pipeline<'a> {
 }
 
 impl Schedule {
-    /// The schedule of the triangular entries of `rows` (interfaces are not swept), or `None`
-    /// when it would not pay (see the module doc).
+    /// The schedule of the rows of `rows` (all their entries, interfaces included), or
+    /// `None` when it would not pay (see the module doc).
     pub(crate) fn new(rows: &RowAddressing) -> Option<Schedule> {
-        let n = rows.n_rows();
+        Schedule::for_rows(&rows.start, &rows.col)
+    }
+
+    /// The schedule of a matrix whose row i has its off-diagonal columns at
+    /// `col[start[i]..start[i + 1]]`, or `None` when it would not pay (see the module doc).
+    pub(crate) fn for_rows(start: &[u32], col: &[u32]) -> Option<Schedule> {
+        let n = start.len() - 1;
+        let row = |c: usize| col[start[c] as usize..start[c + 1] as usize].iter();
         // The typical distance back to a row's farthest lower neighbour.
         let mut reach: Vec<usize> = (0..n)
-            .filter(|&c| rows.start[c] < rows.mid[c])
-            .map(|c| {
-                let lo = (rows.start[c] as usize..rows.mid[c] as usize)
-                    .map(|k| rows.col[k] as usize)
+            .filter_map(|c| {
+                row(c)
+                    .map(|&j| j as usize)
                     .min()
-                    .unwrap_or(c);
-                c - lo
+                    .filter(|&lo| lo < c)
+                    .map(|lo| c - lo)
             })
             .collect();
         if reach.is_empty() {
@@ -153,44 +179,39 @@ impl Schedule {
         }
         let mid = reach.len() / 2;
         let typical = *reach.select_nth_unstable(mid).1;
-        let p = Schedule::chunked(rows, (typical / 2).max(MIN_CHUNK));
+        let p = Schedule::chunked(start, col, (typical / 2).max(MIN_CHUNK));
         (p.bounds.len() > 3 && p.gain() >= MIN_GAIN).then_some(p)
     }
 
     /// The schedule of chunks of `size` rows (the last one shorter).
-    fn chunked(rows: &RowAddressing, size: usize) -> Schedule {
-        let n = rows.n_rows();
+    fn chunked(start: &[u32], col: &[u32], size: usize) -> Schedule {
+        let n = start.len() - 1;
         let mut bounds: Vec<usize> = (0..n).step_by(size).collect();
         bounds.push(n);
         let n_chunks = bounds.len() - 1;
-        let chunk_of = |r: usize| r / size;
         let mut before = Vec::new();
         let mut before_start = vec![0u32];
         let mut after = Vec::new();
         let mut after_start = vec![0u32];
-        let mut seen = Vec::new();
+        let (mut lower, mut upper) = (Vec::new(), Vec::new());
         for i in 0..n_chunks {
-            for (list, starts, lower) in [
-                (&mut before, &mut before_start, true),
-                (&mut after, &mut after_start, false),
-            ] {
-                seen.clear();
-                for c in bounds[i]..bounds[i + 1] {
-                    let k = if lower {
-                        rows.start[c]..rows.mid[c]
-                    } else {
-                        rows.mid[c]..rows.end[c]
-                    };
-                    for k in k {
-                        let j = chunk_of(rows.col[k as usize] as usize);
-                        if j != i {
-                            seen.push(j as u32);
-                        }
-                    }
+            lower.clear();
+            upper.clear();
+            for &j in &col[start[bounds[i]] as usize..start[bounds[i + 1]] as usize] {
+                let j = j as usize / size;
+                if j < i {
+                    lower.push(j as u32);
+                } else if j > i {
+                    upper.push(j as u32);
                 }
+            }
+            for (list, starts, seen) in [
+                (&mut before, &mut before_start, &mut lower),
+                (&mut after, &mut after_start, &mut upper),
+            ] {
                 seen.sort_unstable();
                 seen.dedup();
-                list.extend_from_slice(&seen);
+                list.extend_from_slice(seen);
                 starts.push(list.len() as u32);
             }
         }
@@ -296,7 +317,7 @@ mod tests {
         let chosen = Schedule::new(&g.rows).expect("a block-numbered mesh pipelines");
         let sizes = [chosen.bounds[1], MIN_CHUNK, 1000, n / 3];
         for size in sizes {
-            let schedule = Schedule::chunked(&g.rows, size);
+            let schedule = Schedule::chunked(&g.rows.start, &g.rows.col, size);
             for threads in [1, 2, 3] {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -346,6 +367,6 @@ mod tests {
         let m = mesh::build::uniform_box([0.0; 3], [1.0, 0.1, 0.1], [60_000, 1, 1]);
         let g = FvGeometry::new(&m).unwrap();
         assert!(Schedule::new(&g.rows).is_none());
-        assert!(Schedule::chunked(&g.rows, 1000).gain() < 1.01);
+        assert!(Schedule::chunked(&g.rows.start, &g.rows.col, 1000).gain() < 1.01);
     }
 }
