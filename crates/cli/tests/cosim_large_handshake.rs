@@ -12,7 +12,8 @@
 //! launch it (`mpirun -np 1 foamgrain run CASE --fluid openfoam --dem liggghts --np 2`). A run
 //! that has not ended within [`BOUND`] fails the test (its processes are killed; the hang took
 //! no CPU, so the bound is wide): it must end, having advanced the fluid, and written the end
-//! time's U with a value for every cell.
+//! time's U on each solver rank's piece (more than 16,384 cells each) with a finite value
+//! for every cell.
 //!
 //! Needs the cargo features `mpi` and `liggghts`, Open MPI, LIGGGHTS, OpenFOAM's blockMesh and
 //! grainPisoFoam (`openfoam-cases/solver/build.sh`).
@@ -62,8 +63,7 @@ fn fine_settling(dir: &Path) -> PathBuf {
         &format!("writeInterval   {end};"),
     );
     std::fs::remove_dir_all(cfd.join("constant/polyMesh")).unwrap();
-    let mesh = Command::new("blockMesh")
-        .current_dir(&cfd)
+    let mesh = common::cosim_env(Command::new("blockMesh").current_dir(&cfd))
         .output()
         .unwrap();
     assert!(
@@ -146,13 +146,24 @@ fn two_solver_ranks_above_the_eager_limit_get_through_the_handshake() {
             && text.contains(&format!("{n} cells;")),
         "not {STEPS} coupling steps on {n} cells:\n{text}"
     );
-    let path = case
-        .join("CFD")
-        .join(format!("{}", STEPS as f64 * 1e-3))
-        .join("U");
-    match VolField::read(&path).unwrap().internal(n).unwrap() {
-        FieldValues::Vector(u) => assert_eq!(u.len(), n, "U at the end time"),
-        _ => panic!("{}: not a vector field", path.display()),
+    // the fields stay decomposed: each piece holds more cells than fit in an eager message
+    // of its cell map, and its U at the end time has a value for each
+    let whole = foam::Case::open(case.join("CFD")).unwrap();
+    let pieces = foam::decomposed::pieces(&whole, n).unwrap();
+    assert_eq!(pieces.len(), 2, "processor pieces");
+    for piece in &pieces {
+        let local = piece.mesh.n_cells;
+        assert!(4 * local > 65536, "piece {}: {local} cells", piece.rank);
+        let path = piece
+            .case
+            .root()
+            .join(format!("{}", STEPS as f64 * 1e-3))
+            .join("U");
+        let field = VolField::read(&path).unwrap();
+        match field.internal(local).unwrap() {
+            FieldValues::Vector(u) => assert!(u.iter().flatten().all(|x| x.is_finite())),
+            _ => panic!("{}: not a vector field", path.display()),
+        }
     }
     assert!(
         pids_naming(&case).is_empty(),
