@@ -6,14 +6,14 @@
 //! once the coupler posts its receive. When the coupler took rank 0's whole handshake and start
 //! fields before any message of rank 1, rank 1 waited for its cell map to be taken, rank 0
 //! waited for rank 1 in OpenFOAM's `globalMeshData` gather (before the start fields) and the
-//! coupler for rank 0's start fields: the run hung from about 33,000 cells on 2 solver ranks
-//! (docs/scaling.md). Here the settling case's box is meshed with 20 × 100 × 20 = 40,000 cells
-//! (20,000 on each rank: an 80,000-byte map) and run for [`STEPS`] coupling steps as users
-//! launch it (`mpirun -np 1 foamgrain run CASE --fluid openfoam --dem liggghts --np 2`). A run
-//! that has not ended within [`BOUND`] fails the test (its processes are killed; the hang took
-//! no CPU, so the bound is wide): it must end, having advanced the fluid, and written the end
-//! time's U on each solver rank's piece (more than 16,384 cells each) with a finite value
-//! for every cell.
+//! coupler for rank 0's start fields: on 2 solver ranks the run hung at 40,000 and 64,000
+//! cells and not at 25,600 (docs/scaling.md). Here the settling case's box is meshed with
+//! 20 × 100 × 20 = 40,000 cells (20,000 on each rank: an 80,000-byte map) and run for
+//! [`STEPS`] coupling steps as users launch it (`mpirun -np 1 foamgrain run CASE --fluid
+//! openfoam --dem liggghts --np 2`). A run that has not ended within [`BOUND`] fails the test
+//! (its processes are killed; the run takes about 7 s, the bound is wide for a loaded
+//! machine): it must end, having advanced the fluid, and written the end time's U on each
+//! solver rank's piece (more than 16,384 cells each) with a finite value for every cell.
 //!
 //! Needs the cargo features `mpi` and `liggghts`, Open MPI, LIGGGHTS, OpenFOAM's blockMesh and
 //! grainPisoFoam (`openfoam-cases/solver/build.sh`).
