@@ -186,12 +186,8 @@ impl Transport {
                 // A send's time is exchange cost (copy to the solver), not waiting.
                 return Ok(());
             }
-            if poll.due_for_liveness() {
-                // On failure the request is abandoned with the link (a dead rank never
-                // matches it).
-                self.check_alive(waiting)?;
-            }
-            poll.nap();
+            // On failure the request is abandoned with the link (a dead rank never matches it).
+            self.idle(&mut poll, waiting)?;
         }
     }
 
