@@ -1,9 +1,10 @@
 //! [`OpenFoamFluid`]: grainPisoFoam spawned over MPI as a [`couple::FluidSide`].
 
 use crate::case_setup::{self, control_delta_t, launch_script_with, pid_path, Decomposition};
+use crate::handshake;
 use crate::protocol::{
-    self, check_fields, check_heat_source, pack_fields, pack_heat_source, tag, Command, FieldsIn,
-    GlobalState, Hello, HELD_WORDS_PER_CELL, PATCH_WORDS,
+    check_fields, check_heat_source, pack_fields, pack_heat_source, tag, Command, FieldsIn,
+    GlobalState, HELD_WORDS_PER_CELL, PATCH_WORDS,
 };
 use crate::ranks::RankMap;
 use crate::sparse::SolverCells;
@@ -348,95 +349,18 @@ impl OpenFoamFluid {
         }
     }
 
+    /// Every rank's handshake and start fields (module `handshake`: taken as they arrive).
     fn handshake(&mut self) -> Result<(), LinkError> {
-        let np = self.tp().ranks();
         let mesh_patches: Vec<String> = self.mesh.boundary.iter().map(|p| p.name.clone()).collect();
-        let mut cells = Vec::with_capacity(np);
-        let mut start_states = Vec::with_capacity(np);
-        for rank in 0..np {
-            let words: Vec<i32> = self.tp().receive(rank, tag::HELLO, "the handshake")?;
-            let hello = Hello::parse(&words).map_err(|m| self.protocol_error(rank, m))?;
-            if hello.rank != rank {
-                let m = format!("says it is rank {}", hello.rank);
-                return Err(self.protocol_error(rank, m));
-            }
-            if hello.heat != self.heat {
-                let m = if self.heat {
-                    "answered without heat although FOAMGRAIN_HEAT=1 was set (a grainPisoFoam \
-                     without the temperature equation: rebuild it with \
-                     openfoam-cases/solver/build.sh)"
-                } else {
-                    "answered with heat although the coupler did not ask for it"
-                };
-                return Err(self.protocol_error(rank, m.into()));
-            }
-            if hello.cfdem_ksl != self.cfdem_ksl {
-                let m = match self.cfdem_ksl {
-                    true => {
-                        "answered without CFDEM's Ksl form although FOAMGRAIN_KSL was set \
-                             (an older grainPisoFoam: rebuild it with \
-                             openfoam-cases/solver/build.sh)"
-                    }
-                    false => {
-                        "answered with CFDEM's Ksl form although the coupler did not ask \
-                              for it"
-                    }
-                };
-                return Err(self.protocol_error(rank, m.into()));
-            }
-            for (asked, got, what, var) in [
-                (
-                    self.vorticity,
-                    hello.vorticity,
-                    "∇ × U",
-                    "FOAMGRAIN_VORTICITY",
-                ),
-                (self.ddt_u, hello.ddt_u, "DU/Dt", "FOAMGRAIN_DDT_U"),
-            ] {
-                if asked != got {
-                    let m = match asked {
-                        true => format!(
-                            "answered without {what} although {var}=1 was set (an older \
-                             grainPisoFoam: rebuild it with openfoam-cases/solver/build.sh)"
-                        ),
-                        false => format!("answered with {what} although the coupler did not ask"),
-                    };
-                    return Err(self.protocol_error(rank, m));
-                }
-            }
-            self.tp().set_pid(rank, hello.pid)?;
-            let local: Vec<i32> = self.tp().receive(rank, tag::CELLS, "the cell map")?;
-            if local.len() != hello.n_cells {
-                let m = format!(
-                    "{} cells announced, {} in its map",
-                    hello.n_cells,
-                    local.len()
-                );
-                return Err(self.protocol_error(rank, m));
-            }
-            let Ok(local) = local
-                .into_iter()
-                .map(u32::try_from)
-                .collect::<Result<Vec<u32>, _>>()
-            else {
-                return Err(self.protocol_error(rank, "a negative cell in its map".into()));
-            };
-            cells.push(local);
-            let names: Vec<u8> = self.tp().receive(rank, tag::PATCHES, "the patch names")?;
-            let names =
-                protocol::parse_patch_names(&names).map_err(|m| self.protocol_error(rank, m))?;
-            if names != mesh_patches {
-                let m =
-                    format!("patches {names:?}; constant/polyMesh/boundary has {mesh_patches:?}");
-                return Err(self.protocol_error(rank, m));
-            }
-            let times: Vec<f64> = self.tp().receive(rank, tag::TIMES, "the start time")?;
-            if times.len() != 2 {
-                return Err(self.protocol_error(rank, format!("{} time values", times.len())));
-            }
-            let state: Vec<f64> = self.tp().receive(rank, tag::STATE, "the start fields")?;
-            start_states.push(state);
-        }
+        let asked = handshake::Asked {
+            heat: self.heat,
+            cfdem_ksl: self.cfdem_ksl,
+            vorticity: self.vorticity,
+            ddt_u: self.ddt_u,
+        };
+        let starts = handshake::receive_all(&mut self.tp(), &asked, &mesh_patches)?;
+        let (cells, start_states): (Vec<Vec<u32>>, Vec<Vec<f64>>) =
+            starts.into_iter().map(|s| (s.cells, s.state)).unzip();
         self.map = RankMap::new(self.mesh.n_cells, cells)
             .map_err(|(rank, m)| self.protocol_error(rank, m))?;
         self.patch_names = mesh_patches;

@@ -75,7 +75,7 @@
 //!
 //! Modules: [`protocol`] (the messages; `mpiCouplingSource.H` is the solver's half),
 //! [`ranks`] (the decomposition maps), [`case_setup`] (decomposePar/reconstructPar, logs, the
-//! launch line), [`alive`] (pid checks), `transport` and `fluid` (feature `mpi`).
+//! launch line), [`alive`] (pid checks), `transport`, `handshake` and `fluid` (feature `mpi`).
 
 pub mod alive;
 pub mod case_setup;
@@ -85,6 +85,8 @@ pub mod ranks;
 
 #[cfg(feature = "mpi")]
 mod fluid;
+#[cfg(feature = "mpi")]
+mod handshake;
 #[cfg(feature = "mpi")]
 pub mod sparse;
 #[cfg(feature = "mpi")]

@@ -186,12 +186,8 @@ impl Transport {
                 // A send's time is exchange cost (copy to the solver), not waiting.
                 return Ok(());
             }
-            if poll.due_for_liveness() {
-                // On failure the request is abandoned with the link (a dead rank never
-                // matches it).
-                self.check_alive(waiting)?;
-            }
-            poll.nap();
+            // On failure the request is abandoned with the link (a dead rank never matches it).
+            self.idle(&mut poll, waiting)?;
         }
     }
 
@@ -205,37 +201,62 @@ impl Transport {
     ) -> Result<Vec<T>, LinkError> {
         let mut poll = Poller::new();
         loop {
-            let probed = self
-                .inter()
-                .process_at_rank(rank as i32)
-                .immediate_matched_probe();
-            if let Some(msg) = probed {
+            if let Some(msg) = self.try_receive(rank, expected, waiting)? {
                 self.wait_seconds += poll.waited();
-                let got = msg.1.tag();
-                if got == expected {
-                    return Ok(msg.matched_receive_vec::<T>().0);
-                }
-                self.broken = true;
-                if got == tag::ERROR {
-                    let (text, _) = msg.matched_receive_vec::<u8>();
-                    return Err(LinkError::SolverError {
-                        rank,
-                        log: self.log(rank),
-                        message: String::from_utf8_lossy(&text).trim().to_owned(),
-                    });
-                }
-                let _ = msg.matched_receive_vec::<u8>();
-                return Err(LinkError::Protocol {
-                    rank,
-                    log: self.log(rank),
-                    message: format!("message with tag {got} while waiting for {waiting}"),
-                });
+                return Ok(msg);
             }
-            if poll.due_for_liveness() {
-                self.check_alive(waiting)?;
-            }
-            poll.nap();
+            self.idle(&mut poll, waiting)?;
         }
+    }
+
+    /// The next message of `rank` if one has arrived (it must carry `expected`, as in
+    /// [`Transport::receive`]), else `None` at once.
+    pub fn try_receive<T: Equivalence>(
+        &mut self,
+        rank: usize,
+        expected: i32,
+        waiting: &'static str,
+    ) -> Result<Option<Vec<T>>, LinkError> {
+        let Some(msg) = self
+            .inter()
+            .process_at_rank(rank as i32)
+            .immediate_matched_probe()
+        else {
+            return Ok(None);
+        };
+        let got = msg.1.tag();
+        if got == expected {
+            return Ok(Some(msg.matched_receive_vec::<T>().0));
+        }
+        self.broken = true;
+        if got == tag::ERROR {
+            let (text, _) = msg.matched_receive_vec::<u8>();
+            return Err(LinkError::SolverError {
+                rank,
+                log: self.log(rank),
+                message: String::from_utf8_lossy(&text).trim().to_owned(),
+            });
+        }
+        let _ = msg.matched_receive_vec::<u8>();
+        Err(LinkError::Protocol {
+            rank,
+            log: self.log(rank),
+            message: format!("message with tag {got} while waiting for {waiting}"),
+        })
+    }
+
+    /// One pause of a wait that found nothing to receive: the liveness check when due (Err
+    /// when a rank died or reported an error), then a spin or a nap.
+    pub(crate) fn idle(
+        &mut self,
+        poll: &mut Poller,
+        waiting: &'static str,
+    ) -> Result<(), LinkError> {
+        if poll.due_for_liveness() {
+            self.check_alive(waiting)?;
+        }
+        poll.nap();
+        Ok(())
     }
 
     /// Marks the link unusable (a failure outside the transport, e.g. a protocol error).
@@ -266,7 +287,7 @@ impl Drop for Transport {
 }
 
 /// Polling with a short spin, then naps of growing length, and a liveness clock.
-struct Poller {
+pub(crate) struct Poller {
     start: Instant,
     last_check: Instant,
     polls: u32,
@@ -274,7 +295,7 @@ struct Poller {
 }
 
 impl Poller {
-    fn new() -> Poller {
+    pub(crate) fn new() -> Poller {
         let now = Instant::now();
         Poller {
             start: now,
@@ -284,7 +305,7 @@ impl Poller {
         }
     }
 
-    fn waited(&self) -> f64 {
+    pub(crate) fn waited(&self) -> f64 {
         self.start.elapsed().as_secs_f64()
     }
 
