@@ -211,32 +211,32 @@ fn sum_abs(a: &[f64]) -> f64 {
 /// Block length of the parallel reductions.
 const BLOCK: usize = 8192;
 
-/// OpenFOAM's normalisation factor for the residual of `A x = b` (see the module doc), given
-/// `ax = A x`.
-fn norm_factor(a: &RowMatrix<'_>, x: &[f64], b: &[f64], ax: &[f64]) -> f64 {
+/// OpenFOAM's normalisation factor for the residual of `A x = b` (see the module doc), with
+/// the residual r = b − A x: per row, computed in one pass over the row's entries, the
+/// residual and the factor's term |A x − A x̄| + |b − A x̄| (x̄ the mean of x); the terms
+/// summed in row order (the same bits on any number of threads).
+fn residual_and_norm_factor(a: &RowMatrix<'_>, x: &[f64], b: &[f64]) -> (Vec<f64>, f64) {
     let n = x.len().max(1) as f64;
     let xbar = x.iter().sum::<f64>() / n;
-    // Row c of A times the uniform field x̄, its terms in row order.
-    let term = |c: usize| {
+    let row = |c: usize| {
+        let ax = a.row_times(c, x);
+        // Row c of A times the uniform field x̄, its terms in row order.
         let mut axr = a.diag[c] * xbar;
         for k in a.rows.row(c) {
             axr += a.coef[k] * xbar;
         }
-        (ax[c] - axr).abs() + (b[c] - axr).abs()
+        (b[c] - ax, (ax - axr).abs() + (b[c] - axr).abs())
     };
-    // The terms in parallel on large meshes, summed in row order either way (the same bits).
-    let mut s = 0.0;
-    if x.len() < PAR_MIN {
-        for c in 0..x.len() {
-            s += term(c);
-        }
+    let (r, terms): (Vec<f64>, Vec<f64>) = if x.len() < PAR_MIN {
+        (0..x.len()).map(row).unzip()
     } else {
-        let terms: Vec<f64> = (0..x.len()).into_par_iter().map(term).collect();
-        for t in terms {
-            s += t;
-        }
+        (0..x.len()).into_par_iter().map(row).unzip()
+    };
+    let mut s = 0.0;
+    for t in terms {
+        s += t;
     }
-    s + 1e-20
+    (r, s + 1e-20)
 }
 
 /// The residual `r` meets the tolerances (initial residual `r0`).
@@ -465,11 +465,7 @@ fn start(
     x: &[f64],
     what: &str,
 ) -> Result<(Vec<f64>, f64, SolveStats)> {
-    let mut ax = vec![0.0; x.len()];
-    m.mul(x, &mut ax);
-    let mut r = vec![0.0; x.len()];
-    par_map2(&mut r, b, &ax, |b, ax| b - ax);
-    let nf = norm_factor(m, x, b, &ax);
+    let (r, nf) = residual_and_norm_factor(m, x, b);
     let r0 = sum_abs(&r) / nf;
     check_finite(what, r0)?;
     let stats = SolveStats {
