@@ -245,6 +245,7 @@ impl Temperature {
             dt: flow.dt,
             crank_nicolson: None,
             ddt_weight: Some((flow.eps, flow.eps_old)),
+            div_phi: None,
         };
         let scheme = self.settings.scheme;
         let mut eqn = ScalarEqn::transport(

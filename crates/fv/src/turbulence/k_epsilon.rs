@@ -490,6 +490,7 @@ impl Step<'_> {
             dt: self.flow.dt,
             crank_nicolson,
             ddt_weight: None,
+            div_phi: Some(&self.div_u),
         }
     }
 }

@@ -68,6 +68,9 @@ pub struct Transport<'a> {
     /// and the old time, (w, w°) — OpenFOAM v1912's `EulerDdtScheme::fvmDdt(rho, vf)`: diagonal
     /// w V/Δt, source w° x° V/Δt. `None`: w ≡ 1 (k and ε).
     pub ddt_weight: Option<(&'a [f64], &'a [f64])>,
+    /// ∇·φ per cell (1/s, [`fvc::surface_integrate`] of `phi`) when the caller has it, for
+    /// the `bounded` term; `None`: computed here.
+    pub div_phi: Option<&'a [f64]>,
 }
 
 impl ScalarEqn {
@@ -165,7 +168,14 @@ impl ScalarEqn {
             }
         }
         if scheme.bounded {
-            let div_phi = fvc::surface_integrate(g, phi);
+            let own;
+            let div_phi = match flow.div_phi {
+                Some(d) => d,
+                None => {
+                    own = fvc::surface_integrate(g, phi);
+                    &own[..]
+                }
+            };
             for c in 0..n {
                 m.diag[c] -= g.v[c] * div_phi[c];
             }
