@@ -105,16 +105,15 @@ impl Value for V3 {
 /// order), and the given values on boundary faces: one value per face.
 pub fn interpolate<T: Value>(g: &FvGeometry, phi: Field<'_, T>) -> Vec<T> {
     phi.check(g);
-    let mut out: Vec<T> = (0..g.n_internal)
-        .into_par_iter()
-        .map(|f| {
-            let (p, n) = (
-                phi.cells[g.owner[f] as usize],
-                phi.cells[g.neighbour[f] as usize],
-            );
-            T::axpy(n, g.weight[f], T::minus(p, n))
-        })
-        .collect();
+    // Room for the boundary values from the start: no copy of the internal ones.
+    let mut out: Vec<T> = Vec::with_capacity(g.n_faces());
+    out.par_extend((0..g.n_internal).into_par_iter().map(|f| {
+        let (p, n) = (
+            phi.cells[g.owner[f] as usize],
+            phi.cells[g.neighbour[f] as usize],
+        );
+        T::axpy(n, g.weight[f], T::minus(p, n))
+    }));
     out.extend_from_slice(phi.boundary);
     out
 }
@@ -312,23 +311,21 @@ pub fn boundary_grad(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) ->
 /// internal faces `delta_coeff (φ_N − φ_P) + k·(∇φ)_f` with (∇φ)_f linearly interpolated,
 /// boundary faces `delta_coeff (φ_b − φ_P)` (Jasak 1996 eq. 3.39–3.44). Units: u/m.
 pub fn sn_grad_vector(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -> Vec<V3> {
-    let mut out: Vec<V3> = (0..g.n_internal)
-        .into_par_iter()
-        .map(|f| {
-            let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
-            let w = g.weight[f];
-            let k = g.corr_vec[f];
-            let mut s = g.delta_coeff[f] * (u.cells[n] - u.cells[p]);
-            for j in 0..3 {
-                for i in 0..3 {
-                    let gf =
-                        w * (grad_cells[p][(i, j)] - grad_cells[n][(i, j)]) + grad_cells[n][(i, j)];
-                    s[j] += k[i] * gf;
-                }
+    let mut out: Vec<V3> = Vec::with_capacity(g.n_faces());
+    out.par_extend((0..g.n_internal).into_par_iter().map(|f| {
+        let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
+        let w = g.weight[f];
+        let k = g.corr_vec[f];
+        let mut s = g.delta_coeff[f] * (u.cells[n] - u.cells[p]);
+        for j in 0..3 {
+            for i in 0..3 {
+                let gf =
+                    w * (grad_cells[p][(i, j)] - grad_cells[n][(i, j)]) + grad_cells[n][(i, j)];
+                s[j] += k[i] * gf;
             }
-            s
-        })
-        .collect();
+        }
+        s
+    }));
     out.extend((g.n_internal..g.n_faces()).map(|f| {
         let p = g.owner[f] as usize;
         g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p])
