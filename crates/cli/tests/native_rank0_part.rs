@@ -30,14 +30,7 @@ fn fixture(dir: &Path, name: &str) -> PathBuf {
     let case = dir.join(name);
     testkit::copy_inputs(&testkit::repo_root().join("openfoam-cases/settling"), &case);
     restart_case_with(&case, Bed::Suspended);
-    // a viscous liquid, as in `dying_rank.rs`: a creeping flow in which round-off decays
-    let tp = case.join("CFD/constant/transportProperties");
-    let text = std::fs::read_to_string(&tp).unwrap();
-    let text = text
-        .replace("nu              1e-5;", "nu              1e-4;")
-        .replace("rho             10;", "rho             1000;");
-    assert!(text.contains("1e-4;") && text.contains("1000;"), "{text}");
-    std::fs::write(&tp, text).unwrap();
+    testkit::restart::viscous_liquid(&case);
     set_control(&case, "startTime", "0.03", "0.01");
     case
 }
@@ -60,7 +53,11 @@ fn run(case: &Path, np: usize) -> String {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(out.status.success(), "{} on {np} ranks failed:\n{log}", case.display());
+    assert!(
+        out.status.success(),
+        "{} on {np} ranks failed:\n{log}",
+        case.display()
+    );
     log
 }
 
@@ -70,14 +67,19 @@ fn integrals(case: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let mut lines = text.lines();
     let head = lines.next().unwrap().split(',').map(String::from).collect();
     let rows = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap_or(f64::NAN)).collect())
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
         .collect();
     (head, rows)
 }
 
 #[test]
 fn rank_0_holds_a_part_with_the_native_fluid_and_the_run_is_the_one_rank_run() {
-    if !common::cosim_ready(&["mpirun", "liggghts"]) {
+    // the native fluid: no grainPisoFoam needed
+    if !["mpirun", "liggghts"].iter().all(|t| testkit::tool(t)) {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
@@ -85,18 +87,17 @@ fn rank_0_holds_a_part_with_the_native_fluid_and_the_run_is_the_one_rank_run() {
     let two = fixture(tmp.path(), "two");
     run(&one, 1);
     let log = run(&two, 2);
-    assert!(log.contains("2 ranks: LIGGGHTS on each"), "not a 2-rank run:\n{log}");
+    assert!(
+        log.contains("2 ranks: LIGGGHTS on each"),
+        "not a 2-rank run:\n{log}"
+    );
 
     // rank 0's coupler holds a part: fewer cells than the mesh, cut at least once
-    let text = std::fs::read_to_string(two.join("postProcessing/ranks.csv")).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
-    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
-    assert_eq!(row[col("rank")], "0", "{text}");
-    let held: usize = row[col("cells_held")].parse().unwrap();
-    assert!(held < CELLS, "rank 0 holds {held} of the {CELLS} cells:\n{text}");
-    let cuts: u64 = row[col("mesh_cuts")].parse().unwrap();
+    let (held, cuts, text) = common::rank_0_part(&two);
+    assert!(
+        held < CELLS,
+        "rank 0 holds {held} of the {CELLS} cells:\n{text}"
+    );
     assert!(cuts >= 1, "{text}");
     eprintln!("rank 0 holds {held} of the {CELLS} cells ({cuts} cuts)");
 
@@ -114,12 +115,22 @@ fn rank_0_holds_a_part_with_the_native_fluid_and_the_run_is_the_one_rank_run() {
             if a.is_nan() && b.is_nan() {
                 continue;
             }
-            let d = if scale > 0.0 { (a - b).abs() / scale } else { (a - b).abs() };
-            assert!(d <= 1e-9, "{name}: {a} on one rank, {b} on two ({d:e} of {scale})");
+            let d = if scale > 0.0 {
+                (a - b).abs() / scale
+            } else {
+                (a - b).abs()
+            };
+            assert!(
+                d <= 1e-9,
+                "{name}: {a} on one rank, {b} on two ({d:e} of {scale})"
+            );
             if d > worst.0 {
                 worst = (d, name.clone());
             }
         }
     }
-    eprintln!("largest difference from the one-rank run: {:e} of {}'s scale", worst.0, worst.1);
+    eprintln!(
+        "largest difference from the one-rank run: {:e} of {}'s scale",
+        worst.0, worst.1
+    );
 }

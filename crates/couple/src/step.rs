@@ -364,19 +364,7 @@ impl Coupler {
         if self.root_volumes.is_some() {
             return self.exchange_root(particles, fluid, population);
         }
-        same_lengths(
-            n_cells,
-            &[
-                ("fluid U", fluid.u.len()),
-                ("fluid p", fluid.p.len()),
-                ("fluid grad(p)", fluid.grad_p.len()),
-                ("fluid div(tau)", fluid.div_tau.len()),
-            ],
-        )?;
-        let t_fluid = match self.settings.heat {
-            Some(_) => Some(fluid_temperature(fluid.temperature, n_cells)?),
-            None => None,
-        };
+        let t_fluid = self.whole_fluid(fluid, n_cells)?;
         let (shares, mut deposit) = self.place(particles)?;
         let parallel = self.ranks.size() > 1;
         let touched = if parallel {
@@ -432,14 +420,7 @@ impl Coupler {
             self.bed_heat
                 .add_to(h, at, cells, volumes, &self.settings)?;
         }
-        if let Some(s) = &self.smoothing {
-            // after the forces: the drag uses each particle's unsmoothed ε (module docs of
-            // `smoothing`); the fluid gets the smoothed field
-            let r = s.smooth_exchange(&mut voidage.epsilon, &placement, particles, parallel)?;
-            voidage.clipped_volume += r.bounded_volume + r.lagged_volume;
-            voidage.clipped_cells += r.bounded_cells;
-        }
-        self.voidage.clone_from(&voidage.epsilon);
+        self.smooth_and_keep(&mut voidage, &placement, particles)?;
         Ok(CouplingStep {
             placement,
             deposit,
@@ -449,6 +430,46 @@ impl Coupler {
             population,
             heat,
         })
+    }
+
+    /// The smoothing of the ε handed to the fluid, when configured (after the forces: the drag
+    /// uses each particle's unsmoothed ε, module docs of `smoothing`; the fluid gets the
+    /// smoothed field), and ε kept for the next hand-over.
+    fn smooth_and_keep(
+        &mut self,
+        voidage: &mut Voidage,
+        placement: &Placement,
+        particles: &ParticleState<'_>,
+    ) -> Result<(), CoupleError> {
+        if let Some(s) = &self.smoothing {
+            let several = self.ranks.size() > 1;
+            let r = s.smooth_exchange(&mut voidage.epsilon, placement, particles, several)?;
+            voidage.clipped_volume += r.bounded_volume + r.lagged_volume;
+            voidage.clipped_cells += r.bounded_cells;
+        }
+        self.voidage.clone_from(&voidage.epsilon);
+        Ok(())
+    }
+
+    /// Checks that `fluid` has `n_cells` values per field; its T with heat.
+    fn whole_fluid<'f>(
+        &self,
+        fluid: &FluidState<'f>,
+        n_cells: usize,
+    ) -> Result<Option<&'f [f64]>, CoupleError> {
+        same_lengths(
+            n_cells,
+            &[
+                ("fluid U", fluid.u.len()),
+                ("fluid p", fluid.p.len()),
+                ("fluid grad(p)", fluid.grad_p.len()),
+                ("fluid div(tau)", fluid.div_tau.len()),
+            ],
+        )?;
+        match self.settings.heat {
+            Some(_) => Ok(Some(fluid_temperature(fluid.temperature, n_cells)?)),
+            None => Ok(None),
+        }
     }
 
     /// Values per cell rank 0 sends each rank: [`FLUID_WIDTH`], and T with heat.
@@ -485,6 +506,24 @@ impl Coupler {
         let p = result?;
         let w = cell_heat(placement, &p.q, self.vm.n_cells());
         Ok((p, w))
+    }
+
+    /// [`Coupler::heat_particles`] with ε, U and T of the rank's touched cells (its dense copy
+    /// `self.remote`, [`Coupler::forces_at`]).
+    fn heat_of_touched(
+        &mut self,
+        placement: &Placement,
+        particles: &ParticleState<'_>,
+    ) -> Result<(ParticleHeat, Vec<f64>), CoupleError> {
+        let remote = std::mem::take(&mut self.remote);
+        let cells = CellFields {
+            eps: &remote.eps,
+            u: &remote.u,
+            t: &remote.t,
+        };
+        let got = self.heat_particles(placement, cells, particles);
+        self.remote = remote;
+        got
     }
 
     /// The heat step from this rank's particles `p` and the heat per cell summed over ranks
@@ -668,17 +707,7 @@ impl Coupler {
         self.ranks.scatter_from_root(width, &|_, _| {}, &mut got);
         let (placement, forces, mut exchange) = self.forces_at(&touched, &got, shares, particles);
         let mut heat = match self.settings.heat {
-            Some(_) => {
-                let remote = std::mem::take(&mut self.remote);
-                let cells = CellFields {
-                    eps: &remote.eps,
-                    u: &remote.u,
-                    t: &remote.t,
-                };
-                let h = self.heat_particles(&placement, cells, particles);
-                self.remote = remote;
-                Some(h?)
-            }
+            Some(_) => Some(self.heat_of_touched(&placement, particles)?),
             None => None,
         };
         self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
@@ -847,15 +876,7 @@ impl Coupler {
         touched: &[Label],
         particles: &ParticleState<'_>,
     ) -> Result<(HeatStep, Vec<f64>), CoupleError> {
-        let remote = std::mem::take(&mut self.remote);
-        let cells = CellFields {
-            eps: &remote.eps,
-            u: &remote.u,
-            t: &remote.t,
-        };
-        let got = self.heat_particles(placement, cells, particles);
-        self.remote = remote;
-        let (mut p, w) = got?;
+        let (mut p, w) = self.heat_of_touched(placement, particles)?;
         let heat = self.settings.heat.as_ref().expect("heat is on");
         let mut w_touched = Vec::with_capacity(touched.len());
         let mut volumes = Vec::with_capacity(touched.len());

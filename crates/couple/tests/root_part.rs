@@ -4,14 +4,13 @@
 //! next hand-over and the forces are the whole-mesh coupler's, bit for bit with `divided` and
 //! `centre` (to 1e-13 of the scale with `exact`, whose kernel on an axis-aligned part measures
 //! its planes from another origin), while the particles move a little and then across the
-//! mesh (a second cut). The root's sums are played by one rank ([`couple::Serial`]): its
-//! sum to the root is its own cells, scattered into the whole-length arrays.
+//! mesh (a second cut). Both couplers are rank 0 of two whose other rank has no particle
+//! ([`RootOfTwo`]): the reference is what rank 0 on the whole mesh computes on several ranks.
 
-use closures::DragLaw;
-use couple::memory::MemoryFluid;
 use couple::part::{PartSource, Parted};
 use couple::FluidSide;
-use couple::{Coupler, CouplerSettings, Interpolation, SideError};
+use couple::{Coupler, Ranks, Serial, SideError};
+use foam::Label;
 use foam::PolyMesh;
 use mesh::build::hex_grid;
 use mesh::part::MeshPart;
@@ -20,7 +19,7 @@ use mesh::Aabb;
 use voidage::Method;
 
 mod common;
-use common::Particles;
+use common::{cluster, varying_fluid as fluid, varying_settings as settings};
 
 /// The whole mesh, kept in memory, as the source of parts.
 struct InMemory(PolyMesh);
@@ -31,47 +30,35 @@ impl PartSource for InMemory {
     }
 }
 
-/// Fields varying in space over the cells of `mesh` at centres `x`.
-fn fluid(mesh: &PolyMesh, x: &[V3]) -> MemoryFluid {
-    let mut f = MemoryFluid::uniform(mesh.clone(), V3::zeros());
-    f.u = x
-        .iter()
-        .map(|c| V3::new(c[1], -c[0], 0.5 + c[2] * c[2]))
-        .collect();
-    f.p = x.iter().map(|c| 10.0 * c[2] + c[0]).collect();
-    f.grad_p = x
-        .iter()
-        .map(|c| V3::new(0.1 * c[1], 0.0, 9.0 + c[0]))
-        .collect();
-    f.div_tau = x.iter().map(|c| V3::new(c[2], c[0] * c[1], -0.2)).collect();
-    f
-}
+/// Rank 0 of two whose rank 1 holds no particle: rank 0's sums are its own cells (as
+/// [`Serial`]'s), the other rank sends and receives nothing.
+#[derive(Default)]
+struct RootOfTwo(Serial);
 
-fn settings(method: Method) -> CouplerSettings {
-    common::drag_settings(
-        method,
-        DragLaw::DiFelice,
-        Interpolation::Smooth,
-        1.2,
-        1.5e-5,
-    )
-}
-
-/// A cluster of 40 spheres (radius 0.012–0.02 m) about `at`, ids 1…40.
-fn cluster(at: V3) -> Particles {
-    let n = 40;
-    let pos = (0..n)
-        .map(|k| {
-            let s = k as f64;
-            at + 0.08 * V3::new((s * 1.7).sin(), (s * 0.9).cos(), (s * 2.3).sin())
-        })
-        .collect();
-    let vel = (0..n)
-        .map(|k| V3::new(0.1, 0.0, -0.01 * k as f64))
-        .collect();
-    let mut c = Particles::new(pos, vel);
-    c.radius = (0..n).map(|k| 0.012 + 0.0002 * k as f64).collect();
-    c
+impl Ranks for RootOfTwo {
+    fn rank(&self) -> usize {
+        0
+    }
+    fn size(&self) -> usize {
+        2
+    }
+    fn sum_to_root(&mut self, cells: &[Label], values: &[f64], width: usize, root: &mut [f64]) {
+        self.0.sum_to_root(cells, values, width, root);
+    }
+    fn scatter_from_root(
+        &mut self,
+        _width: usize,
+        _value: &dyn Fn(Label, &mut Vec<f64>),
+        _out: &mut Vec<f64>,
+    ) {
+    }
+    fn all_sum(&self, _x: &mut [f64]) {}
+    fn all_max(&self, _x: &mut [f64]) {}
+    fn broadcast(&self, _x: &mut [f64]) {}
+    fn gather(&self, x: &[f64]) -> Vec<Vec<f64>> {
+        // rank 1 saw nothing enter or leave
+        vec![x.to_vec(), vec![0.0]]
+    }
 }
 
 /// The largest |a − b| over the pairs, relative to `scale`.
@@ -107,6 +94,7 @@ fn rank_0_on_its_part_hands_the_fluid_the_whole_mesh_fields() {
     for method in [Method::Exact, Method::Divided, Method::Centre] {
         let tolerance = if method == Method::Exact { 1e-13 } else { 0.0 };
         let mut w = Coupler::new(&whole, settings(method)).unwrap();
+        w.set_ranks(Box::<RootOfTwo>::default());
         let geometry = w.voidage_mesh().geometry();
         let volumes = geometry.cell_volumes.clone();
         let fl = fluid(&whole, &geometry.cell_centres);
@@ -117,6 +105,7 @@ fn rank_0_on_its_part_hands_the_fluid_the_whole_mesh_fields() {
             .expect("the cluster's part is smaller than the mesh");
         let mut p = Coupler::new(&part_mesh, settings(method)).unwrap();
         p.set_part(parted);
+        p.set_ranks(Box::<RootOfTwo>::default());
         p.set_root_volumes(volumes);
         assert_eq!(p.voidage().len(), whole.n_cells);
         assert!(p.voidage().iter().all(|&e| e == 1.0));
@@ -140,8 +129,18 @@ fn rank_0_on_its_part_hands_the_fluid_the_whole_mesh_fields() {
             let d = d.max(worst(&flat(&a.us), &us, largest(&us)));
             let f = flat(&b.f);
             let d = d.max(worst(&flat(&a.f), &f, largest(&f)));
-            let total: Vec<f64> = ws.forces.particles.iter().flat_map(|c| flat(&[c.total])).collect();
-            let mine: Vec<f64> = ps.forces.particles.iter().flat_map(|c| flat(&[c.total])).collect();
+            let total: Vec<f64> = ws
+                .forces
+                .particles
+                .iter()
+                .flat_map(|c| flat(&[c.total]))
+                .collect();
+            let mine: Vec<f64> = ps
+                .forces
+                .particles
+                .iter()
+                .flat_map(|c| flat(&[c.total]))
+                .collect();
             let d = d.max(worst(&mine, &total, largest(&total)));
             assert!(d <= tolerance, "{method:?} step {k}: {d:e}");
             assert_eq!(ps.deposit.particle_volume, ws.deposit.particle_volume);
@@ -151,7 +150,10 @@ fn rank_0_on_its_part_hands_the_fluid_the_whole_mesh_fields() {
             // what rank 0 holds for the mesh: its part's voidage mesh and the whole mesh's
             // volumes, ε and the handed-over voidage (not its voidage mesh)
             let (part_bytes, whole_bytes) = (p.held_bytes().mesh, w.held_bytes().mesh);
-            assert!(part_bytes < whole_bytes / 2, "{part_bytes} of {whole_bytes} B");
+            assert!(
+                part_bytes < whole_bytes / 2,
+                "{part_bytes} of {whole_bytes} B"
+            );
             println!("{method:?} step {k}: {held} cells held, {d:.1e}, mesh {part_bytes} of {whole_bytes} B");
         }
     }

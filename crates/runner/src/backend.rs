@@ -399,7 +399,13 @@ mod mpi_pair {
                     let state = couple::ParticleSide::state(&dem);
                     let t0 = crate::fluid::RunFluid::time(&fluid);
                     let at = (state.position, state.radius);
-                    let cut = crate::mesh_part::native_on_part(plan, couple::FluidSide::mesh(&fluid), at, t0, dt_c)?;
+                    let cut = crate::mesh_part::native_on_part(
+                        plan,
+                        couple::FluidSide::mesh(&fluid),
+                        at,
+                        t0,
+                        dt_c,
+                    )?;
                     (ctx.part_mesh, ctx.part, ctx.whole) = cut;
                 }
                 couple_loop(ctx, dem, fluid, events)

@@ -428,7 +428,11 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         // fluid (the coupler's root sums), the ones a whole-mesh coupler holds
         let (mesh, eps_before, cell_volumes): (&'a foam::PolyMesh, _, _) = match self.whole {
             Some(w) if self.owned => (&w.shell, vec![1.0; w.shell.n_cells], w.cell_volumes.clone()),
-            Some(w) => (&w.shell, self.coupler.voidage().to_vec(), w.cell_volumes.clone()),
+            Some(w) => (
+                &w.shell,
+                self.coupler.voidage().to_vec(),
+                w.cell_volumes.clone(),
+            ),
             None => (
                 self.mesh,
                 self.coupler.voidage().to_vec(),

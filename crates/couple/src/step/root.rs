@@ -18,11 +18,9 @@
 use super::{fluid_record, Coupler, CouplingStep};
 use crate::error::CoupleError;
 use crate::exchange::Exchange;
-use crate::heat::{fluid_temperature, CellFields};
 use crate::ksl::{form_cfdem, CfdemSums};
 use crate::population::PopulationChange;
 use crate::ranks::{pick, touched_cells};
-use crate::side_checks::same_lengths;
 use crate::sides::{FluidState, ParticleState};
 use foam::Label;
 use mesh::v3::V3;
@@ -56,21 +54,9 @@ impl Coupler {
         population: PopulationChange,
     ) -> Result<CouplingStep, CoupleError> {
         let n = self.root_cells().len();
-        same_lengths(
-            n,
-            &[
-                ("fluid U", fluid.u.len()),
-                ("fluid p", fluid.p.len()),
-                ("fluid grad(p)", fluid.grad_p.len()),
-                ("fluid div(tau)", fluid.div_tau.len()),
-            ],
-        )?;
+        let t_fluid = self.whole_fluid(fluid, n)?;
         // PFM's bed heat averages the particles over whole cells: one coupler rank only
         self.bed_heat.check_ranks(true)?;
-        let t_fluid = match self.settings.heat {
-            Some(_) => Some(fluid_temperature(fluid.temperature, n)?),
-            None => None,
-        };
         let (shares, mut deposit) = self.place(particles)?;
         let touched = touched_cells(&shares, &self.hints);
         self.touched = touched.len();
@@ -81,7 +67,8 @@ impl Coupler {
         deposit.solid = vec![0.0; n];
         self.ranks.sum_to_root(&global, &own, 1, &mut deposit.solid);
         self.sum_totals(&mut deposit);
-        let mut voidage = voidage_field(&deposit.solid, self.root_cells(), self.settings.alpha_min)?;
+        let mut voidage =
+            voidage_field(&deposit.solid, self.root_cells(), self.settings.alpha_min)?;
         self.broadcast_voidage_stats(&mut voidage);
         let width = self.fluid_width();
         let mut got = Vec::with_capacity(touched.len() * width);
@@ -99,17 +86,7 @@ impl Coupler {
         }
         let (placement, forces, mut exchange) = self.forces_at(&touched, &got, shares, particles);
         let mut heat = match self.settings.heat {
-            Some(_) => {
-                let remote = std::mem::take(&mut self.remote);
-                let cells = CellFields {
-                    eps: &remote.eps,
-                    u: &remote.u,
-                    t: &remote.t,
-                };
-                let h = self.heat_particles(&placement, cells, particles);
-                self.remote = remote;
-                Some(h?)
-            }
+            Some(_) => Some(self.heat_of_touched(&placement, particles)?),
             None => None,
         };
         self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
@@ -119,14 +96,7 @@ impl Coupler {
             form_cfdem(&k, sums, fluid.u, &voidage.epsilon, volumes, ksl, us);
         }
         let heat = heat.map(|(p, w)| self.heat_finish(p, &w));
-        if let Some(s) = &self.smoothing {
-            // after the forces, as on a whole mesh (`Coupler::exchange`)
-            let several = self.ranks.size() > 1;
-            let r = s.smooth_exchange(&mut voidage.epsilon, &placement, particles, several)?;
-            voidage.clipped_volume += r.bounded_volume + r.lagged_volume;
-            voidage.clipped_cells += r.bounded_cells;
-        }
-        self.voidage.clone_from(&voidage.epsilon);
+        self.smooth_and_keep(&mut voidage, &placement, particles)?;
         Ok(CouplingStep {
             placement,
             deposit,
