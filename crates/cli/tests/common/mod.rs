@@ -3,6 +3,7 @@
 /// Whether a co-simulation test can run: the programs `tools` and grainPisoFoam
 /// (`openfoam-cases/solver/build.sh`). Without them the test is skipped with a note, but under
 /// `FOAMGRAIN_FULL=1` a missing one fails it (`testkit::tool`).
+#[allow(dead_code)]
 pub fn cosim_ready(tools: &[&str]) -> bool {
     for tool in tools {
         if !testkit::tool(tool) {
