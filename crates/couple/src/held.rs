@@ -58,7 +58,7 @@ impl Coupler {
                 + flat(&self.voidage)
                 + remote
                 + part
-                + self.root_volumes.as_ref().map_or(0, |v| flat(v)),
+                + self.root_volumes.as_ref().map_or(0, flat),
             particles: flat(&self.hints)
                 + flat(&self.hint_ids)
                 + self.memo.heap_bytes()
