@@ -44,8 +44,8 @@ pub(crate) struct LoopContext<'a> {
     /// On N ranks with grainPisoFoam: the straight link to the solver ranks owning the cells
     /// ([`couple::ranks::CellOwners`]).
     pub(crate) owners: Option<Box<dyn couple::ranks::CellOwners>>,
-    /// On a coupler rank other than 0: its part of the mesh ([`couple::part`]; `None`: the
-    /// whole mesh).
+    /// The part of the mesh this coupler rank holds ([`couple::part`]; every rank but 0, and
+    /// rank 0 too on N ranks unless the mesh cannot be cut; `None`: the whole mesh).
     pub(crate) part: Option<couple::part::Parted>,
     /// On coupler rank 0 with the native fluid on several ranks: the mesh of its coupler's
     /// part (the fluid holds the whole mesh; [`crate::mesh_part::native_on_part`]).
