@@ -43,18 +43,10 @@ fn fixture(dir: &Path, name: &str, bed: Bed) -> PathBuf {
     testkit::copy_inputs(&testkit::repo_root().join("openfoam-cases/settling"), &case);
     restart_case_with(&case, bed);
     if bed == Bed::Suspended {
-        // a viscous liquid (0.1 Pa·s, 1000 kg/m³): the spheres reach their Stokes speed,
-        // (ρp − ρ) g d² / (18 μ) = 12 mm/s at Re 0.2, within τ = ρp d² / (18 μ) = 2.5 ms, and
-        // sink 0.4 mm in the run: a creeping flow in which a perturbation decays (in the
-        // settling case's gas the spheres fall through cells at 0.1–0.3 m/s and a restart's
-        // 10-digit fields grow from 1e-7 to 1e-1 of the flow in 10 steps)
-        let tp = case.join("CFD/constant/transportProperties");
-        let text = std::fs::read_to_string(&tp).unwrap();
-        let text = text
-            .replace("nu              1e-5;", "nu              1e-4;")
-            .replace("rho             10;", "rho             1000;");
-        assert!(text.contains("1e-4;") && text.contains("1000;"), "{text}");
-        std::fs::write(&tp, text).unwrap();
+        // a viscous liquid: the spheres sink 0.4 mm in the run, a creeping flow in which a
+        // perturbation decays (in the settling case's gas a restart's 10-digit fields grow
+        // from 1e-7 to 1e-1 of the flow in 10 steps)
+        testkit::restart::viscous_liquid(&case);
     }
     set_control(&case, "startTime", END, WRITE);
     case
@@ -516,16 +508,8 @@ mod cosim {
     /// the other ranks do (`runner::mesh_part::foam_on_part`): fewer cells than the mesh's 320
     /// and at least one cut, in `postProcessing/ranks.csv`.
     fn rank_zero_holds_a_part(case: &Path) {
-        let file = case.join("postProcessing/ranks.csv");
-        let text = std::fs::read_to_string(&file).unwrap();
-        let mut lines = text.lines();
-        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
-        let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
-        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
-        assert_eq!(row[col("rank")], "0", "{text}");
-        let held: usize = row[col("cells_held")].parse().unwrap();
+        let (held, cuts, text) = super::common::rank_0_part(case);
         assert!(held < 320, "rank 0 holds {held} of the 320 cells:\n{text}");
-        let cuts: u64 = row[col("mesh_cuts")].parse().unwrap();
         assert!(cuts >= 1, "{text}");
         eprintln!("rank 0 holds {held} of the 320 cells ({cuts} cuts)");
     }

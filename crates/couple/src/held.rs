@@ -54,7 +54,11 @@ impl Coupler {
             + flat(&s.beta)
             + flat(&s.u_f);
         HeldBytes {
-            mesh: self.vm.heap_bytes() + flat(&self.voidage) + remote + part,
+            mesh: self.vm.heap_bytes()
+                + flat(&self.voidage)
+                + remote
+                + part
+                + self.root_volumes.as_ref().map_or(0, flat),
             particles: flat(&self.hints)
                 + flat(&self.hint_ids)
                 + self.memo.heap_bytes()

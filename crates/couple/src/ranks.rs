@@ -14,6 +14,11 @@
 //! 3. each rank computes its particles' forces, and sends rank 0 its Σ w β, Σ w β v and
 //!    Σ w F per touched cell, which rank 0 turns into Ksl, Us and f for the fluid.
 //!
+//! Rank 0 may hold a part of the mesh too ([`crate::part`]; the native fluid on N ranks,
+//! [`crate::Coupler::set_root_volumes`]): it then places its own particles on its part and takes
+//! their forces from its touched cells as the other ranks do, and sums the ranks' cells (its own
+//! first) into whole-length arrays with the whole mesh's cell volumes.
+//!
 //! The volume and force accounting (particles, volume outside the mesh, clipped volume,
 //! β and force outside the mesh) is summed over ranks, so nothing lost on one rank goes
 //! unreported. [`Serial`] is the one-rank case (nothing to exchange); an MPI implementation

@@ -35,7 +35,7 @@ use crate::heat::{
     HeatAccount, HeatFluid, HeatStep, ParticleHeat,
 };
 use crate::interpolate::Placement;
-use crate::ksl::{form_cfdem, CfdemSums, KslForm, UsAveraging, CFDEM_SUMS_WIDTH};
+use crate::ksl::{form_cfdem, CfdemSums, KslForm, CFDEM_SUMS_WIDTH};
 use crate::periodic::PeriodicMesh;
 use crate::population::{follow_tags, Population, PopulationChange};
 use crate::ranks::{
@@ -49,6 +49,9 @@ use rayon::prelude::*;
 use voidage::{
     voidage_field, CellShares, Deposit, DividedMemo, Method, ParticleSet, Voidage, VoidageMesh,
 };
+
+mod checks;
+mod root;
 
 /// What a coupler needs besides the mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -125,6 +128,9 @@ pub struct Coupler {
     random_walk: Option<crate::random_walk::RandomWalk>,
     /// The part of the mesh this rank holds, when it holds one ([`Coupler::set_part`]).
     pub(crate) part: Option<crate::part::Parted>,
+    /// On rank 0 holding a part while the fluid is on rank 0: the whole mesh's cell volumes,
+    /// ε's denominators ([`Coupler::set_root_volumes`]; `self.voidage` is then whole too).
+    pub(crate) root_volumes: Option<Vec<f64>>,
 }
 
 /// A rank's copy of ε, U, p, ∇p, ∇·τ (and T with heat) at the cells it touches (dense,
@@ -205,6 +211,7 @@ impl Coupler {
             bed_heat: Default::default(),
             random_walk: settings_random_walk,
             part: None,
+            root_volumes: None,
         })
     }
 
@@ -354,19 +361,10 @@ impl Coupler {
         if self.ranks.size() > 1 && self.ranks.rank() > 0 {
             return self.exchange_remote(particles, population);
         }
-        same_lengths(
-            n_cells,
-            &[
-                ("fluid U", fluid.u.len()),
-                ("fluid p", fluid.p.len()),
-                ("fluid grad(p)", fluid.grad_p.len()),
-                ("fluid div(tau)", fluid.div_tau.len()),
-            ],
-        )?;
-        let t_fluid = match self.settings.heat {
-            Some(_) => Some(fluid_temperature(fluid.temperature, n_cells)?),
-            None => None,
-        };
+        if self.root_volumes.is_some() {
+            return self.exchange_root(particles, fluid, population);
+        }
+        let t_fluid = self.whole_fluid(fluid, n_cells)?;
         let (shares, mut deposit) = self.place(particles)?;
         let parallel = self.ranks.size() > 1;
         let touched = if parallel {
@@ -422,14 +420,7 @@ impl Coupler {
             self.bed_heat
                 .add_to(h, at, cells, volumes, &self.settings)?;
         }
-        if let Some(s) = &self.smoothing {
-            // after the forces: the drag uses each particle's unsmoothed ε (module docs of
-            // `smoothing`); the fluid gets the smoothed field
-            let r = s.smooth_exchange(&mut voidage.epsilon, &placement, particles, parallel)?;
-            voidage.clipped_volume += r.bounded_volume + r.lagged_volume;
-            voidage.clipped_cells += r.bounded_cells;
-        }
-        self.voidage.clone_from(&voidage.epsilon);
+        self.smooth_and_keep(&mut voidage, &placement, particles)?;
         Ok(CouplingStep {
             placement,
             deposit,
@@ -439,6 +430,46 @@ impl Coupler {
             population,
             heat,
         })
+    }
+
+    /// The smoothing of the ε handed to the fluid, when configured (after the forces: the drag
+    /// uses each particle's unsmoothed ε, module docs of `smoothing`; the fluid gets the
+    /// smoothed field), and ε kept for the next hand-over.
+    fn smooth_and_keep(
+        &mut self,
+        voidage: &mut Voidage,
+        placement: &Placement,
+        particles: &ParticleState<'_>,
+    ) -> Result<(), CoupleError> {
+        if let Some(s) = &self.smoothing {
+            let several = self.ranks.size() > 1;
+            let r = s.smooth_exchange(&mut voidage.epsilon, placement, particles, several)?;
+            voidage.clipped_volume += r.bounded_volume + r.lagged_volume;
+            voidage.clipped_cells += r.bounded_cells;
+        }
+        self.voidage.clone_from(&voidage.epsilon);
+        Ok(())
+    }
+
+    /// Checks that `fluid` has `n_cells` values per field; its T with heat.
+    fn whole_fluid<'f>(
+        &self,
+        fluid: &FluidState<'f>,
+        n_cells: usize,
+    ) -> Result<Option<&'f [f64]>, CoupleError> {
+        same_lengths(
+            n_cells,
+            &[
+                ("fluid U", fluid.u.len()),
+                ("fluid p", fluid.p.len()),
+                ("fluid grad(p)", fluid.grad_p.len()),
+                ("fluid div(tau)", fluid.div_tau.len()),
+            ],
+        )?;
+        match self.settings.heat {
+            Some(_) => Ok(Some(fluid_temperature(fluid.temperature, n_cells)?)),
+            None => Ok(None),
+        }
     }
 
     /// Values per cell rank 0 sends each rank: [`FLUID_WIDTH`], and T with heat.
@@ -477,18 +508,31 @@ impl Coupler {
         Ok((p, w))
     }
 
+    /// [`Coupler::heat_particles`] with ε, U and T of the rank's touched cells (its dense copy
+    /// `self.remote`, [`Coupler::forces_at`]).
+    fn heat_of_touched(
+        &mut self,
+        placement: &Placement,
+        particles: &ParticleState<'_>,
+    ) -> Result<(ParticleHeat, Vec<f64>), CoupleError> {
+        let remote = std::mem::take(&mut self.remote);
+        let cells = CellFields {
+            eps: &remote.eps,
+            u: &remote.u,
+            t: &remote.t,
+        };
+        let got = self.heat_particles(placement, cells, particles);
+        self.remote = remote;
+        got
+    }
+
     /// The heat step from this rank's particles `p` and the heat per cell summed over ranks
     /// `cell_w` (read on rank 0): Tsource on rank 0, the account summed over ranks on all.
     fn heat_finish(&self, mut p: ParticleHeat, cell_w: &[f64]) -> HeatStep {
         let heat = self.settings.heat.as_ref().expect("heat is on");
         let root = self.ranks.rank() == 0;
         let (tsource, fluid) = match root {
-            true => heat_source(
-                heat,
-                self.settings.physics.rho,
-                cell_w,
-                self.vm.cell_volumes(),
-            ),
+            true => heat_source(heat, self.settings.physics.rho, cell_w, self.root_cells()),
             false => (Vec::new(), HeatAccount::default()),
         };
         let mut sums = [p.to_particles, p.outside as f64];
@@ -559,83 +603,6 @@ impl Coupler {
         (placement, forces, exchange)
     }
 
-    /// What added mass and lift need (module docs of [`crate::forces`]): the fluid's vorticity
-    /// or DU/Dt when a model asks for them (on one rank: the fields of other ranks' touched
-    /// cells do not carry them), the coupling interval, and C_add ρ_f < ρ_p for every particle
-    /// (the lagged particle acceleration diverges otherwise).
-    fn check_added_mass_and_lift(
-        &self,
-        particles: &ParticleState<'_>,
-        fluid: &FluidState<'_>,
-    ) -> Result<(), CoupleError> {
-        let physics = &self.settings.physics;
-        let forces = &physics.forces;
-        let several = self.ranks.size() > 1 || self.owners.is_some();
-        let fields = [
-            (
-                forces.needs_vorticity(),
-                fluid.vorticity.is_some(),
-                "MeiLift/SaffmanLift",
-                "vorticity ∇ × U",
-            ),
-            (
-                forces.needs_ddt_u(),
-                fluid.ddt_u.is_some(),
-                "virtualMassForce with splitUrelCalculation",
-                "DU/Dt",
-            ),
-            (
-                forces.needs_turbulence(),
-                fluid.turbulence.is_some(),
-                "KochHillRWDrag",
-                "k and epsilon (a k-epsilon model)",
-            ),
-        ];
-        for (needed, given, model, what) in fields {
-            if needed && several {
-                return Err(CoupleError::Parameter(format!(
-                    "{model} needs the fluid's {what}, which the exchange on several coupler \
-                     ranks does not carry: run one coupler rank"
-                )));
-            }
-            if needed && !given {
-                return Err(CoupleError::Parameter(format!(
-                    "{model} needs the fluid's {what}, which this fluid side does not give"
-                )));
-            }
-        }
-        if forces.needs_turbulence() && self.coupling_dt.is_none() {
-            return Err(CoupleError::Parameter(
-                "KochHillRWDrag needs the coupling interval's length (its eddies' lifetimes; \
-                 Coupler::set_coupling_time_step)"
-                    .into(),
-            ));
-        }
-        let Some(vm) = forces.virtual_mass else {
-            return Ok(());
-        };
-        if self.coupling_dt.is_none() {
-            return Err(CoupleError::Parameter(
-                "virtualMassForce needs the coupling interval's length \
-                 (Coupler::set_coupling_time_step)"
-                    .into(),
-            ));
-        }
-        let limit = vm.c_add * physics.rho;
-        if let Some(i) = (0..particles.len()).find(|&i| particles.density[i] <= limit) {
-            return Err(CoupleError::Particle {
-                index: i,
-                id: Some(particles.ids[i]),
-                message: format!(
-                    "density {} ≤ Cadd·ρ_f = {limit}: the added mass's particle acceleration, \
-                     lagged one coupling step, would diverge",
-                    particles.density[i]
-                ),
-            });
-        }
-        Ok(())
-    }
-
     /// Step 2's placement ([`Coupler::place_here`]); on a part of the mesh, a new part first
     /// when a centre has left the safe box, and again (reaching further) when a particle
     /// touched an edge cell ([`crate::part`]).
@@ -671,7 +638,9 @@ impl Coupler {
         let mesh = p.recut(particles, self.coupling_dt, wider)?;
         self.vm = VoidageMesh::new(&mesh)?;
         self.periodic = PeriodicMesh::new(&mesh, self.vm.geometry())?;
-        self.voidage = vec![1.0; self.vm.n_cells()];
+        if self.root_volumes.is_none() {
+            self.voidage = vec![1.0; self.vm.n_cells()];
+        }
         self.hints.clear();
         self.hint_ids.clear();
         self.memo = DividedMemo::new();
@@ -738,17 +707,7 @@ impl Coupler {
         self.ranks.scatter_from_root(width, &|_, _| {}, &mut got);
         let (placement, forces, mut exchange) = self.forces_at(&touched, &got, shares, particles);
         let mut heat = match self.settings.heat {
-            Some(_) => {
-                let remote = std::mem::take(&mut self.remote);
-                let cells = CellFields {
-                    eps: &remote.eps,
-                    u: &remote.u,
-                    t: &remote.t,
-                };
-                let h = self.heat_particles(&placement, cells, particles);
-                self.remote = remote;
-                Some(h?)
-            }
+            Some(_) => Some(self.heat_of_touched(&placement, particles)?),
             None => None,
         };
         self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
@@ -917,15 +876,7 @@ impl Coupler {
         touched: &[Label],
         particles: &ParticleState<'_>,
     ) -> Result<(HeatStep, Vec<f64>), CoupleError> {
-        let remote = std::mem::take(&mut self.remote);
-        let cells = CellFields {
-            eps: &remote.eps,
-            u: &remote.u,
-            t: &remote.t,
-        };
-        let got = self.heat_particles(placement, cells, particles);
-        self.remote = remote;
-        let (mut p, w) = got?;
+        let (mut p, w) = self.heat_of_touched(placement, particles)?;
         let heat = self.settings.heat.as_ref().expect("heat is on");
         let mut w_touched = Vec::with_capacity(touched.len());
         let mut volumes = Vec::with_capacity(touched.len());
@@ -1014,6 +965,13 @@ impl Coupler {
             }
         }
         let root = self.ranks.rank() == 0;
+        if let (true, Some(n)) = (root, self.root_volumes.as_ref().map(Vec::len)) {
+            // rank 0 on a part: its own cells' values are in `values`, the sums are whole
+            root::widen(exchange, n);
+            if let Some(w) = heat_w.as_mut() {
+                **w = vec![0.0; n];
+            }
+        }
         let mut sums = vec![0.0; if root { exchange.ksl.len() * width } else { 0 }];
         let global = self.global_labels(touched);
         self.ranks.sum_to_root(&global, &values, width, &mut sums);
@@ -1035,24 +993,6 @@ impl Coupler {
             }
         }
         self.sum_outside(exchange);
-    }
-
-    /// CFDEM's Ksl form with `dilute` averaging on several ranks is an error: "the last
-    /// particle in the cell" depends on how the particles are spread over the ranks.
-    fn check_ksl_form(&self) -> Result<(), CoupleError> {
-        let dilute = self
-            .ksl_form
-            .cfdem()
-            .is_some_and(|k| k.averaging == UsAveraging::Dilute);
-        if dilute && (self.ranks.size() > 1 || self.owners.is_some()) {
-            return Err(CoupleError::Parameter(
-                "averagingModel dilute (Us = the last particle's velocity in each cell) on \
-                 several coupler ranks: which particle is last depends on the ranks; use \
-                 averagingModel dense, or one coupler rank"
-                    .into(),
-            ));
-        }
-        Ok(())
     }
 
     /// The exchange's outside-the-mesh accounting summed over ranks, on every rank.

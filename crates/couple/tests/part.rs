@@ -6,11 +6,10 @@
 //! The rank is rank 1 of two whose rank 0 is played by [`RankOne`]: it records what the rank
 //! sends and answers with the whole-mesh coupler's ε and fluid at the cells the rank listed.
 
-use closures::DragLaw;
 use couple::memory::MemoryFluid;
 use couple::part::{PartSource, Parted};
 use couple::FluidSide;
-use couple::{Coupler, CouplerSettings, Interpolation, Ranks, SideError};
+use couple::{Coupler, Ranks, SideError};
 use foam::{Label, PolyMesh};
 use mesh::build::hex_grid;
 use mesh::part::MeshPart;
@@ -23,7 +22,7 @@ use std::sync::Arc;
 use voidage::Method;
 
 mod common;
-use common::Particles;
+use common::{cluster, varying_fluid as fluid, varying_settings as settings};
 
 /// The whole mesh, kept in memory, as the source of parts; counts the cuts.
 struct InMemory {
@@ -94,49 +93,6 @@ impl Ranks for RankOne {
     fn gather(&self, x: &[f64]) -> Vec<Vec<f64>> {
         vec![x.to_vec()]
     }
-}
-
-/// Fields varying in space over the cells of `mesh`.
-fn fluid(mesh: &PolyMesh, x: &[V3]) -> MemoryFluid {
-    let mut f = MemoryFluid::uniform(mesh.clone(), V3::zeros());
-    f.u = x
-        .iter()
-        .map(|c| V3::new(c[1], -c[0], 0.5 + c[2] * c[2]))
-        .collect();
-    f.p = x.iter().map(|c| 10.0 * c[2] + c[0]).collect();
-    f.grad_p = x
-        .iter()
-        .map(|c| V3::new(0.1 * c[1], 0.0, 9.0 + c[0]))
-        .collect();
-    f.div_tau = x.iter().map(|c| V3::new(c[2], c[0] * c[1], -0.2)).collect();
-    f
-}
-
-fn settings(method: Method) -> CouplerSettings {
-    common::drag_settings(
-        method,
-        DragLaw::DiFelice,
-        Interpolation::Smooth,
-        1.2,
-        1.5e-5,
-    )
-}
-
-/// A cluster of 40 spheres (radius 0.012–0.02 m) about `at`, ids 1…40.
-fn cluster(at: V3) -> Particles {
-    let n = 40;
-    let pos = (0..n)
-        .map(|k| {
-            let s = k as f64;
-            at + 0.08 * V3::new((s * 1.7).sin(), (s * 0.9).cos(), (s * 2.3).sin())
-        })
-        .collect();
-    let vel = (0..n)
-        .map(|k| V3::new(0.1, 0.0, -0.01 * k as f64))
-        .collect();
-    let mut c = Particles::new(pos, vel);
-    c.radius = (0..n).map(|k| 0.012 + 0.0002 * k as f64).collect();
-    c
 }
 
 #[test]

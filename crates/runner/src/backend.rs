@@ -392,6 +392,22 @@ mod mpi_pair {
         match fluid {
             FluidBackend::Native if launch.rank() == 0 => {
                 let fluid = open_native_fluid(plan)?;
+                if launch.size() > 1 {
+                    // rank 0's coupler on its part too: it sums the ranks into whole fields
+                    let dt_c = plan.settings.coupling_interval as f64
+                        * couple::ParticleSide::time_step(&dem);
+                    let state = couple::ParticleSide::state(&dem);
+                    let t0 = crate::fluid::RunFluid::time(&fluid);
+                    let at = (state.position, state.radius);
+                    let cut = crate::mesh_part::native_on_part(
+                        plan,
+                        couple::FluidSide::mesh(&fluid),
+                        at,
+                        t0,
+                        dt_c,
+                    )?;
+                    (ctx.part_mesh, ctx.part, ctx.whole) = cut;
+                }
                 couple_loop(ctx, dem, fluid, events)
             }
             FluidBackend::Native => {

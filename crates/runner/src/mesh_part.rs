@@ -5,8 +5,10 @@
 //! Ranks other than 0 hold a part with a stand-in fluid ([`stand_in_on_part`]). With
 //! grainPisoFoam on several coupler ranks rank 0 holds a part too ([`foam_on_part`]): its
 //! first part is cut from the whole mesh the solver's spawn read, after rank 0 has taken from
-//! it what it observes of the whole mesh ([`crate::whole`]). With the native fluid rank 0 keeps
-//! the whole mesh: it sums the ranks' cells and holds the fluid's whole fields. A mesh with
+//! it what it observes of the whole mesh ([`crate::whole`]). With the native fluid on several
+//! ranks rank 0's coupler holds a part as well ([`native_on_part`]): the fluid holds the whole
+//! mesh and fields, and the coupler sums the ranks' cells into whole-length fields with the
+//! whole mesh's cell volumes only ([`couple::Coupler::set_root_volumes`]). A mesh with
 //! `cyclic` patches is not cut ([`mesh::part`]): every rank then holds it whole, as before.
 
 use crate::error::RunError;
@@ -96,6 +98,45 @@ pub(crate) fn foam_on_part(
         }
     }
 }
+
+/// Coupler rank 0 with the native fluid on several coupler ranks: the mesh of its coupler's
+/// part around its particles `at` (centres, radii), the part, and what it keeps of the fluid's
+/// whole mesh `whole` and observes on it ([`crate::whole`], for a run starting at `start` s
+/// with coupling interval `dt_c` s). A mesh that cannot be cut (cyclic patches, or a part that
+/// would be the whole mesh) gives `None`s: the coupler holds the whole mesh, as before.
+#[cfg(feature = "liggghts")]
+pub(crate) fn native_on_part(
+    plan: &crate::plan::RunPlan,
+    whole: &PolyMesh,
+    at: (&[V3], &[f64]),
+    start: f64,
+    dt_c: f64,
+) -> Result<PartedNative, RunError> {
+    if whole
+        .boundary
+        .iter()
+        .any(|p| p.patch_type.contains("cyclic"))
+    {
+        return Ok((None, None, None));
+    }
+    let summary = crate::whole::WholeMesh::of(plan, whole, start, dt_c)?;
+    let source = Box::new(CaseMesh {
+        cfd: plan.layout.cfd.clone(),
+        first: Some(whole.clone()),
+    });
+    match Parted::first(source, at.0, at.1).map_err(RunError::Fluid)? {
+        Some((mesh, parted)) => Ok((Some(mesh), Some(parted), Some(summary))),
+        None => Ok((None, None, None)),
+    }
+}
+
+/// What [`native_on_part`] gives: the coupler's mesh, the part and the whole mesh's summary.
+#[cfg(feature = "liggghts")]
+pub(crate) type PartedNative = (
+    Option<PolyMesh>,
+    Option<Parted>,
+    Option<(crate::whole::WholeMesh, crate::whole::Observed)>,
+);
 
 /// What [`foam_on_part`] gives: the fluid side, the part and the whole mesh's summary.
 #[cfg(feature = "mpi")]

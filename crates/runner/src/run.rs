@@ -106,6 +106,7 @@ fn run_launched(
         ranks: None,
         owners: None,
         part: None,
+        part_mesh: None,
         whole: None,
     };
     crate::backend::run_pair(ctx, opts.fluid, opts.dem, launch, events)

@@ -44,9 +44,12 @@ pub(crate) struct LoopContext<'a> {
     /// On N ranks with grainPisoFoam: the straight link to the solver ranks owning the cells
     /// ([`couple::ranks::CellOwners`]).
     pub(crate) owners: Option<Box<dyn couple::ranks::CellOwners>>,
-    /// On a coupler rank other than 0: its part of the mesh ([`couple::part`]; `None`: the
-    /// whole mesh).
+    /// The part of the mesh this coupler rank holds ([`couple::part`]; every rank but 0, and
+    /// rank 0 too on N ranks unless the mesh cannot be cut; `None`: the whole mesh).
     pub(crate) part: Option<couple::part::Parted>,
+    /// On coupler rank 0 with the native fluid on several ranks: the mesh of its coupler's
+    /// part (the fluid holds the whole mesh; [`crate::mesh_part::native_on_part`]).
+    pub(crate) part_mesh: Option<foam::PolyMesh>,
     /// On coupler rank 0 holding a part of the mesh: what it keeps of the whole mesh and
     /// observes on it ([`crate::whole`]).
     pub(crate) whole: Option<(WholeMesh, Observed)>,
@@ -205,6 +208,7 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             ranks,
             owners,
             part,
+            part_mesh,
             whole: _,
         } = ctx;
         let dem = Timed::new(dem);
@@ -216,7 +220,12 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
             fluid.inner.want_held();
         }
         let schedule = Schedule::of(plan, opts, dem.time_step(), fluid.inner.time())?;
-        let mut coupler = Coupler::new(mesh, plan.settings)?;
+        let mut coupler = Coupler::new(part_mesh.as_ref().unwrap_or(mesh), plan.settings)?;
+        if let (Some(_), Some(w)) = (&part_mesh, whole) {
+            // the native fluid on rank 0: the coupler sums the ranks into whole fields
+            coupler.set_root_volumes(w.cell_volumes.clone());
+        }
+        drop(part_mesh);
         coupler.set_coupling_time_step(plan.settings.coupling_interval as f64 * dem.time_step());
         if let Some(ranks) = ranks {
             coupler.set_ranks(ranks);
@@ -414,10 +423,16 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
     {
         let plan: &'a RunPlan = self.plan;
         // the monitors' whole fields are written on the whole mesh: rank 0 on a part has its
-        // cell count, patches and cell volumes; its coupler's own ε is never set there (with
-        // grainPisoFoam on several ranks the owners hold ε), the ones a whole-mesh coupler holds
+        // cell count, patches and cell volumes; its coupler's own ε is never set there with
+        // grainPisoFoam on several ranks (the owners hold ε), and is whole with the native
+        // fluid (the coupler's root sums), the ones a whole-mesh coupler holds
         let (mesh, eps_before, cell_volumes): (&'a foam::PolyMesh, _, _) = match self.whole {
-            Some(w) => (&w.shell, vec![1.0; w.shell.n_cells], w.cell_volumes.clone()),
+            Some(w) if self.owned => (&w.shell, vec![1.0; w.shell.n_cells], w.cell_volumes.clone()),
+            Some(w) => (
+                &w.shell,
+                self.coupler.voidage().to_vec(),
+                w.cell_volumes.clone(),
+            ),
             None => (
                 self.mesh,
                 self.coupler.voidage().to_vec(),
@@ -536,10 +551,24 @@ impl<'a, P: ParticleSide, F: RunFluid> Stage2<'a, P, F> {
         let cfd = &self.plan.layout.cfd;
         let control = &self.plan.layout.control;
         let locator = self.coupler.voidage_mesh().locator();
+        // rank 0's coupler on a part: the probes are located on the fluid's whole mesh, whose
+        // locator is built (and dropped) only when there are probes
+        let whole = std::cell::OnceCell::new();
+        let on_part = self.coupler.part().is_some();
+        let locate = |x| match on_part {
+            false => locator.locate(x),
+            true => whole
+                .get_or_init(|| {
+                    let g = mesh::MeshGeometry::new(self.mesh).ok()?;
+                    mesh::Locator::new(self.mesh, &g).ok()
+                })
+                .as_ref()
+                .and_then(|l: &mesh::Locator| l.locate(x)),
+        };
         let heat = self.plan.settings.heat.is_some();
         let (probes, warnings) =
             crate::probes::Probes::read(cfd, control, start_name, heat, &|x| {
-                locator.locate(x).map(|c| c as usize)
+                locate(x).map(|c| c as usize)
             })?;
         for w in warnings {
             events(Event::Message(format!("warning: {w}")));

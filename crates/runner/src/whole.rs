@@ -7,10 +7,12 @@
 //! (broadcast by the run loop: a part sees only its own points). With grainPisoFoam on several
 //! coupler ranks rank 0 holds a part too ([`crate::mesh_part::foam_on_part`]): it computes
 //! [`Observed`] and [`WholeMesh`] once from the whole mesh the solver's spawn read, then drops
-//! that mesh. Both are light: per cell only the volumes (8 B, for the monitors and
+//! that mesh. With the native fluid on several ranks
+//! ([`crate::mesh_part::native_on_part`]) it computes them from the fluid's mesh, and its
+//! coupler forms ε with [`WholeMesh`]'s cell volumes. Both are light: per cell only the volumes (8 B, for the monitors and
 //! `checkCouplingInterval`) and a heating case's bins; per face of the outlet its cell and area.
 
-#[cfg(feature = "mpi")]
+#[cfg(any(feature = "mpi", feature = "liggghts"))]
 use crate::error::RunError;
 use crate::layout::ValidationSpec;
 use crate::outputs::Column;
@@ -154,8 +156,8 @@ pub(crate) struct WholeMesh {
 impl WholeMesh {
     /// The summary of `mesh` and what the observer measures on it (for a run starting at
     /// `start` s with coupling interval `dt_c` s); the geometry is computed here and dropped.
-    /// (Only a co-simulation on several coupler ranks, `mpi`, cuts rank 0's part.)
-    #[cfg(feature = "mpi")]
+    /// (Only a run on several coupler ranks, `mpi` or `liggghts`, cuts rank 0's part.)
+    #[cfg(any(feature = "mpi", feature = "liggghts"))]
     pub(crate) fn of(
         plan: &RunPlan,
         mesh: &PolyMesh,

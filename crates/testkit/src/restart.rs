@@ -166,3 +166,18 @@ pub fn use_restart_deck(case: &Path) {
         .replace("in.liggghts_run", "in.liggghts_restart");
     std::fs::write(&cp, text).unwrap();
 }
+
+/// The settling case's gas made a viscous liquid (ν 1e-4 m²/s, ρ 1000 kg/m³, 0.1 Pa·s) in
+/// `case`: with [`Bed::Suspended`] the spheres reach their Stokes speed, (ρp − ρ) g d² / (18 μ)
+/// = 12 mm/s at Re 0.2, within τ = ρp d² / (18 μ) = 2.5 ms, a creeping flow in which a
+/// perturbation decays (in the case's gas the spheres fall through cells at 0.1–0.3 m/s and
+/// round-off grows).
+pub fn viscous_liquid(case: &Path) {
+    let tp = case.join("CFD/constant/transportProperties");
+    let text = std::fs::read_to_string(&tp).unwrap();
+    let text = text
+        .replace("nu              1e-5;", "nu              1e-4;")
+        .replace("rho             10;", "rho             1000;");
+    assert!(text.contains("1e-4;") && text.contains("1000;"), "{text}");
+    std::fs::write(&tp, text).unwrap();
+}

@@ -1,14 +1,17 @@
 //! What the coupler's tests share: particles with tags 1…n ([`Particles`]), and for the bed
 //! heat tests a coupler with PFM's heatTransferGunn (explicit, cell values) and no forces, in a
-//! gas of ρ 1.2 kg/m³, ν 1e-5 m²/s, λ 0.0256 W/(m K), c_p 1007 J/(kg K).
+//! gas of ρ 1.2 kg/m³, ν 1e-5 m²/s, λ 0.0256 W/(m K), c_p 1007 J/(kg K); for the tests of
+//! parts of the mesh a cluster of spheres and fluid fields varying in space.
 #![allow(dead_code)]
 
 use closures::heat::{Nusselt, ReynoldsVelocity};
 use closures::model::ModelType;
 use closures::{DragClosure, DragLaw};
 use couple::config::{DragSettings, Forces, HeatModel, HeatSettings};
+use couple::memory::MemoryFluid;
 use couple::ParticleState;
 use couple::{CouplerSettings, Interpolation, Physics};
+use foam::PolyMesh;
 use mesh::v3::V3;
 use voidage::Method;
 
@@ -116,4 +119,48 @@ impl Particles {
             temperature: None,
         }
     }
+}
+
+/// Fields varying in space over the cells of `mesh` at centres `x`.
+pub fn varying_fluid(mesh: &PolyMesh, x: &[V3]) -> MemoryFluid {
+    let mut f = MemoryFluid::uniform(mesh.clone(), V3::zeros());
+    f.u = x
+        .iter()
+        .map(|c| V3::new(c[1], -c[0], 0.5 + c[2] * c[2]))
+        .collect();
+    f.p = x.iter().map(|c| 10.0 * c[2] + c[0]).collect();
+    f.grad_p = x
+        .iter()
+        .map(|c| V3::new(0.1 * c[1], 0.0, 9.0 + c[0]))
+        .collect();
+    f.div_tau = x.iter().map(|c| V3::new(c[2], c[0] * c[1], -0.2)).collect();
+    f
+}
+
+/// DiFelice drag with the smooth interpolation in a gas (ρ 1.2, ν 1.5e-5), voidage `method`.
+pub fn varying_settings(method: Method) -> CouplerSettings {
+    drag_settings(
+        method,
+        DragLaw::DiFelice,
+        Interpolation::Smooth,
+        1.2,
+        1.5e-5,
+    )
+}
+
+/// A cluster of 40 spheres (radius 0.012–0.02 m) about `at`, ids 1…40.
+pub fn cluster(at: V3) -> Particles {
+    let n = 40;
+    let pos = (0..n)
+        .map(|k| {
+            let s = k as f64;
+            at + 0.08 * V3::new((s * 1.7).sin(), (s * 0.9).cos(), (s * 2.3).sin())
+        })
+        .collect();
+    let vel = (0..n)
+        .map(|k| V3::new(0.1, 0.0, -0.01 * k as f64))
+        .collect();
+    let mut c = Particles::new(pos, vel);
+    c.radius = (0..n).map(|k| 0.012 + 0.0002 * k as f64).collect();
+    c
 }
