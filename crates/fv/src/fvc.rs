@@ -122,6 +122,12 @@ pub fn interpolate<T: Value>(g: &FvGeometry, phi: Field<'_, T>) -> Vec<T> {
 /// cell), divided by the cell volume: the Gauss theorem for face values given on every face.
 pub fn gauss_sum<T: Value>(g: &FvGeometry, face_values: &[T]) -> Vec<T::Grad> {
     assert_eq!(face_values.len(), g.n_faces(), "one value per face");
+    gauss_sum_of(g, |f| face_values[f])
+}
+
+/// [`gauss_sum`] with the value of face `f` given by `value(f)`, taken where the cell loop
+/// reaches the face.
+fn gauss_sum_of<T: Value>(g: &FvGeometry, value: impl Fn(usize) -> T + Sync) -> Vec<T::Grad> {
     (0..g.n_cells)
         .into_par_iter()
         .map(|c| {
@@ -133,7 +139,7 @@ pub fn gauss_sum<T: Value>(g: &FvGeometry, face_values: &[T]) -> Vec<T::Grad> {
                 } else {
                     -1.0 * g.sf[f]
                 };
-                acc = T::add_outer(acc, s, face_values[f]);
+                acc = T::add_outer(acc, s, value(f));
             }
             T::grad_div(acc, g.v[c])
         })
@@ -151,26 +157,17 @@ pub fn gauss_sum<T: Value>(g: &FvGeometry, face_values: &[T]) -> Vec<T::Grad> {
 pub fn grad<T: Value>(g: &FvGeometry, phi: Field<'_, T>) -> Vec<T::Grad> {
     phi.check(g);
     let ni = g.n_internal;
-    (0..g.n_cells)
-        .into_par_iter()
-        .map(|c| {
-            let mut acc = T::Grad::default();
-            for &f in g.faces_of(c) {
-                let f = f as usize;
-                let o = g.owner[f] as usize;
-                let v = if f < ni {
-                    let n = g.neighbour[f] as usize;
-                    let (p, q) = (phi.cells[o], phi.cells[n]);
-                    T::axpy(q, g.weight[f], T::minus(p, q))
-                } else {
-                    phi.boundary[f - ni]
-                };
-                let s = if o == c { g.sf[f] } else { -1.0 * g.sf[f] };
-                acc = T::add_outer(acc, s, v);
-            }
-            T::grad_div(acc, g.v[c])
-        })
-        .collect()
+    gauss_sum_of(g, |f| {
+        if f < ni {
+            let (p, q) = (
+                phi.cells[g.owner[f] as usize],
+                phi.cells[g.neighbour[f] as usize],
+            );
+            T::axpy(q, g.weight[f], T::minus(p, q))
+        } else {
+            phi.boundary[f - ni]
+        }
+    })
 }
 
 /// Gauss linear gradient of a scalar field (u/m); see [`grad`].

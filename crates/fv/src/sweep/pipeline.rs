@@ -297,22 +297,6 @@ mod tests {
         a
     }
 
-    fn sequential(m: &RowMatrix<'_>, b: &[f64], x: &mut [f64], backward: bool) {
-        let rows = m.rows;
-        let relax = |x: &mut [f64], c: usize| {
-            let mut s = b[c];
-            for k in rows.start[c] as usize..rows.end[c] as usize {
-                s -= m.coef[k] * x[rows.col[k] as usize];
-            }
-            x[c] = s / m.diag[c];
-        };
-        if backward {
-            (0..x.len()).rev().for_each(|c| relax(x, c));
-        } else {
-            (0..x.len()).for_each(|c| relax(x, c));
-        }
-    }
-
     /// Forward and backward sweeps on 1, 2 and 3 threads give the sequential sweep's bits,
     /// with the chosen chunking and with chunkings that leave little or nothing side by side.
     fn check(g: &FvGeometry, sizes: &[usize]) {
@@ -320,10 +304,19 @@ mod tests {
         let m = RowMatrix::new(&a, g);
         let n = g.n_cells;
         let b: Vec<f64> = (0..n).map(|i| ((i * 7 % 13) as f64).sin() + 0.5).collect();
-        let mut expect = vec![0.0; n];
-        for i in 0..4 {
-            sequential(&m, &b, &mut expect, i % 2 == 1);
-        }
+        // The sequential sweep: a Sweeper on one thread takes no pipeline.
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let expect = one.install(|| {
+            let mut s = super::super::Sweeper::new(&g.rows, false);
+            let mut x = vec![0.0; n];
+            for i in 0..4 {
+                s.sweep(&m, &b, &mut x, i % 2 == 1);
+            }
+            x
+        });
         for &size in sizes {
             let schedule = Schedule::chunked(&g.rows.start, &g.rows.col, size);
             for threads in [1, 2, 3] {
