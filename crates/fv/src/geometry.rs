@@ -11,6 +11,7 @@ use foam::PolyMesh;
 use mesh::MeshGeometry;
 
 use crate::ldu::RowAddressing;
+use std::sync::Arc;
 
 /// A 3-vector (m, m², m/s … as the field says).
 pub use mesh::v3::V3;
@@ -139,9 +140,21 @@ pub struct FvGeometry {
     /// `empty` patches of a 2-D case (OpenFOAM's `polyMesh::solutionD`), whose velocity
     /// component is not solved for.
     pub solution_dirs: [bool; 3],
+    /// GAMG's pairing weights of the mesh's matrix entries, made at their first use
+    /// ([`FvGeometry::pair_weights`]).
+    pair_weights: std::sync::OnceLock<Arc<Vec<f64>>>,
 }
 
 impl FvGeometry {
+    /// GAMG's `faceAreaPair` weights of this geometry (`crate::linsolve`), computed by `make`
+    /// at the first call and kept: they follow the faces alone, so every pressure solve on the
+    /// mesh shares them (a geometry changed after that call keeps the old ones).
+    pub(crate) fn pair_weights(&self, make: impl FnOnce(&FvGeometry) -> Vec<f64>) -> Arc<Vec<f64>> {
+        self.pair_weights
+            .get_or_init(|| Arc::new(make(self)))
+            .clone()
+    }
+
     /// Builds the geometry of `mesh` (checks topology and cell volumes via
     /// [`MeshGeometry::new`]).
     pub fn new(mesh: &PolyMesh) -> Result<Self> {
@@ -210,6 +223,7 @@ impl FvGeometry {
             cell_faces,
             rows,
             solution_dirs,
+            pair_weights: std::sync::OnceLock::new(),
         })
     }
 

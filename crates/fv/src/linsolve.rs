@@ -26,6 +26,7 @@ use crate::error::{FvError, Result};
 use crate::geometry::FvGeometry;
 use crate::ldu::{Ldu, RowAddressing, RowMatrix, PAR_MIN};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// Preconditioner of the Krylov solvers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -349,7 +350,7 @@ enum Precond {
 
 /// A multigrid hierarchy, the matrix and the pairing weights it was built for (none for the
 /// K-cycle's, whose pairing follows the matrix).
-type Cached = (Ldu, Vec<f64>, std::rc::Rc<crate::amg::Amg>);
+type Cached = (Ldu, Arc<Vec<f64>>, std::rc::Rc<crate::amg::Amg>);
 
 thread_local! {
     /// The last K-cycle hierarchy ([`amg_for`]) on this thread.
@@ -366,7 +367,7 @@ fn cached_hierarchy(
     cache: &'static std::thread::LocalKey<std::cell::RefCell<Option<Cached>>>,
     a: &Ldu,
     m: &RowMatrix<'_>,
-    weights: Vec<f64>,
+    weights: Arc<Vec<f64>>,
     keep: bool,
     build: impl FnOnce(Vec<f64>) -> crate::amg::Amg,
 ) -> std::rc::Rc<crate::amg::Amg> {
@@ -374,7 +375,7 @@ fn cached_hierarchy(
         let mut cache = cache.borrow_mut();
         let mut rebuilt = None;
         if let Some((cached, cached_w, amg)) = cache.as_ref() {
-            if *cached_w == weights {
+            if Arc::ptr_eq(cached_w, &weights) || *cached_w == weights {
                 if cached == a {
                     return amg.clone();
                 }
@@ -383,7 +384,7 @@ fn cached_hierarchy(
                 }
             }
         }
-        let amg = std::rc::Rc::new(rebuilt.unwrap_or_else(|| build(weights.clone())));
+        let amg = std::rc::Rc::new(rebuilt.unwrap_or_else(|| build(weights.to_vec())));
         *cache = Some((a.clone(), weights, amg.clone()));
         amg
     })
@@ -399,7 +400,7 @@ fn cached_hierarchy(
 /// threads).
 fn amg_for(a: &Ldu, m: &RowMatrix<'_>) -> std::rc::Rc<crate::amg::Amg> {
     let keep = a.diag.len() >= PAR_MIN;
-    cached_hierarchy(&AMG_CACHE, a, m, Vec::new(), keep, |_| {
+    cached_hierarchy(&AMG_CACHE, a, m, Arc::default(), keep, |_| {
         crate::amg::Amg::new(m)
     })
 }
@@ -425,7 +426,7 @@ pub(crate) fn face_area_pair_weights(g: &FvGeometry) -> Vec<f64> {
 /// the aggregates follow the mesh alone, so this is the hierarchy [`crate::amg::Amg::gamg`]
 /// would build, bit for bit, as OpenFOAM's `cacheAgglomeration` keeps it); else built.
 fn gamg_for(a: &Ldu, g: &FvGeometry, m: &RowMatrix<'_>) -> std::rc::Rc<crate::amg::Amg> {
-    let w = face_area_pair_weights(g);
+    let w = g.pair_weights(face_area_pair_weights);
     cached_hierarchy(&GAMG_CACHE, a, m, w, true, |w| crate::amg::Amg::gamg(m, w))
 }
 
