@@ -5,7 +5,10 @@
 //! On fewer than [`PAR_MIN`] rows, and wherever the caller does not ask for the hybrid sweep,
 //! the sweep is sequential, row by row, each row seeing the rows already done: OpenFOAM's
 //! `GaussSeidelSmoother` bit for bit (every existing test case, and OpenFOAM's iteration
-//! counts). The momentum predictor asks for it: on larger matrices it is then the *hybrid* (block-Jacobi /
+//! counts). On large meshes whose numbering allows it ([`RowAddressing::pipeline`]) that
+//! sequential sweep runs on several threads with the same bits ([`pipeline`]); the momentum
+//! predictor then asks for it rather than the hybrid sweep. Elsewhere the momentum predictor
+//! asks for the hybrid sweep: on larger matrices it is then the *hybrid* (block-Jacobi /
 //! Gauss–Seidel) sweep of Baker, Falgout, Kolev & Yang, *Multigrid smoothers for ultraparallel
 //! computing*, SIAM J. Sci. Comput. 33 (2011) 2864–2887, §5, as [`crate::amg`] sweeps its large
 //! levels: the rows are cut into the blocks of [`crate::amg::block_bounds`] (from the number of
@@ -16,7 +19,7 @@
 //! and the converged answer (to the solver's tolerance) stay those of the sequential sweep:
 //! measured on 20 steps of the 320² RAS cavity (benches/fluid-speed, docs/speed.md, third
 //! pass) U moved by 2e-5 of its largest magnitude, the U sweeps 463 against 461. k and ε keep
-//! the sequential sweep: with the hybrid one their solves stop at the same normalised
+//! the sequential sweep (pipelined where it can be): with the hybrid one their solves stop at the same normalised
 //! residual but leave their error along the block edges, where ε is small, and νt = Cμ k²/ε
 //! there moved by 0.5 % (4e-3 of its largest value, against 7e-5 from pisoFoam before).
 
