@@ -15,12 +15,12 @@
 //! the first half of a plane waits only for the first half of the plane below, the second half
 //! for the first half of its own plane and the second half below. Two threads then sweep the
 //! two halves as a pipeline one chunk apart, each chunk's rows in memory order — a wavefront
-//! at the granularity of half-planes (the level scheduling of sparse triangular solves, Saad,
-//! *Iterative Methods for Sparse Linear Systems*, 2nd ed., §11.6.1, applied to chunks instead
-//! of rows). A numbering that connects every chunk to the one before it (bandwidth-reducing
-//! renumbering of unstructured meshes) gains nothing: [`Pipeline::new`] measures the
-//! schedule's longest chain of dependent chunks and declines (the sequential sweep is kept)
-//! when two threads could not save a fifth of the sweep.
+//! at the granularity of half-planes (the level scheduling of sparse triangular solves,
+//! applied to chunks of rows instead of single rows). A numbering that connects every chunk to
+//! the one before it (bandwidth-reducing renumbering of unstructured meshes) gains nothing:
+//! [`Schedule::for_rows`] measures the schedule's longest chain of dependent chunks and
+//! declines (the sequential sweep is kept) when two threads could not save a fifth of the
+//! sweep, or when a chunk would hold under [`MIN_USEFUL_CHUNK`] rows.
 //!
 //! Threads claim chunks in increasing order from a shared counter and wait (spinning briefly,
 //! then yielding) for the chunks theirs depends on; the smallest unfinished chunk therefore
