@@ -35,7 +35,7 @@ use crate::heat::{
     HeatAccount, HeatFluid, HeatStep, ParticleHeat,
 };
 use crate::interpolate::Placement;
-use crate::ksl::{form_cfdem, CfdemSums, KslForm, CFDEM_SUMS_WIDTH};
+use crate::ksl::{CfdemSums, KslForm, CFDEM_SUMS_WIDTH};
 use crate::periodic::PeriodicMesh;
 use crate::population::{follow_tags, Population, PopulationChange};
 use crate::ranks::{
@@ -403,11 +403,7 @@ impl Coupler {
         if parallel {
             self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
         }
-        if let (Some(k), Some(sums)) = (self.ksl_form.cfdem(), &exchange.cfdem) {
-            let volumes = self.vm.cell_volumes();
-            let (ksl, us) = (&mut exchange.ksl, &mut exchange.us);
-            form_cfdem(&k, sums, fluid.u, &voidage.epsilon, volumes, ksl, us);
-        }
+        self.form_cfdem_ksl(&mut exchange, fluid.u, &voidage.epsilon);
         let mut heat = heat.map(|(p, w)| self.heat_finish(p, &w));
         if let (Some(h), Some(t)) = (heat.as_mut(), t_fluid) {
             let cells = CellFields {

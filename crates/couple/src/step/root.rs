@@ -45,6 +45,16 @@ impl Coupler {
             .unwrap_or(self.vm.cell_volumes())
     }
 
+    /// With CFDEM's Ksl form, Ksl and Us of the summed `exchange` formed from its per-cell
+    /// sums ([`crate::ksl::form_cfdem`]) with the fluid velocity `u` and voidage `eps`, over
+    /// the cell volumes of the fields handed to the fluid ([`Coupler::root_cells`]).
+    pub(super) fn form_cfdem_ksl(&self, exchange: &mut Exchange, u: &[V3], eps: &[f64]) {
+        if let (Some(k), Some(sums)) = (self.ksl_form.cfdem(), &exchange.cfdem) {
+            let (ksl, us) = (&mut exchange.ksl, &mut exchange.us);
+            form_cfdem(&k, sums, u, eps, self.root_cells(), ksl, us);
+        }
+    }
+
     /// [`Coupler::exchange`] on rank 0 holding a part with the fluid on rank 0 (module docs):
     /// the same collective steps as [`Coupler::exchange_remote`], with the root's sums.
     pub(super) fn exchange_root(
@@ -90,11 +100,7 @@ impl Coupler {
             None => None,
         };
         self.sum_exchange(&touched, &mut exchange, heat.as_mut().map(|h| &mut h.1));
-        if let (Some(k), Some(sums)) = (self.ksl_form.cfdem(), &exchange.cfdem) {
-            let volumes = self.root_volumes.as_deref().expect("rank 0 on a part");
-            let (ksl, us) = (&mut exchange.ksl, &mut exchange.us);
-            form_cfdem(&k, sums, fluid.u, &voidage.epsilon, volumes, ksl, us);
-        }
+        self.form_cfdem_ksl(&mut exchange, fluid.u, &voidage.epsilon);
         let heat = heat.map(|(p, w)| self.heat_finish(p, &w));
         self.smooth_and_keep(&mut voidage, &placement, particles)?;
         Ok(CouplingStep {
