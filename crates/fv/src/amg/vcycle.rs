@@ -41,8 +41,9 @@ const MAX_POST: usize = 4;
 const N_FINEST: usize = 2;
 
 impl Csr {
-    /// One forward Gauss–Seidel sweep from `x` (the hybrid blocks on a blocked level: a column
-    /// in another block read at its value from the sweep's start, kept in `x0`).
+    /// One forward Gauss–Seidel sweep from `x`: the sequential sweep, on several threads where
+    /// the level has a pipeline; else, on a blocked level, the hybrid blocks (a column in
+    /// another block read at its value from the sweep's start, kept in `x0`).
     fn gs_forward(&self, b: &[f64], x: &mut [f64], x0: &mut [f64]) {
         if let Some(p) = self
             .pipeline
@@ -58,11 +59,7 @@ impl Csr {
                 }
                 (b[i] - s) * self.inv_diag[i]
             });
-        } else if self.pipeline.is_some() {
-            for i in 0..self.n() {
-                x[i] = (b[i] - self.partial(self.row(i), x)) * self.inv_diag[i];
-            }
-        } else if self.is_blocked() {
+        } else if self.is_blocked() && self.pipeline.is_none() {
             x0.copy_from_slice(x);
             let x0 = &*x0;
             self.split_blocks(x).into_par_iter().for_each(|(lo, xb)| {
