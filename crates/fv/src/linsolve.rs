@@ -361,8 +361,11 @@ thread_local! {
 
 /// The hierarchy in `cache` when it was built for `a` (bit for bit) and `weights`; else, for
 /// the same `weights` and when `keep`, the cached hierarchy's aggregates with `a`'s Galerkin
-/// products ([`crate::amg::Amg::rebuild`], which may refuse); else `build(weights)`. The
-/// result is cached.
+/// products ([`crate::amg::Amg::refresh`] in place when no solve holds the hierarchy, else
+/// [`crate::amg::Amg::rebuild`]; either may refuse); else `build(weights)`. The result is
+/// cached. Redoing the values in place, without the copies and allocations of a new
+/// hierarchy, took the set-up from 0.29 to 0.13 s of the main thread's 5.3 s on 30 steps of
+/// the 48³ k-ε cavity at 2 threads (perf samples; docs/speed.md, sixth pass).
 fn cached_hierarchy(
     cache: &'static std::thread::LocalKey<std::cell::RefCell<Option<Cached>>>,
     a: &Ldu,
@@ -374,12 +377,19 @@ fn cached_hierarchy(
     cache.with(|cache| {
         let mut cache = cache.borrow_mut();
         let mut rebuilt = None;
-        if let Some((cached, cached_w, amg)) = cache.as_ref() {
+        if let Some((cached, cached_w, amg)) = cache.as_mut() {
             if Arc::ptr_eq(cached_w, &weights) || *cached_w == weights {
                 if cached == a {
                     return amg.clone();
                 }
                 if keep {
+                    // In place when no solve holds the hierarchy (the same bits as rebuild).
+                    if std::rc::Rc::get_mut(amg).is_some_and(|h| h.refresh(m)) {
+                        cached.diag.clone_from(&a.diag);
+                        cached.upper.clone_from(&a.upper);
+                        cached.lower.clone_from(&a.lower);
+                        return amg.clone();
+                    }
                     rebuilt = amg.rebuild(m);
                 }
             }

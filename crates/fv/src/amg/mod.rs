@@ -124,6 +124,17 @@ pub(crate) fn split_at_bounds<'x>(
     out
 }
 
+/// `to` = `from` (of the same length), in parallel pieces when `parallel`.
+fn copy_values(from: &[f64], to: &mut [f64], parallel: bool) {
+    if parallel {
+        to.par_chunks_mut(BLOCK_ROWS)
+            .zip(from.par_chunks(BLOCK_ROWS))
+            .for_each(|(t, f)| t.copy_from_slice(f));
+    } else {
+        to.copy_from_slice(from);
+    }
+}
+
 /// A square sparse matrix: compressed rows of off-diagonal entries and a separate diagonal.
 #[derive(Clone, Debug)]
 struct Csr {
@@ -623,12 +634,44 @@ impl Level {
     /// [`Csr::galerkin`] in the same order, so the same bits for the same aggregates.
     fn galerkin_values(&self, above: &Csr) -> Csr {
         let c = &self.a;
-        let nc = c.n();
-        let mut diag = vec![0.0; nc];
         let mut val = vec![0.0; c.val.len()];
+        let mut diag = vec![0.0; c.n()];
+        self.galerkin_into(above, &mut val, &mut diag);
+        let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
+        Csr {
+            start: c.start.clone(),
+            mid: c.mid.clone(),
+            col: c.col.clone(),
+            val,
+            diag,
+            inv_diag,
+            blocks: c.blocks.clone(),
+            pipeline: c.pipeline.clone(),
+        }
+    }
+
+    /// This level's matrix redone in place for a new `above` (the values of
+    /// [`Self::galerkin_values`], without allocating).
+    fn refresh_values(&mut self, above: &Csr) {
+        let mut a = std::mem::take(&mut self.a.val);
+        let mut d = std::mem::take(&mut self.a.diag);
+        self.galerkin_into(above, &mut a, &mut d);
+        self.a.val = a;
+        self.a.diag = d;
+        let (diag, inv) = (&self.a.diag, &mut self.a.inv_diag);
+        inv.iter_mut().zip(diag).for_each(|(i, d)| *i = 1.0 / d);
+    }
+
+    /// The values of [`Self::galerkin_values`] written into `val` (one per entry of this
+    /// level's pattern) and `diag`, whatever they held; rows in chunks, in parallel when there
+    /// are several (each coarse row is summed on its own, so the chunks do not change the bits).
+    fn galerkin_into(&self, above: &Csr, val: &mut [f64], diag: &mut [f64]) {
+        // Only the pattern of self.a is read ([`Self::refresh_values`] holds its values).
+        let c = &self.a;
+        let nc = diag.len();
         const CHUNK: usize = 4096;
         let mut pieces = Vec::with_capacity(nc.div_ceil(CHUNK));
-        let (mut val_rest, mut diag_rest) = (&mut val[..], &mut diag[..]);
+        let (mut val_rest, mut diag_rest) = (val, diag);
         for r0 in (0..nc).step_by(CHUNK) {
             let r1 = (r0 + CHUNK).min(nc);
             let len = (c.start[r1] - c.start[r0]) as usize;
@@ -638,6 +681,7 @@ impl Level {
             pieces.push((r0, v, d));
         }
         let sum = |(r0, v, d): (usize, &mut [f64], &mut [f64])| {
+            v.fill(0.0);
             let base = c.start[r0] as usize;
             for (il, dc) in d.iter_mut().enumerate() {
                 let ci = r0 + il;
@@ -660,17 +704,6 @@ impl Level {
             pieces.into_par_iter().for_each(sum);
         } else {
             pieces.into_iter().for_each(sum);
-        }
-        let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
-        Csr {
-            start: c.start.clone(),
-            mid: c.mid.clone(),
-            col: c.col.clone(),
-            val,
-            diag,
-            inv_diag,
-            blocks: c.blocks.clone(),
-            pipeline: c.pipeline.clone(),
         }
     }
 
@@ -806,6 +839,39 @@ impl Amg {
             age: self.age + 1,
             geometric: self.geometric,
         })
+    }
+
+    /// [`Self::rebuild`] in place: this hierarchy's values redone for `m` without allocating
+    /// (the same bits as [`Self::rebuild`]). False, and the hierarchy left as it was, when
+    /// `rebuild` would refuse.
+    pub fn refresh(&mut self, m: &RowMatrix<'_>) -> bool {
+        if !self.geometric && self.age + 1 >= REAGGREGATE {
+            return false;
+        }
+        let fine = &mut self.fine;
+        if m.rows.start == fine.start && m.rows.col == fine.col {
+            // m's rows were already in column order: its entries are the level's, in order.
+            let parallel = fine.n() >= PAR_MIN;
+            copy_values(&m.coef, &mut fine.val, parallel);
+            copy_values(m.diag, &mut fine.diag, parallel);
+        } else {
+            let new = Csr::from_rows(m);
+            if new.start != fine.start || new.col != fine.col {
+                return false;
+            }
+            fine.val = new.val;
+            fine.diag = new.diag;
+        }
+        let (diag, inv) = (&fine.diag, &mut fine.inv_diag);
+        inv.iter_mut().zip(diag).for_each(|(i, d)| *i = 1.0 / d);
+        for l in 0..self.coarse.len() {
+            let (done, rest) = self.coarse.split_at_mut(l);
+            let above = done.last().map_or(&self.fine, |c| &c.a);
+            rest[0].refresh_values(above);
+        }
+        self.direct = DenseLu::new(self.coarse.last().map_or(&self.fine, |l| &l.a));
+        self.age += 1;
+        true
     }
 
     /// Number of levels, the finest included.
