@@ -228,8 +228,9 @@ pub struct RowMatrix<'a> {
     pub rows: &'a RowAddressing,
     /// Diagonal, one per row.
     pub diag: &'a [f64],
-    /// Off-diagonal coefficient of each entry of [`RowAddressing`].
-    pub coef: Vec<f64>,
+    /// Off-diagonal coefficient of each entry of [`RowAddressing`] (borrowed by the views of
+    /// [`RowMatrix::with_diag`]).
+    pub coef: std::borrow::Cow<'a, [f64]>,
 }
 
 impl<'a> RowMatrix<'a> {
@@ -248,7 +249,18 @@ impl<'a> RowMatrix<'a> {
         RowMatrix {
             rows: r,
             diag: &a.diag,
-            coef,
+            coef: std::borrow::Cow::Owned(coef),
+        }
+    }
+
+    /// The matrix with these off-diagonal coefficients and the diagonal `diag` (one per row):
+    /// a component of a vector equation whose components differ in the diagonal only.
+    pub fn with_diag<'b>(&'b self, diag: &'b [f64]) -> RowMatrix<'b> {
+        assert_eq!(diag.len(), self.diag.len(), "one diagonal entry per row");
+        RowMatrix {
+            rows: self.rows,
+            diag,
+            coef: std::borrow::Cow::Borrowed(&self.coef),
         }
     }
 

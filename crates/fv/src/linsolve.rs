@@ -28,6 +28,8 @@ use crate::ldu::{Ldu, RowAddressing, RowMatrix, PAR_MIN};
 use rayon::prelude::*;
 use std::sync::Arc;
 
+pub use crate::sweep::lanes::{smooth_components, Components};
+
 /// Preconditioner of the Krylov solvers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Preconditioner {
@@ -198,12 +200,22 @@ pub(crate) fn dot_blocked(a: &[f64], b: &[f64]) -> f64 {
 
 /// Σ|aᵢ|, ordered as [`dot`].
 fn sum_abs(a: &[f64]) -> f64 {
-    if a.len() < PAR_MIN {
-        a.iter().map(|x| x.abs()).sum()
+    sum_abs_by(a.len(), |i| a[i])
+}
+
+/// [`sum_abs`] of the `n` values `at(0)`, …, `at(n − 1)` (the same additions in the same
+/// order).
+pub(crate) fn sum_abs_by(n: usize, at: impl Fn(usize) -> f64 + Sync) -> f64 {
+    if n < PAR_MIN {
+        (0..n).map(|i| at(i).abs()).sum()
     } else {
-        let parts: Vec<f64> = a
-            .par_chunks(BLOCK)
-            .map(|a| a.iter().map(|x| x.abs()).sum())
+        let parts: Vec<f64> = (0..n.div_ceil(BLOCK))
+            .into_par_iter()
+            .map(|b| {
+                (b * BLOCK..((b + 1) * BLOCK).min(n))
+                    .map(|i| at(i).abs())
+                    .sum()
+            })
             .collect();
         parts.iter().sum()
     }
@@ -245,11 +257,11 @@ fn meets(c: &SolverControls, r: f64, r0: f64) -> bool {
     r < c.tolerance || (c.rel_tol > 0.0 && r < c.rel_tol * r0)
 }
 
-fn converged(c: &SolverControls, r: f64, r0: f64, it: usize) -> bool {
+pub(crate) fn converged(c: &SolverControls, r: f64, r0: f64, it: usize) -> bool {
     it >= c.min_iter && meets(c, r, r0)
 }
 
-fn check_finite(what: &str, r: f64) -> Result<()> {
+pub(crate) fn check_finite(what: &str, r: f64) -> Result<()> {
     if r.is_finite() {
         Ok(())
     } else {
@@ -470,7 +482,7 @@ impl Precond {
 
 /// The initial residual `b − A x`, OpenFOAM's normalisation factor and the normalised initial
 /// residual (an error if it is not finite).
-fn start(
+pub(crate) fn start(
     m: &RowMatrix<'_>,
     b: &[f64],
     x: &[f64],

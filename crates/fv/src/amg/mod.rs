@@ -225,7 +225,7 @@ impl Csr {
         Csr::new(
             m.rows.start.clone(),
             m.rows.col.clone(),
-            m.coef.clone(),
+            m.coef.to_vec(),
             m.diag.to_vec(),
         )
     }

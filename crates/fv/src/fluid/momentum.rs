@@ -148,24 +148,49 @@ impl Fluid {
             }),
             other => other,
         };
-        let solve_one = |k: usize| -> Result<(Vec<f64>, linsolve::SolveStats)> {
-            let mut m = eqn.m.clone();
-            m.diag = eqn.diag.iter().map(|d| d[k]).collect();
-            let rhs: Vec<f64> = gather::cells(n, |c| {
+        let rhs_of = |k: usize| -> Vec<f64> {
+            gather::cells(n, |c| {
                 eqn.b[c][k] - g.v[c] * self.kappa_p(c) * self.grad_p[c][k]
-            });
-            let mut x: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
-            let what = ["Ux", "Uy", "Uz"][k];
-            let s = linsolve::solve(method, &m, g, &rhs, &mut x, &solver.controls, what)?;
-            Ok((x, s))
+            })
         };
-        let solved: Vec<Result<(Vec<f64>, linsolve::SolveStats)>> = if n >= PAR_MIN {
-            dirs.par_iter().map(|&k| solve_one(k)).collect()
-        } else {
-            dirs.iter().map(|&k| solve_one(k)).collect()
+        let x_of = |k: usize| -> Vec<f64> { self.u.iter().map(|v| v[k]).collect() };
+        let diag_of = |k: usize| -> Vec<f64> { eqn.diag.iter().map(|d| d[k]).collect() };
+        let what = |k: usize| ["Ux", "Uy", "Uz"][k];
+        let solved: Vec<(Vec<f64>, linsolve::SolveStats)> = match method {
+            // A smoothSolver relaxes the components side by side in each sweep
+            // (linsolve::smooth_components: the bits of the solves one after another).
+            linsolve::Method::Smooth(sm) => {
+                let diags: Vec<Vec<f64>> = dirs.iter().map(|&k| diag_of(k)).collect();
+                let rhs: Vec<Vec<f64>> = dirs.iter().map(|&k| rhs_of(k)).collect();
+                let mut xs: Vec<Vec<f64>> = dirs.iter().map(|&k| x_of(k)).collect();
+                let names: Vec<&str> = dirs.iter().map(|&k| what(k)).collect();
+                let q = linsolve::Components {
+                    diags: &diags,
+                    b: &rhs,
+                    what: &names,
+                };
+                let stats =
+                    linsolve::smooth_components(&eqn.m, g, &q, &mut xs, sm, &solver.controls)?;
+                xs.into_iter().zip(stats).collect()
+            }
+            _ => {
+                let solve_one = |k: usize| -> Result<(Vec<f64>, linsolve::SolveStats)> {
+                    let mut m = eqn.m.clone();
+                    m.diag = diag_of(k);
+                    let (rhs, mut x) = (rhs_of(k), x_of(k));
+                    let s =
+                        linsolve::solve(method, &m, g, &rhs, &mut x, &solver.controls, what(k))?;
+                    Ok((x, s))
+                };
+                let solved: Vec<Result<(Vec<f64>, linsolve::SolveStats)>> = if n >= PAR_MIN {
+                    dirs.par_iter().map(|&k| solve_one(k)).collect()
+                } else {
+                    dirs.iter().map(|&k| solve_one(k)).collect()
+                };
+                solved.into_iter().collect::<Result<_>>()?
+            }
         };
-        for (&k, r) in dirs.iter().zip(solved) {
-            let (x, s) = r?;
+        for (&k, (x, s)) in dirs.iter().zip(solved) {
             report.momentum.push(s);
             for c in 0..n {
                 self.u[c][k] = x[c];

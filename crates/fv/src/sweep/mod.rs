@@ -23,6 +23,7 @@
 //! residual but leave their error along the block edges, where ε is small, and νt = Cμ k²/ε
 //! there moved by 0.5 % (4e-3 of its largest value, against 7e-5 from pisoFoam before).
 
+pub(crate) mod lanes;
 mod pipeline;
 
 use crate::ldu::{RowAddressing, RowMatrix, PAR_MIN};

@@ -103,6 +103,15 @@ impl<'a> Pipeline<'a> {
     where
         F: Fn(usize, &[AtomicU64]) -> f64 + Sync,
     {
+        self.run_lanes::<1, _>(x, backward, |c, xa| [relax(c, xa)]);
+    }
+
+    /// [`Self::run`] for `L` values per row (`x[L c + l]`, lane l of row c): `relax(c, x)`
+    /// gives row c's `L` new values.
+    pub(crate) fn run_lanes<const L: usize, F>(&mut self, x: &mut [f64], backward: bool, relax: F)
+    where
+        F: Fn(usize, &[AtomicU64]) -> [f64; L] + Sync,
+    {
         const _: () = assert!(
             std::mem::size_of::<AtomicU64>() == std::mem::size_of::<f64>()
                 && std::mem::align_of::<AtomicU64>() == std::mem::align_of::<f64>()
@@ -110,8 +119,8 @@ impl<'a> Pipeline<'a> {
         let sched = self.schedule;
         assert_eq!(
             x.len(),
-            sched.bounds[sched.bounds.len() - 1],
-            "one value per row"
+            L * sched.bounds[sched.bounds.len() - 1],
+            "L values per row"
         );
         // SAFETY: AtomicU64 has the size and alignment of f64 (asserted above) and the same
         // bit validity as u64, whose every pattern is a valid f64; `x` is borrowed mutably for
@@ -123,7 +132,12 @@ impl<'a> Pipeline<'a> {
         let done = &self.done;
         let n_chunks = sched.bounds.len() - 1;
         let next = AtomicUsize::new(0);
-        let one = |c: usize| xa[c].store(relax(c, xa).to_bits(), Ordering::Relaxed);
+        let one = |c: usize| {
+            let v = relax(c, xa);
+            for (l, v) in v.into_iter().enumerate() {
+                xa[L * c + l].store(v.to_bits(), Ordering::Relaxed);
+            }
+        };
         let work = || loop {
             let claimed = next.fetch_add(1, Ordering::Relaxed);
             if claimed >= n_chunks {
