@@ -8,6 +8,7 @@ use super::cn_state::cn_flux_corr;
 use super::{Fluid, Levels, MomentumEqn, PorousTimeFlux};
 use crate::bc::{self, PressureBc};
 use crate::fvc::{self, Field};
+use crate::gather;
 use crate::geometry::{FvGeometry, V3};
 
 /// What the correctors of one step hold fixed (but ddtCorr, which `CrankNicolson ψ` renews
@@ -116,31 +117,30 @@ impl Fluid {
         let g = &self.g;
         let n = g.n_cells;
         let ef = &lv.ef;
-        let kappa: Vec<f64> = (0..n).map(|c| self.kappa_p(c) * r_au[c]).collect();
+        // Each value on its own (gather::cells: in parallel on large meshes, the same bits).
+        let kappa: Vec<f64> = gather::cells(n, |c| self.kappa_p(c) * r_au[c]);
         let kappa_b: Vec<f64> = g.owner[g.n_internal..]
             .iter()
             .map(|&o| kappa[o as usize])
             .collect();
         let kappa_f = fvc::interpolate(g, Field::new(&kappa, &kappa_b));
         // γ_c = ε_c κ_c: the cell's flux coefficient (φ = γ (H/κ − ∇p)·S).
-        let gam_c: Vec<f64> = (0..n).map(|c| self.eps[c] * kappa[c]).collect();
-        let gamma: Vec<f64> = (0..g.n_faces())
-            .map(|f| {
-                if porous_face[f] && f < g.n_internal {
-                    // Two half-cell resistances in series: the owner's half is the fraction
-                    // 1 − w of the centre distance (w = d_fN/d_PN, OpenFOAM's weight).
-                    let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
-                    let w = g.weight[f];
-                    1.0 / ((1.0 - w) / gam_c[o] + w / gam_c[nb_])
-                } else if self.harmonic_faces && f >= g.n_internal {
-                    // A boundary face closes the owner's half cell: its coefficient is the
-                    // cell's, whatever ε the boundary condition holds (a bed on an inlet).
-                    gam_c[g.owner[f] as usize]
-                } else {
-                    ef[f] * kappa_f[f]
-                }
-            })
-            .collect();
+        let gam_c: Vec<f64> = gather::cells(n, |c| self.eps[c] * kappa[c]);
+        let gamma: Vec<f64> = gather::cells(g.n_faces(), |f| {
+            if porous_face[f] && f < g.n_internal {
+                // Two half-cell resistances in series: the owner's half is the fraction
+                // 1 − w of the centre distance (w = d_fN/d_PN, OpenFOAM's weight).
+                let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
+                let w = g.weight[f];
+                1.0 / ((1.0 - w) / gam_c[o] + w / gam_c[nb_])
+            } else if self.harmonic_faces && f >= g.n_internal {
+                // A boundary face closes the owner's half cell: its coefficient is the
+                // cell's, whatever ε the boundary condition holds (a bed on an inlet).
+                gam_c[g.owner[f] as usize]
+            } else {
+                ef[f] * kappa_f[f]
+            }
+        });
         (kappa, gam_c, gamma)
     }
 
@@ -157,7 +157,7 @@ impl Fluid {
         } else {
             Vec::new()
         };
-        let erau: Vec<f64> = (0..n).map(|c| self.eps[c] * r_au[c]).collect();
+        let erau: Vec<f64> = gather::cells(n, |c| self.eps[c] * r_au[c]);
         let erau_b: Vec<f64> = g.owner[g.n_internal..]
             .iter()
             .map(|&o| erau[o as usize])
@@ -176,29 +176,27 @@ impl Fluid {
             v
         };
         let cn = self.cn.as_ref();
-        let ddt_corr: Vec<f64> = (0..g.n_faces())
-            .map(|f| {
-                if !corr_face[f] {
-                    return 0.0;
-                }
-                let diff = d_old[f];
-                let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
-                if lv.backward {
-                    // backward's fvcDdtPhiCorr: the coefficient from the old level alone
-                    let diff_oo = old_old.phi[f] - lv.ef_oo[f] * uf_oo[f].dot(&g.sf[f]);
-                    let diff = ddt_k.c0 * diff - ddt_k.c00 * diff_oo;
-                    return erau_f[f] * coeff * diff / dt;
-                }
-                if let Some(s) = cn {
-                    // CrankNicolson's fvcDdtPhiCorr: (c/Δt φ° + ψ d₀(φ)) − (c/Δt ε°_f U°_f·S
-                    // + ψ d₀(ε_f U_f·S)) in place of D°/Δt
-                    return erau_f[f]
-                        * coeff
-                        * cn_flux_corr(s, f, lv.cn_r, phi_old[f], lv.ef_old[f], lv.q_old[f]);
-                }
-                erau_f[f] * coeff * diff / dt
-            })
-            .collect();
+        let ddt_corr: Vec<f64> = gather::cells(g.n_faces(), |f| {
+            if !corr_face[f] {
+                return 0.0;
+            }
+            let diff = d_old[f];
+            let coeff = 1.0 - (diff.abs() / (phi_old[f].abs() + 1e-15)).min(1.0);
+            if lv.backward {
+                // backward's fvcDdtPhiCorr: the coefficient from the old level alone
+                let diff_oo = old_old.phi[f] - lv.ef_oo[f] * uf_oo[f].dot(&g.sf[f]);
+                let diff = ddt_k.c0 * diff - ddt_k.c00 * diff_oo;
+                return erau_f[f] * coeff * diff / dt;
+            }
+            if let Some(s) = cn {
+                // CrankNicolson's fvcDdtPhiCorr: (c/Δt φ° + ψ d₀(φ)) − (c/Δt ε°_f U°_f·S
+                // + ψ d₀(ε_f U_f·S)) in place of D°/Δt
+                return erau_f[f]
+                    * coeff
+                    * cn_flux_corr(s, f, lv.cn_r, phi_old[f], lv.ef_old[f], lv.q_old[f]);
+            }
+            erau_f[f] * coeff * diff / dt
+        });
         // CrankNicolson: ddtCorr's factor (ε/A)_f × coupling coefficient per face, for the
         // later correctors, where v1912 updates ddtCorr's ddt0 again (CrankNicolsonDdt0)
         let cn_corr_w: Vec<f64> = match cn.is_some() {
