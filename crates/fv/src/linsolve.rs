@@ -206,18 +206,32 @@ fn sum_abs(a: &[f64]) -> f64 {
 /// [`sum_abs`] of the `n` values `at(0)`, …, `at(n − 1)` (the same additions in the same
 /// order).
 pub(crate) fn sum_abs_by(n: usize, at: impl Fn(usize) -> f64 + Sync) -> f64 {
+    sum_abs_lanes::<1>(n, |i| [at(i)])[0]
+}
+
+/// [`sum_abs_by`] of `L` sequences at once: `at(i)` gives the i-th value of each (each
+/// sequence's additions those of [`sum_abs`] on it alone).
+pub(crate) fn sum_abs_lanes<const L: usize>(
+    n: usize,
+    at: impl Fn(usize) -> [f64; L] + Sync,
+) -> [f64; L] {
+    let part = |range: std::ops::Range<usize>| {
+        let mut s = [0.0; L];
+        for i in range {
+            for (s, v) in s.iter_mut().zip(at(i)) {
+                *s += v.abs();
+            }
+        }
+        s
+    };
     if n < PAR_MIN {
-        (0..n).map(|i| at(i).abs()).sum()
+        part(0..n)
     } else {
-        let parts: Vec<f64> = (0..n.div_ceil(BLOCK))
+        let parts: Vec<[f64; L]> = (0..n.div_ceil(BLOCK))
             .into_par_iter()
-            .map(|b| {
-                (b * BLOCK..((b + 1) * BLOCK).min(n))
-                    .map(|i| at(i).abs())
-                    .sum()
-            })
+            .map(|b| part(b * BLOCK..((b + 1) * BLOCK).min(n)))
             .collect();
-        parts.iter().sum()
+        std::array::from_fn(|l| parts.iter().map(|p| p[l]).sum())
     }
 }
 
@@ -866,9 +880,8 @@ pub fn smooth(
             }
             (_, None) => unreachable!("factor smoothers build their factorisation"),
         }
-        m.mul(x, &mut r);
-        r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
-        stats.last = sum_abs(&r) / nf;
+        // Σ|b − A x| in one pass (the additions of sum_abs over m.mul's residual).
+        stats.last = sum_abs_by(x.len(), |c| b[c] - m.row_times(c, x)) / nf;
         check_finite(what, stats.last)?;
         stats.iterations += sweeps;
         if stats.iterations >= c.max_iter || converged(c, stats.last, r0, stats.iterations) {

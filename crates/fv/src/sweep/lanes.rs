@@ -118,7 +118,6 @@ fn smooth_lanes<const L: usize>(
     let bl = interleave::<L>(b, n);
     let mut xl = interleave::<L>(x, n);
     let mut bp = bl.clone();
-    let mut r = vec![0.0; L * n];
     let has_iface = (0..n).any(|i| rows.end[i] < rows.start[i + 1]);
     let mut sweeper = LaneSweeper::<L>::new(m, smoother.hybrid);
     loop {
@@ -131,13 +130,13 @@ fn smooth_lanes<const L: usize>(
                 sweeper.sweep(&bp, &d, &mut xl, active, true);
             }
         }
-        residual::<L>(m, &d, &bl, &xl, &mut r);
+        let sums = linsolve::sum_abs_lanes::<L>(n, |i| residual_row::<L>(m, &d, &bl, &xl, i));
         for l in 0..L {
             if !active[l] {
                 continue;
             }
             let s = &mut stats[l];
-            s.last = linsolve::sum_abs_by(n, |i| r[L * i + l]) / norm[l];
+            s.last = sums[l] / norm[l];
             linsolve::check_finite(what[l], s.last)?;
             s.iterations += sweeps;
             if s.iterations >= c.max_iter || linsolve::converged(c, s.last, s.initial, s.iterations)
@@ -173,27 +172,25 @@ fn interfaces<const L: usize>(m: &RowMatrix<'_>, b: &[f64], x: &[f64], bp: &mut 
     }
 }
 
-/// r = b − A x for every lane: per row d x then the row's entries in order, as
-/// [`RowMatrix::mul`] (in parallel over rows on large meshes: the same bits).
-fn residual<const L: usize>(m: &RowMatrix<'_>, d: &[f64], b: &[f64], x: &[f64], r: &mut [f64]) {
+/// Row i of b − A x for every lane: d x then the row's entries in order, as
+/// [`RowMatrix::mul`] and [`crate::linsolve::smooth`] form it.
+#[inline(always)]
+fn residual_row<const L: usize>(
+    m: &RowMatrix<'_>,
+    d: &[f64],
+    b: &[f64],
+    x: &[f64],
+    i: usize,
+) -> [f64; L] {
     let rows = m.rows;
-    let row = |i: usize, r: &mut [f64]| {
-        let mut s: [f64; L] = std::array::from_fn(|l| d[L * i + l] * x[L * i + l]);
-        for k in rows.row(i) {
-            let j = rows.col[k] as usize;
-            for l in 0..L {
-                s[l] += m.coef[k] * x[L * j + l];
-            }
+    let mut s: [f64; L] = std::array::from_fn(|l| d[L * i + l] * x[L * i + l]);
+    for k in rows.row(i) {
+        let j = rows.col[k] as usize;
+        for (l, s) in s.iter_mut().enumerate() {
+            *s += m.coef[k] * x[L * j + l];
         }
-        for l in 0..L {
-            r[l] = b[L * i + l] - s[l];
-        }
-    };
-    if m.diag.len() < PAR_MIN {
-        r.chunks_mut(L).enumerate().for_each(|(i, r)| row(i, r));
-    } else {
-        r.par_chunks_mut(L).enumerate().for_each(|(i, r)| row(i, r));
     }
+    std::array::from_fn(|l| b[L * i + l] - s[l])
 }
 
 /// Row `i`'s new values: (b′ − Σ_k a_ik x_k) / d for the active lanes, over the row's
