@@ -524,9 +524,50 @@ fn update_and_residual(x: &mut [f64], r: &mut [f64], p: &[f64], q: &[f64], alpha
         }
         s
     } else {
-        x.par_iter_mut().zip(p).for_each(|(x, p)| *x += alpha * p);
-        r.par_iter_mut().zip(q).for_each(|(r, q)| *r -= alpha * q);
-        sum_abs(r)
+        // One pass, the sum per block as sum_abs forms it.
+        let parts: Vec<f64> = x
+            .par_chunks_mut(BLOCK)
+            .zip(r.par_chunks_mut(BLOCK))
+            .zip(p.par_chunks(BLOCK).zip(q.par_chunks(BLOCK)))
+            .map(|((x, r), (p, q))| {
+                let mut s = 0.0;
+                for i in 0..x.len() {
+                    x[i] += alpha * p[i];
+                    r[i] -= alpha * q[i];
+                    s += r[i].abs();
+                }
+                s
+            })
+            .collect();
+        parts.iter().sum()
+    }
+}
+
+/// (w·r, w·r_prev), each as [`dot`] forms it, and then r_prev = r, in one pass.
+fn dots_and_keep(w: &[f64], r: &[f64], r_prev: &mut [f64]) -> (f64, f64) {
+    let part = |w: &[f64], r: &[f64], rp: &mut [f64]| {
+        // From −0.0, as f64's Sum folds ([`dot`]'s small-vector form).
+        let (mut a, mut b) = (-0.0, -0.0);
+        for i in 0..w.len() {
+            a += w[i] * r[i];
+            b += w[i] * rp[i];
+            rp[i] = r[i];
+        }
+        (a, b)
+    };
+    if w.len() < PAR_MIN {
+        part(w, r, r_prev)
+    } else {
+        let parts: Vec<(f64, f64)> = w
+            .par_chunks(BLOCK)
+            .zip(r.par_chunks(BLOCK))
+            .zip(r_prev.par_chunks_mut(BLOCK))
+            .map(|((w, r), rp)| part(w, r, rp))
+            .collect();
+        (
+            parts.iter().map(|p| p.0).sum(),
+            parts.iter().map(|p| p.1).sum(),
+        )
     }
 }
 
@@ -609,17 +650,19 @@ fn pcg_with<'a>(
     let mut r_prev = if flexible { r.clone() } else { Vec::new() };
     while stats.iterations < c.max_iter {
         pre.apply(m.rows, &r, &mut w);
-        let rho = dot(&w, &r);
+        // The flexible β's two products and r kept for the next one, in one pass.
+        let (rho, w_r_prev) = if flexible {
+            dots_and_keep(&w, &r, &mut r_prev)
+        } else {
+            (dot(&w, &r), 0.0)
+        };
         let beta = if stats.iterations == 0 {
             0.0
         } else if flexible {
-            (rho - dot(&w, &r_prev)) / rho_old
+            (rho - w_r_prev) / rho_old
         } else {
             rho / rho_old
         };
-        if flexible {
-            r_prev.copy_from_slice(&r);
-        }
         par_map2(&mut p, &w, &[], |w, p| w + beta * p);
         let pap = m.mul_dot(&p, &mut ap);
         if pap == 0.0 {
