@@ -246,23 +246,7 @@ impl Writer {
                             writeln!(self.out, "{x}").unwrap();
                         }
                     }
-                    None if comps == 1 => {
-                        for x in values {
-                            writeln!(self.out, "{x:?}").unwrap();
-                        }
-                    }
-                    None => {
-                        for c in values.chunks_exact(comps) {
-                            self.out.push(b'(');
-                            for (k, x) in c.iter().enumerate() {
-                                if k > 0 {
-                                    self.out.push(b' ');
-                                }
-                                write!(self.out, "{x:?}").unwrap();
-                            }
-                            self.out.extend_from_slice(b")\n");
-                        }
-                    }
+                    None => ascii_values(&mut self.out, values, comps),
                 }
                 self.out.extend_from_slice(b")\n");
             }
@@ -337,6 +321,41 @@ pub fn dict_file_bytes(header: &Header, body: &Dict) -> Result<Vec<u8>, String> 
     Ok(w.into_bytes())
 }
 
+/// Appends `values` as ASCII list elements of `comps` components each (one per line; several
+/// components in parentheses), Rust's shortest round-trip form of each number. Long lists are
+/// formatted in pieces on the thread pool and appended in order: the same bytes.
+fn ascii_values(out: &mut Vec<u8>, values: &[f64], comps: usize) {
+    use rayon::prelude::*;
+    /// Elements per piece; shorter lists are formatted in one piece.
+    const PIECE: usize = 16_384;
+    let piece = |values: &[f64]| {
+        let mut out = Vec::with_capacity(values.len() * 24);
+        for c in values.chunks_exact(comps) {
+            if comps == 1 {
+                writeln!(out, "{:?}", c[0]).unwrap();
+                continue;
+            }
+            out.push(b'(');
+            for (k, x) in c.iter().enumerate() {
+                if k > 0 {
+                    out.push(b' ');
+                }
+                write!(out, "{x:?}").unwrap();
+            }
+            out.extend_from_slice(b")\n");
+        }
+        out
+    };
+    if values.len() <= PIECE * comps {
+        out.extend_from_slice(&piece(values));
+        return;
+    }
+    let pieces: Vec<Vec<u8>> = values.par_chunks(PIECE * comps).map(piece).collect();
+    for p in pieces {
+        out.extend_from_slice(&p);
+    }
+}
+
 /// Writes a dictionary file atomically.
 pub fn write_dict_file(path: &Path, header: &Header, body: &Dict) -> Result<()> {
     let bytes = dict_file_bytes(header, body).map_err(|m| FoamError::invalid(path, m))?;
@@ -353,4 +372,38 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| FoamError::io(dir, e))?;
     atomic_write::write_atomically(path, |w| w.write_all(bytes)).map_err(|e| FoamError::io(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    /// Long lists, formatted in pieces on several threads, are the bytes of one sequential
+    /// pass: each number's `{:?}` form, one element per line, vectors in parentheses.
+    #[test]
+    fn long_ascii_lists_are_the_bytes_of_one_pass() {
+        let values: Vec<f64> = (0..3 * 40_001)
+            .map(|i| ((i * 7919) % 10_007) as f64 * 1.37e-3 - 5.0)
+            .collect();
+        for comps in [1, 3] {
+            let mut want = String::new();
+            for c in values.chunks_exact(comps) {
+                let parts: Vec<String> = c.iter().map(|x| format!("{x:?}")).collect();
+                if comps == 1 {
+                    want += &format!("{}\n", parts[0]);
+                } else {
+                    want += &format!("({})\n", parts.join(" "));
+                }
+            }
+            let got = rayon::ThreadPoolBuilder::new()
+                .num_threads(3)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let mut out = b"x".to_vec();
+                    super::ascii_values(&mut out, &values, comps);
+                    out
+                });
+            assert_eq!(got[0], b'x');
+            assert!(got[1..] == *want.as_bytes(), "{comps} components");
+        }
+    }
 }
