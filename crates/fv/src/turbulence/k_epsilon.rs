@@ -34,6 +34,7 @@ use super::wall_functions;
 use crate::ddt::CrankNicolsonDdt0;
 use crate::error::{FvError, Result};
 use crate::fvc::{self, Field};
+use crate::gather;
 use crate::geometry::{FvGeometry, V3};
 use crate::linsolve::SolveStats;
 use std::path::Path;
@@ -248,7 +249,8 @@ impl KEpsilon {
 
     /// The face diffusivity ν + νt/σ (m²/s) of a k or ε equation, linearly interpolated.
     fn diffusivity(&self, g: &FvGeometry, sigma: f64, nu: f64) -> Vec<f64> {
-        let cells: Vec<f64> = self.nut.cells.iter().map(|&n| n / sigma + nu).collect();
+        let nut = &self.nut.cells;
+        let cells: Vec<f64> = gather::cells(nut.len(), |c| nut[c] / sigma + nu);
         let b: Vec<f64> = self.nut.boundary.iter().map(|&n| n / sigma + nu).collect();
         fvc::interpolate(g, Field::new(&cells, &b))
     }
@@ -263,7 +265,8 @@ impl KEpsilon {
         let div_u = fvc::surface_integrate(g, flow.phi);
         let grad_u = fvc::grad_vector(g, flow.u, flow.u_b);
         let g_by_nu = production_by_nut(&grad_u);
-        let mut prod: Vec<f64> = (0..n).map(|i| self.nut.cells[i] * g_by_nu[i]).collect();
+        let nut = &self.nut.cells;
+        let mut prod: Vec<f64> = gather::cells(n, |i| nut[i] * g_by_nu[i]);
         let k_old = self.k.cells.clone();
         let eps_old = self.epsilon.cells.clone();
         let (eps_r, k_r) = self.begin_time_schemes(&k_old, &eps_old, flow.dt);
@@ -391,9 +394,7 @@ impl KEpsilon {
             &gamma,
         );
         let k_old = &step.k_old;
-        let src: Vec<f64> = (0..n)
-            .map(|i| c.c1 * g_by_nu[i] * c.cmu * k_old[i])
-            .collect();
+        let src: Vec<f64> = gather::cells(n, |i| c.c1 * g_by_nu[i] * c.cmu * k_old[i]);
         eqn.add_source(g, &src);
         let susp: Vec<f64> = step
             .div_u
@@ -401,9 +402,8 @@ impl KEpsilon {
             .map(|d| ((2.0 / 3.0) * c.c1 - c.c3) * d)
             .collect();
         eqn.add_susp(g, &susp, &self.epsilon.cells);
-        let sp: Vec<f64> = (0..n)
-            .map(|i| c.c2 * self.epsilon.cells[i] / k_old[i])
-            .collect();
+        let eps = &self.epsilon.cells;
+        let sp: Vec<f64> = gather::cells(n, |i| c.c2 * eps[i] / k_old[i]);
         eqn.add_sp(g, &sp);
         let values: Vec<f64> = wall_cells.iter().map(|&o| self.epsilon.cells[o]).collect();
         eqn.set_values(g, wall_cells, &values, &mut self.epsilon.cells);
@@ -445,9 +445,8 @@ impl KEpsilon {
         eqn.add_source(g, prod);
         let susp: Vec<f64> = step.div_u.iter().map(|d| (2.0 / 3.0) * d).collect();
         eqn.add_susp(g, &susp, &self.k.cells);
-        let sp: Vec<f64> = (0..n)
-            .map(|i| self.epsilon.cells[i] / step.k_old[i])
-            .collect();
+        let (eps, k_old) = (&self.epsilon.cells, &step.k_old);
+        let sp: Vec<f64> = gather::cells(n, |i| eps[i] / k_old[i]);
         eqn.add_sp(g, &sp);
         let solver = self.settings.k.solver;
         let k_stats = eqn.solve(g, &solver, &mut self.k.cells, "k")?;

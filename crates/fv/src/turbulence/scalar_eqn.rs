@@ -162,10 +162,8 @@ impl ScalarEqn {
             }
         } else {
             let rdt = 1.0 / flow.dt;
-            for c in 0..n {
-                m.diag[c] += rdt * g.v[c];
-                source[c] += rdt * x_old[c] * g.v[c];
-            }
+            gather::each_mut(&mut m.diag, |c, d| *d += rdt * g.v[c]);
+            gather::each_mut(&mut source, |c, s| *s += rdt * x_old[c] * g.v[c]);
         }
         if scheme.bounded {
             let own;
@@ -176,9 +174,7 @@ impl ScalarEqn {
                     &own[..]
                 }
             };
-            for c in 0..n {
-                m.diag[c] -= g.v[c] * div_phi[c];
-            }
+            gather::each_mut(&mut m.diag, |c, d| *d -= g.v[c] * div_phi[c]);
         }
         let mut b_diag = vec![0.0; n];
         let mut b_source = vec![0.0; n];
@@ -206,25 +202,19 @@ impl ScalarEqn {
 
     /// Adds the implicit sink `fvm::Sp(c, x)`: c V to the diagonal (c in 1/s per cell).
     pub fn add_sp(&mut self, g: &FvGeometry, c: &[f64]) {
-        for (i, ci) in c.iter().enumerate() {
-            self.m.diag[i] += g.v[i] * ci;
-        }
+        gather::each_mut(&mut self.m.diag, |i, d| *d += g.v[i] * c[i]);
     }
 
     /// Adds `fvm::SuSp(c, x)`: implicit where c > 0, explicit (−c x V to the source) where
     /// c < 0, so the diagonal never loses dominance (c in 1/s per cell).
     pub fn add_susp(&mut self, g: &FvGeometry, c: &[f64], x: &[f64]) {
-        for (i, &ci) in c.iter().enumerate() {
-            self.m.diag[i] += g.v[i] * ci.max(0.0);
-            self.source[i] -= g.v[i] * ci.min(0.0) * x[i];
-        }
+        gather::each_mut(&mut self.m.diag, |i, d| *d += g.v[i] * c[i].max(0.0));
+        gather::each_mut(&mut self.source, |i, s| *s -= g.v[i] * c[i].min(0.0) * x[i]);
     }
 
     /// Adds the explicit source s V (s in u/s per cell).
     pub fn add_source(&mut self, g: &FvGeometry, s: &[f64]) {
-        for (i, si) in s.iter().enumerate() {
-            self.source[i] += g.v[i] * si;
-        }
+        gather::each_mut(&mut self.source, |i, b| *b += g.v[i] * s[i]);
     }
 
     /// Fixes x in `cells` to `values` (OpenFOAM's `fvMatrix::setValues`): each row becomes
@@ -261,10 +251,9 @@ impl ScalarEqn {
         x: &mut [f64],
         what: &str,
     ) -> Result<SolveStats> {
-        for c in 0..g.n_cells {
-            self.m.diag[c] += self.b_diag[c];
-            self.source[c] += self.b_source[c];
-        }
+        let (b_diag, b_source) = (&self.b_diag, &self.b_source);
+        gather::each_mut(&mut self.m.diag, |c, d| *d += b_diag[c]);
+        gather::each_mut(&mut self.source, |c, s| *s += b_source[c]);
         linsolve::solve(
             solver.method,
             &self.m,
