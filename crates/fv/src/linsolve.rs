@@ -236,7 +236,7 @@ pub(crate) fn sum_abs_lanes<const L: usize>(
 }
 
 /// Block length of the parallel reductions.
-const BLOCK: usize = 8192;
+pub(crate) const BLOCK: usize = 8192;
 
 /// OpenFOAM's normalisation factor for the residual of `A x = b` (see the module doc), with
 /// the residual r = b − A x: per row, computed in one pass over the row's entries, the
