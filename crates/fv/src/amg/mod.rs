@@ -149,6 +149,9 @@ struct Csr {
     /// Block boundaries of the hybrid Gauss–Seidel sweeps ([`block_bounds`]; one block, a
     /// sequential sweep, unless [`Amg::new`] sets them).
     blocks: Vec<usize>,
+    /// The rows that a row of another block reads ([`Csr::set_blocks`]): the values the
+    /// hybrid forward sweep of `vcycle` keeps from the sweep's start.
+    halo: Vec<u32>,
     /// The sequential sweep on several threads (`crate::sweep::pipeline`), which replaces the
     /// hybrid blocks in the forward sweeps of the levels [`Amg::gamg`] gives one.
     pipeline: Option<Arc<Schedule>>,
@@ -203,6 +206,7 @@ impl Csr {
         let inv_diag = diag.iter().map(|d| 1.0 / d).collect();
         Csr {
             blocks: vec![0, n],
+            halo: Vec::new(),
             pipeline: None,
             start,
             mid,
@@ -228,6 +232,22 @@ impl Csr {
             m.coef.to_vec(),
             m.diag.to_vec(),
         )
+    }
+
+    /// Sets the hybrid sweeps' block boundaries and the rows read across them.
+    fn set_blocks(&mut self, blocks: Vec<usize>) {
+        let mut read = vec![false; self.n()];
+        for w in blocks.windows(2) {
+            for i in w[0]..w[1] {
+                for &j in &self.col[self.row(i)] {
+                    if !(w[0]..w[1]).contains(&(j as usize)) {
+                        read[j as usize] = true;
+                    }
+                }
+            }
+        }
+        self.halo = (0..self.n() as u32).filter(|&j| read[j as usize]).collect();
+        self.blocks = blocks;
     }
 
     /// True when the level is swept in parallel blocks.
@@ -646,6 +666,7 @@ impl Level {
             diag,
             inv_diag,
             blocks: c.blocks.clone(),
+            halo: c.halo.clone(),
             pipeline: c.pipeline.clone(),
         }
     }
@@ -791,9 +812,9 @@ impl Amg {
     fn finish(mut fine: Csr, mut coarse: Vec<Level>) -> Amg {
         let direct = DenseLu::new(coarse.last().map_or(&fine, |l| &l.a));
         if fine.n() >= PAR_MIN {
-            fine.blocks = block_bounds(fine.n());
+            fine.set_blocks(block_bounds(fine.n()));
             for l in &mut coarse {
-                l.a.blocks = block_bounds(l.a.n());
+                l.a.set_blocks(block_bounds(l.a.n()));
             }
         }
         Amg {
@@ -818,6 +839,7 @@ impl Amg {
         }
         let mut fine = fine;
         fine.blocks = self.fine.blocks.clone();
+        fine.halo = self.fine.halo.clone();
         fine.pipeline = self.fine.pipeline.clone();
         let mut coarse: Vec<Level> = Vec::with_capacity(self.coarse.len());
         for l in &self.coarse {
@@ -1137,9 +1159,10 @@ mod tests {
         // The same hierarchy swept sequentially: the blocks lag at their edges only, so
         // the error falls about as fast (measured: 8 cycles take the error from 140 to 6.9e-3 blocked, 5.1e-3 sequential).
         let mut seq = amg.clone();
-        seq.fine.blocks = vec![0, n];
+        seq.fine.set_blocks(vec![0, n]);
         for l in &mut seq.coarse {
-            l.a.blocks = vec![0, l.a.n()];
+            let n = l.a.n();
+            l.a.set_blocks(vec![0, n]);
         }
         let x_true: Vec<f64> = (0..n).map(|i| ((i * 3 % 17) as f64).cos()).collect();
         let blocked = error_after(&amg, &m, &x_true, 8);

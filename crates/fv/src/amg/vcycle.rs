@@ -60,7 +60,10 @@ impl Csr {
                 (b[i] - s) * self.inv_diag[i]
             });
         } else if self.is_blocked() && self.pipeline.is_none() {
-            x0.copy_from_slice(x);
+            // Only the rows read across the blocks need their start values.
+            for &j in &self.halo {
+                x0[j as usize] = x[j as usize];
+            }
             let x0 = &*x0;
             self.split_blocks(x).into_par_iter().for_each(|(lo, xb)| {
                 for il in 0..xb.len() {
