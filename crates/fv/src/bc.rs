@@ -503,10 +503,14 @@ pub fn eval_velocity(
     out: &mut [V3],
 ) {
     for (p, bc) in g.patches.iter().zip(bcs) {
-        for (i, f) in p.faces.clone().enumerate() {
+        let first = p.faces.start;
+        let range = p.boundary_range(g.n_internal);
+        // Each face on its own (in parallel on a large patch: a 2-D case's `empty` ones).
+        crate::gather::each_mut(&mut out[range], |i, out| {
+            let f = first + i;
             let b = f - g.n_internal;
             let up = u[g.owner[f] as usize];
-            out[b] = match bc {
+            *out = match bc {
                 VelocityBc::FixedValue(v) => v[i],
                 VelocityBc::UniformFixedValue(s) => s.at(t),
                 VelocityBc::UniformFixedValueVoidfraction(s) => s.at(t) / eps_b[b],
@@ -524,7 +528,7 @@ pub fn eval_velocity(
                     }
                 }
             };
-        }
+        });
     }
 }
 
@@ -577,9 +581,13 @@ pub fn eval_pressure(
     out: &mut [f64],
 ) {
     for (patch, bc) in g.patches.iter().zip(bcs) {
-        for (i, f) in patch.faces.clone().enumerate() {
+        let first = patch.faces.start;
+        let range = patch.boundary_range(g.n_internal);
+        // Each face on its own (in parallel on a large patch: a 2-D case's `empty` ones).
+        crate::gather::each_mut(&mut out[range], |i, out| {
+            let f = first + i;
             let b = f - g.n_internal;
-            out[b] = match bc {
+            *out = match bc {
                 PressureBc::FixedValue(v) => v[i],
                 PressureBc::UniformFixedValue(s) => s.at(t),
                 PressureBc::TotalPressure(p0) if phi[f] < 0.0 => p0[i] - 0.5 * u_b[b].dot(&u_b[b]),
@@ -589,6 +597,6 @@ pub fn eval_pressure(
                 | PressureBc::Empty
                 | PressureBc::Cyclic => p[g.owner[f] as usize],
             };
-        }
+        });
     }
 }

@@ -286,22 +286,24 @@ fn solve_sym3(m: Tensor, r: V3) -> V3 {
 /// sets them: the owner-cell gradient with its normal part replaced by the face's snGrad,
 /// `G_b = G_P + n̂ ⊗ (snGrad_b − n̂·G_P)`, snGrad_b = (U_b − U_P)·delta_coeff_b.
 pub fn boundary_grad(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -> Vec<Tensor> {
-    (g.n_internal..g.n_faces())
-        .map(|f| {
-            let p = g.owner[f] as usize;
-            let n = g.nhat(f);
-            let gp = grad_cells[p];
-            let sn = g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p]);
-            let ngp: V3 = V3::from_fn(|j, _| (0..3).map(|i| n[i] * gp[(i, j)]).sum());
-            let mut gb = gp;
-            for i in 0..3 {
-                for j in 0..3 {
-                    gb[(i, j)] += n[i] * (sn[j] - ngp[j]);
-                }
+    // Each face on its own (in parallel on large boundaries — a 2-D case's `empty` patches
+    // hold two faces per cell —, the same bits).
+    let nb = g.n_faces() - g.n_internal;
+    crate::gather::cells(nb, |b| {
+        let f = g.n_internal + b;
+        let p = g.owner[f] as usize;
+        let n = g.nhat(f);
+        let gp = grad_cells[p];
+        let sn = g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p]);
+        let ngp: V3 = V3::from_fn(|j, _| (0..3).map(|i| n[i] * gp[(i, j)]).sum());
+        let mut gb = gp;
+        for i in 0..3 {
+            for j in 0..3 {
+                gb[(i, j)] += n[i] * (sn[j] - ngp[j]);
             }
-            gb
-        })
-        .collect()
+        }
+        gb
+    })
 }
 
 /// Face normal gradient with non-orthogonal correction (`Gauss linear corrected`):
@@ -323,7 +325,7 @@ pub fn sn_grad_vector(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -
         }
         s
     }));
-    out.extend((g.n_internal..g.n_faces()).map(|f| {
+    out.par_extend((g.n_internal..g.n_faces()).into_par_iter().map(|f| {
         let p = g.owner[f] as usize;
         g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p])
     }));
