@@ -63,6 +63,7 @@ pub mod gather;
 pub mod geometry;
 pub mod ldu;
 pub mod linsolve;
+mod reduce;
 pub mod settings;
 mod sweep;
 pub mod temperature;

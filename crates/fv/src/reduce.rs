@@ -1,0 +1,146 @@
+//! The vector passes and reductions of the linear solvers ([`crate::linsolve`]): products and
+//! sums in index order on small vectors (as OpenFOAM's `gSumProd`, `gSumMag`), else per fixed
+//! block of [`BLOCK`] elements in parallel and the block sums in order, so the same bits on any
+//! number of threads; the fused passes form each of their results exactly as the single ones.
+
+// Loops index several vectors by the same element.
+#![allow(clippy::needless_range_loop)]
+
+use crate::ldu::PAR_MIN;
+use rayon::prelude::*;
+
+/// Σ aᵢbᵢ: in index order on small vectors (as OpenFOAM's `gSumProd`), else per fixed block
+/// of 8192 in parallel and the block sums in order (the same bits for any thread count).
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() < PAR_MIN {
+        a.iter().zip(b).map(|(x, y)| x * y).sum()
+    } else {
+        dot_blocked(a, b)
+    }
+}
+
+/// Σ aᵢbᵢ per fixed block of 8192 in parallel and the block sums in order, whatever the
+/// length ([`dot`]'s large-vector form: the same bits for any thread count).
+pub(crate) fn dot_blocked(a: &[f64], b: &[f64]) -> f64 {
+    let parts: Vec<f64> = a
+        .par_chunks(BLOCK)
+        .zip(b.par_chunks(BLOCK))
+        .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x * y).sum())
+        .collect();
+    parts.iter().sum()
+}
+
+/// Σ|aᵢ|, ordered as [`dot`].
+pub(crate) fn sum_abs(a: &[f64]) -> f64 {
+    sum_abs_by(a.len(), |i| a[i])
+}
+
+/// [`sum_abs`] of the `n` values `at(0)`, …, `at(n − 1)` (the same additions in the same
+/// order).
+pub(crate) fn sum_abs_by(n: usize, at: impl Fn(usize) -> f64 + Sync) -> f64 {
+    sum_abs_lanes::<1>(n, |i| [at(i)])[0]
+}
+
+/// [`sum_abs_by`] of `L` sequences at once: `at(i)` gives the i-th value of each (each
+/// sequence's additions those of [`sum_abs`] on it alone).
+pub(crate) fn sum_abs_lanes<const L: usize>(
+    n: usize,
+    at: impl Fn(usize) -> [f64; L] + Sync,
+) -> [f64; L] {
+    let part = |range: std::ops::Range<usize>| {
+        let mut s = [0.0; L];
+        for i in range {
+            for (s, v) in s.iter_mut().zip(at(i)) {
+                *s += v.abs();
+            }
+        }
+        s
+    };
+    if n < PAR_MIN {
+        part(0..n)
+    } else {
+        let parts: Vec<[f64; L]> = (0..n.div_ceil(BLOCK))
+            .into_par_iter()
+            .map(|b| part(b * BLOCK..((b + 1) * BLOCK).min(n)))
+            .collect();
+        std::array::from_fn(|l| parts.iter().map(|p| p[l]).sum())
+    }
+}
+
+/// Block length of the parallel reductions.
+pub(crate) const BLOCK: usize = 8192;
+
+/// x += α p, r −= α q, and returns Σ|r| (one pass on small vectors).
+pub(crate) fn update_and_residual(
+    x: &mut [f64],
+    r: &mut [f64],
+    p: &[f64],
+    q: &[f64],
+    alpha: f64,
+) -> f64 {
+    if x.len() < PAR_MIN {
+        let mut s = 0.0;
+        for i in 0..x.len() {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+            s += r[i].abs();
+        }
+        s
+    } else {
+        // One pass, the sum per block as sum_abs forms it.
+        let parts: Vec<f64> = x
+            .par_chunks_mut(BLOCK)
+            .zip(r.par_chunks_mut(BLOCK))
+            .zip(p.par_chunks(BLOCK).zip(q.par_chunks(BLOCK)))
+            .map(|((x, r), (p, q))| {
+                let mut s = 0.0;
+                for i in 0..x.len() {
+                    x[i] += alpha * p[i];
+                    r[i] -= alpha * q[i];
+                    s += r[i].abs();
+                }
+                s
+            })
+            .collect();
+        parts.iter().sum()
+    }
+}
+
+/// (w·r, w·r_prev), each as [`dot`] forms it, and then r_prev = r, in one pass.
+pub(crate) fn dots_and_keep(w: &[f64], r: &[f64], r_prev: &mut [f64]) -> (f64, f64) {
+    let part = |w: &[f64], r: &[f64], rp: &mut [f64]| {
+        // From −0.0, as f64's Sum folds ([`dot`]'s small-vector form).
+        let (mut a, mut b) = (-0.0, -0.0);
+        for i in 0..w.len() {
+            a += w[i] * r[i];
+            b += w[i] * rp[i];
+            rp[i] = r[i];
+        }
+        (a, b)
+    };
+    if w.len() < PAR_MIN {
+        part(w, r, r_prev)
+    } else {
+        let parts: Vec<(f64, f64)> = w
+            .par_chunks(BLOCK)
+            .zip(r.par_chunks(BLOCK))
+            .zip(r_prev.par_chunks_mut(BLOCK))
+            .map(|((w, r), rp)| part(w, r, rp))
+            .collect();
+        (
+            parts.iter().map(|p| p.0).sum(),
+            parts.iter().map(|p| p.1).sum(),
+        )
+    }
+}
+
+/// out_i = f(a_i, b_i) (b empty: f(a_i, out_i)), in parallel on ≥ [`PAR_MIN`] elements (each
+/// element on its own: the same bits either way).
+pub(crate) fn par_map2(out: &mut [f64], a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64 + Sync) {
+    let one = |(i, o): (usize, &mut f64)| *o = f(a[i], if b.is_empty() { *o } else { b[i] });
+    if out.len() < PAR_MIN {
+        out.iter_mut().enumerate().for_each(one);
+    } else {
+        out.par_iter_mut().enumerate().for_each(one);
+    }
+}
