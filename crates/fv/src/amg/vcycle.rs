@@ -261,7 +261,11 @@ impl Amg {
         let mut levels: Vec<&mut Csr> = vec![&mut amg.fine];
         levels.extend(amg.coarse.iter_mut().map(|l| &mut l.a));
         for a in levels.into_iter().filter(|a| a.is_blocked()) {
-            a.pipeline = Schedule::for_rows(&a.start, &a.col).map(Arc::new);
+            // (Not the row-level waits of a 2-D numbering: the hybrid blocks were faster
+            // there, crate::sweep::pipeline.)
+            a.pipeline = Schedule::for_rows(&a.start, &a.col)
+                .filter(|s| !s.is_gated())
+                .map(Arc::new);
         }
         amg
     }

@@ -143,7 +143,9 @@ impl Fluid {
         // (crate::sweep).
         let method = match solver.method {
             linsolve::Method::Smooth(sm) => linsolve::Method::Smooth(linsolve::Smoother {
-                hybrid: g.rows.pipeline().is_none(),
+                // (the hybrid blocks where the pipeline waits per block of rows, a 2-D
+                // numbering: faster there, crate::sweep::pipeline)
+                hybrid: g.rows.pipeline().is_none_or(|p| p.is_gated()),
                 ..sm
             }),
             other => other,
