@@ -96,7 +96,7 @@ struct Gates {
 /// The sweeps of one solve on a [`Schedule`]: which chunks each sweep has finished.
 pub(crate) struct Pipeline<'a> {
     schedule: &'a Schedule,
-    /// Per chunk, the number of the last sweep that finished it.
+    /// Per chunk, the number of the last sweep that finished it (chunk-level waits only).
     done: Vec<AtomicU32>,
     /// Per chunk of a gated schedule: (sweep number << 32) | rows done in that sweep.
     progress: Vec<AtomicU64>,
@@ -211,7 +211,6 @@ impl<'a> Pipeline<'a> {
                         Ordering::Release,
                     );
                 }
-                done[i].store(epoch, Ordering::Release);
                 continue;
             }
             for &j in sched.deps(i, backward) {
@@ -415,31 +414,26 @@ impl Gates {
     }
 }
 
-/// Waits until `progress` shows at least `rows` rows done in sweep `epoch` (see [`wait_for`]).
+/// Waits until `progress` shows at least `rows` rows done in sweep `epoch`.
 fn wait_rows(progress: &AtomicU64, epoch: u32, rows: u32) {
-    if rows == 0 {
-        return;
-    }
-    let mut spins = 0u32;
-    loop {
-        let v = progress.load(Ordering::Acquire);
-        if (v >> 32) as u32 == epoch && v as u32 >= rows {
-            return;
-        }
-        if spins < 2000 {
-            std::hint::spin_loop();
-            spins += 1;
-        } else {
-            std::thread::yield_now();
-        }
+    if rows > 0 {
+        spin_until(|| {
+            let v = progress.load(Ordering::Acquire);
+            (v >> 32) as u32 == epoch && v as u32 >= rows
+        });
     }
 }
 
-/// Waits until `done` reads `epoch`: a short spin, then yielding the core (a machine with more
-/// runnable threads than cores may have parked the thread that will set it).
+/// Waits until `done` reads `epoch`.
 fn wait_for(done: &AtomicU32, epoch: u32) {
+    spin_until(|| done.load(Ordering::Acquire) == epoch);
+}
+
+/// Waits until `ready()`: a short spin, then yielding the core (a machine with more runnable
+/// threads than cores may have parked the thread that will make it true).
+fn spin_until(ready: impl Fn() -> bool) {
     let mut spins = 0u32;
-    while done.load(Ordering::Acquire) != epoch {
+    while !ready() {
         if spins < 2000 {
             std::hint::spin_loop();
             spins += 1;
