@@ -28,10 +28,12 @@
 mod cn_state;
 mod coefficients;
 mod correctors;
+mod grad_memo;
 mod momentum;
 mod time_levels;
 
 use cn_state::CnState;
+use grad_memo::GradMemo;
 use momentum::MomentumEqn;
 use time_levels::Levels;
 
@@ -202,6 +204,8 @@ pub struct Fluid {
     cn_prev: Option<(OldLevel, f64)>,
     /// The temperature equation when [`Settings::temperature`] asks for it.
     heat: Option<Temperature>,
+    /// ∇U at the end of the last step (the turbulence model's), for the next momentum matrix.
+    grad_u_end: Option<GradMemo>,
 }
 
 /// The fields of one earlier time level (`backward`'s old-old level, [`crate::ddt`]).
@@ -322,6 +326,7 @@ impl Fluid {
             cn,
             cn_prev: None,
             heat: None,
+            grad_u_end: None,
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,
@@ -713,7 +718,11 @@ impl Fluid {
         let Some(t) = &mut self.turbulence else {
             return Ok(Vec::new());
         };
+        let grad_u = self
+            .grad_u_end
+            .insert(GradMemo::compute(&self.g, &self.u, &self.u_b));
         let flow = k_epsilon::Flow {
+            grad_u: grad_u.grad(),
             u: &self.u,
             u_b: &self.u_b,
             phi: &self.phi,

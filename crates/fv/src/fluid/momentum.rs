@@ -3,7 +3,7 @@
 //! derivative and the stress, the implicit exchange Ksl/ρ, the explicit force f/ρ, the
 //! `fvOptions` sources) and the momentum predictor with the old pressure gradient.
 
-use super::{Fluid, Levels, StepReport};
+use super::{Fluid, GradMemo, Levels, StepReport};
 use crate::bc;
 use crate::error::Result;
 use crate::fvc::{self, Field};
@@ -51,7 +51,7 @@ impl Fluid {
         let n = self.g.n_cells;
         let rho = self.settings.rho;
         let (dt, ddt_k, old_old) = (lv.dt, lv.ddt_k, &lv.old_old);
-        let grad_u = fvc::grad_vector(&self.g, &self.u, &self.u_b);
+        let grad_u = GradMemo::of(self.grad_u_end.as_ref(), &self.g, &self.u, &self.u_b);
         let (nu_f, nu_c, nu_bf) = self.eps_nu_eff(&lv.ef);
         let (cd, cd_diag, cd_b) = self.conv_diff(&nu_f, &grad_u);
         let g = &self.g;

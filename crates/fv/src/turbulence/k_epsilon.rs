@@ -77,6 +77,8 @@ impl Default for KEpsilonCoeffs {
 
 /// What the model needs of the flow at the end of a time step.
 pub struct Flow<'a> {
+    /// ∇U at cells (1/s), of `u` and `u_b` (Gauss linear, [`fvc::grad_vector`]).
+    pub grad_u: &'a [crate::fvc::Tensor],
     /// Cell velocities (m/s).
     pub u: &'a [V3],
     /// Boundary-face velocities (m/s).
@@ -223,10 +225,10 @@ impl KEpsilon {
     /// (OpenFOAM's `correctNut`).
     fn correct_nut(&mut self, g: &FvGeometry, nu: f64) {
         let cmu = self.settings.coeffs.cmu;
-        for c in 0..g.n_cells {
-            let k = self.k.cells[c];
-            self.nut.cells[c] = cmu * (k * k) / self.epsilon.cells[c];
-        }
+        let (k, eps) = (&self.k.cells, &self.epsilon.cells);
+        gather::each_mut(&mut self.nut.cells, |c, nut| {
+            *nut = cmu * (k[c] * k[c]) / eps[c];
+        });
         for (p, bc) in g.patches.iter().zip(&self.nut.bcs) {
             for f in p.faces.clone() {
                 let b = f - g.n_internal;
@@ -263,8 +265,7 @@ impl KEpsilon {
         }
         let n = g.n_cells;
         let div_u = fvc::surface_integrate(g, flow.phi);
-        let grad_u = fvc::grad_vector(g, flow.u, flow.u_b);
-        let g_by_nu = production_by_nut(&grad_u);
+        let g_by_nu = production_by_nut(flow.grad_u);
         let nut = &self.nut.cells;
         let mut prod: Vec<f64> = gather::cells(n, |i| nut[i] * g_by_nu[i]);
         let k_old = self.k.cells.clone();
@@ -396,11 +397,8 @@ impl KEpsilon {
         let k_old = &step.k_old;
         let src: Vec<f64> = gather::cells(n, |i| c.c1 * g_by_nu[i] * c.cmu * k_old[i]);
         eqn.add_source(g, &src);
-        let susp: Vec<f64> = step
-            .div_u
-            .iter()
-            .map(|d| ((2.0 / 3.0) * c.c1 - c.c3) * d)
-            .collect();
+        let div_u = &step.div_u;
+        let susp: Vec<f64> = gather::cells(n, |i| ((2.0 / 3.0) * c.c1 - c.c3) * div_u[i]);
         eqn.add_susp(g, &susp, &self.epsilon.cells);
         let eps = &self.epsilon.cells;
         let sp: Vec<f64> = gather::cells(n, |i| c.c2 * eps[i] / k_old[i]);
@@ -443,7 +441,8 @@ impl KEpsilon {
             &gamma,
         );
         eqn.add_source(g, prod);
-        let susp: Vec<f64> = step.div_u.iter().map(|d| (2.0 / 3.0) * d).collect();
+        let div_u = &step.div_u;
+        let susp: Vec<f64> = gather::cells(n, |i| (2.0 / 3.0) * div_u[i]);
         eqn.add_susp(g, &susp, &self.k.cells);
         let (eps, k_old) = (&self.epsilon.cells, &step.k_old);
         let sp: Vec<f64> = gather::cells(n, |i| eps[i] / k_old[i]);
@@ -496,22 +495,20 @@ impl Step<'_> {
 
 /// G/νt = ∇U : dev(∇U + ∇Uᵀ) (1/s²) per cell from ∇U.
 fn production_by_nut(grad_u: &[crate::fvc::Tensor]) -> Vec<f64> {
-    grad_u
-        .iter()
-        .map(|t| {
-            let s = t + t.transpose();
-            let tr = s[(0, 0)] + s[(1, 1)] + s[(2, 2)];
-            let mut d = s;
-            for i in 0..3 {
-                d[(i, i)] -= tr / 3.0;
+    gather::cells(grad_u.len(), |c| {
+        let t = &grad_u[c];
+        let s = t + t.transpose();
+        let tr = s[(0, 0)] + s[(1, 1)] + s[(2, 2)];
+        let mut d = s;
+        for i in 0..3 {
+            d[(i, i)] -= tr / 3.0;
+        }
+        let mut sum = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                sum += t[(i, j)] * d[(i, j)];
             }
-            let mut sum = 0.0;
-            for i in 0..3 {
-                for j in 0..3 {
-                    sum += t[(i, j)] * d[(i, j)];
-                }
-            }
-            sum
-        })
-        .collect()
+        }
+        sum
+    })
 }

@@ -19,24 +19,67 @@ use foam::Item;
 use std::path::Path;
 
 /// The log-law constants of a `nutkWallFunction` patch (OpenFOAM's defaults: Cmu 0.09,
-/// κ 0.41, E 9.8; Launder & Spalding 1974).
+/// κ 0.41, E 9.8; Launder & Spalding 1974), with what the wall functions derive from them
+/// alone computed once ([`LogLaw::new`]) instead of at every wall face of every step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LogLaw {
+    cmu: f64,
+    kappa: f64,
+    e: f64,
+    /// y⁺_lam of κ and E ([`super::wall_functions::y_plus_lam`]).
+    y_plus_lam: f64,
+    /// Cμ^¼ and Cμ^¾.
+    cmu25: f64,
+    cmu75: f64,
+}
+
+impl LogLaw {
+    /// The law of Cμ, κ and E (all dimensionless).
+    pub fn new(cmu: f64, kappa: f64, e: f64) -> LogLaw {
+        LogLaw {
+            cmu,
+            kappa,
+            e,
+            y_plus_lam: super::wall_functions::y_plus_lam(kappa, e),
+            cmu25: cmu.powf(0.25),
+            cmu75: cmu.powf(0.75),
+        }
+    }
+
     /// Cμ (dimensionless).
-    pub cmu: f64,
-    /// von Kármán constant κ (dimensionless).
-    pub kappa: f64,
-    /// Wall roughness constant E (dimensionless; 9.8 for a smooth wall).
-    pub e: f64,
+    pub fn cmu(&self) -> f64 {
+        self.cmu
+    }
+
+    /// The von Kármán constant κ (dimensionless).
+    pub fn kappa(&self) -> f64 {
+        self.kappa
+    }
+
+    /// The wall roughness constant E (dimensionless; 9.8 for a smooth wall).
+    pub fn e(&self) -> f64 {
+        self.e
+    }
+
+    /// y⁺ where the viscous sublayer meets the log law (dimensionless).
+    pub fn y_plus_lam(&self) -> f64 {
+        self.y_plus_lam
+    }
+
+    /// Cμ^¼ (dimensionless).
+    pub fn cmu25(&self) -> f64 {
+        self.cmu25
+    }
+
+    /// Cμ^¾ (dimensionless).
+    pub fn cmu75(&self) -> f64 {
+        self.cmu75
+    }
 }
 
 impl Default for LogLaw {
     fn default() -> Self {
-        LogLaw {
-            cmu: 0.09,
-            kappa: 0.41,
-            e: 9.8,
-        }
+        LogLaw::new(0.09, 0.41, 9.8)
     }
 }
 
@@ -187,11 +230,11 @@ pub fn read(
                 if e.dict.get("U").is_some() {
                     return Err(e.err("U", "a velocity other than U is not supported"));
                 }
-                ScalarBc::NutkWallFunction(LogLaw {
-                    cmu: number(e, "Cmu", 0.09)?,
-                    kappa: number(e, "kappa", 0.41)?,
-                    e: number(e, "E", 9.8)?,
-                })
+                ScalarBc::NutkWallFunction(LogLaw::new(
+                    number(e, "Cmu", 0.09)?,
+                    number(e, "kappa", 0.41)?,
+                    number(e, "E", 9.8)?,
+                ))
             }
             ("empty", _) => ScalarBc::Empty,
             ("cyclic", _) => ScalarBc::Cyclic,

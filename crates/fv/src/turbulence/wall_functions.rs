@@ -33,14 +33,14 @@ pub fn y_plus_lam(kappa: f64, e: f64) -> f64 {
 
 /// y⁺ = Cμ^¼ y √k / ν of a wall cell: wall distance `y` (m), its `k` (m²/s²), `nu` (m²/s).
 pub fn y_plus(law: &LogLaw, y: f64, k: f64, nu: f64) -> f64 {
-    law.cmu.powf(0.25) * y * k.sqrt() / nu
+    law.cmu25() * y * k.sqrt() / nu
 }
 
 /// The wall value of νt (m²/s) of `nutkWallFunction` for a wall cell with `y`, `k`, `nu`.
 pub fn nut_wall(law: &LogLaw, y: f64, k: f64, nu: f64) -> f64 {
     let yp = y_plus(law, y, k, nu);
-    if y_plus_lam(law.kappa, law.e) < yp {
-        nu * (yp * law.kappa / (law.e * yp).ln() - 1.0)
+    if law.y_plus_lam() < yp {
+        nu * (yp * law.kappa() / (law.e() * yp).ln() - 1.0)
     } else {
         0.0
     }
@@ -60,14 +60,13 @@ pub fn epsilon_and_g(
     nut_w: f64,
     mag_grad_u: f64,
 ) -> (f64, f64) {
-    let cmu25 = law.cmu.powf(0.25);
-    let cmu75 = law.cmu.powf(0.75);
+    let (cmu25, kappa) = (law.cmu25(), law.kappa());
     let yp = cmu25 * y * k.sqrt() / nu;
-    if low_re && yp < y_plus_lam(law.kappa, law.e) {
+    if low_re && yp < law.y_plus_lam() {
         return (w * 2.0 * k * nu / (y * y), 0.0);
     }
-    let eps = w * cmu75 * k.powf(1.5) / (law.kappa * y);
-    let g = w * (nut_w + nu) * mag_grad_u * cmu25 * k.sqrt() / (law.kappa * y);
+    let eps = w * law.cmu75() * k.powf(1.5) / (kappa * y);
+    let g = w * (nut_w + nu) * mag_grad_u * cmu25 * k.sqrt() / (kappa * y);
     (eps, g)
 }
 
@@ -78,9 +77,10 @@ mod tests {
     #[test]
     fn y_plus_lam_solves_the_sublayer_log_law_intersection() {
         let law = LogLaw::default();
-        let y = y_plus_lam(law.kappa, law.e);
+        let y = y_plus_lam(law.kappa(), law.e());
+        assert_eq!(y, law.y_plus_lam());
         // Ten fixed-point steps converge to ~1e-6 (contraction 1/(κ y) ≈ 0.2 per step).
-        assert!((y - (law.e * y).ln() / law.kappa).abs() < 1e-5, "{y}");
+        assert!((y - (law.e() * y).ln() / law.kappa()).abs() < 1e-5, "{y}");
         assert!((y - 11.53).abs() < 0.01, "{y}");
     }
 
@@ -92,10 +92,10 @@ mod tests {
         let law = LogLaw::default();
         let (nu, u_tau) = (1e-5, 0.05);
         for y in [0.005, 0.02, 0.05] {
-            let k = u_tau * u_tau / law.cmu.sqrt();
+            let k = u_tau * u_tau / law.cmu().sqrt();
             let yp = y * u_tau / nu;
             assert!((y_plus(&law, y, k, nu) - yp).abs() < 1e-9 * yp);
-            let u_p = u_tau * (law.e * yp).ln() / law.kappa;
+            let u_p = u_tau * (law.e() * yp).ln() / law.kappa();
             let tau = (nu + nut_wall(&law, y, k, nu)) * u_p / y;
             assert!(
                 (tau / (u_tau * u_tau) - 1.0).abs() < 1e-12,
@@ -103,7 +103,7 @@ mod tests {
             );
             // ε of the log layer in equilibrium: u_τ³/(κ y); G = u_τ² · du/dy = ε too.
             let (eps, g) = epsilon_and_g(&law, false, 1.0, y, k, nu, tau * y / u_p - nu, u_p / y);
-            let eps_exact = u_tau.powi(3) / (law.kappa * y);
+            let eps_exact = u_tau.powi(3) / (law.kappa() * y);
             assert!((eps / eps_exact - 1.0).abs() < 1e-12, "{eps} {eps_exact}");
             assert!((g / eps_exact - 1.0).abs() < 1e-12, "{g} {eps_exact}");
         }
