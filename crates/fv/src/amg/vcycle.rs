@@ -199,6 +199,15 @@ impl Amg {
         }
     }
 
+    /// True when `w` has the level sizes of this hierarchy (a [`Self::cycle_work`] of it or of
+    /// a hierarchy like it).
+    pub(crate) fn fits(&self, w: &CycleWork) -> bool {
+        let sizes = self.sizes();
+        [&w.src, &w.corr, &w.ac, &w.x0]
+            .iter()
+            .all(|v| v.len() == sizes.len() && v.iter().zip(&sizes).all(|(x, &n)| x.len() == n))
+    }
+
     /// One GAMG V-cycle on `A x = b` (module doc): `r` is b − A x on entry; x is updated.
     /// `w` from [`Self::cycle_work`] of this hierarchy.
     pub(crate) fn v_cycle(&self, b: &[f64], x: &mut [f64], r: &[f64], w: &mut CycleWork) {
