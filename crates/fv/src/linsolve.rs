@@ -29,10 +29,7 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 pub use crate::reduce::dot;
-pub(crate) use crate::reduce::{
-    dot_blocked, dots_and_keep, par_map2, sum_abs, sum_abs_by, sum_abs_lanes, update_and_residual,
-    BLOCK,
-};
+use crate::reduce::{dots_and_keep, par_map2, sum_abs, sum_abs_by, update_and_residual, BLOCK};
 pub use crate::sweep::lanes::{smooth_components, Components};
 
 /// Preconditioner of the Krylov solvers.

@@ -299,7 +299,7 @@ impl Csr {
     /// (the same bits on any number of threads).
     fn dot(&self, u: &[f64], v: &[f64]) -> f64 {
         if self.is_blocked() {
-            crate::linsolve::dot_blocked(u, v)
+            crate::reduce::dot_blocked(u, v)
         } else {
             u.iter().zip(v).map(|(a, b)| a * b).sum()
         }

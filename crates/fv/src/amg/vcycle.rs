@@ -108,7 +108,7 @@ impl Csr {
     }
 
     /// ac = A c and (b·c, ac·c) in one pass: the rows' products of [`Csr::mul`] and the sums
-    /// of [`Csr::dot`] (on a blocked level per block of `linsolve::BLOCK` rows in parallel,
+    /// of [`Csr::dot`] (on a blocked level per block of `reduce::BLOCK` rows in parallel,
     /// the block sums in order), so the same bits as the three passes.
     fn mul_dots(&self, b: &[f64], c: &[f64], ac: &mut [f64]) -> (f64, f64) {
         let part = |r0: usize, out: &mut [f64]| {
@@ -129,7 +129,7 @@ impl Csr {
         if !self.is_blocked() {
             return part(0, ac);
         }
-        const BLOCK: usize = crate::linsolve::BLOCK;
+        const BLOCK: usize = crate::reduce::BLOCK;
         let parts: Vec<(f64, f64)> = ac
             .par_chunks_mut(BLOCK)
             .enumerate()

@@ -130,7 +130,7 @@ fn smooth_lanes<const L: usize>(
                 sweeper.sweep(&bp, &d, &mut xl, active, true);
             }
         }
-        let sums = linsolve::sum_abs_lanes::<L>(n, |i| residual_row::<L>(m, &d, &bl, &xl, i));
+        let sums = crate::reduce::sum_abs_lanes::<L>(n, |i| residual_row::<L>(m, &d, &bl, &xl, i));
         for l in 0..L {
             if !active[l] {
                 continue;
