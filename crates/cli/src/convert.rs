@@ -23,7 +23,7 @@ pub enum ConvertCommand {
 pub struct DumpConvert {
     #[command(flatten)]
     dump: DumpArgs,
-    /// Convert every snapshot: writes OUT/<stem>_<timestep>.vtp and OUT/<stem>.pvd.
+    /// Convert every snapshot: writes `OUT/<stem>_<timestep>.vtp` and `OUT/<stem>.pvd`.
     #[arg(long)]
     all: bool,
     /// Output file (.vtp), or directory with --all. Default: next to the dump.

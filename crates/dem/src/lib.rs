@@ -20,7 +20,7 @@
 //! - [`deck`]: the LIGGGHTS input subset (restart files: [`deck::restart`]); [`dump`]:
 //!   `dump custom` output via `dem-io`;
 //!   [`from_dump`]: particles from a LIGGGHTS dump.
-//! - [`timestep`]: Rayleigh and Hertz time criteria.
+//! - `timestep`: Rayleigh and Hertz time criteria.
 //!
 //! # Example
 //! ```no_run

@@ -2,7 +2,7 @@
 //! coupling, over MPI.
 //!
 //! With the cargo feature `mpi` (needs `openmpi-bin libopenmpi-dev libclang-dev` to build),
-//! [`OpenFoamFluid`] spawns the solver on `np` ranks with `MPI_Comm_spawn`, learns from each
+//! `OpenFoamFluid` spawns the solver on `np` ranks with `MPI_Comm_spawn`, learns from each
 //! rank's handshake which cells it holds (its `cellProcAddressing`; the identity serially) and
 //! implements [`couple::FluidSide`]: each coupling interval it sends every rank ε_old, ε_new,
 //! Ksl, Us and f of *its* cells only and gets back U, p, ∇p and ∇·τ of those cells plus the
@@ -40,17 +40,17 @@
 //! * **Time stepping**: an interval Δt_c is `round(Δt_c/deltaT)` (≥ 1) steps of Δt_c/N; at
 //!   step k, ε = ε_old + (k/N)(ε_new − ε_old); Ksl, Us, f are held; on the first interval ε's
 //!   old time is ε_old — all as the native fluid (`runner::native::NativeFluid`) does.
-//! * **Heat** (issue 27): [`OpenFoamFluid::spawn_with`] with [`SpawnOptions`]`{ heat: true }`
+//! * **Heat** (issue 27): `OpenFoamFluid::spawn_with` with `SpawnOptions { heat: true }`
 //!   makes the solver solve cfdemSolverPisoScalar's temperature equation (the case needs
 //!   `0/T`, `Pr`, `div(phi,T)` and a `T` solver); every exchange then needs
-//!   `ExchangeFields::heat_source` (Tsource, K/s; [`OpenFoamFluid::set_fields_with_heat`])
-//!   and the state carries `FluidState::temperature` (T, K) and each [`PatchFlow`] its
+//!   `ExchangeFields::heat_source` (Tsource, K/s; `OpenFoamFluid::set_fields_with_heat`)
+//!   and the state carries `FluidState::temperature` (T, K) and each `PatchFlow` its
 //!   `t_flux` (Σ φ T_b, K m³/s; `t_flux / flux` is the patch's mixing-cup temperature).
 //!   Without heat nothing changes.
-//!   Over the sparse exchange ([`OpenFoamFluid::spawn_ranked_with`] with heat) each coupler
-//!   rank gets T of its touched cells and gives its share of Tsource ([`SolverCells`],
+//!   Over the sparse exchange (`OpenFoamFluid::spawn_ranked_with` with heat) each coupler
+//!   rank gets T of its touched cells and gives its share of Tsource (`SolverCells`,
 //!   [`protocol`]); rank 0's fluid has T only after an advance with
-//!   [`OpenFoamFluid::set_whole`] (`None` otherwise), and the patches' `t_flux` always.
+//!   `OpenFoamFluid::set_whole` (`None` otherwise), and the patches' `t_flux` always.
 //! * **Logs**: each rank writes `CASE/log.grainPisoFoam` (serial) or
 //!   `CASE/log.grainPisoFoam.<rank>`.
 //!

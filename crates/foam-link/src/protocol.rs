@@ -43,7 +43,7 @@
 //! | 30 [`tag::ERROR`] | rank → coupler | the text of an OpenFOAM FatalError |
 //!
 //! **Heat** (issue 27; the coupler asks for it with `FOAMGRAIN_HEAT=1` on the launch line,
-//! [`crate::SpawnOptions::heat`]): the solver solves cfdemSolverPisoScalar's temperature
+//! `crate::SpawnOptions::heat`): the solver solves cfdemSolverPisoScalar's temperature
 //! equation and three messages grow by whole blocks; without heat every message is exactly as
 //! above.
 //!
@@ -57,7 +57,7 @@
 //! | 22 [`tag::SPARSE_REPLY`] | f64\[13k\]: per cell the twelve values above, then T (K) |
 //! | 14 [`tag::SPARSE_SUMS`] | f64\[9k\]: per cell the eight values above, then q's share of Tsource, −Σ_p w q_p/(ρ c_p V) (K/s; the rank adds the shares in coupler-rank order into Tsource, 0 in cells no coupler rank touches) |
 //!
-//! **CFDEM's Ksl form** (issue 28; [`crate::SpawnOptions::cfdem_ksl`], the launch line sets
+//! **CFDEM's Ksl form** (issue 28; `crate::SpawnOptions::cfdem_ksl`, the launch line sets
 //! `FOAMGRAIN_KSL='CFDEM <KslLimit> <maxAlpha>'`): tag 1 has the sixth word with
 //! [`HELLO_FLAG_KSL_CFDEM`], and tag 14's records end (after the heat column, if any) with
 //! [`KSL_SUMS_WORDS`] more: Σ w β (u_p − v) (3, N), Σ w, Σ w v (3, m/s) of q's particles. The
@@ -66,8 +66,8 @@
 //! at KslLimit (U of its last reply, ε the exchange's ε_new; [`couple::ksl`]) instead of
 //! Σ Ksl and Σ Ksl·Us / Σ Ksl. Without it every message is as above.
 //!
-//! **Added mass and lift** (issue 28; [`crate::SpawnOptions::vorticity`] and
-//! [`crate::SpawnOptions::ddt_u`], the launch line sets `FOAMGRAIN_VORTICITY=1` and/or
+//! **Added mass and lift** (issue 28; `crate::SpawnOptions::vorticity` and
+//! `crate::SpawnOptions::ddt_u`, the launch line sets `FOAMGRAIN_VORTICITY=1` and/or
 //! `FOAMGRAIN_DDT_U=1`): tag 1 has the sixth word with [`HELLO_FLAG_VORTICITY`] and/or
 //! [`HELLO_FLAG_DDT_U`], and the per-cell part of tag 20 (and so of tag 24) grows, after the
 //! heat block if any, by ∇ × U (3n, 1/s) and then DU/Dt (3n, m/s²), each only when asked for.

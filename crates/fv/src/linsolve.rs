@@ -5,12 +5,12 @@
 //! components, with the Jacobi (`diagonal`) or diagonal-incomplete (`DIC`/`DILU`)
 //! preconditioner, and `GAMG`: on a symmetric matrix flexible CG preconditioned by OpenFOAM's
 //! own V-cycle on the hierarchy its `faceAreaPair` agglomeration builds ([`gamg`],
-//! [`crate::amg::Amg::v_cycle`]), on a non-symmetric one BiCGStab preconditioned by the
+//! `crate::amg::Amg::v_cycle`), on a non-symmetric one BiCGStab preconditioned by the
 //! K-cycle of [`crate::amg`]. All work on the row form of the matrix ([`RowMatrix`]). On large meshes the
 //! matrix products and vector operations run in parallel (rayon) with reductions whose bits do
 //! not depend on the thread count; the triangular sweeps (DIC/DILU, Gauss–Seidel) are
 //! sequential by nature, but for the Gauss–Seidel sweeps of [`Smoother::hybrid`]
-//! ([`crate::sweep`]).
+//! (`crate::sweep`).
 //!
 //! Convergence is judged as OpenFOAM judges it (`lduMatrix::solver`): the residual
 //! r = Σ|b − Ax| / n_f with the normalisation n_f = Σ(|Ax − A x̄| + |b − A x̄|) + 1e-20, x̄ the
@@ -96,7 +96,7 @@ pub struct Smoother {
     pub kind: SmootherKind,
     /// Sweeps between residual checks (`nSweeps`, default 1).
     pub sweeps: usize,
-    /// Gauss–Seidel sweeps in the hybrid block order of [`crate::sweep`] on ≥ [`PAR_MIN`]
+    /// Gauss–Seidel sweeps in the hybrid block order of `crate::sweep` on ≥ [`PAR_MIN`]
     /// rows (in parallel; the same bits on any number of threads); false: row by row,
     /// OpenFOAM's sweeps bit for bit. fvSolution does not set it (false); the momentum
     /// predictor does.
@@ -511,8 +511,8 @@ pub fn pcg(
 }
 
 /// `GAMG` on a symmetric matrix: flexible conjugate gradients ([`pcg`]'s) preconditioned by
-/// one V-cycle of OpenFOAM's GAMG ([`crate::amg::Amg::v_cycle`] on the `faceAreaPair`
-/// hierarchy of [`crate::amg::Amg::gamg`], kept across calls by [`gamg_for`]), to the
+/// one V-cycle of OpenFOAM's GAMG (`crate::amg::Amg::v_cycle` on the `faceAreaPair`
+/// hierarchy of [`crate::amg::Amg::gamg`], kept across calls by `gamg_for`), to the
 /// entry's tolerances. OpenFOAM iterates the V-cycles alone; CG's acceleration takes fewer of
 /// them where the pressure field has long smooth modes (the 320² RAS cavity: 479 against 759
 /// V-cycles alone over 30 steps, pisoFoam's GAMG ≈ 25 per step) and the same number elsewhere

@@ -4,10 +4,10 @@
 //!
 //! Reading handles `&` continuations, `#` comments, quotes ([`lines`]), and `variable NAME
 //! index|string|equal|delete …` with `$x`, `${name}` and `$(formula)` substitution ([`expr`]
-//! evaluates formulas; equal-style values are formatted `%.15g`, `$(formula)` `%.20g`, as LAMMPS does, [`format`]);
+//! evaluates formulas; equal-style values are formatted `%.15g`, `$(formula)` `%.20g`, as LAMMPS does, [`format`](mod@format));
 //! values given on the command line (`-var NAME VALUE`) take precedence over `index`
 //! definitions. What a command means is not this crate's business: it returns the words, and
-//! [`declared`]'s typed accessors read what the commands declare that other crates need before
+//! `declared`'s typed accessors read what the commands declare that other crates need before
 //! running the deck (time step, files, `processors`, the CFD coupling fixes, materials).
 //!
 //! ```

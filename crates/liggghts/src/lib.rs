@@ -1,7 +1,7 @@
 //! LIGGGHTS 3.8.0 (Debian's `liggghts` and `libliggghts-dev`) as a particle side of the
 //! coupler ([`couple::ParticleSide`]), three ways:
 //!
-//! - **In-process** (cargo feature `link`, off by default): [`LiggghtsDem`] links
+//! - **In-process** (cargo feature `link`, off by default): `LiggghtsDem` links
 //!   libliggghts and drives it through its library interface on an MPI communicator the caller
 //!   owns — the fast path. MPI is initialised once by the caller (e.g. `mpi::initialize()`),
 //!   because the runner also spawns OpenFOAM through the same MPI universe:
@@ -28,8 +28,8 @@
 //!   ends the process), the trailing `run`s skipped, the copies the backends run.
 //! - [`forces`]: ADR 0004's `F = F_ext + β (u_f − v)` as LIGGGHTS's `dragforce`, `Ksl`, `uf`.
 //! - [`particles`]: the owned, tag-ordered state buffers.
-//! - [`file`]: [`FileDem`]; [`program`]: [`run_deck`] and the binary's command line.
-//! - `inproc` and `ffi` (feature `link`): [`LiggghtsDem`] and the hand-written declarations.
+//! - [`file`](mod@file): [`FileDem`]; [`program`]: [`run_deck`] and the binary's command line.
+//! - `inproc` and `ffi` (feature `link`): `LiggghtsDem` and the hand-written declarations.
 //!
 //! # Units and conventions
 //! SI (`units si` decks), ADR 0004. The DEM time is `step × dt` as for the native DEM.

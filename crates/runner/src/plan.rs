@@ -200,7 +200,7 @@ impl RunPlan {
         Ok(self)
     }
 
-    /// The file the coupled deck starts from ([`start_file`]).
+    /// The file the coupled deck starts from (`start_file`).
     pub fn start_file(&self) -> Option<(PathBuf, bool)> {
         start_file(&self.run_deck, &self.layout.dem)
     }

@@ -1,6 +1,6 @@
 //! `foamgrain run`: a coupled case on any pair of backends, one way through:
-//! read ([`RunPlan`]) → stage 1, the packed bed ([`crate::stage1`]) → pair the backends
-//! ([`crate::backend::run_pair`]) → the coupled loop ([`crate::run_loop`]) → outputs and checks.
+//! read ([`RunPlan`]) → stage 1, the packed bed (`crate::stage1`) → pair the backends
+//! (`crate::backend::run_pair`) → the coupled loop (`crate::run_loop`) → outputs and checks.
 //!
 //! 1. Stage 1 (packing): when the coupled deck starts from a file (`read_data FILE`, or CFDEM's
 //!    `read_restart FILE`) that does not exist and `DEM/in.liggghts_init` does, the init deck

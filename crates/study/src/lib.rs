@@ -13,8 +13,8 @@
 //! * [`steady`]: the steady-state criterion of a run; [`run`]: one steady run (grid, method,
 //!   velocity) and what it records;
 //! * [`diameters`]: the three reference diameters and Δx/d; [`spread`]: the voidage spread in
-//!   the bed; [`reference`]: Gidaspow and Ergun on the measured bed, U_mf;
-//! * [`cellsize`]: the study, its GCI, CSV, JSON and plots.
+//!   the bed; [`reference`](mod@reference): Gidaspow and Ergun on the measured bed, U_mf;
+//! * [`cellsize`](mod@cellsize): the study, its GCI, CSV, JSON and plots.
 //!
 //! Invariant: the particles never move and every run starts from the same packed bed, so the
 //! runs differ only in the grid, the voidage method and the velocity. SI units, kinematic

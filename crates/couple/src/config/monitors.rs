@@ -155,7 +155,7 @@ pub struct Monitors {
     pub vol_weighted_average: Option<VolWeightedAverage>,
     /// `fieldVolWeighted` (ErgunTestMPI 2016; its source was never published): the
     /// volume-weighted average over every cell, in `volWeightedAverage`'s file layout
-    /// ([`field_vol_weighted`] says what was chosen).
+    /// (`field_vol_weighted` says what was chosen).
     pub field_vol_weighted: Option<VolWeightedAverage>,
     /// `checkCouplingInterval` ([`crate::interval_check`]).
     pub interval_check: Option<crate::interval_check::IntervalCheckSettings>,

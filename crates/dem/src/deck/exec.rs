@@ -5,7 +5,7 @@
 //!   (`f`, `m`, `s`, `p`: [`crate::periodic`]), `newton`, `communicate`/`comm_modify`,
 //!   `processors`, `region ID block|cylinder … [units box] [side in]`, `create_box N REGION`,
 //!   `read_data FILE`, `read_restart FILE` (LIGGGHTS 3.8 restart files, `*` = the latest step;
-//!   [`restart`](super::restart)), `create_atoms T single x y z [units box]`, `set group all diameter D
+//!   `restart`), `create_atoms T single x y z [units box]`, `set group all diameter D
 //!   density ρ`, `set group all|region R property/atom Temp|heatFlux|convectiveHeatFlux V`
 //!   ([`crate::heat`]; block regions may have `INF` bounds), `velocity all set vx vy vz`, `neighbor SKIN bin`, `neigh_modify`
 //!   (`delay every check one page contact_distance_factor`), `soft_particles yes`,
@@ -21,7 +21,7 @@
 //!   `particletemplate/sphere`, `particledistribution/discrete[/numberbased]`, `insert/pack`
 //!   (`insert_every once` or `K`), `insert/rate/region` and `insert/stream`
 //!   ([`crate::insert_rate`], [`crate::insert_stream`]; arguments of all in
-//!   [`insertion`](super::insertion)), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
+//!   `insertion`), `nve/sphere`, `check/timestep/gran`, `couple/cfd`,
 //!   `couple/cfd/force`, `couple/cfd/force/implicit` (recorded: the deck is coupled; their
 //!   vector `f_ID[1..3]` is the total coupling force), `heat/gran[/conduction]
 //!   initial_temperature T0 [contact_area overlap|projection|constant A] [area_correction

@@ -765,7 +765,7 @@ impl Amg {
 
     /// The hierarchy of `m` with this one's aggregates (the pairwise passes, the sequential
     /// part of [`Amg::new`], skipped): each level's Galerkin product redone on its pattern
-    /// ([`Level::galerkin_values`]), the coarsest factorised again. `None` when `m` has not
+    /// (`Level::galerkin_values`), the coarsest factorised again. `None` when `m` has not
     /// the rows of this hierarchy's finest level, or when the aggregates were chosen
     /// [`REAGGREGATE`] set-ups ago (then [`Amg::new`] chooses them again for `m`).
     pub fn rebuild(&self, m: &RowMatrix<'_>) -> Option<Amg> {

@@ -646,13 +646,13 @@ impl Fluid {
 
     /// Advances by `dt` seconds (one PISO step), in the stages of pisoFoam's and CFDEM's
     /// cfdemSolverPiso's time loop: the old time levels and the time scheme's history
-    /// ([`Self::old_time_levels`]), with heat the temperature equation
-    /// ([`Self::solve_temperature`], where cfdemSolverPisoScalar solves it), the momentum
-    /// matrix ([`Self::momentum_matrix`]) and predictor ([`Self::momentum_predictor`]), the coefficients the correctors share
-    /// ([`Self::corrector_coeffs`]: γ_f, ddtCorr, the porous faces' time terms, ∂ε/∂t),
-    /// `nCorrectors` PISO correctors ([`Self::piso_corrector`]: pressure equation, flux and
-    /// velocity), the continuity error, the turbulence model ([`Self::correct_turbulence`])
-    /// and the clock ([`Self::end_step`]).
+    /// (`Self::old_time_levels`), with heat the temperature equation
+    /// (`Self::solve_temperature`, where cfdemSolverPisoScalar solves it), the momentum
+    /// matrix (`Self::momentum_matrix`) and predictor (`Self::momentum_predictor`), the coefficients the correctors share
+    /// (`Self::corrector_coeffs`: γ_f, ddtCorr, the porous faces' time terms, ∂ε/∂t),
+    /// `nCorrectors` PISO correctors (`Self::piso_corrector`: pressure equation, flux and
+    /// velocity), the continuity error, the turbulence model (`Self::correct_turbulence`)
+    /// and the clock (`Self::end_step`).
     pub fn advance(&mut self, dt: f64) -> Result<StepReport> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(FvError::Value {
