@@ -352,49 +352,43 @@ impl Schedule {
 
 impl Gates {
     /// The gates of `s`'s chunks for the matrix rows `start`/`col`, blocks of `block` rows.
+    /// For each chunk, direction and chunk it waits for, per block (from the chunk's start in a
+    /// forward sweep, from its end in a backward one): how many rows of that chunk, counted in
+    /// the sweep's direction, the block and the blocks before it read.
     fn new(s: &Schedule, start: &[u32], col: &[u32], block: usize) -> Gates {
         let n_chunks = s.bounds.len() - 1;
-        let (mut fwd, mut bwd) = (Vec::new(), Vec::new());
-        let (mut fwd_start, mut bwd_start) = (vec![0u32], vec![0u32]);
+        // [forward, backward]: the tables and where each chunk's part starts.
+        let mut tables = [(Vec::new(), vec![0u32]), (Vec::new(), vec![0u32])];
         let cols = |r: usize| col[start[r] as usize..start[r + 1] as usize].iter();
         for i in 0..n_chunks {
             let (lo, hi) = (s.bounds[i], s.bounds[i + 1]);
             let nb = (hi - lo).div_ceil(block);
-            for &d in s.deps(i, false) {
-                let (dlo, dhi) = (s.bounds[d as usize], s.bounds[d as usize + 1]);
-                let mut need = 0usize;
-                for b in 0..nb {
-                    for r in lo + b * block..(lo + (b + 1) * block).min(hi) {
-                        for &j in cols(r) {
-                            let j = j as usize;
-                            if (dlo..dhi).contains(&j) {
-                                need = need.max(j - dlo + 1);
+            for (backward, (table, table_start)) in [false, true].into_iter().zip(&mut tables) {
+                for &d in s.deps(i, backward) {
+                    let (dlo, dhi) = (s.bounds[d as usize], s.bounds[d as usize + 1]);
+                    let mut need = 0usize;
+                    for b in 0..nb {
+                        let rows = if backward {
+                            hi.saturating_sub((b + 1) * block).max(lo)..hi - b * block
+                        } else {
+                            lo + b * block..(lo + (b + 1) * block).min(hi)
+                        };
+                        for r in rows {
+                            for &j in cols(r) {
+                                let j = j as usize;
+                                if (dlo..dhi).contains(&j) {
+                                    let reach = if backward { dhi - j } else { j - dlo + 1 };
+                                    need = need.max(reach);
+                                }
                             }
                         }
+                        table.push(need as u32);
                     }
-                    fwd.push(need as u32);
                 }
+                table_start.push(table.len() as u32);
             }
-            fwd_start.push(fwd.len() as u32);
-            for &d in s.deps(i, true) {
-                let (dlo, dhi) = (s.bounds[d as usize], s.bounds[d as usize + 1]);
-                let mut need = 0usize;
-                for b in 0..nb {
-                    let r1 = hi - b * block;
-                    let r0 = hi.saturating_sub((b + 1) * block).max(lo);
-                    for r in r0..r1 {
-                        for &j in cols(r) {
-                            let j = j as usize;
-                            if (dlo..dhi).contains(&j) {
-                                need = need.max(dhi - j);
-                            }
-                        }
-                    }
-                    bwd.push(need as u32);
-                }
-            }
-            bwd_start.push(bwd.len() as u32);
         }
+        let [(fwd, fwd_start), (bwd, bwd_start)] = tables;
         Gates {
             block,
             fwd,
