@@ -235,11 +235,13 @@ impl Fluid {
             .into_par_iter()
             .map(|f| self.face_terms(f, weights[f], nu_f, grad_u, corrected))
             .collect();
-        let mut m = Ldu::zeros(g);
-        for (f, t) in faces.iter().enumerate() {
-            m.upper[f] = t.upper;
-            m.lower[f] = t.lower;
-        }
+        let (upper, lower): (Vec<f64>, Vec<f64>) =
+            faces.par_iter().map(|t| (t.upper, t.lower)).unzip();
+        let mut m = Ldu {
+            diag: vec![0.0; g.n_cells],
+            upper,
+            lower,
+        };
         let vi = bc::velocity_value_coeffs(g, &self.u_bc, &self.phi);
         let (u, u_b) = (&self.u, &self.u_b);
         let sums = gather::face_sums(
@@ -277,7 +279,7 @@ impl Fluid {
                 (d, b)
             },
         );
-        let (mut diag, mut b): (Vec<V3>, Vec<V3>) = sums.into_iter().unzip();
+        let (mut diag, mut b): (Vec<V3>, Vec<V3>) = sums.into_par_iter().unzip();
         // linearUpwind's explicit part: the source loses V ∇·(φ c) (OpenFOAM's
         // `fvm += fvc::surfaceIntegrate(faceFlux*correction)`).
         if let Some(corr) = conv.correction(g, &self.phi, &self.u, grad_u) {
