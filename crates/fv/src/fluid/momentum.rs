@@ -237,7 +237,7 @@ impl Fluid {
             .collect();
         let (upper, lower): (Vec<f64>, Vec<f64>) =
             faces.par_iter().map(|t| (t.upper, t.lower)).unzip();
-        let mut m = Ldu {
+        let m = Ldu {
             diag: vec![0.0; g.n_cells],
             upper,
             lower,
