@@ -299,23 +299,12 @@ impl<'a> RowMatrix<'a> {
             }
             d
         } else {
-            // One pass: each fixed block's products and its part of Σ x·y, the parts added in
-            // order — the additions of `mul` then `linsolve::dot` (`reduce::dot_blocked`).
-            const BLOCK: usize = crate::reduce::BLOCK;
-            let parts: Vec<f64> = y
-                .par_chunks_mut(BLOCK)
-                .enumerate()
-                .map(|(bi, yb)| {
-                    let r0 = bi * BLOCK;
-                    let mut d = -0.0;
-                    for (il, yc) in yb.iter_mut().enumerate() {
-                        *yc = self.row_times(r0 + il, x);
-                        d += x[r0 + il] * *yc;
-                    }
-                    d
-                })
-                .collect();
-            parts.iter().sum()
+            // One pass, the additions of `mul` then `linsolve::dot` (`reduce::dot_blocked`).
+            let [d] = crate::reduce::fill_and_sum(y, true, |c| {
+                let yc = self.row_times(c, x);
+                (yc, [x[c] * yc])
+            });
+            d
         }
     }
 }

@@ -308,11 +308,8 @@ enum Precond {
     Dilu(Dilu),
     /// A K-cycle of [`crate::amg`].
     Amg(std::rc::Rc<crate::amg::Amg>),
-    /// A V-cycle of OpenFOAM's GAMG ([`gamg`]) and its work vectors.
-    VCycle(
-        std::rc::Rc<crate::amg::Amg>,
-        std::rc::Rc<std::cell::RefCell<Option<crate::amg::CycleWork>>>,
-    ),
+    /// A V-cycle of OpenFOAM's GAMG ([`gamg`]), its work vectors this thread's `GAMG_WORK`.
+    VCycle(std::rc::Rc<crate::amg::Amg>),
 }
 
 /// A multigrid hierarchy, the matrix and the pairing weights it was built for (none for the
@@ -389,14 +386,8 @@ fn same_matrix(a: &Ldu, b: &Ldu) -> bool {
 /// `to` becomes a copy of `from` (on large matrices in parallel blocks).
 fn copy_matrix(from: &Ldu, to: &mut Ldu) {
     let copy = |x: &[f64], y: &mut Vec<f64>| {
-        if x.len() < PAR_MIN || x.len() != y.len() {
-            y.clear();
-            y.extend_from_slice(x);
-        } else {
-            y.par_chunks_mut(BLOCK)
-                .zip(x.par_chunks(BLOCK))
-                .for_each(|(q, p)| q.copy_from_slice(p));
-        }
+        y.resize(x.len(), 0.0);
+        crate::reduce::copy_values(x, y, x.len() >= PAR_MIN);
     };
     copy(&from.diag, &mut to.diag);
     copy(&from.upper, &mut to.upper);
@@ -463,11 +454,15 @@ impl Precond {
                 .for_each(|((w, r), d)| *w = r * d),
             Precond::Dilu(f) => f.apply(rows, r, w),
             Precond::Amg(amg) => amg.apply(r, w),
-            Precond::VCycle(amg, work) => {
+            Precond::VCycle(amg) => {
                 w.iter_mut().for_each(|v| *v = 0.0);
-                let mut work = work.borrow_mut();
-                let work = work.as_mut().expect("set with the preconditioner");
-                amg.v_cycle(r, w, r, work);
+                GAMG_WORK.with_borrow_mut(|work| {
+                    let work = match work {
+                        Some(kept) if amg.fits(kept) => kept,
+                        _ => work.insert(amg.cycle_work()),
+                    };
+                    amg.v_cycle(r, w, r, work);
+                });
             }
         }
     }
@@ -525,19 +520,8 @@ pub fn gamg(
     c: &SolverControls,
     what: &str,
 ) -> Result<SolveStats> {
-    let kept = std::rc::Rc::new(std::cell::RefCell::new(None));
-    let cycle = |m: &RowMatrix<'_>| {
-        let amg = gamg_for(a, g, m);
-        let work = GAMG_WORK
-            .take()
-            .filter(|w| amg.fits(w))
-            .unwrap_or_else(|| amg.cycle_work());
-        *kept.borrow_mut() = Some(work);
-        Precond::VCycle(amg, kept.clone())
-    };
-    let stats = pcg_with(a, g, b, x, cycle, c, what);
-    GAMG_WORK.set(kept.take());
-    stats
+    let cycle = |m: &RowMatrix<'_>| Precond::VCycle(gamg_for(a, g, m));
+    pcg_with(a, g, b, x, cycle, c, what)
 }
 
 /// [`pcg`] with the preconditioner `make` builds (only when the initial guess has not met the
@@ -563,7 +547,7 @@ fn pcg_with<'a>(
     let mut w = vec![0.0; n];
     let mut p = vec![0.0; n];
     let mut rho_old = 1.0;
-    let flexible = matches!(pre, Precond::Amg(_) | Precond::VCycle(..));
+    let flexible = matches!(pre, Precond::Amg(_) | Precond::VCycle(_));
     let mut r_prev = if flexible { r.clone() } else { Vec::new() };
     while stats.iterations < c.max_iter {
         pre.apply(m.rows, &r, &mut w);

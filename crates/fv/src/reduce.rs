@@ -70,6 +70,48 @@ pub(crate) fn sum_abs_lanes<const L: usize>(
 /// Block length of the parallel reductions.
 pub(crate) const BLOCK: usize = 8192;
 
+/// out_i = row(i).0 for every i, and the sums of the rows' terms row(i).1 (each from −0.0, as
+/// f64's `Sum` folds): in index order when not `parallel`, else per fixed block of [`BLOCK`]
+/// in parallel and the block sums in order — a matrix–vector product and its dot products in
+/// one pass, with the additions of the separate passes.
+pub(crate) fn fill_and_sum<const L: usize>(
+    out: &mut [f64],
+    parallel: bool,
+    row: impl Fn(usize) -> (f64, [f64; L]) + Sync,
+) -> [f64; L] {
+    let part = |r0: usize, out: &mut [f64]| {
+        let mut sums = [-0.0; L];
+        for (il, o) in out.iter_mut().enumerate() {
+            let (v, terms) = row(r0 + il);
+            *o = v;
+            for (s, t) in sums.iter_mut().zip(terms) {
+                *s += t;
+            }
+        }
+        sums
+    };
+    if !parallel {
+        return part(0, out);
+    }
+    let parts: Vec<[f64; L]> = out
+        .par_chunks_mut(BLOCK)
+        .enumerate()
+        .map(|(bi, out)| part(bi * BLOCK, out))
+        .collect();
+    std::array::from_fn(|l| parts.iter().map(|p| p[l]).sum())
+}
+
+/// `to` = `from` (of the same length), in parallel pieces when `parallel`.
+pub(crate) fn copy_values(from: &[f64], to: &mut [f64], parallel: bool) {
+    if parallel {
+        to.par_chunks_mut(BLOCK)
+            .zip(from.par_chunks(BLOCK))
+            .for_each(|(t, f)| t.copy_from_slice(f));
+    } else {
+        to.copy_from_slice(from);
+    }
+}
+
 /// x += α p, r −= α q, and returns Σ|r| (one pass on small vectors).
 pub(crate) fn update_and_residual(
     x: &mut [f64],

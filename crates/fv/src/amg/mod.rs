@@ -126,17 +126,6 @@ pub(crate) fn split_at_bounds<'x>(
     out
 }
 
-/// `to` = `from` (of the same length), in parallel pieces when `parallel`.
-fn copy_values(from: &[f64], to: &mut [f64], parallel: bool) {
-    if parallel {
-        to.par_chunks_mut(BLOCK_ROWS)
-            .zip(from.par_chunks(BLOCK_ROWS))
-            .for_each(|(t, f)| t.copy_from_slice(f));
-    } else {
-        to.copy_from_slice(from);
-    }
-}
-
 /// A square sparse matrix: compressed rows of off-diagonal entries and a separate diagonal.
 #[derive(Clone, Debug)]
 struct Csr {
@@ -811,8 +800,8 @@ impl Amg {
         if m.rows.start == fine.start && m.rows.col == fine.col {
             // m's rows were already in column order: its entries are the level's, in order.
             let parallel = fine.n() >= PAR_MIN;
-            copy_values(&m.coef, &mut fine.val, parallel);
-            copy_values(m.diag, &mut fine.diag, parallel);
+            crate::reduce::copy_values(&m.coef, &mut fine.val, parallel);
+            crate::reduce::copy_values(m.diag, &mut fine.diag, parallel);
         } else {
             let new = Csr::from_rows(m);
             if new.start != fine.start || new.col != fine.col {

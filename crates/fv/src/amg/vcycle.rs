@@ -111,34 +111,14 @@ impl Csr {
     /// of [`Csr::dot`] (on a blocked level per block of `reduce::BLOCK` rows in parallel,
     /// the block sums in order), so the same bits as the three passes.
     fn mul_dots(&self, b: &[f64], c: &[f64], ac: &mut [f64]) -> (f64, f64) {
-        let part = |r0: usize, out: &mut [f64]| {
-            // From −0.0, as f64's Sum folds.
-            let (mut num, mut den) = (-0.0, -0.0);
-            for (il, o) in out.iter_mut().enumerate() {
-                let i = r0 + il;
-                let mut s = self.diag[i] * c[i];
-                for k in self.row(i) {
-                    s += self.val[k] * c[self.col[k] as usize];
-                }
-                *o = s;
-                num += b[i] * c[i];
-                den += s * c[i];
+        let [num, den] = crate::reduce::fill_and_sum(ac, self.is_blocked(), |i| {
+            let mut s = self.diag[i] * c[i];
+            for k in self.row(i) {
+                s += self.val[k] * c[self.col[k] as usize];
             }
-            (num, den)
-        };
-        if !self.is_blocked() {
-            return part(0, ac);
-        }
-        const BLOCK: usize = crate::reduce::BLOCK;
-        let parts: Vec<(f64, f64)> = ac
-            .par_chunks_mut(BLOCK)
-            .enumerate()
-            .map(|(bi, out)| part(bi * BLOCK, out))
-            .collect();
-        (
-            parts.iter().map(|p| p.0).sum(),
-            parts.iter().map(|p| p.1).sum(),
-        )
+            (s, [b[i] * c[i], s * c[i]])
+        });
+        (num, den)
     }
 
     /// OpenFOAM's `GAMGSolver::scale` of a correction `c` of `A c = b`: s = (b·c)/(c·Ac)

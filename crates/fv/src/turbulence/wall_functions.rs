@@ -61,7 +61,7 @@ pub fn epsilon_and_g(
     mag_grad_u: f64,
 ) -> (f64, f64) {
     let (cmu25, kappa) = (law.cmu25(), law.kappa());
-    let yp = cmu25 * y * k.sqrt() / nu;
+    let yp = y_plus(law, y, k, nu);
     if low_re && yp < law.y_plus_lam() {
         return (w * 2.0 * k * nu / (y * y), 0.0);
     }
