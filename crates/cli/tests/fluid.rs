@@ -163,6 +163,46 @@ fn unsupported_function_objects_and_applications_are_refused_by_name() {
     }
 }
 
+/// An `openfoam-examples` case run both ways: copied to `ours` and `theirs`, each meshed by
+/// `mesh`, OpenFOAM's `solver` run in `theirs` and `foamgrain fluid` (with `extra`, and it must
+/// succeed) in `ours`.
+struct BothWays {
+    _root: tempfile::TempDir,
+    ours: std::path::PathBuf,
+    theirs: std::path::PathBuf,
+    /// OpenFOAM's standard output.
+    their_log: String,
+    /// foamgrain's standard output.
+    our_log: String,
+}
+
+fn run_both_ways(example: &str, solver: &str, mesh: impl Fn(&Path), extra: &[&str]) -> BothWays {
+    assert!(
+        Path::new(example).is_dir(),
+        "{example} is missing: install openfoam-examples (docker/build-and-run.sh packages)"
+    );
+    let root = tempfile::tempdir().unwrap();
+    let (ours, theirs) = (root.path().join("ours"), root.path().join(solver));
+    for d in [&ours, &theirs] {
+        copy_dir(Path::new(example), d);
+        mesh(d);
+    }
+    let their_log = run_ok(openfoam(solver), &theirs);
+    let out = foamgrain_fluid(&ours, extra);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    BothWays {
+        _root: root,
+        ours,
+        theirs,
+        their_log,
+        our_log: String::from_utf8_lossy(&out.stdout).into_owned(),
+    }
+}
+
 /// Where Debian's `openfoam-examples` puts the RAS cavity.
 const RAS_CAVITY: &str =
     "/usr/share/doc/openfoam-examples/examples/incompressible/pisoFoam/RAS/cavity";
@@ -172,28 +212,19 @@ fn openfoams_ras_cavity_example_gives_pisofoams_fields() {
     if !tool("pisoFoam") {
         return;
     }
-    let example = Path::new(RAS_CAVITY);
-    assert!(
-        example.is_dir(),
-        "{RAS_CAVITY} is missing: install openfoam-examples (docker/build-and-run.sh packages)"
+    let run = run_both_ways(
+        RAS_CAVITY,
+        "pisoFoam",
+        |d| {
+            run_ok(openfoam("blockMesh"), d);
+        },
+        &[],
     );
-    let root = tempfile::tempdir().unwrap();
-    let (ours, theirs) = (root.path().join("ours"), root.path().join("pisoFoam"));
-    for d in [&ours, &theirs] {
-        copy_dir(example, d);
-        run_ok(openfoam("blockMesh"), d);
-    }
-    run_ok(openfoam("pisoFoam"), &theirs);
-    let out = foamgrain_fluid(&ours, &[]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (ours, theirs) = (&run.ours, &run.theirs);
     let mut compared = 0;
     for t in ["0.5", "1", "5", "10"] {
         for name in ["U", "p", "k", "epsilon", "nut"] {
-            let e = rel_diff(&ours, &theirs, t, name);
+            let e = rel_diff(ours, theirs, t, name);
             assert!(e < 2e-4, "t = {t}: {name} differs from pisoFoam's by {e:e}");
             compared += 1;
         }
@@ -225,42 +256,35 @@ fn openfoams_elbow_example_gives_icofoams_iterations_and_fields() {
     if !tool("icoFoam") {
         return;
     }
-    let example = Path::new(ELBOW);
-    assert!(
-        example.is_dir(),
-        "{ELBOW} is missing: install openfoam-examples (docker/build-and-run.sh packages)"
+    let run = run_both_ways(
+        ELBOW,
+        "icoFoam",
+        |d| {
+            // Debian's package compresses the mesh file (its documentation is gzipped); the
+            // case's Allrun reads it as elbow.msh.
+            if d.join("elbow.msh.gz").is_file() {
+                let mut gunzip = Command::new("gunzip");
+                gunzip.arg("elbow.msh.gz");
+                run_ok(gunzip, d);
+            }
+            let mut convert = openfoam("fluentMeshToFoam");
+            convert.arg("elbow.msh");
+            run_ok(convert, d);
+        },
+        &["--log"],
     );
-    let root = tempfile::tempdir().unwrap();
-    let (ours, theirs) = (root.path().join("ours"), root.path().join("icoFoam"));
-    for d in [&ours, &theirs] {
-        copy_dir(example, d);
-        // Debian's package compresses the mesh file (its documentation is gzipped); the
-        // case's Allrun reads it as elbow.msh.
-        if d.join("elbow.msh.gz").is_file() {
-            let mut gunzip = Command::new("gunzip");
-            gunzip.arg("elbow.msh.gz");
-            run_ok(gunzip, d);
-        }
-        let mut convert = openfoam("fluentMeshToFoam");
-        convert.arg("elbow.msh");
-        run_ok(convert, d);
-    }
-    let their_log = run_ok(openfoam("icoFoam"), &theirs);
-    let out = foamgrain_fluid(&ours, &["--log"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let our_log = String::from_utf8_lossy(&out.stdout);
+    let (ours, theirs) = (&run.ours, &run.theirs);
     for field in ["Ux", "Uy", "p"] {
-        let (a, b) = (iterations(&our_log, field), iterations(&their_log, field));
+        let (a, b) = (
+            iterations(&run.our_log, field),
+            iterations(&run.their_log, field),
+        );
         assert!(!b.is_empty(), "no {field} solves in icoFoam's log");
         assert_eq!(a, b, "{field}: iterations per solve differ from icoFoam's");
     }
     for t in ["1", "2", "5", "10"] {
         for name in ["U", "p"] {
-            let e = rel_diff(&ours, &theirs, t, name);
+            let e = rel_diff(ours, theirs, t, name);
             // writePrecision 6: a value's last digit is 5e-7 of it.
             assert!(e < 5e-6, "t = {t}: {name} differs from icoFoam's by {e:e}");
         }
