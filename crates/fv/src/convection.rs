@@ -45,7 +45,6 @@
 
 use crate::fvc::{self, Tensor};
 use crate::geometry::{FvGeometry, V3};
-use rayon::prelude::*;
 
 /// The interpolation of U to faces in `div(phi,U)` (see the module doc for each formula).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -222,8 +221,7 @@ impl Convection {
             }
             Convection::LimitedLinearV(psi) => {
                 let lim = LimitedLinear::new(psi);
-                (0..ni)
-                    .into_par_iter()
+                crate::gather::over(0..ni)
                     .map(|f| {
                         let (o, n) = pairs(f);
                         let r = r_vector(phi[f], u[o], u[n], &grad_u[o], &grad_u[n], g.delta[f]);
@@ -253,8 +251,7 @@ impl Convection {
                 let gx = fvc::grad_scalar(g, x, x_b);
                 let lim = LimitedLinear::new(psi);
                 Some(
-                    (0..ni)
-                        .into_par_iter()
+                    crate::gather::over(0..ni)
                         .map(|f| {
                             let (o, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
                             let r = r_scalar(phi[f], x[o], x[n], gx[o], gx[n], g.delta[f]);
@@ -279,8 +276,7 @@ impl Convection {
         let ni = g.n_internal;
         match self {
             Convection::LinearUpwind => Some(
-                (0..ni)
-                    .into_par_iter()
+                crate::gather::over(0..ni)
                     .map(|f| {
                         let up = phi[f] > 0.0;
                         let c = if up { g.owner[f] } else { g.neighbour[f] } as usize;
@@ -289,8 +285,7 @@ impl Convection {
                     .collect(),
             ),
             Convection::LinearUpwindV => Some(
-                (0..ni)
-                    .into_par_iter()
+                crate::gather::over(0..ni)
                     .map(|f| {
                         let (o, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
                         let w = g.weight[f];

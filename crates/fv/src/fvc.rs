@@ -107,13 +107,15 @@ pub fn interpolate<T: Value>(g: &FvGeometry, phi: Field<'_, T>) -> Vec<T> {
     phi.check(g);
     // Room for the boundary values from the start: no copy of the internal ones.
     let mut out: Vec<T> = Vec::with_capacity(g.n_faces());
-    out.par_extend((0..g.n_internal).into_par_iter().map(|f| {
-        let (p, n) = (
-            phi.cells[g.owner[f] as usize],
-            phi.cells[g.neighbour[f] as usize],
-        );
-        T::axpy(n, g.weight[f], T::minus(p, n))
-    }));
+    crate::gather::over(0..g.n_internal)
+        .map(|f| {
+            let (p, n) = (
+                phi.cells[g.owner[f] as usize],
+                phi.cells[g.neighbour[f] as usize],
+            );
+            T::axpy(n, g.weight[f], T::minus(p, n))
+        })
+        .collect_into(&mut out);
     out.extend_from_slice(phi.boundary);
     out
 }
@@ -128,8 +130,7 @@ pub fn gauss_sum<T: Value>(g: &FvGeometry, face_values: &[T]) -> Vec<T::Grad> {
 /// [`gauss_sum`] with the value of face `f` given by `value(f)`, taken where the cell loop
 /// reaches the face.
 fn gauss_sum_of<T: Value>(g: &FvGeometry, value: impl Fn(usize) -> T + Sync) -> Vec<T::Grad> {
-    (0..g.n_cells)
-        .into_par_iter()
+    crate::gather::over(0..g.n_cells)
         .map(|c| {
             let mut acc = T::Grad::default();
             for &f in g.faces_of(c) {
@@ -190,8 +191,7 @@ pub fn grad_vector(g: &FvGeometry, cells: &[V3], boundary: &[V3]) -> Vec<Tensor>
 /// OpenFOAM's `leastSquares` uses the same weights but the patch-normal d_f on boundaries.
 pub fn grad_least_squares(g: &FvGeometry, cells: &[f64], boundary: &[f64]) -> Vec<V3> {
     Field::new(cells, boundary).check(g);
-    (0..g.n_cells)
-        .into_par_iter()
+    crate::gather::over(0..g.n_cells)
         .map(|c| {
             let mut m = Tensor::zeros();
             let mut r = V3::zeros();
@@ -223,8 +223,7 @@ pub fn grad_least_squares(g: &FvGeometry, cells: &[f64], boundary: &[f64]) -> Ve
 /// symmetric about their centre. For φ in m³/s the result is in m/s.
 pub fn reconstruct(g: &FvGeometry, phi: &[f64]) -> Vec<V3> {
     assert_eq!(phi.len(), g.n_faces(), "one flux per face");
-    (0..g.n_cells)
-        .into_par_iter()
+    crate::gather::over(0..g.n_cells)
         .map(|c| {
             let mut t = Tensor::zeros();
             let mut v = V3::zeros();
@@ -311,24 +310,28 @@ pub fn boundary_grad(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) ->
 /// boundary faces `delta_coeff (φ_b − φ_P)` (Jasak 1996 eq. 3.39–3.44). Units: u/m.
 pub fn sn_grad_vector(g: &FvGeometry, u: Field<'_, V3>, grad_cells: &[Tensor]) -> Vec<V3> {
     let mut out: Vec<V3> = Vec::with_capacity(g.n_faces());
-    out.par_extend((0..g.n_internal).into_par_iter().map(|f| {
-        let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
-        let w = g.weight[f];
-        let k = g.corr_vec[f];
-        let mut s = g.delta_coeff[f] * (u.cells[n] - u.cells[p]);
-        for j in 0..3 {
-            for i in 0..3 {
-                let gf =
-                    w * (grad_cells[p][(i, j)] - grad_cells[n][(i, j)]) + grad_cells[n][(i, j)];
-                s[j] += k[i] * gf;
+    crate::gather::over(0..g.n_internal)
+        .map(|f| {
+            let (p, n) = (g.owner[f] as usize, g.neighbour[f] as usize);
+            let w = g.weight[f];
+            let k = g.corr_vec[f];
+            let mut s = g.delta_coeff[f] * (u.cells[n] - u.cells[p]);
+            for j in 0..3 {
+                for i in 0..3 {
+                    let gf =
+                        w * (grad_cells[p][(i, j)] - grad_cells[n][(i, j)]) + grad_cells[n][(i, j)];
+                    s[j] += k[i] * gf;
+                }
             }
-        }
-        s
-    }));
-    out.par_extend((g.n_internal..g.n_faces()).into_par_iter().map(|f| {
-        let p = g.owner[f] as usize;
-        g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p])
-    }));
+            s
+        })
+        .collect_into(&mut out);
+    crate::gather::over(g.n_internal..g.n_faces())
+        .map(|f| {
+            let p = g.owner[f] as usize;
+            g.delta_coeff[f] * (u.boundary[f - g.n_internal] - u.cells[p])
+        })
+        .collect_into(&mut out);
     out
 }
 
@@ -352,8 +355,7 @@ pub fn transpose_stress_flux(
     dev2: bool,
 ) -> Vec<V3> {
     let grad_b = boundary_grad(g, u, grad_u);
-    (0..g.n_faces())
-        .into_par_iter()
+    crate::gather::over(0..g.n_faces())
         .map(|f| {
             let gf = if f < g.n_internal {
                 interpolate_tensor(g, f, grad_u)
@@ -396,8 +398,7 @@ pub fn dev2_transpose_flux(
         .map(|c| dev2t(&grad_u[c], a.cells[c]))
         .collect();
     let grad_b = boundary_grad(g, u, grad_u);
-    (0..g.n_faces())
-        .into_par_iter()
+    crate::gather::over(0..g.n_faces())
         .map(|f| {
             let t = if f < g.n_internal {
                 interpolate_tensor(g, f, &cells)
@@ -425,7 +426,7 @@ pub fn div_viscous_stress(g: &FvGeometry, nu: Field<'_, f64>, u: Field<'_, V3>) 
     let sn = sn_grad_vector(g, u, &grad_u);
     let nu_f = interpolate(g, nu);
     let mut flux = transpose_stress_flux(g, &nu_f, u, &grad_u, false);
-    flux.par_iter_mut().enumerate().for_each(|(f, v)| {
+    crate::gather::each_mut(&mut flux, |f, v| {
         *v += nu_f[f] * g.mag_sf[f] * sn[f];
     });
     surface_integrate(g, &flux)
@@ -435,8 +436,7 @@ pub fn div_viscous_stress(g: &FvGeometry, nu: Field<'_, f64>, u: Field<'_, V3>) 
 /// flux field (OpenFOAM `fvc::surfaceIntegrate`). Units: flux unit per m³.
 pub fn surface_integrate<T: Value>(g: &FvGeometry, flux: &[T]) -> Vec<T> {
     assert_eq!(flux.len(), g.n_faces(), "one flux per face");
-    (0..g.n_cells)
-        .into_par_iter()
+    crate::gather::over(0..g.n_cells)
         .map(|c| {
             let mut acc = T::default();
             for &f in g.faces_of(c) {

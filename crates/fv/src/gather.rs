@@ -14,7 +14,6 @@
 
 use crate::geometry::FvGeometry;
 use crate::ldu::PAR_MIN;
-use rayon::prelude::*;
 
 /// For every cell `c`: `init(c)`, then `add(acc, f, owner)` for each of its faces `f` in
 /// increasing face order (`owner`: `c` is the face's owner; boundary faces of `empty`
@@ -47,16 +46,86 @@ where
 /// own, so the same bits either way).
 pub fn cells<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     if n >= PAR_MIN {
-        (0..n).into_par_iter().map(&f).collect()
+        crate::team::collect(n, crate::reduce::BLOCK, f)
     } else {
         (0..n).map(f).collect()
+    }
+}
+
+/// A range of indices to map on the team ([`over`]).
+pub struct Over(std::ops::Range<usize>);
+
+/// The loop `range.map(f)` on the team when the range has ≥ [`PAR_MIN`] indices, else in
+/// order (each value computed on its own: the same values either way):
+/// `over(0..n).map(f).collect()`.
+pub fn over(range: std::ops::Range<usize>) -> Over {
+    Over(range)
+}
+
+impl Over {
+    /// Each index `i` of the range to `f(i)`.
+    pub fn map<T, F: Fn(usize) -> T + Sync>(self, f: F) -> Mapped<F> {
+        Mapped { range: self.0, f }
+    }
+}
+
+/// [`Over::map`]'s loop, run by [`Mapped::collect`], [`Mapped::collect_into`] or
+/// [`Mapped::unzip`].
+pub struct Mapped<F> {
+    range: std::ops::Range<usize>,
+    f: F,
+}
+
+impl<F> Mapped<F> {
+    /// The values in index order.
+    pub fn collect<T: Send>(self) -> Vec<T>
+    where
+        F: Fn(usize) -> T + Sync,
+    {
+        let mut v = Vec::new();
+        self.collect_into(&mut v);
+        v
+    }
+
+    /// The values appended to `out` in index order.
+    pub fn collect_into<T: Send>(self, out: &mut Vec<T>)
+    where
+        F: Fn(usize) -> T + Sync,
+    {
+        let Mapped { range, f } = self;
+        let lo = range.start;
+        if range.len() < PAR_MIN {
+            out.extend(range.map(f));
+        } else {
+            crate::team::collect_into(out, range.len(), crate::reduce::BLOCK, |i| f(lo + i));
+        }
+    }
+
+    /// The pairs' first and second values, each in index order.
+    pub fn unzip<A: Send, B: Send>(self) -> (Vec<A>, Vec<B>)
+    where
+        F: Fn(usize) -> (A, B) + Sync,
+    {
+        let Mapped { range, f } = self;
+        let (lo, n) = (range.start, range.len());
+        if n < PAR_MIN {
+            return range.map(f).unzip();
+        }
+        crate::team::collect_unzip(n, crate::reduce::BLOCK, |i| f(lo + i))
     }
 }
 
 /// `f(i, &mut v[i])` for every element, in parallel when `v` has ≥ [`PAR_MIN`] elements.
 pub fn each_mut<T: Send>(v: &mut [T], f: impl Fn(usize, &mut T) + Sync) {
     if v.len() >= PAR_MIN {
-        v.par_iter_mut().enumerate().for_each(|(i, x)| f(i, x));
+        let blocks = crate::team::Blocks::new(v, crate::reduce::BLOCK);
+        crate::team::run(blocks.count(), &|k| {
+            // SAFETY: block k by chunk k alone.
+            let lo = k * crate::reduce::BLOCK;
+            for (i, x) in unsafe { blocks.get(k) }.iter_mut().enumerate() {
+                f(lo + i, x);
+            }
+        });
     } else {
         v.iter_mut().enumerate().for_each(|(i, x)| f(i, x));
     }

@@ -15,7 +15,6 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::geometry::FvGeometry;
-use rayon::prelude::*;
 
 /// Rows at least this long are multiplied in parallel: below it, handing work to rayon's pool
 /// (a wake-up and a context switch per operation) costs more than it saves.
@@ -238,14 +237,8 @@ impl<'a> RowMatrix<'a> {
     pub fn new(a: &'a Ldu, g: &'a FvGeometry) -> Self {
         let r = &g.rows;
         // Each entry on its own (in parallel on large meshes: the same values).
-        let coef = if r.n_rows() < PAR_MIN {
-            (0..r.col.len()).map(|k| a.coef(r, k)).collect()
-        } else {
-            (0..r.col.len())
-                .into_par_iter()
-                .map(|k| a.coef(r, k))
-                .collect()
-        };
+        let mut coef = vec![0.0; r.col.len()];
+        crate::reduce::fill(&mut coef, r.n_rows() >= PAR_MIN, |k, _| a.coef(r, k));
         RowMatrix {
             rows: r,
             diag: &a.diag,
@@ -277,15 +270,8 @@ impl<'a> RowMatrix<'a> {
 
     /// `y = A x` (parallel over rows on large meshes; the same bits either way).
     pub fn mul(&self, x: &[f64], y: &mut [f64]) {
-        if y.len() < PAR_MIN {
-            for (c, yc) in y.iter_mut().enumerate() {
-                *yc = self.row_times(c, x);
-            }
-        } else {
-            y.par_iter_mut()
-                .enumerate()
-                .for_each(|(c, yc)| *yc = self.row_times(c, x));
-        }
+        let parallel = y.len() >= PAR_MIN;
+        crate::reduce::fill(y, parallel, |c, _| self.row_times(c, x));
     }
 
     /// `y = A x` and returns Σ x·y (summed in row order on small meshes, as

@@ -66,6 +66,7 @@ pub mod linsolve;
 mod reduce;
 pub mod settings;
 mod sweep;
+mod team;
 pub mod temperature;
 pub mod testfields;
 pub mod turbulence;

@@ -25,7 +25,6 @@
 use crate::error::{FvError, Result};
 use crate::geometry::FvGeometry;
 use crate::ldu::{Ldu, RowAddressing, RowMatrix, PAR_MIN};
-use rayon::prelude::*;
 use std::sync::Arc;
 
 pub use crate::reduce::dot;
@@ -198,7 +197,7 @@ fn residual_and_norm_factor(a: &RowMatrix<'_>, x: &[f64], b: &[f64]) -> (Vec<f64
     let (r, terms): (Vec<f64>, Vec<f64>) = if x.len() < PAR_MIN {
         (0..x.len()).map(row).unzip()
     } else {
-        (0..x.len()).into_par_iter().map(row).unzip()
+        crate::gather::over(0..x.len()).map(row).unzip()
     };
     let mut s = 0.0;
     for t in terms {
@@ -375,9 +374,12 @@ fn same_matrix(a: &Ldu, b: &Ldu) -> bool {
             && if x.len() < PAR_MIN {
                 x == y
             } else {
-                x.par_chunks(BLOCK)
-                    .zip(y.par_chunks(BLOCK))
-                    .all(|(p, q)| p == q)
+                crate::team::map(x.len().div_ceil(BLOCK), |k| {
+                    let r = k * BLOCK..((k + 1) * BLOCK).min(x.len());
+                    x[r.clone()] == y[r]
+                })
+                .into_iter()
+                .all(|same| same)
             }
     };
     same(&a.diag, &b.diag) && same(&a.upper, &b.upper) && same(&a.lower, &b.lower)

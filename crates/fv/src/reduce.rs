@@ -7,7 +7,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::ldu::PAR_MIN;
-use rayon::prelude::*;
+use crate::team::{self, Blocks};
 
 /// Σ aᵢbᵢ: in index order on small vectors (as OpenFOAM's `gSumProd`), else per fixed block
 /// of 8192 in parallel and the block sums in order (the same bits for any thread count).
@@ -22,11 +22,10 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// Σ aᵢbᵢ per fixed block of 8192 in parallel and the block sums in order, whatever the
 /// length ([`dot`]'s large-vector form: the same bits for any thread count).
 pub(crate) fn dot_blocked(a: &[f64], b: &[f64]) -> f64 {
-    let parts: Vec<f64> = a
-        .par_chunks(BLOCK)
-        .zip(b.par_chunks(BLOCK))
-        .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x * y).sum())
-        .collect();
+    let parts: Vec<f64> = team::map(a.len().div_ceil(BLOCK), |k| {
+        let r = k * BLOCK..((k + 1) * BLOCK).min(a.len());
+        a[r.clone()].iter().zip(&b[r]).map(|(x, y)| x * y).sum()
+    });
     parts.iter().sum()
 }
 
@@ -59,10 +58,9 @@ pub(crate) fn sum_abs_lanes<const L: usize>(
     if n < PAR_MIN {
         part(0..n)
     } else {
-        let parts: Vec<[f64; L]> = (0..n.div_ceil(BLOCK))
-            .into_par_iter()
-            .map(|b| part(b * BLOCK..((b + 1) * BLOCK).min(n)))
-            .collect();
+        let parts: Vec<[f64; L]> = team::map(n.div_ceil(BLOCK), |b| {
+            part(b * BLOCK..((b + 1) * BLOCK).min(n))
+        });
         std::array::from_fn(|l| parts.iter().map(|p| p[l]).sum())
     }
 }
@@ -93,20 +91,21 @@ pub(crate) fn fill_and_sum<const L: usize>(
     if !parallel {
         return part(0, out);
     }
-    let parts: Vec<[f64; L]> = out
-        .par_chunks_mut(BLOCK)
-        .enumerate()
-        .map(|(bi, out)| part(bi * BLOCK, out))
-        .collect();
+    let out = Blocks::new(out, BLOCK);
+    // SAFETY: block k by chunk k alone.
+    let parts: Vec<[f64; L]> = team::map(out.count(), |k| part(k * BLOCK, unsafe { out.get(k) }));
     std::array::from_fn(|l| parts.iter().map(|p| p[l]).sum())
 }
 
 /// `to` = `from` (of the same length), in parallel pieces when `parallel`.
 pub(crate) fn copy_values(from: &[f64], to: &mut [f64], parallel: bool) {
     if parallel {
-        to.par_chunks_mut(BLOCK)
-            .zip(from.par_chunks(BLOCK))
-            .for_each(|(t, f)| t.copy_from_slice(f));
+        let to = Blocks::new(to, BLOCK);
+        team::run(to.count(), &|k| {
+            // SAFETY: block k by chunk k alone.
+            let t = unsafe { to.get(k) };
+            t.copy_from_slice(&from[k * BLOCK..k * BLOCK + t.len()]);
+        });
     } else {
         to.copy_from_slice(from);
     }
@@ -130,20 +129,19 @@ pub(crate) fn update_and_residual(
         s
     } else {
         // One pass, the sum per block as sum_abs forms it.
-        let parts: Vec<f64> = x
-            .par_chunks_mut(BLOCK)
-            .zip(r.par_chunks_mut(BLOCK))
-            .zip(p.par_chunks(BLOCK).zip(q.par_chunks(BLOCK)))
-            .map(|((x, r), (p, q))| {
-                let mut s = 0.0;
-                for i in 0..x.len() {
-                    x[i] += alpha * p[i];
-                    r[i] -= alpha * q[i];
-                    s += r[i].abs();
-                }
-                s
-            })
-            .collect();
+        let (x, r) = (Blocks::new(x, BLOCK), Blocks::new(r, BLOCK));
+        let parts: Vec<f64> = team::map(x.count(), |k| {
+            // SAFETY: block k by chunk k alone.
+            let (x, r) = unsafe { (x.get(k), r.get(k)) };
+            let (p, q) = (&p[k * BLOCK..], &q[k * BLOCK..]);
+            let mut s = 0.0;
+            for i in 0..x.len() {
+                x[i] += alpha * p[i];
+                r[i] -= alpha * q[i];
+                s += r[i].abs();
+            }
+            s
+        });
         parts.iter().sum()
     }
 }
@@ -163,12 +161,13 @@ pub(crate) fn dots_and_keep(w: &[f64], r: &[f64], r_prev: &mut [f64]) -> (f64, f
     if w.len() < PAR_MIN {
         part(w, r, r_prev)
     } else {
-        let parts: Vec<(f64, f64)> = w
-            .par_chunks(BLOCK)
-            .zip(r.par_chunks(BLOCK))
-            .zip(r_prev.par_chunks_mut(BLOCK))
-            .map(|((w, r), rp)| part(w, r, rp))
-            .collect();
+        let rp = Blocks::new(r_prev, BLOCK);
+        let parts: Vec<(f64, f64)> = team::map(rp.count(), |k| {
+            // SAFETY: block k by chunk k alone.
+            let rp = unsafe { rp.get(k) };
+            let lo = k * BLOCK;
+            part(&w[lo..lo + rp.len()], &r[lo..lo + rp.len()], rp)
+        });
         (
             parts.iter().map(|p| p.0).sum(),
             parts.iter().map(|p| p.1).sum(),
@@ -176,13 +175,28 @@ pub(crate) fn dots_and_keep(w: &[f64], r: &[f64], r_prev: &mut [f64]) -> (f64, f
     }
 }
 
+/// out_i = f(i, out_i) for every i: in order when not `parallel`, else per block of
+/// [`BLOCK`] on the team (each element on its own: the same bits either way).
+pub(crate) fn fill(out: &mut [f64], parallel: bool, f: impl Fn(usize, f64) -> f64 + Sync) {
+    if !parallel {
+        out.iter_mut().enumerate().for_each(|(i, o)| *o = f(i, *o));
+        return;
+    }
+    let out = Blocks::new(out, BLOCK);
+    team::run(out.count(), &|k| {
+        // SAFETY: block k by chunk k alone.
+        let o = unsafe { out.get(k) };
+        o.iter_mut()
+            .enumerate()
+            .for_each(|(i, o)| *o = f(k * BLOCK + i, *o));
+    });
+}
+
 /// out_i = f(a_i, b_i) (b empty: f(a_i, out_i)), in parallel on ≥ [`PAR_MIN`] elements (each
 /// element on its own: the same bits either way).
 pub(crate) fn par_map2(out: &mut [f64], a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64 + Sync) {
-    let one = |(i, o): (usize, &mut f64)| *o = f(a[i], if b.is_empty() { *o } else { b[i] });
-    if out.len() < PAR_MIN {
-        out.iter_mut().enumerate().for_each(one);
-    } else {
-        out.par_iter_mut().enumerate().for_each(one);
-    }
+    let parallel = out.len() >= PAR_MIN;
+    fill(out, parallel, |i, o| {
+        f(a[i], if b.is_empty() { o } else { b[i] })
+    });
 }

@@ -190,7 +190,7 @@ impl Csr {
             }
         };
         if pieces.len() > 1 {
-            pieces.into_par_iter().for_each(sort);
+            crate::team::each(pieces, sort);
         } else {
             pieces.into_iter().for_each(sort);
         }
@@ -261,15 +261,7 @@ impl Csr {
 
     /// out_i = row(i) for every row, in parallel on a blocked level.
     fn each_row(&self, out: &mut [f64], row: impl Fn(usize) -> f64 + Sync) {
-        if self.is_blocked() {
-            out.par_iter_mut()
-                .enumerate()
-                .for_each(|(i, o)| *o = row(i));
-        } else {
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = row(i);
-            }
-        }
+        crate::reduce::fill(out, self.is_blocked(), |i, _| row(i));
     }
 
     /// out = A u (in parallel over rows on a blocked level, each row's terms in order).
@@ -320,7 +312,7 @@ impl Csr {
     /// sweep of its rows, columns outside it at their value of the sweep's start (zero). The
     /// columns above a row are zero too, so a row reads only its block's rows below it.
     fn gs_forward_blocks_from_zero(&self, b: &[f64], x: &mut [f64]) {
-        self.split_blocks(x).into_par_iter().for_each(|(lo, xb)| {
+        crate::team::each(self.split_blocks(x), |(lo, xb)| {
             for il in 0..xb.len() {
                 let i = lo + il;
                 let k = self.start[i] as usize..self.mid[i] as usize;
@@ -342,7 +334,7 @@ impl Csr {
     fn gs_backward_blocks(&self, b: &[f64], x: &mut [f64]) {
         let x0 = x.to_vec();
         let x0 = &x0[..];
-        self.split_blocks(x).into_par_iter().for_each(|(lo, xb)| {
+        crate::team::each(self.split_blocks(x), |(lo, xb)| {
             for il in (0..xb.len()).rev() {
                 let i = lo + il;
                 let (s, m, e) = (
@@ -648,7 +640,7 @@ impl Level {
             }
         };
         if pieces.len() > 1 {
-            pieces.into_par_iter().for_each(sum);
+            crate::team::each(pieces, sum);
         } else {
             pieces.into_iter().for_each(sum);
         }
@@ -665,28 +657,12 @@ impl Level {
             }
             s
         };
-        if parallel {
-            bc.par_iter_mut()
-                .enumerate()
-                .for_each(|(ci, b)| *b = sum(ci));
-        } else {
-            for (ci, b) in bc.iter_mut().enumerate() {
-                *b = sum(ci);
-            }
-        }
+        crate::reduce::fill(bc, parallel, |ci, _| sum(ci));
     }
 
     /// x += P xc, in parallel when `parallel`.
     fn prolong(&self, xc: &[f64], x: &mut [f64], parallel: bool) {
-        if parallel {
-            x.par_iter_mut()
-                .zip(&self.from_fine)
-                .for_each(|(xi, &ci)| *xi += xc[ci as usize]);
-        } else {
-            for (xi, &ci) in x.iter_mut().zip(&self.from_fine) {
-                *xi += xc[ci as usize];
-            }
-        }
+        crate::reduce::fill(x, parallel, |i, xi| xi + xc[self.from_fine[i] as usize]);
     }
 }
 

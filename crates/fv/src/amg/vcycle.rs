@@ -29,7 +29,6 @@
 use super::{Amg, Csr, Level};
 use crate::ldu::RowMatrix;
 use crate::sweep::{Pipeline, Schedule};
-use rayon::prelude::*;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
@@ -86,7 +85,7 @@ impl Csr {
                 x0[j as usize] = x[j as usize];
             }
             let x0 = &*x0;
-            self.split_blocks(x).into_par_iter().for_each(|(lo, xb)| {
+            crate::team::each(self.split_blocks(x), |(lo, xb)| {
                 let hi = lo + xb.len();
                 for il in 0..xb.len() {
                     let i = lo + il;
@@ -132,12 +131,9 @@ impl Csr {
             den - 1e-300
         };
         let s = num / den;
-        let step = |i: usize, ci: &mut f64| *ci = s * *ci + (b[i] - s * ac[i]) * self.inv_diag[i];
-        if self.is_blocked() {
-            c.par_iter_mut().enumerate().for_each(|(i, ci)| step(i, ci));
-        } else {
-            c.iter_mut().enumerate().for_each(|(i, ci)| step(i, ci));
-        }
+        crate::reduce::fill(c, self.is_blocked(), |i, ci| {
+            s * ci + (b[i] - s * ac[i]) * self.inv_diag[i]
+        });
     }
 }
 
@@ -145,15 +141,7 @@ impl Level {
     /// x = P xc (OpenFOAM's `prolongField`: each row takes its aggregate's value), in
     /// parallel when `parallel`.
     fn prolong_into(&self, xc: &[f64], x: &mut [f64], parallel: bool) {
-        if parallel {
-            x.par_iter_mut()
-                .zip(&self.from_fine)
-                .for_each(|(xi, &ci)| *xi = xc[ci as usize]);
-        } else {
-            for (xi, &ci) in x.iter_mut().zip(&self.from_fine) {
-                *xi = xc[ci as usize];
-            }
-        }
+        crate::reduce::fill(x, parallel, |i, _| xc[self.from_fine[i] as usize]);
     }
 }
 
@@ -224,11 +212,8 @@ impl Amg {
         let (c0, rest) = corr.split_at_mut(1);
         self.coarse[0].prolong_into(&rest[0], &mut c0[0], fine.is_blocked());
         fine.scale(r, &mut c0[0], &mut ac[0]);
-        if fine.is_blocked() {
-            x.par_iter_mut().zip(&c0[0]).for_each(|(x, c)| *x += c);
-        } else {
-            x.iter_mut().zip(&c0[0]).for_each(|(x, c)| *x += c);
-        }
+        let c0 = &c0[0];
+        crate::reduce::fill(x, fine.is_blocked(), |i, x| x + c0[i]);
         for _ in 0..N_FINEST {
             fine.gs_forward(b, x, &mut x0[0]);
         }

@@ -13,7 +13,6 @@ use crate::geometry::{FvGeometry, V3};
 use crate::ldu::Ldu;
 use crate::linsolve;
 use crate::settings::SnGrad;
-use rayon::prelude::*;
 
 /// The face fluxes of one corrector (m³/s).
 struct CorrectorFluxes {
@@ -98,7 +97,7 @@ impl Fluid {
         let mut hbya: Vec<V3> = vec![V3::zeros(); g.n_cells];
         for k in (0..3).filter(|&k| g.solution_dirs[k]) {
             let uk: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
-            hbya.par_iter_mut().enumerate().for_each(|(c, h)| {
+            crate::gather::each_mut(&mut hbya, |c, h| {
                 let hv =
                     b[c][k] - eqn.m.off_row(g, c, &uk) - (diag[c][k] - a_mean[c] * g.v[c]) * uk[c];
                 h[k] = hv / g.v[c] * r_au[c];
@@ -204,8 +203,7 @@ impl Fluid {
         };
         // γ_f|S|δ per face (in parallel), each cell's sum over its faces in face order
         // (crate::gather: the face loops' bits).
-        let coef: Vec<f64> = (0..g.n_faces())
-            .into_par_iter()
+        let coef: Vec<f64> = crate::gather::over(0..g.n_faces())
             .map(|f| gamma[f] * g.mag_sf[f] * self.lap_dc[f])
             .collect();
         for f in 0..g.n_internal {
@@ -274,7 +272,7 @@ impl Fluid {
             // On an orthogonal mesh the correction is zero (skipped: the same bits).
             if corrected && !g.orthogonal {
                 let gp = fvc::grad_scalar(g, &p, &self.p_b);
-                nonorth_flux.par_iter_mut().enumerate().for_each(|(f, nf)| {
+                crate::gather::each_mut(&mut nonorth_flux, |f, nf| {
                     let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
                     let w = g.weight[f];
                     let gf: V3 = V3::from_fn(|i, _| w * (gp[o][i] - gp[nb_][i]) + gp[nb_][i]);
@@ -317,14 +315,11 @@ impl Fluid {
         let phi_star = &fluxes.star;
         // Rhie–Chow face flux from the pressure solution.
         let lap_dc = &self.lap_dc;
-        self.phi[..g.n_internal]
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(f, phi)| {
-                let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
-                *phi = phi_star[f]
-                    - (gamma[f] * g.mag_sf[f] * lap_dc[f] * (p[nb_] - p[o]) + nonorth_flux[f]);
-            });
+        crate::gather::each_mut(&mut self.phi[..g.n_internal], |f, phi| {
+            let (o, nb_) = (g.owner[f] as usize, g.neighbour[f] as usize);
+            *phi = phi_star[f]
+                - (gamma[f] * g.mag_sf[f] * lap_dc[f] * (p[nb_] - p[o]) + nonorth_flux[f]);
+        });
         for f in g.n_internal..g.n_faces() {
             let bi = f - g.n_internal;
             if peq.p_fixed[bi] {

@@ -10,7 +10,7 @@
 
 use crate::fvc::{self, Tensor};
 use crate::geometry::{FvGeometry, V3};
-use rayon::prelude::*;
+use crate::reduce::BLOCK;
 use std::borrow::Cow;
 
 /// A gradient of the velocity and the values it is the gradient of.
@@ -24,7 +24,13 @@ pub(super) struct GradMemo {
 /// True when `a` and `b` hold the same bits.
 fn same_bits(a: &[V3], b: &[V3]) -> bool {
     let eq = |x: &V3, y: &V3| (0..3).all(|k| x[k].to_bits() == y[k].to_bits());
-    a.len() == b.len() && a.par_iter().zip(b).all(|(x, y)| eq(x, y))
+    a.len() == b.len()
+        && crate::team::map(a.len().div_ceil(BLOCK), |k| {
+            let r = k * BLOCK..((k + 1) * BLOCK).min(a.len());
+            a[r.clone()].iter().zip(&b[r]).all(|(x, y)| eq(x, y))
+        })
+        .into_iter()
+        .all(|same| same)
 }
 
 impl GradMemo {
@@ -35,7 +41,9 @@ impl GradMemo {
             u_b: Vec::new(),
             grad: fvc::grad_vector(g, u, u_b),
         };
-        keep.u.par_extend(u.par_iter().copied());
+        crate::gather::over(0..u.len())
+            .map(|c| u[c])
+            .collect_into(&mut keep.u);
         keep.u_b.extend_from_slice(u_b);
         keep
     }

@@ -47,7 +47,6 @@ use crate::settings::{Settings, SnGrad, TimeScheme};
 use crate::temperature::{HeatFlow, Temperature};
 use crate::turbulence::{k_epsilon, KEpsilon, TurbulenceSettings};
 use foam::{Case, FieldValues, VolField};
-use rayon::prelude::*;
 use std::path::Path;
 
 /// How the pressure gradient enters the momentum equation (seed 002 eq. 3–4).
@@ -583,8 +582,7 @@ impl Fluid {
     }
 
     fn flux(&self, ef: &[f64], uf: &[V3]) -> Vec<f64> {
-        (0..self.g.n_faces())
-            .into_par_iter()
+        crate::gather::over(0..self.g.n_faces())
             .map(|f| {
                 if f >= self.g.n_internal && self.g.boundary_empty[f - self.g.n_internal] {
                     0.0

@@ -231,12 +231,12 @@ impl Fluid {
         let corrected = self.settings.sn_grad == SnGrad::Corrected;
         let conv = self.settings.convection;
         let weights = conv.weights(g, &self.phi, &self.u, &self.u_b, grad_u);
-        let faces: Vec<FaceTerms> = (0..ni)
-            .into_par_iter()
+        let faces: Vec<FaceTerms> = crate::gather::over(0..ni)
             .map(|f| self.face_terms(f, weights[f], nu_f, grad_u, corrected))
             .collect();
-        let (upper, lower): (Vec<f64>, Vec<f64>) =
-            faces.par_iter().map(|t| (t.upper, t.lower)).unzip();
+        let (upper, lower): (Vec<f64>, Vec<f64>) = crate::gather::over(0..faces.len())
+            .map(|f| (faces[f].upper, faces[f].lower))
+            .unzip();
         let m = Ldu {
             diag: vec![0.0; g.n_cells],
             upper,
@@ -279,7 +279,8 @@ impl Fluid {
                 (d, b)
             },
         );
-        let (mut diag, mut b): (Vec<V3>, Vec<V3>) = sums.into_par_iter().unzip();
+        let (mut diag, mut b): (Vec<V3>, Vec<V3>) =
+            crate::gather::over(0..sums.len()).map(|c| sums[c]).unzip();
         // linearUpwind's explicit part: the source loses V ∇·(φ c) (OpenFOAM's
         // `fvm += fvc::surfaceIntegrate(faceFlux*correction)`).
         if let Some(corr) = conv.correction(g, &self.phi, &self.u, grad_u) {

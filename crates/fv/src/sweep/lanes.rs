@@ -280,7 +280,7 @@ impl<'m, 'a, const L: usize> LaneSweeper<'m, 'a, L> {
         let x0 = &self.x0[..];
         let bounds: Vec<usize> = self.blocks.iter().map(|b| L * b).collect();
         let pieces = crate::amg::split_at_bounds(x, &bounds);
-        pieces.into_par_iter().for_each(|(lo, xb)| {
+        crate::team::each(pieces, |(lo, xb)| {
             let (lo, hi) = (lo / L, (lo + xb.len()) / L);
             let mut one = |i: usize| {
                 let v = relax(m, bp, d, active, i, |j, l| {

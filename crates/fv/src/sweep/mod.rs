@@ -28,7 +28,6 @@ mod pipeline;
 
 use crate::ldu::{RowAddressing, RowMatrix, PAR_MIN};
 pub(crate) use pipeline::{Pipeline, Schedule};
-use rayon::prelude::*;
 
 /// How the rows of one matrix are swept.
 pub(crate) struct Sweeper<'a> {
@@ -92,7 +91,7 @@ impl<'a> Sweeper<'a> {
         self.x0.copy_from_slice(x);
         let x0 = &self.x0[..];
         let pieces = crate::amg::split_at_bounds(x, &self.blocks);
-        pieces.into_par_iter().for_each(|(lo, xb)| {
+        crate::team::each(pieces, |(lo, xb)| {
             let hi = lo + xb.len();
             let relax = |xb: &mut [f64], c: usize| {
                 let mut s = bp[c];

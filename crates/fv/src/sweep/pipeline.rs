@@ -223,16 +223,9 @@ impl<'a> Pipeline<'a> {
             }
             done[i].store(epoch, Ordering::Release);
         };
-        let helpers = rayon::current_num_threads().saturating_sub(1);
-        if helpers == 0 {
-            return work();
-        }
-        rayon::scope(|s| {
-            for _ in 0..helpers {
-                s.spawn(|_| work());
-            }
-            work();
-        });
+        // Every thread of the team runs the claim loop; one thread alone finishes the sweep
+        // (chunks are claimed in order, each waiting only on earlier ones).
+        crate::team::run(rayon::current_num_threads(), &|_| work());
     }
 }
 

@@ -23,7 +23,6 @@ use crate::geometry::FvGeometry;
 use crate::ldu::Ldu;
 use crate::linsolve::{self, SolveStats};
 use crate::settings::LinearSolver;
-use rayon::prelude::*;
 
 /// What a scalar transport equation's terms are discretised with.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,8 +99,7 @@ impl ScalarEqn {
         // The faces' coefficients in parallel, each cell's diagonal and source gathered
         // over its faces in face order (crate::gather: the face loops' bits).
         let ni = g.n_internal;
-        let (lower, upper): (Vec<f64>, Vec<f64>) = (0..ni)
-            .into_par_iter()
+        let (lower, upper): (Vec<f64>, Vec<f64>) = crate::gather::over(0..ni)
             .map(|f| {
                 let w = weights[f];
                 let gam = gamma_f[f] * g.mag_sf[f] * flow.lap_dc[f];
@@ -113,8 +111,7 @@ impl ScalarEqn {
         // On an orthogonal mesh the correction is zero (skipped: the same bits).
         let corr: Vec<f64> = if flow.corrected && !g.orthogonal {
             let gx = fvc::grad_scalar(g, x, x_b);
-            (0..ni)
-                .into_par_iter()
+            crate::gather::over(0..ni)
                 .map(|f| {
                     let (o, nb) = (g.owner[f] as usize, g.neighbour[f] as usize);
                     let w = g.weight[f];
