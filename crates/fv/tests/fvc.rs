@@ -165,6 +165,31 @@ fn least_squares_gradient_is_exact_for_linear_fields_on_skewed_meshes() {
     }
 }
 
+/// An orthogonal box whose cell size is not a binary fraction (0.1 m / 48) leaves round-off in
+/// k = n̂ − d·δ (≈ 3e-14 before it was zeroed): every correction vector is exactly zero and the
+/// mesh counts as orthogonal; the same box sheared by 1e-5 (x += 1e-5 y) keeps the correction
+/// of its tilted faces, whose size is the shear to first order (|k| = sin of the tilt), and
+/// the round-off of its other faces (OpenFOAM's arithmetic).
+#[test]
+fn round_off_correction_vectors_are_zero_and_real_ones_are_kept() {
+    let boxed = build::uniform_box([0.0; 3], [0.1, 0.1, 0.1], [48, 20, 3]);
+    let g = FvGeometry::new(&boxed).unwrap();
+    assert!(g.corr_vec.iter().all(|k| k.iter().all(|&x| x == 0.0)));
+    assert!(g.orthogonal);
+    let shear = 1e-5;
+    let sheared = build::map_points(&boxed, |p| [p[0] + shear * p[1], p[1], p[2]]);
+    let g = FvGeometry::new(&sheared).unwrap();
+    assert!(!g.orthogonal);
+    let largest = g.corr_vec.iter().map(|k| k.amax()).fold(0.0, f64::max);
+    assert!(
+        (largest - shear).abs() < 1e-3 * shear,
+        "largest correction {largest:e} against the shear {shear:e}"
+    );
+    assert!(fv::geometry::ROUNDOFF_K < 1e-3 * shear);
+    let round_off = g.corr_vec.iter().filter(|k| k.amax() > 0.0 && k.amax() < 1e-12);
+    assert!(round_off.count() > 0, "the untilted faces keep their round-off");
+}
+
 /// A sheared and rotated uniform grid is non-orthogonal but unskewed (face centres are the
 /// midpoints of the cell centres): Gauss linear is exact there for a linear field.
 #[test]
