@@ -26,14 +26,10 @@ pub struct Courant {
 /// Σ_f |φ_f| of every cell (m³/s): each internal face (cyclic pairs included) counts for both
 /// its cells, each boundary face for its owner; `empty` faces carry no flux.
 pub fn sum_abs_flux(g: &FvGeometry, phi: &[f64]) -> Vec<f64> {
-    let mut sum = vec![0.0; g.n_cells];
-    for (f, &p) in phi.iter().enumerate().take(g.n_faces()) {
-        sum[g.owner[f] as usize] += p.abs();
-        if f < g.n_internal {
-            sum[g.neighbour[f] as usize] += p.abs();
-        }
-    }
-    sum
+    assert!(phi.len() >= g.n_faces(), "one flux per face");
+    // The face loop's additions in its order, per cell (crate::gather; an `empty` face's |φ|
+    // is +0.0, which adds nothing to a sum of non-negative terms).
+    crate::gather::face_sums(g, |_| 0.0, |s, f, _| s + phi[f].abs())
 }
 
 /// The Courant numbers of a step `dt` (s) with face fluxes `phi` (m³/s, one per solver face,

@@ -237,8 +237,11 @@ impl<'a> RowMatrix<'a> {
     pub fn new(a: &'a Ldu, g: &'a FvGeometry) -> Self {
         let r = &g.rows;
         // Each entry on its own (in parallel on large meshes: the same values).
-        let mut coef = vec![0.0; r.col.len()];
-        crate::reduce::fill(&mut coef, r.n_rows() >= PAR_MIN, |k, _| a.coef(r, k));
+        let coef = if r.n_rows() < PAR_MIN {
+            (0..r.col.len()).map(|k| a.coef(r, k)).collect()
+        } else {
+            crate::team::collect(r.col.len(), crate::reduce::BLOCK, |k| a.coef(r, k))
+        };
         RowMatrix {
             rows: r,
             diag: &a.diag,

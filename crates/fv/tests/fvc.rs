@@ -186,8 +186,14 @@ fn round_off_correction_vectors_are_zero_and_real_ones_are_kept() {
         "largest correction {largest:e} against the shear {shear:e}"
     );
     assert!(fv::geometry::ROUNDOFF_K < 1e-3 * shear);
-    let round_off = g.corr_vec.iter().filter(|k| k.amax() > 0.0 && k.amax() < 1e-12);
-    assert!(round_off.count() > 0, "the untilted faces keep their round-off");
+    let round_off = g
+        .corr_vec
+        .iter()
+        .filter(|k| k.amax() > 0.0 && k.amax() < 1e-12);
+    assert!(
+        round_off.count() > 0,
+        "the untilted faces keep their round-off"
+    );
 }
 
 /// A sheared and rotated uniform grid is non-orthogonal but unskewed (face centres are the

@@ -94,16 +94,26 @@ impl Fluid {
         let g = &self.g;
         let (b, diag, a_mean, r_au) = (&eqn.b, &eqn.diag, &eqn.a_mean, &eqn.r_au);
         // H/A; zero in a direction that is not solved (OpenFOAM's fvMatrix::H).
-        let mut hbya: Vec<V3> = vec![V3::zeros(); g.n_cells];
-        for k in (0..3).filter(|&k| g.solution_dirs[k]) {
-            let uk: Vec<f64> = self.u.iter().map(|v| v[k]).collect();
-            crate::gather::each_mut(&mut hbya, |c, h| {
-                let hv =
-                    b[c][k] - eqn.m.off_row(g, c, &uk) - (diag[c][k] - a_mean[c] * g.v[c]) * uk[c];
-                h[k] = hv / g.v[c] * r_au[c];
-            });
-        }
-        hbya
+        // One pass over the rows for the three components: each entry's coefficient read
+        // once; each component's off-diagonal sum in row order from 0.0 (Ldu::off_row's).
+        let (rows, u) = (&g.rows, &self.u);
+        crate::gather::cells(g.n_cells, |c| {
+            let mut off = [0.0; 3];
+            for k in rows.row(c) {
+                let (a, uj) = (eqn.m.coef(rows, k), u[rows.col[k] as usize]);
+                for d in 0..3 {
+                    off[d] += a * uj[d];
+                }
+            }
+            V3::from_fn(|d, _| {
+                if g.solution_dirs[d] {
+                    let hv = b[c][d] - off[d] - (diag[c][d] - a_mean[c] * g.v[c]) * u[c][d];
+                    hv / g.v[c] * r_au[c]
+                } else {
+                    0.0
+                }
+            })
+        })
     }
 
     /// The predicted flux φ* of [`Fluid::harmonic_faces`]: γ_f (HbyA/κ)_f·S + ddtCorr on

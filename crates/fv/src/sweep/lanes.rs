@@ -80,13 +80,9 @@ pub fn smooth_components(
 
 /// `L` per-component arrays of `n` values side by side: `out[L c + l] = v[l][c]`.
 fn interleave<const L: usize>(v: &[Vec<f64>], n: usize) -> Vec<f64> {
-    let mut out = vec![0.0; L * n];
-    for (l, v) in v.iter().enumerate() {
-        for c in 0..n {
-            out[L * c + l] = v[c];
-        }
-    }
-    out
+    crate::gather::over(0..L * n)
+        .map(|i| v[i % L][i / L])
+        .collect()
 }
 
 /// [`smooth_components`] with `L` Gauss–Seidel lanes.
@@ -149,9 +145,7 @@ fn smooth_lanes<const L: usize>(
         }
     }
     for (l, x) in x.iter_mut().enumerate() {
-        for (i, v) in x.iter_mut().enumerate() {
-            *v = xl[L * i + l];
-        }
+        crate::gather::each_mut(x, |i, v| *v = xl[L * i + l]);
     }
     Ok(stats)
 }
