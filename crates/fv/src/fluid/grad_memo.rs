@@ -23,7 +23,18 @@ pub(super) struct GradMemo {
 
 /// True when `a` and `b` hold the same bits.
 fn same_bits(a: &[V3], b: &[V3]) -> bool {
-    let eq = |x: &V3, y: &V3| (0..3).all(|k| x[k].to_bits() == y[k].to_bits());
+    same_by(a, b, |x, y| {
+        (0..3).all(|k| x[k].to_bits() == y[k].to_bits())
+    })
+}
+
+/// True when `a` and `b` hold the same bits (of the same length).
+pub(super) fn same_values(a: &[f64], b: &[f64]) -> bool {
+    same_by(a, b, |x, y| x.to_bits() == y.to_bits())
+}
+
+/// `a` and `b` of the same length and `eq` for each pair (in blocks on the team).
+fn same_by<T: Sync>(a: &[T], b: &[T], eq: impl Fn(&T, &T) -> bool + Sync) -> bool {
     a.len() == b.len()
         && crate::team::map(a.len().div_ceil(BLOCK), |k| {
             let r = k * BLOCK..((k + 1) * BLOCK).min(a.len());

@@ -205,6 +205,10 @@ pub struct Fluid {
     heat: Option<Temperature>,
     /// ∇U at the end of the last step (the turbulence model's), for the next momentum matrix.
     grad_u_end: Option<GradMemo>,
+    /// ε at faces ([`Self::eps_faces`]) with the cell values it was formed from: a step
+    /// whose ε holds the same bits (a fluid without particles: every step) takes it
+    /// instead of interpolating again.
+    eps_faces_kept: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 /// The fields of one earlier time level (`backward`'s old-old level, [`crate::ddt`]).
@@ -326,6 +330,7 @@ impl Fluid {
             cn_prev: None,
             heat: None,
             grad_u_end: None,
+            eps_faces_kept: None,
             g,
             u_bc: fields.u_bc,
             p_bc: fields.p_bc,

@@ -3,7 +3,7 @@
 //! `CrankNicolsonDdtScheme` with the fields' `oldTime()` levels, [`crate::ddt`]), and the
 //! bookkeeping that ends the step (the clock, the level kept for the next step).
 
-use super::{Fluid, OldLevel};
+use super::{grad_memo, Fluid, OldLevel};
 use crate::ddt::DdtCoeffs;
 use crate::fvc::{self, Field};
 use crate::gather;
@@ -57,8 +57,21 @@ impl Fluid {
         let u_b_old = self.u_b.clone();
         let phi_old = self.phi.clone();
         self.update_u_boundary(t_new);
-        let ef = self.eps_faces(&self.eps);
-        let ef_old = self.eps_faces(&self.eps_old);
+        // ε_f and ε°_f from the kept faces when ε or ε° holds the kept cells' bits (the same
+        // values as interpolating again).
+        let kept = self.eps_faces_kept.take();
+        let kept_for = |eps: &[f64]| {
+            kept.as_ref()
+                .filter(|(cells, _)| grad_memo::same_values(cells, eps))
+                .map(|(_, faces)| faces.clone())
+        };
+        let ef = kept_for(&self.eps).unwrap_or_else(|| self.eps_faces(&self.eps));
+        let ef_old = if grad_memo::same_values(&self.eps_old, &self.eps) {
+            ef.clone()
+        } else {
+            kept_for(&self.eps_old).unwrap_or_else(|| self.eps_faces(&self.eps_old))
+        };
+        self.eps_faces_kept = Some((self.eps.clone(), ef.clone()));
         // backward's coefficients and old-old level (on the first step: the old level, with
         // c₀₀ ≈ 0, as OpenFOAM's U.oldTime().oldTime() is then the old field)
         let backward = self.settings.time_scheme == TimeScheme::Backward;
