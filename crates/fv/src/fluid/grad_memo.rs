@@ -7,6 +7,8 @@
 //! gradient with the cell and boundary values it was computed from and hands it out only when
 //! the velocity is still those values bit for bit, so the result is the gradient computed
 //! again, without computing it (on the 48³ cavity about 3 ms of a 140 ms step on 2 threads).
+//! Its bits comparison, [`same_values`] for scalars, also serves the step's kept ε at faces
+//! (`Fluid::eps_faces_kept`).
 
 use crate::fvc::{self, Tensor};
 use crate::geometry::{FvGeometry, V3};
