@@ -186,11 +186,13 @@ fn residual_and_norm_factor(a: &RowMatrix<'_>, x: &[f64], b: &[f64]) -> (Vec<f64
     let n = x.len().max(1) as f64;
     let xbar = x.iter().sum::<f64>() / n;
     let row = |c: usize| {
-        let ax = a.row_times(c, x);
-        // Row c of A times the uniform field x̄, its terms in row order.
-        let mut axr = a.diag[c] * xbar;
+        // Row c of A x and of A times the uniform field x̄ in one pass over the row's entries,
+        // each sum's terms in row order (RowMatrix::row_times's for A x).
+        let (mut ax, mut axr) = (a.diag[c] * x[c], a.diag[c] * xbar);
         for k in a.rows.row(c) {
-            axr += a.coef[k] * xbar;
+            let v = a.coef[k];
+            ax += v * x[a.rows.col[k] as usize];
+            axr += v * xbar;
         }
         (b[c] - ax, (ax - axr).abs() + (b[c] - axr).abs())
     };
