@@ -118,14 +118,7 @@ impl<F> Mapped<F> {
 /// `f(i, &mut v[i])` for every element, in parallel when `v` has ≥ [`PAR_MIN`] elements.
 pub fn each_mut<T: Send>(v: &mut [T], f: impl Fn(usize, &mut T) + Sync) {
     if v.len() >= PAR_MIN {
-        let blocks = crate::team::Blocks::new(v, crate::reduce::BLOCK);
-        crate::team::run(blocks.count(), &|k| {
-            // SAFETY: block k by chunk k alone.
-            let lo = k * crate::reduce::BLOCK;
-            for (i, x) in unsafe { blocks.get(k) }.iter_mut().enumerate() {
-                f(lo + i, x);
-            }
-        });
+        crate::team::each_mut(v, crate::reduce::BLOCK, f);
     } else {
         v.iter_mut().enumerate().for_each(|(i, x)| f(i, x));
     }

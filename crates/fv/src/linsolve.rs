@@ -28,7 +28,7 @@ use crate::ldu::{Ldu, RowAddressing, RowMatrix, PAR_MIN};
 use std::sync::Arc;
 
 pub use crate::reduce::dot;
-use crate::reduce::{dots_and_keep, par_map2, sum_abs, sum_abs_by, update_and_residual, BLOCK};
+use crate::reduce::{dots_and_keep, par_map2, sum_abs, sum_abs_by, update_and_residual};
 pub use crate::sweep::lanes::{smooth_components, Components};
 
 /// Preconditioner of the Krylov solvers.
@@ -373,16 +373,7 @@ fn cached_hierarchy(
 fn same_matrix(a: &Ldu, b: &Ldu) -> bool {
     let same = |x: &[f64], y: &[f64]| {
         x.len() == y.len()
-            && if x.len() < PAR_MIN {
-                x == y
-            } else {
-                crate::team::map(x.len().div_ceil(BLOCK), |k| {
-                    let r = k * BLOCK..((k + 1) * BLOCK).min(x.len());
-                    x[r.clone()] == y[r]
-                })
-                .into_iter()
-                .all(|same| same)
-            }
+            && crate::reduce::all_blocks(x.len(), x.len() >= PAR_MIN, |r| x[r.clone()] == y[r])
     };
     same(&a.diag, &b.diag) && same(&a.upper, &b.upper) && same(&a.lower, &b.lower)
 }

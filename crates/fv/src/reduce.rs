@@ -23,7 +23,7 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// length ([`dot`]'s large-vector form: the same bits for any thread count).
 pub(crate) fn dot_blocked(a: &[f64], b: &[f64]) -> f64 {
     let parts: Vec<f64> = team::map(a.len().div_ceil(BLOCK), |k| {
-        let r = k * BLOCK..((k + 1) * BLOCK).min(a.len());
+        let r = block(k, a.len());
         a[r.clone()].iter().zip(&b[r]).map(|(x, y)| x * y).sum()
     });
     parts.iter().sum()
@@ -58,9 +58,7 @@ pub(crate) fn sum_abs_lanes<const L: usize>(
     if n < PAR_MIN {
         part(0..n)
     } else {
-        let parts: Vec<[f64; L]> = team::map(n.div_ceil(BLOCK), |b| {
-            part(b * BLOCK..((b + 1) * BLOCK).min(n))
-        });
+        let parts: Vec<[f64; L]> = team::map(n.div_ceil(BLOCK), |k| part(block(k, n)));
         std::array::from_fn(|l| parts.iter().map(|p| p[l]).sum())
     }
 }
@@ -182,14 +180,29 @@ pub(crate) fn fill(out: &mut [f64], parallel: bool, f: impl Fn(usize, f64) -> f6
         out.iter_mut().enumerate().for_each(|(i, o)| *o = f(i, *o));
         return;
     }
-    let out = Blocks::new(out, BLOCK);
-    team::run(out.count(), &|k| {
-        // SAFETY: block k by chunk k alone.
-        let o = unsafe { out.get(k) };
-        o.iter_mut()
-            .enumerate()
-            .for_each(|(i, o)| *o = f(k * BLOCK + i, *o));
-    });
+    team::each_mut(out, BLOCK, |i, o| *o = f(i, *o));
+}
+
+/// Block `k` of the fixed blocks of [`BLOCK`] elements of a vector of length `n`.
+pub(crate) fn block(k: usize, n: usize) -> std::ops::Range<usize> {
+    k * BLOCK..((k + 1) * BLOCK).min(n)
+}
+
+/// `pred(block)` holds for every fixed block of [`BLOCK`] of `0..n` (on the team when
+/// `parallel`, else in order, stopping at the first that fails).
+pub(crate) fn all_blocks(
+    n: usize,
+    parallel: bool,
+    pred: impl Fn(std::ops::Range<usize>) -> bool + Sync,
+) -> bool {
+    let count = n.div_ceil(BLOCK);
+    if parallel {
+        team::map(count, |k| pred(block(k, n)))
+            .into_iter()
+            .all(|ok| ok)
+    } else {
+        (0..count).all(|k| pred(block(k, n)))
+    }
 }
 
 /// out_i = f(a_i, b_i) (b empty: f(a_i, out_i)), in parallel on ≥ [`PAR_MIN`] elements (each

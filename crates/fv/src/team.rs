@@ -406,6 +406,17 @@ pub(crate) fn collect_unzip<A: Send, B: Send>(
     (a, b)
 }
 
+/// `f(i, &mut v[i])` for every element, by [`run`] in chunks of `block` elements.
+pub(crate) fn each_mut<T: Send>(v: &mut [T], block: usize, f: impl Fn(usize, &mut T) + Sync) {
+    let blocks = Blocks::new(v, block);
+    run(blocks.count(), &|k| {
+        // SAFETY: block k by chunk k alone.
+        for (i, x) in unsafe { blocks.get(k) }.iter_mut().enumerate() {
+            f(k * block + i, x);
+        }
+    });
+}
+
 /// `f(item)` for every item of `items` by [`run`] (one chunk per item).
 pub(crate) fn each<T: Send>(items: Vec<T>, f: impl Fn(T) + Sync) {
     let slots = Slots {

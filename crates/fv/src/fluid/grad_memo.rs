@@ -12,7 +12,6 @@
 
 use crate::fvc::{self, Tensor};
 use crate::geometry::{FvGeometry, V3};
-use crate::reduce::BLOCK;
 use std::borrow::Cow;
 
 /// A gradient of the velocity and the values it is the gradient of.
@@ -38,12 +37,9 @@ pub(super) fn same_values(a: &[f64], b: &[f64]) -> bool {
 /// `a` and `b` of the same length and `eq` for each pair (in blocks on the team).
 fn same_by<T: Sync>(a: &[T], b: &[T], eq: impl Fn(&T, &T) -> bool + Sync) -> bool {
     a.len() == b.len()
-        && crate::team::map(a.len().div_ceil(BLOCK), |k| {
-            let r = k * BLOCK..((k + 1) * BLOCK).min(a.len());
+        && crate::reduce::all_blocks(a.len(), true, |r| {
             a[r.clone()].iter().zip(&b[r]).all(|(x, y)| eq(x, y))
         })
-        .into_iter()
-        .all(|same| same)
 }
 
 impl GradMemo {
